@@ -1,0 +1,56 @@
+"""Errors that floebreak reports to users.
+
+`InputError` is raised for anything a user can fix (a value out of range, a malformed file, an
+unknown key). Its message always names the offending field and the allowed values or range, and
+the CLI turns it into exit code 2. Everything else is a bug and exits with code 1.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+class InputError(ValueError):
+    """A user input is invalid. The message names the field and what is allowed."""
+
+    def __init__(self, field: str, message: str, *, value: Any = None, allowed: str | None = None):
+        self.field = field
+        self.value = value
+        self.allowed = allowed
+        text = f"{field}: {message}"
+        if allowed is not None and allowed not in message:
+            text += f" (allowed: {allowed})"
+        super().__init__(text)
+
+
+def require_range(
+    field: str,
+    value: float,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_inclusive: bool = False,
+    high_inclusive: bool = True,
+    unit: str = "",
+) -> float:
+    """Return `value` as float if it lies in the interval, else raise InputError naming `field`.
+
+    The interval is (low, high] by default; NaN is always rejected.
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InputError(field, f"{value!r} is not a number", value=value) from None
+    left = "[" if low_inclusive else "("
+    right = "]" if high_inclusive else ")"
+    lo_text = "-inf" if low is None else f"{low:g}"
+    hi_text = "inf" if high is None else f"{high:g}"
+    interval = f"{left}{lo_text}, {hi_text}{right}" + (f" {unit}" if unit else "")
+    ok = number == number  # NaN check
+    if ok and low is not None:
+        ok = number >= low if low_inclusive else number > low
+    if ok and high is not None:
+        ok = number <= high if high_inclusive else number < high
+    if not ok:
+        raise InputError(field, f"{number:g} is outside {interval}", value=number, allowed=interval)
+    return number

@@ -1,0 +1,1 @@
+"""Failure modes behind one interface, with a registry."""

@@ -1,0 +1,1 @@
+"""Ice: material laws, observations, thickness sampling and floe fields."""

@@ -1,0 +1,1 @@
+"""Input and output: atomic writes, GeoParquet, provenance."""

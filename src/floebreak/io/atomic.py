@@ -1,0 +1,68 @@
+"""Atomic file and directory writes: write under a temporary name, rename when complete.
+
+A failure (exception, Ctrl-C, even SIGKILL) never leaves a half-written file under the final name;
+at most a temporary sibling named ``.<name>.tmp-<random>`` remains, which nothing reads.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+
+from floebreak.errors import InputError
+
+
+def _check_parent_writable(path: Path, field: str) -> None:
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.exists():
+        raise InputError(field, f"directory {str(parent)!r} does not exist", allowed="an existing directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(field, f"directory {str(parent)!r} is not writable", allowed="a writable directory")
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike[str], field: str = "output") -> Iterator[Path]:
+    """Yield a temporary path next to `path`; on success rename it onto `path`, else delete it."""
+    final = Path(path)
+    _check_parent_writable(final, field)
+    handle, temp_name = tempfile.mkstemp(prefix=f".{final.name}.tmp-", dir=final.parent or ".")
+    os.close(handle)
+    temp = Path(temp_name)
+    try:
+        yield temp
+        os.replace(temp, final)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            temp.unlink()
+        raise
+
+
+@contextlib.contextmanager
+def atomic_directory(
+    path: str | os.PathLike[str], *, overwrite: bool = False, field: str = "out"
+) -> Iterator[Path]:
+    """Yield a fresh temporary directory next to `path`; on success it replaces `path`.
+
+    Without `overwrite` an existing `path` is refused (InputError) before anything is written.
+    """
+    final = Path(path)
+    if final.exists() and not overwrite:
+        raise InputError(field, f"{str(final)!r} exists", allowed="a new path, or pass --overwrite")
+    _check_parent_writable(final, field)
+    temp = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-", dir=final.parent or "."))
+    try:
+        yield temp
+        if final.exists():
+            trash = Path(tempfile.mkdtemp(prefix=f".{final.name}.old-", dir=final.parent or "."))
+            os.replace(final, trash / final.name)
+            os.replace(temp, final)
+            shutil.rmtree(trash, ignore_errors=True)
+        else:
+            os.replace(temp, final)
+    except BaseException:
+        shutil.rmtree(temp, ignore_errors=True)
+        raise

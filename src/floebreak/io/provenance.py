@@ -1,0 +1,31 @@
+"""Provenance that travels with every output file: package and library versions, parameters, seed."""
+
+from __future__ import annotations
+
+import platform
+from importlib import metadata
+from typing import Any
+
+_LIBRARIES = ("numpy", "scipy", "shapely", "pyarrow", "pydantic", "matplotlib")
+
+
+def floebreak_version() -> str:
+    try:
+        return metadata.version("floebreak")
+    except metadata.PackageNotFoundError:  # running from a source tree that is not installed
+        return "0+unknown"
+
+
+def library_versions() -> dict[str, str]:
+    versions = {"python": platform.python_version()}
+    for name in _LIBRARIES:
+        try:
+            versions[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            versions[name] = "not installed"
+    return versions
+
+
+def provenance(**extra: Any) -> dict[str, Any]:
+    """A provenance record: floebreak version, library versions, plus any extra keys given."""
+    return {"floebreak_version": floebreak_version(), "libraries": library_versions(), **extra}

@@ -1,0 +1,1 @@
+"""Mechanics: contact geometry and forces, failure-mode classification, Nevel wedge, fracture laws."""

@@ -1,0 +1,1 @@
+"""Figures: floe fields, breaking patterns, spectra."""

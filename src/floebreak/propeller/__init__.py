@@ -1,0 +1,1 @@
+"""Propeller–ice loads: cusp boxes, FEM interpolation, spectra, ice-class rule."""

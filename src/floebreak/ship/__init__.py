@@ -1,0 +1,1 @@
+"""The ship: bow ice waterlines, panels, normals and panel angles; built-in hulls."""

@@ -1,0 +1,1 @@
+"""Parameter studies and Monte Carlo ensembles."""
