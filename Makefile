@@ -16,7 +16,7 @@ demo: $(STAMP)
 	$(BIN)/floebreak demo --out demo-output --overwrite
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks validation
+	$(BIN)/ruff check src tests benchmarks scripts
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q

@@ -5,6 +5,7 @@ Public API (see the README and docs/):
 
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField
+from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 from floebreak.io.provenance import floebreak_version
 
@@ -15,6 +16,7 @@ __all__ = [
     "InputError",
     "Observation",
     "__version__",
+    "generate_field",
     "get_observation",
     "thesis_observations",
 ]

@@ -1,0 +1,49 @@
+"""Field-generation benchmark (issue 2): relaxation at 1 000 / 10 000 floes, 44 % / 80 %, and SQP at 150.
+
+Run: `.venv/bin/python benchmarks/field_generation.py` (or `make bench`). One core is enough: the
+relaxation is single-threaded numpy/scipy. Diameter distribution of the reference observation
+2019-12-18T20:20 (2.5/7.5/15 m: 20/40/40 %), field aspect L = 8 W sized to hold the requested count.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from floebreak.ice.generation import generate_field
+from floebreak.ice.observations import Observation, get_observation
+
+REFERENCE = get_observation("2019-12-18T20:20")
+
+
+def field_for(n_floes: int, concentration: float) -> tuple[Observation, float, float]:
+    obs = Observation(concentration, 1.0, REFERENCE.diameter_classes_m, REFERENCE.percentages)
+    d = np.asarray(obs.diameter_classes_m)
+    mean_area = float(np.dot(np.pi * d**2 / 4.0, obs.fractions))
+    area = n_floes * mean_area / concentration
+    width = float(np.sqrt(area / 8.0))
+    return obs, 8.0 * width, width
+
+
+def timed(n_floes: int, concentration: float, generator: str, seed: int = 1) -> tuple[float, int, float]:
+    obs, length, width = field_for(n_floes, concentration)
+    start = time.perf_counter()
+    field = generate_field(obs, length, width, np.random.default_rng(seed), generator=generator)
+    return time.perf_counter() - start, field.n_floes, field.concentration
+
+
+def main() -> None:
+    print(f"{'generator':>9} {'floes':>6} {'target':>7} {'reached':>8} {'time [s]':>9}")
+    for n, conc in [(1000, 0.44), (1000, 0.80), (10000, 0.44), (10000, 0.80)]:
+        seconds, count, reached = timed(n, conc, "circles")
+        print(f"{'circles':>9} {count:>6} {100 * conc:>6.0f}% {100 * reached:>7.2f}% {seconds:>9.2f}")
+    sqp_s, count, reached = timed(150, 0.44, "sqp")
+    print(f"{'sqp':>9} {count:>6} {44:>6.0f}% {100 * reached:>7.2f}% {sqp_s:>9.2f}")
+    relax_s, count, reached = timed(150, 0.44, "circles")
+    print(f"{'circles':>9} {count:>6} {44:>6.0f}% {100 * reached:>7.2f}% {relax_s:>9.2f}")
+    print(f"speed ratio SQP / relaxation at {count} floes: {sqp_s / relax_s:.0f}×")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,82 @@
+"""The failure-mode interface (thesis §3.2, chapter 4).
+
+A failure mode is a small frozen dataclass holding its own settings, with one method::
+
+    evaluate(inp: FailureInput, ctx: FailureContext) -> Outcome
+
+Given the floe (bow frame), its classification and its contact with the bow, it returns an `Outcome`:
+either "no failure" (with a reason) or the new pieces, each with its fate — back into the field as a
+floe (and re-classified), a cusp (passes under the hull to the propeller) or flipped (stays beside the
+hull). Modes never raise for physical situations; they return status values, and the engine decides.
+Modes work in the bow frame and never see the bow position, files or the clock.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from enum import StrEnum
+from typing import Any, ClassVar, Literal, Protocol
+
+import shapely
+
+from floebreak.mechanics.classify import Classification
+from floebreak.mechanics.contact import BowContactGeometry, Contact, ContactZone
+
+BowRegion = Literal["stem", "shoulder"]
+
+
+class Fate(StrEnum):
+    FLOE = "floe"  # stays in the field (re-classified while in contact)
+    CUSP = "cusp"  # unbreakable piece in contact: passes under the hull to the propeller
+    FLIPPED = "flipped"  # rotated aside by its position at the bow: stays beside the hull
+
+
+@dataclass(frozen=True, eq=False)
+class FailureInput:
+    """Everything a mode may look at for one floe at one bow position (bow frame, SI)."""
+
+    polygon: shapely.Polygon
+    thickness_m: float
+    crack_count: int  # cracks in this piece's ancestry (thesis §4.2.3: later cracks rotate by α_nextcrack)
+    classification: Classification
+    contact: Contact
+    zone: ContactZone  # the zone where failure is evaluated (the dominant one)
+    region: BowRegion  # where on the bow the zone centre lies
+
+
+@dataclass(frozen=True, eq=False)
+class FailureContext:
+    """The bow, prepared for geometry queries, plus run-wide settings modes may need."""
+
+    bow: Any  # floebreak.ship.bow.Bow
+    bow_geometry: BowContactGeometry
+    settings: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, eq=False)
+class NewPiece:
+    polygon: shapely.Polygon  # bow frame
+    fate: Fate
+    crack_count: int = 0
+
+
+@dataclass(frozen=True, eq=False)
+class Outcome:
+    """What a mode did. ``failed`` False means nothing changed; ``reason`` says why (for the records)."""
+
+    mode: str
+    failed: bool
+    pieces: tuple[NewPiece, ...] = ()
+    reason: str = ""
+    diagnostics: Mapping[str, float] = field(default_factory=dict)
+
+
+class FailureMode(Protocol):
+    name: ClassVar[str]
+
+    def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome: ...
+
+
+def no_failure(mode: str, reason: str, **diagnostics: float) -> Outcome:
+    return Outcome(mode=mode, failed=False, reason=reason, diagnostics=diagnostics)

@@ -1,0 +1,160 @@
+"""Failure by bending (thesis §4.1, Eq. 11, Alg. 4; physics-notes §1, §2.5; errata 11, 13).
+
+At the contact zone: wedge origin O (zone centre on the upper waterline), intact-ice fan Θ, loading radius
+r = √(2 A_h/Θ); Nevel's narrow-wedge capacity P_f(h, r, Θ) = σ_f Θ h² / (6 S(r/ℓ)). The floe fails when
+F_v > P_f. The bending line is the arc of breaking points B_k = O + ξ_σ(r/ℓ) ℓ U_k (maximum-stress distance
+by default; maximum-moment distance as the thesis' wording), extended along the arc to the floe boundary:
+the floe is split into the part within that radius of O and the rest. If the whole floe lies within the
+radius, it cannot bend; it is pushed under as a whole (a cusp).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar, Literal
+
+import numpy as np
+import shapely
+
+from floebreak import constants as c
+from floebreak.errors import require_range
+from floebreak.failure.base import FailureContext, FailureInput, Fate, NewPiece, Outcome, no_failure
+from floebreak.ice.material import characteristic_length_m
+from floebreak.mechanics import nevel
+from floebreak.mechanics.wedge_fan import LoadingRadiusModel, WedgeFan, disk_polygon, wedge_fan
+
+CapacityModel = Literal["nevel_narrow", "kashtelyan", "thesis_per_wedge"]
+BreakingLengthMode = Literal["max_stress", "max_moment"]
+
+MIN_PIECE_AREA_M2 = 1e-6  # split parts below this are not pieces (GEOS rounding slivers)
+
+
+@dataclass(frozen=True)
+class BendingSettings:
+    """Parameters of the bending model (SI; angles in degrees)."""
+
+    wedge_angle_deg: float = c.WEDGE_ANGLE_DEG
+    flexural_strength_pa: float = c.FLEXURAL_STRENGTH_PA
+    capacity_model: CapacityModel = "nevel_narrow"
+    kashtelyan_coefficient: float = 3.0
+    breaking_length_mode: BreakingLengthMode = "max_stress"
+    loading_radius_model: LoadingRadiusModel = "sector_area"
+    youngs_modulus_pa: float = c.YOUNGS_MODULUS_PA
+    poisson_ratio: float = c.POISSON_RATIO
+    foundation_modulus_n_m3: float = c.FOUNDATION_MODULUS_N_M3
+
+    def __post_init__(self) -> None:
+        require_range("failure.wedge_angle_deg", self.wedge_angle_deg, low=0.0, high=60.0, unit="deg")
+        require_range("ice.flexural_strength_pa", self.flexural_strength_pa, low=0.0, unit="Pa")
+        require_range("failure.kashtelyan_coefficient", self.kashtelyan_coefficient, low=0.0)
+
+
+@dataclass(frozen=True)
+class BendingCheck:
+    """The bending criterion at one contact: fan, capacity, breaking radius and the verdict."""
+
+    fan: WedgeFan
+    characteristic_length_m: float
+    capacity_n: float
+    vertical_force_n: float
+    breaking_radius_m: float  # distance of the bending line from O
+
+    @property
+    def fails(self) -> bool:
+        return self.fan.opening_rad > 0.0 and self.vertical_force_n > self.capacity_n
+
+
+def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSettings) -> BendingCheck:
+    """Evaluate Eq. 11 (F_v > P) at the failure zone of `inp` (shared by bending and local cracking)."""
+    zone = inp.zone
+    wedge = np.radians(settings.wedge_angle_deg)
+    fan = wedge_fan(
+        inp.polygon,
+        ctx.bow_geometry.hull_upper,
+        zone.centre_xy_m,
+        zone.centre_normal,
+        zone.a_h_total_m2,
+        wedge,
+        settings.loading_radius_model,
+        zone.overlap_upper,
+    )
+    material = dict(
+        youngs_modulus_pa=settings.youngs_modulus_pa,
+        poisson_ratio=settings.poisson_ratio,
+        foundation_modulus=settings.foundation_modulus_n_m3,
+    )
+    ell = float(characteristic_length_m(inp.thickness_m, **material))
+    if fan.opening_rad > 0.0:
+        capacity = float(
+            nevel.bearing_capacity_n(
+                inp.thickness_m,
+                fan.loading_radius_m,
+                fan.opening_rad,
+                model=settings.capacity_model,
+                flexural_strength_pa=settings.flexural_strength_pa,
+                kashtelyan_coefficient=settings.kashtelyan_coefficient,
+                wedge_angle_rad=wedge,
+                **material,
+            )
+        )
+        radius = float(
+            nevel.breaking_distance_from_apex_m(
+                inp.thickness_m, fan.loading_radius_m, mode=settings.breaking_length_mode, **material
+            )
+        )
+    else:
+        capacity, radius = float("inf"), 0.0
+    return BendingCheck(fan, ell, capacity, zone.vertical_force_n, radius)
+
+
+def split_by_radius(polygon, check: BendingCheck) -> tuple[list, list]:
+    """(parts within the bending line, parts beyond it): F ∩ disk(O, R) and F − disk(O, R)."""
+    fan = check.fan
+    start = fan.centre_angle_rad - fan.opening_rad / 2.0 + fan.wedge_angle_rad / 2.0  # a vertex at B_0
+    vertices = round(2.0 * np.pi / fan.wedge_angle_rad)
+    disk = disk_polygon(fan.origin_xy_m, check.breaking_radius_m, start, vertices)
+    near = _parts(shapely.intersection(polygon, disk))
+    far = _parts(shapely.difference(polygon, disk))
+    return near, far
+
+
+def _parts(geometry) -> list:
+    parts = shapely.get_parts(geometry)
+    return [p for p in parts if shapely.get_type_id(p) == 3 and p.area > MIN_PIECE_AREA_M2]
+
+
+def diagnostics(check: BendingCheck) -> dict[str, float]:
+    return {
+        "fan_opening_deg": float(np.degrees(check.fan.opening_rad)),
+        "loading_radius_m": check.fan.loading_radius_m,
+        "capacity_n": check.capacity_n,
+        "vertical_force_n": check.vertical_force_n,
+        "breaking_radius_m": check.breaking_radius_m,
+    }
+
+
+@dataclass(frozen=True)
+class Bending:
+    name: ClassVar[str] = "bending"
+    settings: BendingSettings = BendingSettings()
+
+    def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
+        check = bending_check(inp, ctx, self.settings)
+        if check.fan.opening_rad == 0.0:
+            return no_failure(self.name, "no intact ice fan at the contact")
+        if not check.fails:
+            return no_failure(self.name, "F_v <= P_f", **diagnostics(check))
+        near, far = split_by_radius(inp.polygon, check)
+        if not near:
+            return no_failure(self.name, "bending line misses the floe", **diagnostics(check))
+        if not far:
+            # the floe lies within the breaking radius: it cannot bend and is pushed under whole
+            return Outcome(
+                self.name,
+                True,
+                (NewPiece(inp.polygon, Fate.CUSP, inp.crack_count),),
+                reason="floe within the breaking radius: pushed under whole",
+                diagnostics=diagnostics(check),
+            )
+        pieces = tuple(NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far])
+        return Outcome(self.name, True, pieces, reason="F_v > P_f", diagnostics=diagnostics(check))

@@ -1,0 +1,294 @@
+"""Random floe fields from an ice observation (thesis §2.1, errata 1–5).
+
+1. `floe_counts`: number of floes per diameter class. The total count m = ⌈c·A_field / Ā⌉ with the mean floe
+   area Ā = Σ p_k · f π d_k² (f = 1/4 by default, the thesis prints 1/2: erratum 1); the per-class counts
+   p_k·m are rounded by largest remainder so they are integers summing to m (erratum 5).
+2. Placement, by one of the registered generators:
+   * ``circles`` (default): circular floes placed by soft-disk relaxation (`floebreak.ice.packing`), with the
+     thesis' clustering tendency. Scales to ≥ 10 000 floes.
+   * ``sqp``: the thesis' own SQP formulation (errata 2–4 fixed); a reference for small fields (≲ 200 floes).
+   * ``voronoi``: angular floes — Voronoi cells of random seeds, each shrunk about its centroid so the field
+     reaches the target concentration exactly (any concentration up to 100 %). The count per class is kept
+     only as the number of cells; the cells' sizes follow the Voronoi statistics, not the observed classes
+     (each floe's `diameter_class_m` is the observed class nearest its equivalent diameter).
+3. Check: the generated concentration must lie within ±1 percentage point of the target, otherwise
+   `ConcentrationError` (an InputError) names the highest concentration reached.
+
+Circles become regular polygons with `CIRCLE_POLYGON_VERTICES` corners inscribed in the circle, so the
+polygons never overlap when the circles do not; their area is 0.9984 of the circle's.
+
+The field occupies x ∈ [0, L], y ∈ [−W/2, W/2] (ship frame: the bow tip starts at the origin).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from floebreak import constants as c
+from floebreak.errors import InputError, require_range
+from floebreak.ice.field import FloeField, circle_polygons
+from floebreak.ice.observations import Observation
+from floebreak.ice.packing import Packing, relax_circles, sqp_circles
+from floebreak.ice.thickness import bounded_random_thickness_m
+from floebreak.io.provenance import floebreak_version
+
+CONCENTRATION_TOLERANCE = 0.01  # ±1 percentage point (issue requirement)
+SQP_MAX_FLOES = 400  # beyond this SLSQP's dense O(n²) constraint Jacobian is impractical
+
+
+class ConcentrationError(InputError):
+    """The target concentration could not be reached; `reached` is the best concentration found."""
+
+    def __init__(self, target: float, reached: float, reason: str):
+        self.reached = reached
+        super().__init__(
+            "concentration",
+            f"target {100 * target:.1f} % not reached: highest concentration reached {100 * reached:.2f} % "
+            f"({reason})",
+            value=target,
+            allowed=f"(0, {100 * reached:.1f}] % for this generator and field; the 'voronoi' generator "
+            "reaches any concentration up to 100 %",
+        )
+
+
+@dataclass(frozen=True)
+class FloeCounts:
+    """Floes per diameter class for a field (thesis §2.1: m_d, m_floe)."""
+
+    diameter_classes_m: tuple[float, ...]
+    counts: tuple[int, ...]
+    circle_concentration: float  # Σ counts · π d²/4 / A_field (what perfect circles would cover)
+
+    @property
+    def total(self) -> int:
+        return int(sum(self.counts))
+
+
+def largest_remainder(fractions: np.ndarray, total: int) -> np.ndarray:
+    """Integers proportional to `fractions` that sum exactly to `total` (Hamilton's method)."""
+    raw = np.asarray(fractions, dtype=float) * total
+    counts = np.floor(raw).astype(np.int64)
+    short = total - int(counts.sum())
+    if short > 0:
+        order = np.argsort(-(raw - counts), kind="stable")
+        counts[order[:short]] += 1
+    return counts
+
+
+def floe_counts(
+    observation: Observation, field_area_m2: float, floe_area_factor: float = c.FLOE_AREA_FACTOR
+) -> FloeCounts:
+    """Number of floes per diameter class (thesis §2.1 with errata 1 and 5)."""
+    require_range("field_area_m2", field_area_m2, low=0.0, unit="m²")
+    require_range("floe_area_factor", floe_area_factor, low=0.0, unit="(A = factor·π d²)")
+    d = np.asarray(observation.diameter_classes_m, dtype=float)
+    p = observation.fractions
+    mean_area = float(np.dot(floe_area_factor * np.pi * d**2, p))
+    thesis_total = int(np.ceil(observation.concentration * field_area_m2 / mean_area))
+    best = None
+    # Rounding per class can move the covered area away from the target when few large floes exist; of the
+    # totals near the thesis' m, take the one whose rounded counts cover the target best (thesis' m first).
+    for total in sorted(
+        range(max(1, thesis_total - 3), thesis_total + 4), key=lambda t: abs(t - thesis_total)
+    ):
+        counts = largest_remainder(p, total)
+        # compared in the model's own floe area (factor·π d²), so the thesis factor keeps the thesis count
+        modelled = float(np.sum(counts * floe_area_factor * np.pi * d**2)) / field_area_m2
+        if best is None or abs(modelled - observation.concentration) < best[1] - 1e-12:
+            best = (counts, abs(modelled - observation.concentration))
+    counts = best[0]
+    covered = float(np.sum(counts * np.pi * d**2 / 4.0)) / field_area_m2
+    return FloeCounts(tuple(float(v) for v in d), tuple(int(k) for k in counts), covered)
+
+
+# --- generators: (radii per floe, domain, rng, options) → centres ---------------------------------------
+
+
+def _place_circles(radii, domain, rng, clustering: float) -> Packing:
+    return relax_circles(radii, domain, rng, clustering=clustering, growth_start=_growth_start(radii, domain))
+
+
+def _place_sqp(radii, domain, rng, clustering: float) -> Packing:
+    if len(radii) > SQP_MAX_FLOES:
+        raise InputError(
+            "generator",
+            f"'sqp' is the small-field reference and cannot place {len(radii)} floes",
+            allowed=f"≤ {SQP_MAX_FLOES} floes for 'sqp'; use 'circles' for larger fields",
+        )
+    return sqp_circles(radii, domain, rng, clustering=clustering)
+
+
+def _growth_start(radii: np.ndarray, domain) -> float:
+    """Dense targets start from shrunken circles (≈ 50 % cover) and grow them: reaches denser packings."""
+    x0, y0, x1, y1 = domain
+    cover = float(np.sum(np.pi * radii**2)) / ((x1 - x0) * (y1 - y0))
+    return 1.0 if cover <= 0.6 else float(np.sqrt(0.5 / cover))
+
+
+CIRCLE_GENERATORS: dict[str, Callable[..., Packing]] = {"circles": _place_circles, "sqp": _place_sqp}
+GENERATORS = ("circles", "sqp", "voronoi")
+
+
+def _circle_field(counts: FloeCounts, domain, rng, generator: str, clustering: float, vertices: int):
+    diameters = np.repeat(np.asarray(counts.diameter_classes_m), counts.counts)
+    order = np.argsort(-diameters, kind="stable")  # ids: largest floes first
+    diameters = diameters[order]
+    packing = CIRCLE_GENERATORS[generator](diameters / 2.0, domain, rng, clustering)
+    if not packing.overlap_free:
+        reached = _best_subset_concentration(packing, domain)
+        raise ConcentrationError(
+            counts.circle_concentration,
+            reached,
+            f"{generator!r} could not place all floes without overlap (up to {packing.max_overlap_m:.3g} m); "
+            "the concentration given is that of the floes it did place without overlap",
+        )
+    polygons = circle_polygons(packing.centers_m, packing.radii_m, vertices)
+    info = {"iterations": packing.iterations, "min_gap_m": float(-packing.max_overlap_m)}
+    return polygons, diameters, info
+
+
+def _best_subset_concentration(packing: Packing, domain) -> float:
+    """Cover of the circles placed without overlap (the size groups before the failing one), or, without
+    that information, of the circles left after dropping the smaller circle of every overlapping pair."""
+    from scipy.spatial import cKDTree
+
+    xy, r = packing.centers_m, packing.radii_m
+    if packing.placed is not None:
+        keep = packing.placed
+    else:
+        keep = np.ones(len(r), dtype=bool)
+        for i, j in cKDTree(xy).query_pairs(2.0 * float(np.max(r)), output_type="ndarray"):
+            if keep[i] and keep[j] and np.hypot(*(xy[i] - xy[j])) < r[i] + r[j]:
+                keep[j if r[j] <= r[i] else i] = False
+    x0, y0, x1, y1 = domain
+    return float(np.sum(np.pi * r[keep] ** 2) / ((x1 - x0) * (y1 - y0)))
+
+
+def _voronoi_field(counts: FloeCounts, concentration: float, domain, rng):
+    x0, y0, x1, y1 = domain
+    n = counts.total
+    seeds = np.column_stack([rng.uniform(x0, x1, n), rng.uniform(y0, y1, n)])
+    box = shapely.box(x0, y0, x1, y1)
+    cells = shapely.get_parts(shapely.voronoi_polygons(shapely.multipoints(seeds), extend_to=box))
+    cells = shapely.intersection(cells, box)
+    cells = cells[shapely.area(cells) > 0.0]
+    # every cell shrunk about its centroid by √c: areas scale by c, so Σ = c·A_field exactly
+    factor = np.sqrt(concentration)
+    centroids = shapely.get_coordinates(shapely.centroid(cells))
+    polygons = np.array(
+        [
+            shapely.transform(
+                cell,
+                lambda pts, cx=cx, cy=cy: np.column_stack(
+                    [cx + factor * (pts[:, 0] - cx), cy + factor * (pts[:, 1] - cy)]
+                ),
+            )
+            for cell, (cx, cy) in zip(cells, centroids, strict=True)
+        ],
+        dtype=object,
+    )
+    equivalent = np.sqrt(4.0 * shapely.area(polygons) / np.pi)
+    classes = np.asarray(counts.diameter_classes_m)
+    nearest = classes[np.argmin(np.abs(np.log(equivalent[:, None] / classes[None, :])), axis=1)]
+    order = np.argsort(-shapely.area(polygons), kind="stable")
+    return polygons[order], nearest[order], {}
+
+
+def generate_field(
+    observation: Observation,
+    length_m: float,
+    width_m: float,
+    rng: np.random.Generator,
+    *,
+    generator: str = "circles",
+    thickness_m: float | None = None,
+    thickness_range_m: tuple[float, float] | None = None,
+    thickness_summands: int = c.THICKNESS_SUMMANDS_DEFAULT,
+    floe_area_factor: float = c.FLOE_AREA_FACTOR,
+    clustering: float = 0.05,
+    vertices: int = c.CIRCLE_POLYGON_VERTICES,
+    seed: int | None = None,
+) -> FloeField:
+    """A random floe field for `observation` in x ∈ [0, L], y ∈ [−W/2, W/2] (thesis §2.1).
+
+    Thickness: `thickness_m` for every floe, or bounded random in `thickness_range_m` (thesis §5.3.3,
+    Bates with `thickness_summands`), or the observation's mean thickness. `seed` is only recorded in the
+    metadata; the randomness comes from `rng`. Raises InputError (or its subclass ConcentrationError) when
+    the request cannot be met.
+    """
+    require_range("length_m", length_m, low=0.0, unit="m")
+    require_range("width_m", width_m, low=0.0, unit="m")
+    if generator not in GENERATORS:
+        raise InputError("generator", f"unknown generator {generator!r}", allowed=", ".join(GENERATORS))
+    require_range("clustering", clustering, low=0.0, low_inclusive=True)
+    domain = (0.0, -width_m / 2.0, float(length_m), width_m / 2.0)
+    counts = floe_counts(observation, length_m * width_m, floe_area_factor)
+    present = [d for d, k in zip(counts.diameter_classes_m, counts.counts, strict=True) if k > 0]
+    if generator != "voronoi" and present and max(present) > min(length_m, width_m):
+        raise InputError(
+            "width_m" if width_m <= length_m else "length_m",
+            f"the field ({length_m:g} m × {width_m:g} m) is smaller than its largest floe "
+            f"({max(present):g} m)",
+            allowed=f"length and width ≥ {max(present):g} m",
+        )
+    if floe_area_factor == c.FLOE_AREA_FACTOR and generator != "voronoi":
+        # discreteness: a few huge floes in a small field cannot represent the target concentration
+        if abs(counts.circle_concentration - observation.concentration) > CONCENTRATION_TOLERANCE:
+            raise InputError(
+                "length_m",
+                f"the field is too small for this diameter distribution: whole floes give "
+                f"{100 * counts.circle_concentration:.1f} % for a target of "
+                f"{100 * observation.concentration:g} %",
+                allowed="a larger field (length_m × width_m)",
+            )
+    if generator == "voronoi":
+        polygons, diameter_class, info = _voronoi_field(counts, observation.concentration, domain, rng)
+    else:
+        polygons, diameter_class, info = _circle_field(counts, domain, rng, generator, clustering, vertices)
+    n = len(polygons)
+    if thickness_range_m is not None:
+        if thickness_m is not None:
+            raise InputError("thickness_m", "give either a thickness or a thickness range, not both")
+        h = bounded_random_thickness_m(rng, thickness_range_m[0], thickness_range_m[1], n, thickness_summands)
+    else:
+        value = observation.mean_thickness_m if thickness_m is None else thickness_m
+        require_range("thickness_m", value, low=0.0, unit="m")
+        h = np.full(n, float(value))
+    field = FloeField(
+        polygons=polygons,
+        thickness_m=h,
+        diameter_class_m=np.asarray(diameter_class, dtype=float),
+        floe_id=np.arange(n, dtype=np.int64),
+        domain_m=domain,
+        metadata={
+            "floebreak_version": floebreak_version(),
+            "generator": generator,
+            "observation": observation.key,
+            "target_concentration": observation.concentration,
+            "diameter_classes_m": list(counts.diameter_classes_m),
+            "counts": list(counts.counts),
+            "floe_area_factor": floe_area_factor,
+            "clustering": clustering,
+            "circle_polygon_vertices": vertices,
+            "seed": seed,
+            "thickness": {
+                "constant_m": thickness_m,
+                "range_m": thickness_range_m,
+                "summands": thickness_summands,
+            },
+            **info,
+        },
+    )
+    reached = field.concentration
+    if (
+        abs(reached - observation.concentration) > CONCENTRATION_TOLERANCE
+        and floe_area_factor == c.FLOE_AREA_FACTOR
+    ):
+        raise ConcentrationError(
+            observation.concentration, reached, "generated field differs by more than 1 pp"
+        )
+    return field

@@ -1,0 +1,278 @@
+"""Ship–ice contact: crushed areas and contact forces per floe and bow panel (thesis §4.1.1, Alg. 3).
+
+Everything here works in the **bow frame** (the bow at its start position, stem tip of the upper ice
+waterline at the origin); the stepping engine translates floes into it. Pure functions on shapely
+geometries and numpy arrays.
+
+Default model (physics-notes §2.2, §2.3):
+- zones: connected parts of F ∩ H_u (thesis §3.2: n_int = 2N intersection points bound N zones);
+- per panel i: A_h,i = area(Z ∩ Q_i) with Q_i the footprint between the two waterlines, so that
+  Σ A_h,i = A_u − A_l; A_c,i = A_h,i / sin ψ_i (Eq. 6 per panel), with a near-vertical guard;
+- F_c = k_c σ_c A_c (Eq. 7), F_f = μ F_c (Eq. 8), ψ from the vertical:
+  F_v = F_c (sin ψ − μ cos ψ) (clamped at 0), F_h = F_c (cos ψ + μ sin ψ), F_h along the panel's
+  outward horizontal normal; zone totals are vector sums over panels.
+Thesis-literal options: one ψ for the whole zone (Eq. 6 with ψ at the zone centre), Alg. 3 signs, or
+Eqs. 9/10 taken literally (errata 9, 10).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+import shapely
+
+from floebreak import constants as c
+from floebreak.errors import require_range
+
+AreaModel = Literal["per_panel", "single_psi"]
+ForceSigns = Literal["consistent", "thesis_alg3", "thesis_eq9_10"]
+NearVerticalGuard = Literal["vertical_face", "cap", "none"]
+
+
+@dataclass(frozen=True)
+class ContactParams:
+    """Contact-model parameters (SI). Validated on construction; errors name the field and range."""
+
+    crushing_strength_pa: float = c.CRUSHING_STRENGTH_PA
+    contact_coefficient: float = c.CONTACT_COEFFICIENT
+    friction_coefficient: float = c.FRICTION_COEFFICIENT
+    psi_min_deg: float = c.PSI_MIN_DEG
+    area_model: AreaModel = "per_panel"
+    force_signs: ForceSigns = "consistent"
+    near_vertical: NearVerticalGuard = "vertical_face"
+
+    def __post_init__(self) -> None:
+        require_range("contact.crushing_strength_pa", self.crushing_strength_pa, low=0.0, unit="Pa")
+        require_range("contact.contact_coefficient", self.contact_coefficient, low=0.0)
+        require_range("contact.friction_coefficient", self.friction_coefficient, low=0.0, low_inclusive=True)
+        require_range(
+            "contact.psi_min_deg", self.psi_min_deg, low=0.0, high=45.0, high_inclusive=False, unit="deg"
+        )
+
+
+def panel_forces(
+    contact_area_m2: np.ndarray, psi_rad: np.ndarray, params: ContactParams
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Crushing, vertical and horizontal force [N] for contact areas A_c on panels of angle ψ (from vertical).
+
+    Thesis Eqs. 7–10 / Alg. 3; sign convention per ``params.force_signs`` (physics-notes §2.3, erratum 9).
+    The vertical force on the ice is downward-positive and clamped at 0 (a panel with tan ψ ≤ μ cannot
+    push the ice down).
+    """
+    f_c = params.contact_coefficient * params.crushing_strength_pa * np.asarray(contact_area_m2, dtype=float)
+    psi = np.asarray(psi_rad, dtype=float)
+    mu = params.friction_coefficient
+    s, co = np.sin(psi), np.cos(psi)
+    if params.force_signs == "consistent":
+        f_v = f_c * (s - mu * co)
+        f_h = f_c * (co + mu * s)
+    elif params.force_signs == "thesis_alg3":
+        f_v = f_c * (s - mu * co)
+        f_h = f_c * (co - mu * s)
+    elif params.force_signs == "thesis_eq9_10":  # ψ taken as if measured from the horizontal
+        f_v = f_c * (co - mu * s)
+        f_h = f_c * (s + mu * co)
+    else:
+        raise ValueError(f"unknown force_signs {params.force_signs!r}")
+    return f_c, np.maximum(f_v, 0.0), f_h
+
+
+@dataclass(frozen=True, eq=False)
+class ContactZone:
+    """One contact zone of a floe with the bow (bow frame), with per-panel results.
+
+    Arrays indexed like ``panels``. Areas in m², forces in N; ``force_on_ice_xy_n`` is the summed
+    horizontal force vector acting on the ice (the bow feels the opposite).
+    """
+
+    zone: int
+    overlap_upper: shapely.Geometry  # Z = F ∩ H_u for this zone
+    centre_xy_m: np.ndarray  # "midBow": middle of the upper waterline inside the floe (thesis Alg. 5)
+    centre_panel: int
+    centre_normal: np.ndarray  # outward unit normal of the centre panel (thesis Eq. 20)
+    a_u_m2: float
+    a_l_m2: float
+    panels: np.ndarray
+    a_h_m2: np.ndarray
+    a_c_m2: np.ndarray
+    psi_rad: np.ndarray
+    f_c_n: np.ndarray
+    f_v_n: np.ndarray
+    f_h_n: np.ndarray
+    force_on_ice_xy_n: np.ndarray
+
+    @property
+    def a_h_total_m2(self) -> float:
+        return float(self.a_h_m2.sum())
+
+    @property
+    def crushing_force_n(self) -> float:
+        return float(self.f_c_n.sum())
+
+    @property
+    def vertical_force_n(self) -> float:
+        return float(self.f_v_n.sum())
+
+    @property
+    def horizontal_force_n(self) -> float:
+        """Magnitude of the summed horizontal force vector on the ice [N]."""
+        return float(np.hypot(*self.force_on_ice_xy_n))
+
+
+@dataclass(frozen=True, eq=False)
+class Contact:
+    """All contact zones of one floe at one bow position. Empty ``zones`` means no contact."""
+
+    zones: tuple[ContactZone, ...] = field(default_factory=tuple)
+
+    @property
+    def in_contact(self) -> bool:
+        return bool(self.zones)
+
+    @property
+    def dominant(self) -> ContactZone:
+        """The zone with the largest crushing force; failure is evaluated there."""
+        return max(self.zones, key=lambda z: z.crushing_force_n)
+
+    @property
+    def force_on_ice_xyz_n(self) -> np.ndarray:
+        """Total force on the ice (x, y horizontal; z = −F_v, i.e. downward is negative z) [N]."""
+        horizontal = sum((z.force_on_ice_xy_n for z in self.zones), start=np.zeros(2))
+        vertical = sum(z.vertical_force_n for z in self.zones)
+        return np.array([horizontal[0], horizontal[1], -vertical])
+
+    @property
+    def force_on_bow_xyz_n(self) -> np.ndarray:
+        return -self.force_on_ice_xyz_n
+
+
+def evaluate_contact(
+    floe_bow_frame: shapely.Geometry, thickness_m: float, geometry: BowContactGeometry, params: ContactParams
+) -> Contact:
+    """Contact zones, areas and forces of one floe (already translated into the bow frame).
+
+    `geometry` is the bow's prepared contact geometry, `BowContactGeometry.from_bow(bow)`, built once per run.
+    """
+    if not shapely.intersects(geometry.hull_upper, floe_bow_frame):
+        return Contact()
+    overlap = shapely.intersection(floe_bow_frame, geometry.hull_upper)
+    parts = [p for p in shapely.get_parts(overlap) if shapely.get_type_id(p) == 3 and p.area > 0.0]
+    zones = []
+    for index, zone_polygon in enumerate(parts):
+        zone = _evaluate_zone(index, zone_polygon, floe_bow_frame, thickness_m, geometry, params)
+        if zone is not None:
+            zones.append(zone)
+    return Contact(tuple(zones))
+
+
+# --- internals --------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class BowContactGeometry:
+    """Prepared, indexed bow geometry for fast contact queries (built once per bow)."""
+
+    hull_upper: shapely.Polygon
+    waterline: shapely.LineString  # the upper ice waterline polyline (without the aft closure)
+    node_distance_m: np.ndarray  # cumulative length along the waterline at each node
+    footprints: np.ndarray
+    footprint_tree: shapely.STRtree
+    panel_segments: np.ndarray  # upper panel segments as LineStrings
+    panel_normals: np.ndarray
+    panel_psi_rad: np.ndarray
+
+    @classmethod
+    def from_bow(cls, bow) -> BowContactGeometry:
+        """Prepare a `floebreak.ship.bow.Bow` for contact queries (prepared hull, STRtree of footprints)."""
+        upper = np.asarray(bow.upper_xy_m, dtype=float)
+        hull_upper = shapely.Polygon(bow.hull_upper.exterior.coords)
+        shapely.prepare(hull_upper)
+        steps = np.hypot(*np.diff(upper, axis=0).T)
+        footprints = np.asarray(bow.panel_footprints, dtype=object)
+        return cls(
+            hull_upper=hull_upper,
+            waterline=shapely.LineString(upper),
+            node_distance_m=np.concatenate([[0.0], np.cumsum(steps)]),
+            footprints=footprints,
+            footprint_tree=shapely.STRtree(footprints),
+            panel_segments=shapely.linestrings(np.stack([upper[:-1], upper[1:]], axis=1)),
+            panel_normals=np.asarray(bow.panel_normals, dtype=float),
+            panel_psi_rad=np.asarray(bow.panel_psi_rad, dtype=float),
+        )
+
+
+def _zone_centre(zone_polygon, geometry: BowContactGeometry) -> tuple[np.ndarray, int]:
+    """Middle of the upper waterline inside the zone, and the panel it lies on (thesis "midBow")."""
+    inside = shapely.intersection(geometry.waterline, zone_polygon)
+    lines = [p for p in shapely.get_parts(inside) if shapely.get_type_id(p) == 1 and p.length > 0.0]
+    if lines:
+        longest = max(lines, key=lambda line: line.length)
+        centre = shapely.line_interpolate_point(longest, 0.5, normalized=True)
+    else:  # the zone does not reach the waterline (a piece already inside the hull): nearest point
+        centre = shapely.get_point(shapely.shortest_line(zone_polygon, geometry.waterline), 1)
+    distance = shapely.line_locate_point(geometry.waterline, centre)
+    panel = int(
+        np.clip(np.searchsorted(geometry.node_distance_m, distance) - 1, 0, len(geometry.footprints) - 1)
+    )
+    return np.array(shapely.get_coordinates(centre)[0]), panel
+
+
+def _evaluate_zone(
+    index, zone_polygon, floe, thickness_m, geometry: BowContactGeometry, params: ContactParams
+):
+    candidates = geometry.footprint_tree.query(zone_polygon, predicate="intersects")
+    candidates = np.sort(candidates)
+    a_h = (
+        shapely.area(shapely.intersection(zone_polygon, geometry.footprints[candidates]))
+        if len(candidates)
+        else np.zeros(0)
+    )
+    keep = a_h > 0.0
+    panels, a_h = candidates[keep], a_h[keep]
+    a_u = float(zone_polygon.area)
+    a_l = max(a_u - float(a_h.sum()), 0.0)  # Σ A_h,i = A_u − A_l (footprints tile H_u \ H_l)
+    centre, centre_panel = _zone_centre(zone_polygon, geometry)
+    centre_normal = geometry.panel_normals[centre_panel]
+    if params.area_model == "single_psi":
+        # thesis Eq. 6 literally: one ψ (at the zone centre) for the whole horizontal area A_h = A_u − A_l
+        panels = np.array([centre_panel])
+        a_h = np.array([a_u - a_l])
+    psi = geometry.panel_psi_rad[panels]
+    a_c = _contact_area(a_h, psi, panels, floe, thickness_m, geometry, params)
+    f_c, f_v, f_h = panel_forces(a_c, psi, params)
+    force_xy = (f_h[:, None] * geometry.panel_normals[panels]).sum(axis=0) if len(panels) else np.zeros(2)
+    return ContactZone(
+        zone=index,
+        overlap_upper=zone_polygon,
+        centre_xy_m=centre,
+        centre_panel=centre_panel,
+        centre_normal=centre_normal,
+        a_u_m2=a_u,
+        a_l_m2=a_l,
+        panels=panels,
+        a_h_m2=a_h,
+        a_c_m2=a_c,
+        psi_rad=psi,
+        f_c_n=f_c,
+        f_v_n=f_v,
+        f_h_n=f_h,
+        force_on_ice_xy_n=force_xy,
+    )
+
+
+def _contact_area(a_h, psi, panels, floe, thickness_m, geometry: BowContactGeometry, params: ContactParams):
+    """A_c = A_h / sin ψ (thesis Eq. 6) with the near-vertical guard of physics-notes §2.2."""
+    sin_psi = np.sin(psi)
+    sin_min = np.sin(np.radians(params.psi_min_deg))
+    steep = sin_psi < sin_min
+    if params.near_vertical == "none" or not steep.any():
+        with np.errstate(divide="ignore"):
+            return np.where(a_h > 0.0, a_h / np.maximum(sin_psi, 1e-12), 0.0)
+    a_c = a_h / np.where(steep, sin_min, sin_psi)  # "cap": 1/sin ψ limited to 1/sin ψ_min
+    if params.near_vertical == "vertical_face":
+        # vertical face: contact area = thickness × length of the panel overlapping the floe
+        overlap_length = shapely.length(shapely.intersection(geometry.panel_segments[panels[steep]], floe))
+        a_c[steep] = thickness_m * overlap_length
+    return a_c

@@ -1,0 +1,159 @@
+"""The wedge fan at a contact: origin O, intact-ice opening Θ, loading radius r (physics-notes §2.5).
+
+The thesis only says "the joint wedge origin is calculated based on the intersection area" (§4.1.2,
+Alg. 4). We use the deterministic procedure of physics-notes §2.5:
+
+1. O = the zone centre on the upper ice waterline (thesis "midBow", Alg. 5/6);
+2. centre direction n̂ = the outward bow normal at O (thesis Eq. 20);
+3. Θ = angular extent of intact ice seen from O: rays every φ = 5° over 360°; a ray counts when its point at
+   distance r + ε lies inside the floe and outside the hull H_u; Θ = (contiguous rays around n̂) × φ;
+4. r = √(2 A_h / Θ): the truncated sector with the crushed area (Nevel's load on the arc of radius r).
+
+Pure functions; bow frame; SI.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import shapely
+
+LoadingRadiusModel = Literal["sector_area", "max_distance", "sector_area_clipped"]
+
+RAY_PROBE_OFFSET_M = 0.05  # ε: probe just beyond the loaded arc
+ERCEG_RADIUS_RANGE_M = (0.1, 1.5)  # r range of Erceg's bearing tables (physics-notes §1.7)
+
+
+@dataclass(frozen=True)
+class WedgeFan:
+    """The fan of intact ice at a contact (bow frame)."""
+
+    origin_xy_m: np.ndarray
+    centre_angle_rad: float  # direction of the fan's centre line
+    opening_rad: float  # Θ
+    wedge_angle_rad: float  # φ
+    loading_radius_m: float  # r
+
+    @property
+    def n_wedges(self) -> int:
+        return round(self.opening_rad / self.wedge_angle_rad)
+
+    @property
+    def wedge_directions(self) -> np.ndarray:
+        """Unit centre-line directions U_k of the wedges, k = 0 … N_w − 1 (physics-notes §2.5 step 3)."""
+        k = np.arange(self.n_wedges)
+        angles = self.centre_angle_rad - self.opening_rad / 2.0 + (k + 0.5) * self.wedge_angle_rad
+        return np.stack([np.cos(angles), np.sin(angles)], axis=1)
+
+
+def _contiguous_block(kept: np.ndarray) -> np.ndarray:
+    """Indices of the circular run of True values containing index 0, or the run nearest to it."""
+    n = kept.size
+    if not kept.any():
+        return np.zeros(0, dtype=int)
+    if kept.all():
+        return np.arange(n)
+    # rotate so that index `start` begins a run, then split runs
+    start = int(np.flatnonzero(~kept)[0])
+    order = (np.arange(n) + start) % n
+    runs, current = [], []
+    for index in order:
+        if kept[index]:
+            current.append(index)
+        elif current:
+            runs.append(current)
+            current = []
+    if current:
+        runs.append(current)
+
+    def distance_to_zero(run: list[int]) -> int:
+        return min(min(i, n - i) for i in run)
+
+    return np.array(min(runs, key=lambda run: (distance_to_zero(run), -len(run))), dtype=int)
+
+
+def intact_fan(
+    floe: shapely.Geometry,
+    hull_upper: shapely.Geometry,
+    origin_xy_m: np.ndarray,
+    normal_xy: np.ndarray,
+    probe_radius_m: float,
+    wedge_angle_rad: float,
+) -> tuple[float, float]:
+    """(Θ, centre angle) of the intact ice fan seen from `origin_xy_m` (physics-notes §2.5 step 3).
+
+    Rays start at the bow normal and step by the wedge angle; Θ = 0 when no ray meets intact ice.
+    """
+    n_rays = round(2.0 * np.pi / wedge_angle_rad)
+    normal_angle = float(np.arctan2(normal_xy[1], normal_xy[0]))
+    angles = normal_angle + np.arange(n_rays) * (2.0 * np.pi / n_rays)
+    probes = origin_xy_m[None, :] + (probe_radius_m + RAY_PROBE_OFFSET_M) * np.stack(
+        [np.cos(angles), np.sin(angles)], axis=1
+    )
+    kept = shapely.contains_xy(floe, probes[:, 0], probes[:, 1]) & ~shapely.contains_xy(
+        hull_upper, probes[:, 0], probes[:, 1]
+    )
+    block = _contiguous_block(kept)
+    if block.size == 0:
+        return 0.0, normal_angle
+    opening = block.size * (2.0 * np.pi / n_rays)
+    # centre of the block on the circle: average the unit vectors of its rays
+    centre = float(np.arctan2(np.sin(angles[block]).sum(), np.cos(angles[block]).sum()))
+    if block.size == n_rays:
+        centre = normal_angle
+    return opening, centre
+
+
+def loading_radius_m(
+    crushed_area_m2: float,
+    opening_rad: float,
+    model: LoadingRadiusModel = "sector_area",
+    zone_polygon: shapely.Geometry | None = None,
+    origin_xy_m: np.ndarray | None = None,
+) -> float:
+    """Loading radius r [m] (physics-notes §2.5 step 4).
+
+    ``sector_area``: r = √(2 A_h / Θ); ``sector_area_clipped``: the same clipped to Erceg's table range
+    [0.1, 1.5] m (thesis replication); ``max_distance``: the largest distance from O to the crushed zone.
+    """
+    if model == "max_distance":
+        if zone_polygon is None or origin_xy_m is None:
+            raise ValueError("max_distance needs the zone polygon and the origin")
+        coords = shapely.get_coordinates(zone_polygon)
+        return float(np.max(np.hypot(*(coords - origin_xy_m).T))) if len(coords) else 0.0
+    radius = float(np.sqrt(2.0 * max(crushed_area_m2, 0.0) / opening_rad)) if opening_rad > 0 else 0.0
+    if model == "sector_area_clipped":
+        radius = float(np.clip(radius, *ERCEG_RADIUS_RANGE_M))
+    return radius
+
+
+def wedge_fan(
+    floe: shapely.Geometry,
+    hull_upper: shapely.Geometry,
+    origin_xy_m: np.ndarray,
+    normal_xy: np.ndarray,
+    crushed_area_m2: float,
+    wedge_angle_rad: float,
+    radius_model: LoadingRadiusModel = "sector_area",
+    zone_polygon: shapely.Geometry | None = None,
+) -> WedgeFan:
+    """Fan and loading radius at a contact. Two passes: a first r for Θ = π, then Θ, then r for that Θ."""
+    first_radius = loading_radius_m(crushed_area_m2, np.pi, radius_model, zone_polygon, origin_xy_m)
+    opening, centre = intact_fan(floe, hull_upper, origin_xy_m, normal_xy, first_radius, wedge_angle_rad)
+    radius = (
+        loading_radius_m(crushed_area_m2, opening, radius_model, zone_polygon, origin_xy_m)
+        if opening
+        else 0.0
+    )
+    return WedgeFan(np.asarray(origin_xy_m, dtype=float), centre, opening, wedge_angle_rad, radius)
+
+
+def disk_polygon(
+    centre_xy_m: np.ndarray, radius_m: float, start_angle_rad: float, vertices: int
+) -> shapely.Polygon:
+    """Regular polygon with `vertices` corners on a circle, one corner at `start_angle_rad`."""
+    angles = start_angle_rad + np.arange(vertices) * (2.0 * np.pi / vertices)
+    ring = centre_xy_m[None, :] + radius_m * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    return shapely.Polygon(ring)

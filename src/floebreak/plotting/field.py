@@ -1,0 +1,47 @@
+"""Figure of a floe field (thesis Fig. 1): all floes as one PolyCollection coloured by diameter class."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.patches import Patch, Rectangle
+
+from floebreak.ice.field import FloeField
+from floebreak.plotting.common import new_figure, polygon_collection
+
+
+def plot_field(floe_field: FloeField, title: str | None = None, ax=None):
+    """Plot `floe_field`; returns the matplotlib Figure. Floes are coloured by diameter class."""
+    if ax is None:
+        x0, y0, x1, y1 = floe_field.domain_m
+        aspect = (y1 - y0) / max(x1 - x0, 1e-9)
+        figure, ax = new_figure(10.0, float(np.clip(10.0 * aspect + 1.2, 2.5, 10.0)))
+    else:
+        figure = ax.figure
+    classes = floe_field.diameter_class_m
+    known = np.unique(classes[~np.isnan(classes)])
+    palette = colormaps["viridis"](np.linspace(0.15, 0.9, max(len(known), 1)))
+    colours = np.empty((floe_field.n_floes, 4))
+    colours[:] = (0.6, 0.6, 0.6, 1.0)
+    handles = []
+    for colour, diameter in zip(palette, known, strict=False):
+        colours[classes == diameter] = colour
+        handles.append(Patch(facecolor=colour, label=f"d = {diameter:g} m"))
+    ax.add_collection(
+        polygon_collection(floe_field.polygons, facecolors=colours, edgecolors="k", linewidths=0.2)
+    )
+    x0, y0, x1, y1 = floe_field.domain_m
+    ax.add_patch(
+        Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor="0.4", linestyle="--", linewidth=0.8)
+    )
+    ax.set_xlim(x0 - 0.01 * (x1 - x0), x1 + 0.01 * (x1 - x0))
+    ax.set_ylim(y0 - 0.05 * (y1 - y0), y1 + 0.05 * (y1 - y0))
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (ship's forward direction) [m]")
+    ax.set_ylabel("y (to port) [m]")
+    if handles:
+        ax.legend(
+            handles=handles, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="small", title="floe class"
+        )
+    ax.set_title(title or f"{floe_field.n_floes} floes, concentration {100 * floe_field.concentration:.1f} %")
+    return figure

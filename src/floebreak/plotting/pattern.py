@@ -1,0 +1,60 @@
+"""Breaking pattern (thesis Figs. 15–16, 18–24): blue untouched/remaining ice, orange flipped, red cusps,
+with the bow's ice waterlines at the start and end positions."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from matplotlib.patches import Patch
+
+from floebreak.plotting.common import (
+    CUSP_COLOUR,
+    FLIPPED_COLOUR,
+    UNTOUCHED_COLOUR,
+    new_figure,
+    polygon_collection,
+)
+
+
+def plot_breaking_pattern(result, ax=None, title: str | None = None, xlim=None, ylim=None):
+    """Plot a `SimulationResult`: remaining ice blue, flipped orange, cusps red; bow outline at start/end."""
+    if ax is None:
+        x0, y0, x1, y1 = result.field.domain_m
+        figure, ax = new_figure(
+            10.0, float(np.clip(10.0 * (y1 - y0 + 30) / max(x1 - x0, 1e-9) + 1.5, 2.5, 10))
+        )
+    else:
+        figure = ax.figure
+    for fate, colour in (("remaining", UNTOUCHED_COLOUR), ("flipped", FLIPPED_COLOUR), ("cusp", CUSP_COLOUR)):
+        polygons = result.polygon[result.mask(fate)]
+        if polygons.size:
+            ax.add_collection(
+                polygon_collection(polygons, facecolors=colour, edgecolors="k", linewidths=0.15)
+            )
+    upper = np.asarray(result.bow.upper_xy_m)
+    lower = np.asarray(result.bow.lower_xy_m)
+    for x_b, style in (
+        (result.params.x_start_m, "--"),
+        (result.params.x_start_m + (result.n_steps - 1) * result.params.step_m, "-"),
+    ):
+        ax.plot(upper[:, 0] + x_b, upper[:, 1], style, color="k", linewidth=0.8)
+        ax.plot(lower[:, 0] + x_b, lower[:, 1], style, color="0.5", linewidth=0.6)
+    bounds = shapely.total_bounds(result.polygon) if result.polygon.size else np.array(result.field.domain_m)
+    ax.set_xlim(xlim or (min(bounds[0], upper[:, 0].min()) - 2, bounds[2] + 2))
+    ax.set_ylim(ylim or (min(bounds[1], upper[:, 1].min()) - 2, max(bounds[3], upper[:, 1].max()) + 2))
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.legend(
+        handles=[
+            Patch(facecolor=UNTOUCHED_COLOUR, label="ice in the field"),
+            Patch(facecolor=FLIPPED_COLOUR, label=f"flipped ({int(result.mask('flipped').sum())})"),
+            Patch(facecolor=CUSP_COLOUR, label=f"cusps ({int(result.mask('cusp').sum())})"),
+        ],
+        loc="upper left",
+        bbox_to_anchor=(1.0, 1.0),
+        fontsize="small",
+    )
+    if title:
+        ax.set_title(title)
+    return figure

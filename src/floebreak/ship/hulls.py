@@ -1,0 +1,283 @@
+"""Built-in hulls: the parametric ice-waterline bow of physics-notes §6.3 and the two ships of the thesis.
+
+No lines plans of S.A. Agulhas II or Polarstern are public (physics-notes §6.1), so both bows are parametric:
+beam B, half entrance angle α_0, stem angle φ_s (from the horizontal) and an *assumed* shoulder flare β_sh.
+Every assumed angle is a keyword with a documented default and is recorded in `Bow.parameters`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any, Final
+
+import numpy as np
+
+from floebreak.constants import BOW_TIP_ANGLE_DEG
+from floebreak.errors import InputError, require_range
+from floebreak.ship.bow import Bow, ice_waterline_heights, mirror_lines
+
+# --- defaults (physics-notes §6.1–6.3); the "thesis" column of docs/_fragments/bow.md ---------------------
+SHOULDER_FRAME_ANGLE_DEG: Final = 20.0  # β_sh, flare at the shoulder from the vertical; ASSUMPTION (§6.3)
+SHAPE_EXPONENT: Final = 2.0  # p of y(s) = (B/2)[1 − (1 − s/L_b)^p] (§6.3)
+FLARE_EXPONENT: Final = 1.0  # q of β(s) = β_0 + (β_sh − β_0)(s/L_b)^q (§6.3)
+N_PANELS_PER_SIDE: Final = 30  # bow panels stem → shoulder per side (thesis: "non-equally distributed", §3.1)
+MIDBODY_LENGTH_M: Final = 10.0  # modelled parallel midbody aft of the shoulder (closes H_u, H_l; §6.3)
+STEM_ANGLE_INTERPRETATIONS: Final = ("buttock", "panel_psi")  # physics-notes §6.2 (a) and (b)
+
+AGULHAS_II_BEAM_M: Final = 21.7  # thesis §3 / physics-notes §6.1
+AGULHAS_II_HALF_ENTRANCE_DEG: Final = BOW_TIP_ANGLE_DEG / 2.0  # 64.54°/2 = 32.27°, thesis Alg. 7 (§6.1)
+AGULHAS_II_THESIS_STEM_ANGLE_DEG: Final = 63.0  # ψ_AGU from the vertical, thesis ("from design drawings")
+POLARSTERN_BEAM_M: Final = 25.0  # thesis / physics-notes §6.1
+POLARSTERN_HALF_ENTRANCE_DEG: Final = BOW_TIP_ANGLE_DEG / 2.0  # ASSUMED equal to Agulhas II (§6.3 table)
+POLARSTERN_THESIS_STEM_ANGLE_DEG: Final = 45.0  # ψ_PS from the vertical, thesis
+
+
+def stem_angle_from_thesis(
+    thesis_stem_angle_deg: float, half_entrance_deg: float, interpretation: str = "buttock"
+) -> float:
+    """Stem angle φ_s from the horizontal for a thesis "stem angle" ψ measured from the vertical (§6.2).
+
+    "buttock" (default, interpretation (a)): ψ is the centreline stem inclination, φ_s = 90° − ψ.
+    "panel_psi" (interpretation (b)): ψ is the panel angle ψ_v at the stem, tan ψ_v = sin α_0 / tan φ_s
+    (physics-notes §2.1), so φ_s = arctan(sin α_0 / tan ψ).
+    """
+    psi = require_range(
+        "thesis_stem_angle_deg", thesis_stem_angle_deg, low=0.0, high=90.0, high_inclusive=False
+    )
+    alpha0 = require_range("waterline_entrance_half_angle_deg", half_entrance_deg, low=0.0, high=90.0)
+    if interpretation == "buttock":
+        return 90.0 - psi
+    if interpretation == "panel_psi":
+        return math.degrees(math.atan(math.sin(math.radians(alpha0)) / math.tan(math.radians(psi))))
+    raise InputError(
+        "stem_angle_interpretation",
+        f"unknown interpretation {interpretation!r}",
+        value=interpretation,
+        allowed=", ".join(STEM_ANGLE_INTERPRETATIONS),
+    )
+
+
+def parametric_bow(
+    name: str,
+    beam_m: float,
+    waterline_entrance_half_angle_deg: float,
+    stem_angle_deg: float,
+    *,
+    shoulder_frame_angle_deg: float = SHOULDER_FRAME_ANGLE_DEG,
+    shape_exponent: float = SHAPE_EXPONENT,
+    flare_exponent: float = FLARE_EXPONENT,
+    ice_thickness_m: float = 1.0,
+    n_panels_per_side: int = N_PANELS_PER_SIDE,
+    midbody_length_m: float = MIDBODY_LENGTH_M,
+    midbody_frame_angle_deg: float | None = None,
+) -> Bow:
+    """The parametric two-waterline bow of physics-notes §6.3.
+
+    With s the distance aft of the stem (x = −s), port half:
+
+    * L_b = p (B/2) / tan α_0 (stem → shoulder), y(s) = (B/2)[1 − (1 − s/L_b)^p];
+    * α(s) = arctan(tan α_0 (1 − s/L_b)^(p−1)) (waterline angle);
+    * β_0 = arctan(tan α_0 / tan φ_s), β(s) = β_0 + (β_sh − β_0)(s/L_b)^q (frame angle from the vertical);
+    * ψ_v(s) = arctan(tan β(s) cos α(s)) (panel angle from the vertical, physics-notes §2.1);
+    * lower line: upper offset inward along (−sin α, −cos α) by Δz tan ψ_v; offsets crossing the centreline
+      collapse onto the lower stem tip at x = −Δz / tan φ_s (consistent with the stem angle);
+    * nodes s_k = L_b (1 − cos(π k / 2N)), k = 0 … N (dense at the stem), plus the aft end of a parallel
+      midbody of length `midbody_length_m` (flare `midbody_frame_angle_deg`, default β_sh) when > 0.
+
+    Δz = `ice_thickness_m` (z_u = (1 − ρ_i/ρ_w) h, z_l = −(ρ_i/ρ_w) h). `stem_angle_deg` is φ_s from the
+    HORIZONTAL; see `stem_angle_from_thesis` for the thesis's angles from the vertical.
+    """
+    beam = require_range("beam_m", beam_m, low=0.0, unit="m")
+    alpha0_deg = require_range(
+        "waterline_entrance_half_angle_deg",
+        waterline_entrance_half_angle_deg,
+        low=0.0,
+        high=90.0,
+        high_inclusive=False,
+        unit="deg",
+    )
+    phi_deg = require_range("stem_angle_deg", stem_angle_deg, low=0.0, high=90.0, unit="deg")
+    beta_sh_deg = require_range(
+        "shoulder_frame_angle_deg",
+        shoulder_frame_angle_deg,
+        low=0.0,
+        high=90.0,
+        low_inclusive=True,
+        high_inclusive=False,
+        unit="deg",
+    )
+    p = require_range("shape_exponent", shape_exponent, low=1.0, low_inclusive=True)
+    q = require_range("flare_exponent", flare_exponent, low=0.0)
+    h = require_range("ice_thickness_m", ice_thickness_m, low=0.0, unit="m")
+    midbody = require_range("midbody_length_m", midbody_length_m, low=0.0, low_inclusive=True, unit="m")
+    beta_mid_deg = (
+        beta_sh_deg
+        if midbody_frame_angle_deg is None
+        else require_range(
+            "midbody_frame_angle_deg",
+            midbody_frame_angle_deg,
+            low=0.0,
+            high=90.0,
+            low_inclusive=True,
+            high_inclusive=False,
+            unit="deg",
+        )
+    )
+    if (
+        isinstance(n_panels_per_side, bool)
+        or not isinstance(n_panels_per_side, int | np.integer)
+        or (n_panels_per_side < 2)
+    ):
+        raise InputError(
+            "n_panels_per_side", f"must be an integer ≥ 2, got {n_panels_per_side!r}", value=n_panels_per_side
+        )
+    n = int(n_panels_per_side)
+
+    alpha0 = math.radians(alpha0_deg)
+    phi = math.radians(phi_deg)
+    half_beam = beam / 2.0
+    length_bow = p * half_beam / math.tan(alpha0)
+    beta0 = math.atan(math.tan(alpha0) / math.tan(phi))
+    beta_sh = math.radians(beta_sh_deg)
+
+    s = length_bow * (1.0 - np.cos(np.pi * np.arange(n + 1) / (2 * n)))
+    s[-1] = length_bow
+    u = s / length_bow
+    y = half_beam * (1.0 - (1.0 - u) ** p)
+    alpha = np.arctan(math.tan(alpha0) * (1.0 - u) ** (p - 1.0))
+    beta = beta0 + (beta_sh - beta0) * u**q
+    if midbody > 0.0:
+        s = np.append(s, length_bow + midbody)
+        y = np.append(y, half_beam)
+        alpha = np.append(alpha, 0.0)
+        beta = np.append(beta, math.radians(beta_mid_deg))
+    psi = np.arctan(np.tan(beta) * np.cos(alpha))
+    z_upper, z_lower = ice_waterline_heights(h)
+    dz = z_upper - z_lower
+    tip_x = -dz / math.tan(phi)
+    upper, lower = mirror_lines(np.column_stack([-s, y]), alpha, psi, dz, tip_x)
+    parameters: dict[str, Any] = {
+        "model": "parametric_bow (physics-notes §6.3)",
+        "beam_m": beam,
+        "waterline_entrance_half_angle_deg": alpha0_deg,
+        "stem_angle_deg": phi_deg,
+        "shoulder_frame_angle_deg": beta_sh_deg,
+        "shape_exponent": p,
+        "flare_exponent": q,
+        "ice_thickness_m": h,
+        "n_panels_per_side": n,
+        "midbody_length_m": midbody,
+        "midbody_frame_angle_deg": beta_mid_deg,
+        "length_bow_m": length_bow,
+        "frame_angle_stem_deg": math.degrees(beta0),
+        "psi_stem_deg": math.degrees(math.atan(math.tan(beta0) * math.cos(alpha0))),
+        "psi_shoulder_deg": beta_sh_deg,
+        "lower_tip_x_m": tip_x,
+    }
+    return Bow(name, upper, lower, z_upper, z_lower, parameters)
+
+
+def _ship(
+    name: str,
+    beam_m: float,
+    half_entrance_deg: float,
+    thesis_stem_angle_deg: float,
+    ice_thickness_m: float,
+    overrides: dict[str, Any],
+) -> Bow:
+    allowed = set(_PARAMETRIC_KEYWORDS) | {"thesis_stem_angle_deg", "stem_angle_interpretation"}
+    unknown = sorted(set(overrides) - allowed)
+    if unknown:
+        raise InputError(
+            f"{name}.{unknown[0]}",
+            "unknown hull parameter",
+            value=unknown[0],
+            allowed=", ".join(sorted(allowed)),
+        )
+    kw: dict[str, Any] = {
+        "name": name,
+        "beam_m": beam_m,
+        "waterline_entrance_half_angle_deg": half_entrance_deg,
+        "ice_thickness_m": ice_thickness_m,
+    }
+    thesis_angle = overrides.pop("thesis_stem_angle_deg", thesis_stem_angle_deg)
+    interpretation = overrides.pop("stem_angle_interpretation", "buttock")
+    kw.update(overrides)
+    provenance: dict[str, Any] = {}
+    if "stem_angle_deg" not in overrides:
+        kw["stem_angle_deg"] = stem_angle_from_thesis(
+            thesis_angle, kw["waterline_entrance_half_angle_deg"], interpretation
+        )
+        provenance = {"thesis_stem_angle_deg": thesis_angle, "stem_angle_interpretation": interpretation}
+    bow = parametric_bow(**kw)
+    if not provenance:
+        return bow
+    return Bow(
+        bow.name,
+        bow.upper_xy_m,
+        bow.lower_xy_m,
+        bow.z_upper_m,
+        bow.z_lower_m,
+        {**bow.parameters, **provenance},
+    )
+
+
+_PARAMETRIC_KEYWORDS: Final = (
+    "name",
+    "beam_m",
+    "waterline_entrance_half_angle_deg",
+    "stem_angle_deg",
+    "shoulder_frame_angle_deg",
+    "shape_exponent",
+    "flare_exponent",
+    "n_panels_per_side",
+    "midbody_length_m",
+    "midbody_frame_angle_deg",
+)
+
+
+def agulhas_ii(ice_thickness_m: float = 1.0, **overrides: Any) -> Bow:
+    """S.A. Agulhas II (physics-notes §6.1, §6.3): B = 21.7 m, α_0 = 64.54°/2 = 32.27° (thesis Alg. 7),
+    thesis stem angle 63° from the vertical → φ_s = 27° (interpretation "buttock", §6.2), β_sh = 20°
+    (assumed).
+
+    Gives L_b = 34.4 m, β_0 = 51.1°, ψ_v 46.3° at the stem → 20° at the shoulder, lower tip 1.96 m aft
+    (Δz = 1 m).
+    `overrides`: any `parametric_bow` keyword, `thesis_stem_angle_deg`, `stem_angle_interpretation`.
+    """
+    return _ship(
+        "agulhas_ii",
+        AGULHAS_II_BEAM_M,
+        AGULHAS_II_HALF_ENTRANCE_DEG,
+        AGULHAS_II_THESIS_STEM_ANGLE_DEG,
+        ice_thickness_m,
+        dict(overrides),
+    )
+
+
+def polarstern(ice_thickness_m: float = 1.0, **overrides: Any) -> Bow:
+    """RV Polarstern (physics-notes §6.1, §6.3): B = 25 m, α_0 = 32.27° (ASSUMED, as Agulhas II), thesis stem
+    angle 45° → φ_s = 45°, β_sh = 20° (assumed).
+
+    Gives L_b = 39.6 m, β_0 = 32.3°, ψ_v 28.1° at the stem → 20° at the shoulder, lower tip 1.00 m aft
+    (Δz = 1 m).
+    """
+    return _ship(
+        "polarstern",
+        POLARSTERN_BEAM_M,
+        POLARSTERN_HALF_ENTRANCE_DEG,
+        POLARSTERN_THESIS_STEM_ANGLE_DEG,
+        ice_thickness_m,
+        dict(overrides),
+    )
+
+
+HULLS: Final[dict[str, Callable[..., Bow]]] = {"agulhas_ii": agulhas_ii, "polarstern": polarstern}
+
+
+def get_hull(name: str, **kw: Any) -> Bow:
+    """Build the built-in hull `name` (a key of `HULLS`) with keyword overrides."""
+    if name not in HULLS:
+        raise InputError("hull", f"unknown hull {name!r}", value=name, allowed=", ".join(sorted(HULLS)))
+    return HULLS[name](**kw)

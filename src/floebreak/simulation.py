@@ -1,0 +1,383 @@
+"""The stepping engine (thesis §3.2, Figs. 3–4): the bow advances in fixed steps through a floe field.
+
+Each step: find the floes near the bow with a spatial index (cost grows with the floes near the bow, not
+with the field size), evaluate contact for each, classify, let the failure mode act, and re-classify new
+pieces in contact at the same bow position until nothing more fails. Pieces leave the field as cusps or
+flipped floes; everything else remains. The loop does no I/O: it reports through callbacks (events).
+
+Initial ice area = cusps + flipped + remaining is checked at the end of every run.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any, Literal
+
+import numpy as np
+import shapely
+
+from floebreak import constants as c
+from floebreak.errors import InputError, require_range
+from floebreak.failure import (
+    FailureContext,
+    FailureInput,
+    FailureModel,
+    Fate,
+    Outcome,
+    bow_region,
+    resolve_failure,
+)
+from floebreak.ice.field import FloeField
+from floebreak.mechanics.classify import Classification, ClassificationParams, classify
+from floebreak.mechanics.contact import BowContactGeometry, Contact, ContactParams, evaluate_contact
+
+AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overlay (exact up to rounding)
+
+
+class AreaBalanceError(RuntimeError):
+    """Initial ice area ≠ cusps + flipped + remaining: a bug, never a user error."""
+
+
+@dataclass(frozen=True)
+class SimulationParams:
+    """Stepping parameters (thesis §3.2). Positions: upper-waterline stem tip, in the field frame."""
+
+    step_m: float = 0.25
+    x_start_m: float = 0.0
+    x_end_m: float | None = None  # default: until the whole modelled hull has passed the field
+    dist_bow_max_m: float = c.DIST_BOW_MAX_M
+    initial_contact: Literal["shift_field", "shift_floes"] = "shift_field"
+    initial_clearance_m: float = 1e-3
+    max_evaluations_per_floe_step: int = 256  # guard against endless re-breaking at one position
+
+    def __post_init__(self) -> None:
+        require_range("ship.step_m", self.step_m, low=0.0, unit="m")
+        require_range("simulation.dist_bow_max_m", self.dist_bow_max_m, low=0.0, low_inclusive=True, unit="m")
+        if self.x_end_m is not None and not self.x_end_m > self.x_start_m:
+            raise InputError(
+                "simulation.x_end_m",
+                f"{self.x_end_m:g} m is not after x_start_m = {self.x_start_m:g} m",
+                allowed=f"> {self.x_start_m:g} m",
+            )
+        if self.initial_contact not in ("shift_field", "shift_floes"):
+            raise InputError(
+                "simulation.initial_contact", repr(self.initial_contact), allowed="shift_field, shift_floes"
+            )
+
+
+@dataclass(frozen=True)
+class Model:
+    """The physics of a run: contact, classification and failure modes."""
+
+    contact: ContactParams = field(default_factory=ContactParams)
+    classification: ClassificationParams = field(default_factory=ClassificationParams)
+    failure: FailureModel = field(default_factory=FailureModel)
+
+
+# --- events reported to callbacks ---------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class RunStarted:
+    n_steps: int
+    x_start_m: float
+    x_end_m: float
+    step_m: float
+    n_floes: int
+    field_shift_m: float
+
+
+@dataclass(frozen=True, eq=False)
+class ContactEvaluated:
+    """One evaluation of a floe in contact (one row per floe–panel pair in the contact records)."""
+
+    step: int
+    bow_x_m: float
+    piece_id: int
+    parent_floe_id: int
+    thickness_m: float
+    contact: Contact  # bow frame
+    classification: Classification
+    outcome: Outcome
+
+
+@dataclass(frozen=True, eq=False)
+class StepDone:
+    step: int
+    bow_x_m: float
+    n_candidates: int
+    n_cusps: int
+    n_flipped: int
+
+
+Event = RunStarted | ContactEvaluated | StepDone
+Callback = Callable[[Event], None]
+
+
+# --- result ------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationResult:
+    """Every piece that existed in the run, with its fate, plus counters and the area balance.
+
+    ``fate`` is one of "remaining" (still in the field at the end), "cusp", "flipped" or "broken"
+    (replaced by its children). ``step``/``bow_x_m`` are those of the piece's creation (initial floes:
+    −1 / NaN) or, for cusps and flipped pieces, of the moment they left the field.
+    """
+
+    field: FloeField  # the initial field as simulated (after any shift for initial contact)
+    bow: Any
+    model: Model
+    params: SimulationParams
+    x_end_m: float
+    n_steps: int
+    piece_id: np.ndarray
+    polygon: np.ndarray
+    thickness_m: np.ndarray
+    parent_floe_id: np.ndarray
+    parent_piece_id: np.ndarray
+    failure_chain: tuple[tuple[str, ...], ...]
+    fate: np.ndarray
+    step: np.ndarray
+    bow_x_m: np.ndarray
+    n_contacts: int
+    n_breaks: int
+    breaks_by_mode: Mapping[str, int]
+
+    def mask(self, fate: str) -> np.ndarray:
+        return self.fate == fate
+
+    def area_m2(self, fate: str) -> float:
+        return float(shapely.area(self.polygon[self.mask(fate)]).sum())
+
+    @property
+    def initial_ice_area_m2(self) -> float:
+        return self.field.ice_area_m2
+
+    @property
+    def area_balance_rel_error(self) -> float:
+        """|initial − (cusps + flipped + remaining)| / initial."""
+        initial = self.initial_ice_area_m2
+        final = self.area_m2("cusp") + self.area_m2("flipped") + self.area_m2("remaining")
+        return abs(initial - final) / initial if initial > 0 else 0.0
+
+
+# --- the engine --------------------------------------------------------------------------------------
+
+
+class _Pieces:
+    """Mutable piece table of one run (internal). Initial floes are indexed by a static STRtree;
+    pieces created later live in a small dynamic set that is pruned once the hull has passed them."""
+
+    def __init__(self, floe_field: FloeField):
+        n = floe_field.n_floes
+        self.polygon: list[shapely.Geometry] = list(floe_field.polygons)
+        self.thickness: list[float] = floe_field.thickness_m.tolist()
+        self.parent_floe: list[int] = floe_field.floe_id.tolist()
+        self.parent_piece: list[int] = [-1] * n
+        self.chain: list[tuple[str, ...]] = [()] * n
+        self.crack_count: list[int] = [0] * n
+        self.fate: list[str] = ["remaining"] * n
+        self.step: list[int] = [-1] * n
+        self.bow_x: list[float] = [float("nan")] * n
+        self.tree = shapely.STRtree(floe_field.polygons)
+        self.dynamic: dict[int, tuple[float, float, float, float]] = {}
+
+    def add(self, polygon, thickness, parent: int, chain, crack_count: int, step: int, bow_x: float) -> int:
+        pid = len(self.polygon)
+        self.polygon.append(polygon)
+        self.thickness.append(thickness)
+        self.parent_floe.append(self.parent_floe[parent])
+        self.parent_piece.append(parent)
+        self.chain.append(chain)
+        self.crack_count.append(crack_count)
+        self.fate.append("remaining")
+        self.step.append(step)
+        self.bow_x.append(bow_x)
+        self.dynamic[pid] = tuple(shapely.bounds(polygon).tolist())
+        return pid
+
+    def retire(self, pid: int, fate: str, step: int, bow_x: float) -> None:
+        self.fate[pid] = fate
+        self.dynamic.pop(pid, None)
+        if fate != "broken":
+            self.step[pid] = step
+            self.bow_x[pid] = bow_x
+
+    def candidates(self, box: tuple[float, float, float, float]) -> list[int]:
+        x0, y0, x1, y1 = box
+        static = self.tree.query(shapely.box(x0, y0, x1, y1))
+        found = [int(i) for i in static if self.fate[i] == "remaining"]
+        found += [
+            pid for pid, (a, b, cc, d) in self.dynamic.items() if a <= x1 and cc >= x0 and b <= y1 and d >= y0
+        ]
+        return sorted(found)
+
+    def prune_behind(self, x_min: float) -> None:
+        for pid in [pid for pid, bounds in self.dynamic.items() if bounds[2] < x_min]:
+            del self.dynamic[pid]
+
+
+def _translate(geometry, dx: float):
+    return shapely.transform(geometry, lambda xy: xy + np.array([dx, 0.0]))
+
+
+def clear_initial_contact(
+    floe_field: FloeField, hull_upper: shapely.Polygon, x_start_m: float, mode: str, clearance_m: float
+) -> tuple[FloeField, float]:
+    """Shift the field (or only the touching floes) forward until no floe touches the bow at x_start.
+
+    Returns the new field and the field shift applied [m] (0 for "shift_floes"); shifts are recorded in the
+    field metadata. Thesis §3.2 / Table 2: no initial contact between bow and ice.
+    """
+    hull = _translate(hull_upper, x_start_m)
+    shapely.prepare(hull)
+    touching = np.flatnonzero(shapely.intersects(hull, floe_field.polygons))
+    if touching.size == 0:
+        return floe_field, 0.0
+
+    def needed_shift(polygon) -> float:
+        high = 1.0
+        while shapely.intersects(hull, _translate(polygon, high)):
+            high *= 2.0
+        low = 0.0
+        while high - low > 1e-4:
+            mid = 0.5 * (low + high)
+            low, high = (mid, high) if shapely.intersects(hull, _translate(polygon, mid)) else (low, mid)
+        return high + clearance_m
+
+    if mode == "shift_field":
+        shift = max(needed_shift(floe_field.polygons[i]) for i in touching)
+        return floe_field.shifted(shift, reason="no initial contact with the bow (thesis §3.2)"), shift
+    polygons = floe_field.polygons.copy()
+    moved = []
+    for i in touching:
+        dx = needed_shift(polygons[i])
+        polygons[i] = _translate(polygons[i], dx)
+        moved.append({"floe_id": int(floe_field.floe_id[i]), "dx_m": dx})
+    metadata = {**floe_field.metadata, "floes_shifted_m": moved}
+    return replace(floe_field, polygons=polygons, metadata=metadata), 0.0
+
+
+def simulate(
+    floe_field: FloeField,
+    bow,
+    model: Model | None = None,
+    params: SimulationParams | None = None,
+    callbacks: Iterable[Callback] = (),
+) -> SimulationResult:
+    """Run the bow through `floe_field` and return every piece with its fate.
+
+    `bow` is a `floebreak.ship.bow.Bow` (bow frame: upper stem tip at the origin at x_start = 0).
+    """
+    model = model or Model()
+    params = params or SimulationParams()
+    callbacks = tuple(callbacks)
+    geometry = BowContactGeometry.from_bow(bow)
+    floe_field, shift = clear_initial_contact(
+        floe_field, bow.hull_upper, params.x_start_m, params.initial_contact, params.initial_clearance_m
+    )
+    hull_x0, hull_y0, hull_x1, hull_y1 = shapely.bounds(bow.hull_upper).tolist()
+    x_end = params.x_end_m
+    if x_end is None:
+        field_x_max = floe_field.domain_m[2]
+        if floe_field.n_floes:
+            field_x_max = max(field_x_max, float(shapely.total_bounds(floe_field.polygons)[2]))
+        x_end = field_x_max - hull_x0  # the aft end of the modelled hull passes the end of the field
+    n_steps = int(np.floor((x_end - params.x_start_m) / params.step_m + 1e-9)) + 1
+    pieces = _Pieces(floe_field)
+    context = FailureContext(bow=bow, bow_geometry=geometry)
+    bow_length = float(getattr(bow, "length_bow_m", -hull_x0))
+    counters = {"contacts": 0, "breaks": 0, "cusps": 0, "flipped": 0}
+    breaks_by_mode: dict[str, int] = {}
+
+    def emit(event: Event) -> None:
+        for callback in callbacks:
+            callback(event)
+
+    emit(RunStarted(n_steps, params.x_start_m, x_end, params.step_m, floe_field.n_floes, shift))
+    d = params.dist_bow_max_m
+    for step in range(n_steps):
+        bow_x = params.x_start_m + step * params.step_m
+        box = (bow_x + hull_x0 - d, hull_y0 - d, bow_x + hull_x1 + d, hull_y1 + d)
+        candidates = pieces.candidates(box)
+        if candidates:
+            polygons_bf = _translate(np.array([pieces.polygon[i] for i in candidates], dtype=object), -bow_x)
+            near = shapely.dwithin(geometry.hull_upper, polygons_bf, d)
+            queue = [(pid, poly) for pid, poly, ok in zip(candidates, polygons_bf, near, strict=True) if ok]
+            evaluations = 0
+            while queue:
+                pid, polygon_bf = queue.pop(0)
+                evaluations += 1
+                thickness = pieces.thickness[pid]
+                contact = evaluate_contact(polygon_bf, thickness, geometry, model.contact)
+                if not contact.in_contact:
+                    continue
+                zone = contact.dominant
+                classification = classify(polygon_bf, thickness, zone.centre_normal, model.classification)
+                region = bow_region(
+                    float(zone.centre_xy_m[0]), bow_length, model.failure.shoulder_region_start
+                )
+                inp = FailureInput(
+                    polygon_bf, thickness, pieces.crack_count[pid], classification, contact, zone, region
+                )
+                outcome = resolve_failure(model.failure, inp, context)
+                counters["contacts"] += 1
+                emit(
+                    ContactEvaluated(
+                        step, bow_x, pid, pieces.parent_floe[pid], thickness, contact, classification, outcome
+                    )
+                )
+                if not outcome.failed:
+                    continue
+                breaks_by_mode[outcome.mode] = breaks_by_mode.get(outcome.mode, 0) + 1
+                if len(outcome.pieces) == 1 and outcome.pieces[0].fate != Fate.FLOE:
+                    # the piece leaves the field whole (direct rotation)
+                    fate = str(outcome.pieces[0].fate)
+                    pieces.chain[pid] = (*pieces.chain[pid], outcome.mode)
+                    pieces.retire(pid, fate, step, bow_x)
+                    counters["cusps" if fate == "cusp" else "flipped"] += 1
+                    continue
+                counters["breaks"] += 1
+                pieces.retire(pid, "broken", step, bow_x)
+                chain = (*pieces.chain[pid], outcome.mode)
+                for new in outcome.pieces:
+                    child_world = _translate(new.polygon, bow_x)
+                    child = pieces.add(child_world, thickness, pid, chain, new.crack_count, step, bow_x)
+                    if new.fate == Fate.FLOE:
+                        if evaluations < params.max_evaluations_per_floe_step:
+                            queue.append((child, new.polygon))
+                    else:
+                        pieces.retire(child, str(new.fate), step, bow_x)
+                        counters["cusps" if new.fate == Fate.CUSP else "flipped"] += 1
+        pieces.prune_behind(bow_x + hull_x0 - d)
+        emit(StepDone(step, bow_x, len(candidates), counters["cusps"], counters["flipped"]))
+
+    result = SimulationResult(
+        field=floe_field,
+        bow=bow,
+        model=model,
+        params=params,
+        x_end_m=float(x_end),
+        n_steps=n_steps,
+        piece_id=np.arange(len(pieces.polygon)),
+        polygon=np.array(pieces.polygon, dtype=object),
+        thickness_m=np.array(pieces.thickness, dtype=float),
+        parent_floe_id=np.array(pieces.parent_floe, dtype=np.int64),
+        parent_piece_id=np.array(pieces.parent_piece, dtype=np.int64),
+        failure_chain=tuple(pieces.chain),
+        fate=np.array(pieces.fate, dtype=object),
+        step=np.array(pieces.step, dtype=np.int64),
+        bow_x_m=np.array(pieces.bow_x, dtype=float),
+        n_contacts=counters["contacts"],
+        n_breaks=counters["breaks"],
+        breaks_by_mode=dict(breaks_by_mode),
+    )
+    if result.area_balance_rel_error > AREA_BALANCE_TOLERANCE:
+        raise AreaBalanceError(
+            f"ice area not conserved: relative error {result.area_balance_rel_error:.3e} "
+            f"> {AREA_BALANCE_TOLERANCE:g} (initial {result.initial_ice_area_m2:.6f} m²)"
+        )
+    return result
