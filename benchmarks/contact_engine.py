@@ -1,0 +1,39 @@
+"""Stepping-engine benchmark (issue 3): contact evaluations per second and wall time, one core.
+
+Fields: 400 m × 50 m and 1 km × 200 m from Table 1 row 2019-12-18T20:20 at h = 1 m, bow `agulhas_ii`,
+x_step 0.25 m, direct rotation + no-op modes (the failure modes of issue 3). Goal ≥ 50 000 contact
+evaluations per second. Run: `.venv/bin/python benchmarks/contact_engine.py`.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from floebreak.ice.generation import generate_field
+from floebreak.ice.observations import get_observation
+from floebreak.results import ContactRecorder
+from floebreak.ship.hulls import agulhas_ii
+from floebreak.simulation import SimulationParams, simulate
+
+
+def run(length_m: float, width_m: float, seed: int = 1) -> None:
+    obs = get_observation("2019-12-18T20:20")
+    field = generate_field(obs, length_m, width_m, np.random.default_rng(seed), thickness_m=1.0)
+    bow = agulhas_ii(ice_thickness_m=1.0)
+    recorder = ContactRecorder()
+    start = time.perf_counter()
+    result = simulate(field, bow, params=SimulationParams(step_m=0.25), callbacks=[recorder])
+    seconds = time.perf_counter() - start
+    evaluations = len(recorder)
+    print(
+        f"{length_m:>6.0f} m × {width_m:>4.0f} m: {field.n_floes:>5} floes, {result.n_steps:>5} steps, "
+        f"{evaluations:>7} contact evaluations in {seconds:6.2f} s → {evaluations / seconds:>8.0f} /s, "
+        f"{1e3 * seconds / result.n_steps:.2f} ms/step; area balance {result.area_balance_rel_error:.1e}"
+    )
+
+
+if __name__ == "__main__":
+    run(400.0, 50.0)
+    run(1000.0, 200.0)

@@ -1,0 +1,112 @@
+"""The stepping engine (thesis §3.2): area conservation, determinism, invariances, initial contact, inputs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from floebreak.errors import InputError
+from floebreak.ice.field import FloeField, circle_polygons
+from floebreak.ice.generation import generate_field
+from floebreak.ice.observations import get_observation
+from floebreak.results import ContactRecorder, crushing_force_per_evaluation_n
+from floebreak.ship.hulls import agulhas_ii
+from floebreak.simulation import SimulationParams, simulate
+
+BOW = agulhas_ii(ice_thickness_m=1.0)
+
+
+def small_field(seed: int, length: float = 160.0, width: float = 50.0) -> FloeField:
+    obs = get_observation("2019-12-18T20:20")
+    return generate_field(obs, length, width, np.random.default_rng(seed), thickness_m=1.0)
+
+
+def run(field, **params):
+    recorder = ContactRecorder()
+    result = simulate(field, BOW, params=SimulationParams(**{"step_m": 0.5, **params}), callbacks=[recorder])
+    return result, recorder.table()
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_area_is_conserved_in_rotation_mode(seed):
+    result, contacts = run(small_field(seed))
+    assert len(contacts["step"]) > 0
+    assert result.area_m2("cusp") > 0.0  # small floes meet the bow and are pushed under
+    total = result.area_m2("cusp") + result.area_m2("flipped") + result.area_m2("remaining")
+    assert total == pytest.approx(result.initial_ice_area_m2, rel=1e-9)
+
+
+def test_same_field_same_result():
+    field = small_field(5)
+    a, ca = run(field)
+    b, cb = run(field)
+    assert list(a.fate) == list(b.fate)
+    np.testing.assert_array_equal(ca["f_c_n"], cb["f_c_n"])
+
+
+def mirrored(field: FloeField) -> FloeField:
+    polygons = shapely.transform(field.polygons, lambda xy: xy * np.array([1.0, -1.0]))
+    return FloeField(polygons, field.thickness_m, field.diameter_class_m, field.floe_id, field.domain_m)
+
+
+def test_force_totals_invariant_under_port_starboard_mirror():
+    field = small_field(3)
+    _, a = run(field)
+    _, b = run(mirrored(field))
+    assert len(a["step"]) == len(b["step"])
+    for column in ("f_c_n", "f_v_n", "f_h_n", "a_h_m2"):
+        assert np.sum(b[column]) == pytest.approx(np.sum(a[column]), rel=1e-6)
+
+
+def test_force_totals_invariant_under_translation():
+    field = small_field(4)
+    _, a = run(field)
+    moved = field.shifted(37.0, 0.0)
+    _, b = run(moved, x_start_m=37.0)
+    assert len(a["step"]) == len(b["step"])
+    np.testing.assert_allclose(np.sort(b["f_c_n"]), np.sort(a["f_c_n"]), rtol=1e-7, atol=1e-6)
+
+
+def test_floe_touching_the_bow_at_start_is_shifted_and_recorded():
+    floe = circle_polygons(np.array([[-1.0, 0.0]]), np.array([3.0]), 64)  # overlaps the stem at x = 0
+    field = FloeField(floe, np.array([1.0]), np.array([6.0]), np.array([0]), (-5.0, -10.0, 40.0, 10.0))
+    result, _ = run(field, x_end_m=1.0)
+    assert not shapely.intersects(BOW.hull_upper, result.field.polygons[0])
+    assert result.field.metadata["shifts_m"]
+
+
+def test_crushing_force_grows_while_the_bow_penetrates_a_large_floe():
+    # A 30 m floe (bending class, no bending mode yet) straight ahead: A_h and F_c grow monotonically.
+    floe = circle_polygons(np.array([[17.0, 0.0]]), np.array([15.0]), 64)
+    field = FloeField(floe, np.array([1.0]), np.array([30.0]), np.array([0]), (0.0, -20.0, 40.0, 20.0))
+    _, contacts = run(field, x_end_m=6.0)
+    forces = crushing_force_per_evaluation_n(contacts)
+    assert len(forces) >= 8
+    assert np.all(np.diff(forces) > 0.0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [({"step_m": 0.0}, "ship.step_m"), ({"x_start_m": 5.0, "x_end_m": 1.0}, "simulation.x_end_m")],
+)
+def test_bad_stepping_parameters(kwargs, field):
+    with pytest.raises(InputError) as info:
+        SimulationParams(**kwargs)
+    assert info.value.field == field
+
+
+@pytest.mark.slow
+def test_step_convergence_on_the_reference_field():
+    """Halving x_step changes the floes contacted and the summed contact impulse by < 2 % (issue 3)."""
+    obs = get_observation("2019-12-18T20:20")
+    field = generate_field(obs, 400.0, 50.0, np.random.default_rng(1), thickness_m=1.0)
+    results = {}
+    for step in (0.25, 0.125):
+        _, contacts = run(field, step_m=step)
+        floes = len(np.unique(contacts["floe_id"]))
+        impulse = float(np.sum(contacts["f_h_n"])) * step  # Σ F_h Δx ∝ impulse at constant speed
+        results[step] = (floes, impulse)
+    (f1, i1), (f2, i2) = results[0.25], results[0.125]
+    assert abs(f2 - f1) / f1 < 0.02
+    assert abs(i2 - i1) / i1 < 0.02
