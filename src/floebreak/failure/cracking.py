@@ -37,6 +37,7 @@ CrackLengthDefinition = Literal["indentation", "ell_over_5"]
 SizeSource = Literal["b", "equiv_diameter", "thickness"]
 
 MIN_PIECE_AREA_M2 = 1e-6
+MAX_RELATIVE_CRACK_LENGTH = 0.95  # a/b cap for the Tada factors (they diverge as a → b)
 MIN_CRACK_LENGTH_M = 1e-3  # a → 0 makes K_I singular (line load) or zero (stress); keep it finite
 
 
@@ -54,6 +55,7 @@ class CrackingSettings:
     tip_angle_deg: float = c.BOW_TIP_ANGLE_DEG
     wedge_friction: float = 0.0  # κ with μ = 0 is the thesis' 1/(2 tan(α/2))
     line_load_divide_by_thickness: bool = True
+    stress_mode: fracture.StressMode = "thesis"  # physics-notes §4.4: thesis K_I(σ_n^t) form; or strength/sif
     next_crack_angle_deg: float = c.NEXT_CRACK_ANGLE_DEG
     bending: BendingSettings = field(default_factory=BendingSettings)
 
@@ -186,6 +188,7 @@ class Cracking:
             s.size_source
         ]
         loading = "tension" if s.criterion == "tensile_stress" else "bending"
+        a = min(a, MAX_RELATIVE_CRACK_LENGTH * b)  # a deep indentation: the crack has nearly crossed the floe
         return fracture.check_stress_sif(
             crack_length_m=a,
             strip_width_m=b,
@@ -195,6 +198,9 @@ class Cracking:
             loading=loading,
             labels=s.tada_labels,
             bz2_mode=s.bz2_mode,
+            stress_mode=s.stress_mode,
+            horizontal_force_n=f_h,
+            thickness_m=h,
         )
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
