@@ -1,0 +1,40 @@
+"""Breaking benchmark (issue 4): full breaking on the reference field and a 1 km × 200 m field, one core.
+
+Reference configuration: Table 1 row 2019-12-18T20:20, h = 1 m, K_Ic = 145.7 kPa√m, tensile-stress criterion,
+size-effect law BZ, bow `agulhas_ii`, x_step 0.25 m, profile `default`. Goals: 400 m × 50 m ≤ 1 s,
+1 km × 200 m ≤ 5 s. Run: `.venv/bin/python benchmarks/breaking.py`.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from floebreak.ice.generation import generate_field
+from floebreak.ice.observations import get_observation
+from floebreak.profiles import build_model
+from floebreak.ship.hulls import agulhas_ii
+from floebreak.simulation import SimulationParams, simulate
+
+
+def run(length_m: float, width_m: float, profile: str = "default", seed: int = 1) -> None:
+    field = generate_field(
+        get_observation("2019-12-18T20:20"), length_m, width_m, np.random.default_rng(seed), thickness_m=1.0
+    )
+    model = build_model(profile)
+    start = time.perf_counter()
+    result = simulate(field, agulhas_ii(ice_thickness_m=1.0), model, SimulationParams(step_m=0.25))
+    seconds = time.perf_counter() - start
+    print(
+        f"{profile:>7} {length_m:>5.0f} m × {width_m:>3.0f} m: {field.n_floes:>4} floes, {result.n_breaks:>5} breaks, "
+        f"{result.n_contacts:>6} contacts, {int(result.mask('cusp').sum()):>5} cusps, "
+        f"{int(result.mask('flipped').sum()):>4} flipped in {seconds:6.2f} s → {result.n_breaks / seconds:7.0f} "
+        f"breaks/s; area balance {result.area_balance_rel_error:.1e}"
+    )
+
+
+if __name__ == "__main__":
+    run(400.0, 50.0)
+    run(400.0, 50.0, profile="thesis")
+    run(1000.0, 200.0)
