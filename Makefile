@@ -16,7 +16,7 @@ demo: $(STAMP)
 	$(BIN)/floebreak demo --out demo-output --overwrite
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks scripts
+	$(BIN)/ruff check src tests benchmarks scripts validation
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q
