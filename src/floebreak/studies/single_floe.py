@@ -46,7 +46,13 @@ class SingleFloeCase:
 
 def floe_centre_m(position: str, diameter_m: float, half_breadth_m: float) -> tuple[float, float]:
     """Centre of the floe for a Fig. 14 position (bow frame at the start: stem tip at the origin)."""
-    y = {"a": half_breadth_m, "b": half_breadth_m / 2, "c": -half_breadth_m, "d": -half_breadth_m / 2, "e": 0.0}
+    y = {
+        "a": half_breadth_m,
+        "b": half_breadth_m / 2,
+        "c": -half_breadth_m,
+        "d": -half_breadth_m / 2,
+        "e": 0.0,
+    }
     return diameter_m / 2.0 + START_GAP_M, y[position]
 
 

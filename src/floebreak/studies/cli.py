@@ -1,0 +1,97 @@
+"""CLI of studies: `floebreak study FILE|thesis --out DIR`, `floebreak aggregate DIR` (thin layer)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+
+from floebreak.errors import InputError
+
+console = Console()
+
+
+def study(
+    spec: Annotated[
+        str, typer.Argument(help="study TOML file, or 'thesis' for the built-in thesis §5.3 study")
+    ],
+    out: Annotated[Path, typer.Option("--out", help="study directory (re-running resumes it)")],
+    workers: Annotated[
+        int | None, typer.Option("--workers", help="local worker processes (default: cores)")
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option("--scheduler", help="Dask scheduler tcp://HOST:PORT, or 'local' (LocalCluster)"),
+    ] = None,
+    n_fields: Annotated[int, typer.Option("--n-fields", help="random fields per point (thesis study)")] = 4,
+    profile: Annotated[str, typer.Option("--profile", help="default | thesis (thesis study)")] = "default",
+) -> None:
+    """Run a parameter study / Monte Carlo ensemble; each run writes its own run directory."""
+    from floebreak.studies.aggregate import aggregate
+    from floebreak.studies.design import expand, load_study, thesis_study
+    from floebreak.studies.executors import make_executor
+    from floebreak.studies.runner import run_study
+
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
+    if spec == "thesis":
+        if profile not in ("default", "thesis"):
+            raise InputError("profile", f"unknown profile {profile!r}", allowed="default, thesis")
+        if n_fields < 1:
+            raise InputError("n_fields", f"{n_fields} < 1", value=n_fields, allowed="an integer ≥ 1")
+        study_spec, base_dir = thesis_study(n_fields=n_fields, profile=profile), None
+    else:
+        study_spec, base_dir = load_study(spec)
+    runs, members = expand(study_spec, base_dir)  # validates every combination before anything runs
+    if out.exists() and not (out / "study.json").exists() and any(out.iterdir()):
+        raise InputError(
+            "out", f"{str(out)!r} exists and is not a study directory", allowed="a new or study directory"
+        )
+    out.mkdir(parents=True, exist_ok=True)
+    executor = make_executor(workers, scheduler)
+    console.print(f"study {study_spec.name!r}: {len(runs)} runs on {executor.description} → {out}")
+    columns = (
+        TextColumn("runs"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("{task.fields[info]}"),
+        TimeElapsedColumn(),
+        TimeRemainingColumn(),
+    )
+    try:
+        with Progress(*columns, console=console) as bar:
+            task = bar.add_task("runs", total=len(runs), info="")
+
+            def progress(state) -> None:
+                bar.update(task, completed=state.done, info=f"failed {state.failed}, resumed {state.skipped}")
+
+            state = run_study(study_spec, runs, members, out, executor, progress)
+    finally:
+        executor.close()
+    counts = aggregate(out)
+    console.print(
+        f"complete {counts['complete']}, failed {counts['failed']}: tables in {out}/tables, "
+        f"figures in {out}/figures, all runs in {out}/study_runs.parquet"
+    )
+    for failure in state.failures[:5]:
+        console.print(f"[red]failed[/] {failure['run']}: {failure['error']}")
+
+
+def aggregate_command(
+    study_dir: Annotated[Path, typer.Argument(help="a study directory written by `floebreak study`")],
+) -> None:
+    """Re-build study_runs.parquet, the tables and the figures of a study without re-running it."""
+    from floebreak.studies.aggregate import aggregate
+
+    console.print(json.dumps(aggregate(study_dir)))

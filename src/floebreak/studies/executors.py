@@ -1,0 +1,123 @@
+"""One executor interface for studies: a local process pool, or a Dask distributed cluster (issue 6 §3).
+
+`Executor.run(fn, items)` yields ``(item, result, error)`` as tasks finish, in completion order. `fn` must be
+a module-level function (picklable); it receives one item and returns a small result. Large outputs never
+travel back: each task writes its own run directory and returns its summary only.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any, Protocol
+
+from floebreak.errors import InputError
+
+SCHEDULER_TIMEOUT_S = 10.0
+
+
+class Executor(Protocol):
+    description: str
+
+    def run(
+        self, fn: Callable[[Any], Any], items: Iterable[Any]
+    ) -> Iterator[tuple[Any, Any, BaseException | None]]: ...
+
+    def close(self) -> None: ...
+
+
+class SerialExecutor:
+    """In-process, one task after the other (tests, debugging, `--workers 1`)."""
+
+    description = "serial"
+
+    def run(self, fn, items):
+        for item in items:
+            try:
+                yield item, fn(item), None
+            except Exception as error:  # a failing run is recorded; the study goes on
+                yield item, None, error
+
+    def close(self) -> None:
+        pass
+
+
+class ProcessPoolExecutor:
+    """A local pool of worker processes (default: one per core)."""
+
+    def __init__(self, workers: int | None = None):
+        self.workers = workers or os.cpu_count() or 1
+        if self.workers < 1:
+            raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
+        self.description = f"local process pool ({self.workers} workers)"
+        # spawn: safe with threads in the parent (rich progress, BLAS) on every platform
+        self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+
+    def run(self, fn, items):
+        futures = {self._pool.submit(fn, item): item for item in items}
+        for future in cf.as_completed(futures):
+            item = futures[future]
+            error = future.exception()
+            yield item, (None if error else future.result()), error
+
+    def close(self) -> None:
+        self._pool.shutdown(cancel_futures=True)
+
+
+class DaskExecutor:
+    """Dask distributed: ``address = "local"`` starts a LocalCluster, else ``tcp://host:port`` connects."""
+
+    def __init__(self, address: str, workers: int | None = None):
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError as error:  # pragma: no cover - dask[distributed] is a dependency
+            raise InputError("scheduler", f"dask.distributed is not installed: {error}") from None
+        self._cluster = None
+        if address == "local":
+            self._cluster = LocalCluster(
+                n_workers=workers or os.cpu_count() or 1,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+            )
+            self._client = Client(self._cluster)
+        else:
+            try:
+                self._client = Client(address, timeout=SCHEDULER_TIMEOUT_S)
+            except (OSError, TimeoutError) as error:
+                raise InputError(
+                    "scheduler",
+                    f"cannot reach the Dask scheduler at {address!r} within {SCHEDULER_TIMEOUT_S:g} s "
+                    f"({error})",
+                    value=address,
+                    allowed="tcp://HOST:PORT of a running `dask scheduler`, or 'local'",
+                ) from None
+        self.description = f"dask distributed ({address})"
+
+    def run(self, fn, items):
+        from distributed import as_completed
+
+        items = list(items)
+        futures = self._client.map(fn, items, pure=False)
+        index = {future.key: item for future, item in zip(futures, items, strict=True)}
+        for future in as_completed(futures):
+            item = index[future.key]
+            if future.status == "error":
+                yield item, None, future.exception()
+            else:
+                yield item, future.result(), None
+
+    def close(self) -> None:
+        self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+
+
+def make_executor(workers: int | None = None, scheduler: str | None = None) -> Executor:
+    if scheduler:
+        return DaskExecutor(scheduler, workers)
+    if workers == 1:
+        return SerialExecutor()
+    return ProcessPoolExecutor(workers)

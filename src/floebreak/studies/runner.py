@@ -1,0 +1,140 @@
+"""Running a study: one run directory per run, resume, failures recorded, progress (issue 6 §3).
+
+Layout of a study directory::
+
+    study.json                 the study spec and the list of runs (index, group, point, field, seed)
+    runs/run-00000/ …          one complete run directory per run (written atomically by the run pipeline)
+    failed/run-00007.json      status, error and scenario of a failed run (removed when it later succeeds)
+    study_runs.parquet         one row per run: parameters + summary (see `aggregate`)
+    tables/, figures/          aggregated tables and figures
+
+Resume: a run is complete when ``runs/<name>/summary.json`` exists with the scenario hash of the run;
+since run directories appear only by an atomic rename, a study killed at any moment (even SIGKILL)
+resumes with no run lost or duplicated. Left-over temporary directories of killed runs are removed at
+the start.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from floebreak.studies.design import Membership, RunSpec, StudySpec
+from floebreak.studies.executors import Executor, SerialExecutor
+
+
+@dataclass
+class StudyProgress:
+    """Counters handed to the progress callback after every finished run."""
+
+    total: int
+    done: int = 0
+    skipped: int = 0
+    failed: int = 0
+    failures: list[dict[str, Any]] = field(default_factory=list)
+
+
+def scenario_hash(scenario: dict[str, Any]) -> str:
+    from floebreak.scenario import Scenario
+
+    return Scenario.from_dict(scenario).resolved().hash()
+
+
+def is_complete(run_dir: Path, expected_hash: str) -> bool:
+    summary = run_dir / "summary.json"
+    if not summary.exists():
+        return False
+    try:
+        return json.loads(summary.read_text(encoding="utf-8")).get("scenario_hash") == expected_hash
+    except (OSError, json.JSONDecodeError):
+        return False
+
+
+def execute_run(task: dict[str, Any]) -> dict[str, Any]:
+    """Run one scenario into its run directory; return its small summary (runs in a worker process)."""
+    from floebreak.run import run, write_run_directory
+
+    result = run(task["scenario"])
+    write_run_directory(result, task["run_dir"], overwrite=True, report=False)
+    return {key: value for key, value in result.summary.items() if not isinstance(value, dict | list)}
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    temp = path.with_name(f".{path.name}.tmp")
+    temp.write_text(text, encoding="utf-8")
+    temp.replace(path)
+
+
+def run_study(
+    spec: StudySpec,
+    runs: list[RunSpec],
+    members: list[Membership],
+    out_dir: Path,
+    executor: Executor | None = None,
+    progress: Callable[[StudyProgress], None] | None = None,
+) -> StudyProgress:
+    """Run every incomplete run of the study; failures are recorded and the study goes on."""
+    executor = executor or SerialExecutor()
+    out_dir = Path(out_dir)
+    runs_dir, failed_dir = out_dir / "runs", out_dir / "failed"
+    runs_dir.mkdir(parents=True, exist_ok=True)
+    failed_dir.mkdir(exist_ok=True)
+    for stale in runs_dir.glob(".run-*.tmp-*"):  # a run killed mid-write
+        shutil.rmtree(stale, ignore_errors=True)
+    for stale in runs_dir.glob(".run-*.old-*"):
+        shutil.rmtree(stale, ignore_errors=True)
+    study_doc = {
+        "spec": spec.model_dump(mode="json"),
+        "runs": [
+            {
+                "index": r.index,
+                "name": r.run_name,
+                "group": r.group,
+                "point": r.point,
+                "field_index": r.field_index,
+                "seed": r.seed,
+            }
+            for r in runs
+        ],
+        "members": [
+            {"group": m.group, "point": m.point, "field_index": m.field_index, "run": m.run_name}
+            for m in members
+        ],
+    }
+    _atomic_write_text(out_dir / "study.json", json.dumps(study_doc, indent=2) + "\n")
+    state = StudyProgress(total=len(runs))
+    todo = []
+    for spec_run in runs:
+        run_dir = runs_dir / spec_run.run_name
+        if is_complete(run_dir, scenario_hash(spec_run.scenario)):
+            state.skipped += 1
+            state.done += 1
+            continue
+        todo.append({"index": spec_run.index, "scenario": spec_run.scenario, "run_dir": str(run_dir)})
+    if progress:
+        progress(state)
+    for task, _summary, error in executor.run(execute_run, todo):
+        name = Path(task["run_dir"]).name
+        failure_file = failed_dir / f"{name}.json"
+        state.done += 1
+        if error is None:
+            failure_file.unlink(missing_ok=True)
+        else:
+            state.failed += 1
+            record = {
+                "run": name,
+                "status": "failed",
+                "error": f"{type(error).__name__}: {error}",
+                "traceback": "".join(traceback.format_exception(error)),
+                "scenario": task["scenario"],
+            }
+            state.failures.append(record)
+            _atomic_write_text(failure_file, json.dumps(record, indent=2, default=str) + "\n")
+        if progress:
+            progress(state)
+    return state

@@ -1,0 +1,155 @@
+"""Studies (issue 6): design expansion, seeds, validation before running, resume, failures, executors."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+from floebreak.errors import InputError
+from floebreak.studies.aggregate import aggregate
+from floebreak.studies.design import StudySpec, Sweep, expand, run_seed, study_from_dict, thesis_study
+from floebreak.studies.executors import DaskExecutor, ProcessPoolExecutor, SerialExecutor
+from floebreak.studies.runner import execute_run, run_study
+
+SMALL_FIELD = {"length_m": 50.0, "width_m": 30.0}
+
+
+def small_base() -> dict:
+    return {
+        "seed": 1,
+        "field": {"observation": "2019-12-18T20:20", **SMALL_FIELD},
+        "ice": {"thickness_m": 1.0},
+        "ship": {"hull": "agulhas_ii", "step_m": 0.5},
+    }
+
+
+def small_study(**kwargs) -> StudySpec:
+    values = {
+        "name": "toughness",
+        "root_seed": 7,
+        "n_fields": 2,
+        "base": small_base(),
+        "sweeps": [Sweep(name="K", parameters={"ice.fracture_toughness_pa_sqrt_m": [120e3, 230e3]})],
+    }
+    return StudySpec(**{**values, **kwargs})
+
+
+def test_thesis_study_design():
+    runs, members = expand(thesis_study(n_fields=2))
+    # groups: 3 K_Ic + 4 criteria + 3 h + 1 random h + 3 laws = 14 points × 2 fields; the reference point
+    # (145.7 kPa√m, tensile, h = 1 m, BZ) is shared by four groups and runs once: 11 unique points
+    assert len(members) == 14 * 2
+    assert len(runs) == 11 * 2
+    assert {m.group for m in members} == {
+        "fracture toughness",
+        "crack criterion",
+        "ice thickness",
+        "random thickness",
+        "size-effect law",
+    }
+
+
+def test_seeds_follow_the_root_seed_sequence():
+    runs, _ = expand(small_study(common_fields=False))
+    for run in runs:
+        expected = np.random.SeedSequence(7, spawn_key=(run.index,)).generate_state(1, dtype=np.uint32)[0]
+        assert run.seed == int(expected) == run.scenario["seed"]
+    common, _ = expand(small_study(common_fields=True))
+    assert [r.seed for r in common] == [run_seed(7, 0), run_seed(7, 1)] * 2
+
+
+@pytest.mark.parametrize(
+    ("data", "field"),
+    [
+        ({"sweeps": [{"parameters": {}}]}, "sweeps.parameters"),
+        ({"sweeps": [{"parameters": {"ice.thickness_m": []}}]}, "sweeps.parameters.ice.thickness_m"),
+        ({"sweeps": [{"parameters": {"ice.colour": ["blue"]}}]}, "ice.colour"),
+        ({"sweeps": [{"parameters": {"ice.thickness_m": [1.0, -0.5]}}]}, "ice.thickness_m"),
+        ({"n_fields": 0}, "n_fields"),
+    ],
+)
+def test_bad_studies_are_refused_before_running(data, field):
+    with pytest.raises(InputError) as info:
+        expand(study_from_dict({"base": small_base(), **data}))
+    assert field in str(info.value)
+
+
+def test_run_resume_failure_and_aggregate(tmp_path):
+    spec = small_study()
+    runs, members = expand(spec)
+    state = run_study(spec, runs, members, tmp_path)
+    assert state.done == 4 and state.failed == 0
+    summary = aggregate(tmp_path)
+    assert summary["complete"] == 4
+    table = pq.read_table(tmp_path / "study_runs.parquet").to_pylist()
+    assert len(table) == 4 and all(row["area_balance_rel_error"] <= 1e-9 for row in table)
+    assert (tmp_path / "tables" / "k.csv").exists() and (tmp_path / "figures" / "spider.png").exists()
+
+    # resume: a run killed mid-write leaves a temporary directory and no run directory
+    shutil.rmtree(tmp_path / "runs" / "run-00002")
+    (tmp_path / "runs" / ".run-00002.tmp-killed").mkdir()
+    state = run_study(spec, runs, members, tmp_path)
+    assert state.skipped == 3 and state.done == 4
+    assert not (tmp_path / "runs" / ".run-00002.tmp-killed").exists()
+
+    # a single run recomputed alone equals the study's run
+    alone = tmp_path / "alone"
+    execute_run({"scenario": runs[1].scenario, "run_dir": str(alone)})
+    a = pq.read_table(alone / "cusps.parquet").drop_columns(["geometry"])
+    b = pq.read_table(tmp_path / "runs" / "run-00001" / "cusps.parquet").drop_columns(["geometry"])
+    assert a.to_pylist() == b.to_pylist()
+
+
+def test_failing_run_is_recorded_and_the_study_goes_on(tmp_path):
+    base = small_base()
+    spec = StudySpec(
+        name="dense",
+        n_fields=1,
+        base=base,
+        sweeps=[
+            Sweep(
+                name="obs",
+                parameters={
+                    "field.observation": ["2019-12-18T20:20", "2019-12-18T22:30"],
+                    "field.width_m": [30.0, 240.0],
+                    "field.length_m": [50.0, 480.0],
+                },
+                mode="zip",
+            )
+        ],
+    )
+    runs, members = expand(spec)
+    state = run_study(spec, runs, members, tmp_path)
+    assert state.failed == 1 and state.done == 2
+    record = json.loads((tmp_path / "failed" / "run-00001.json").read_text())
+    assert record["status"] == "failed" and "concentration" in record["error"]
+    assert record["scenario"]["field"]["observation"] == "2019-12-18T22:30"
+
+
+def _summaries(executor, tmp_path, name):
+    spec = small_study(n_fields=1)
+    runs, members = expand(spec)
+    try:
+        run_study(spec, runs, members, tmp_path / name, executor)
+    finally:
+        executor.close()
+    return [
+        json.loads((tmp_path / name / "runs" / r.run_name / "summary.json").read_text())["cusp_area_m2"]
+        for r in runs
+    ]
+
+
+def test_process_pool_and_dask_give_the_serial_results(tmp_path):
+    serial = _summaries(SerialExecutor(), tmp_path, "serial")
+    assert _summaries(ProcessPoolExecutor(2), tmp_path, "pool") == serial
+    assert _summaries(DaskExecutor("local", 2), tmp_path, "dask") == serial
+
+
+def test_unreachable_scheduler_is_a_clear_error():
+    with pytest.raises(InputError) as info:
+        DaskExecutor("tcp://127.0.0.1:9")
+    assert info.value.field == "scheduler"
