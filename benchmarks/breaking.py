@@ -27,10 +27,11 @@ def run(length_m: float, width_m: float, profile: str = "default", seed: int = 1
     result = simulate(field, agulhas_ii(ice_thickness_m=1.0), model, SimulationParams(step_m=0.25))
     seconds = time.perf_counter() - start
     print(
-        f"{profile:>7} {length_m:>5.0f} m × {width_m:>3.0f} m: {field.n_floes:>4} floes, {result.n_breaks:>5} breaks, "
-        f"{result.n_contacts:>6} contacts, {int(result.mask('cusp').sum()):>5} cusps, "
-        f"{int(result.mask('flipped').sum()):>4} flipped in {seconds:6.2f} s → {result.n_breaks / seconds:7.0f} "
-        f"breaks/s; area balance {result.area_balance_rel_error:.1e}"
+        f"{profile:>7} {length_m:>5.0f} m × {width_m:>3.0f} m: {field.n_floes:>4} floes, "
+        f"{result.n_breaks:>5} breaks, {result.n_contacts:>6} contacts, "
+        f"{int(result.mask('cusp').sum()):>5} cusps, {int(result.mask('flipped').sum()):>4} flipped "
+        f"in {seconds:6.2f} s → {result.n_breaks / seconds:7.0f} breaks/s; "
+        f"area balance {result.area_balance_rel_error:.1e}"
     )
 
 

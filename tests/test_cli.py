@@ -1,13 +1,22 @@
-"""Command line: observations, field, demo; bad input exits with code 2 and leaves no file."""
+"""Command line: observations, field, run, demo, report, schema, validate; bad input exits with code 2 and
+leaves no file; an internal error exits with code 1 and saves the scenario."""
 
 from __future__ import annotations
 
+import importlib
+import json
+import os
 import subprocess
 import sys
+import tomllib
+from pathlib import Path
 
 import pytest
 
+from floebreak.cli import main
 from floebreak.io.field_files import load_field
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
 def run(*args: str, cwd=None) -> subprocess.CompletedProcess:
@@ -107,8 +116,167 @@ def test_unwritable_output_path(tmp_path):
     assert result.returncode == 2 and "out" in result.stderr
 
 
-def test_demo_writes_a_complete_directory(tmp_path):
-    result = run("demo", "--out", str(tmp_path / "demo"))
+def test_demo_runs_the_reference_scenario(tmp_path):
+    """`floebreak demo`: the issue's reference scenario (400 m × 50 m, h = 1 m) into a run directory."""
+    out = tmp_path / "demo"
+    result = run("demo", "--out", str(out))
     assert result.returncode == 0, result.stderr
-    assert {p.name for p in (tmp_path / "demo").iterdir()} >= {"field.parquet", "field.geojson", "figures"}
-    assert (tmp_path / "demo" / "figures" / "field.png").exists()
+    assert {p.name for p in out.iterdir()} >= {
+        "summary.json",
+        "cusps.parquet",
+        "flipped.parquet",
+        "remaining.parquet",
+        "field.parquet",
+        "contacts.parquet",
+        "scenario.resolved.toml",
+        "figures",
+        "report.html",
+    }
+    summary = json.loads((out / "summary.json").read_text())
+    resolved = tomllib.loads((out / "scenario.resolved.toml").read_text())
+    assert resolved["field"]["length_m"] == 400.0 and resolved["ice"]["thickness_m"] == 1.0
+    assert resolved["field"]["observation"] == "2019-12-18T20:20" and resolved["ship"]["hull"] == "agulhas_ii"
+    assert summary["area_balance_rel_error"] <= 1e-9 and summary["n_cusps"] > 0
+    # the field covers the observation's 44 % of 400 m × 50 m within ±1 percentage point (issue 2)
+    assert summary["initial_ice_area_m2"] / (400.0 * 50.0) == pytest.approx(0.44, abs=0.01)
+    assert "cusps" in result.stdout and "wall time" in result.stdout
+
+
+def test_run_report_and_schema_commands(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "run"
+    args = ("run", str(EXAMPLES / "random_thickness.toml"), "--out", str(out), "--set", "field.length_m=60.0")
+    code, stdout, err = cli(monkeypatch, capsys, *args)
+    assert code == 0, err
+    assert "cusps" in stdout and "written" in stdout
+    resolved = tomllib.loads((out / "scenario.resolved.toml").read_text())
+    assert resolved["field"]["length_m"] == 60.0 and resolved["ice"]["thickness_range_m"] == [0.75, 1.25]
+    # a second run into the same directory is refused (exit 2, nothing changed)
+    code, _, err = cli(monkeypatch, capsys, "run", str(EXAMPLES / "single_floe.toml"), "--out", str(out))
+    assert code == 2 and "error: out:" in err and "--overwrite" in err
+    (out / "report.html").unlink()
+    code, _, err = cli(monkeypatch, capsys, "report", str(out))
+    assert code == 0, err
+    assert (out / "report.html").read_text().count("data:image/png;base64,") == 4
+    code, schema, _ = cli(monkeypatch, capsys, "schema")
+    assert code == 0
+    assert "fracture_toughness_pa_sqrt_m" in json.loads(schema)["$defs"]["IceSection"]["properties"]
+    code, _, err = cli(monkeypatch, capsys, "report", str(tmp_path))
+    assert code == 2 and "error: run_dir:" in err
+
+
+# --- in-process CLI calls for the many bad inputs (fast) --------------------------------------------
+
+
+def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
+    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
+    with pytest.raises(SystemExit) as info:
+        main()
+    captured = capsys.readouterr()
+    return info.value.code, captured.out, captured.err
+
+
+BAD_RUNS = [
+    # (scenario text or None for a missing file, extra args, key that the message must name)
+    ("seed = 1\n[ice\n", [], "scenario"),
+    (None, [], "scenario"),
+    ("[ice]\nthickness = 1.0\n", [], "ice.thickness"),
+    ("[ice]\nthickness_m = 'thick'\n", [], "ice.thickness_m"),
+    ("", ["--set", "ice.thickness_m=0"], "ice.thickness_m"),
+    ("", ["--set", "ship.step_m=-1"], "ship.step_m"),
+    ("", ["--set", "field.concentration=1.5"], "field.concentration"),
+    ("", ["--set", "ice.fracture_toughness_pa_sqrt_m=-1.0"], "ice.fracture_toughness_pa_sqrt_m"),
+    ("", ["--set", "ship.hull=titanic"], "ship.hull"),
+    ("", ["--set", "failure.crack_criterion=shear"], "failure.crack_criterion"),
+    ("", ["--set", "failure.size_effect_law=BZ9"], "failure.size_effect_law"),
+    ("", ["--set", "profile=fast"], "profile"),
+    ("", ["--set", "field.observation=1999-01-01T00:00"], "field.observation"),
+    ("", ["--set", "ice.thickness_m"], "--set"),
+    ("", ["--set", "ice.thickness_m=[1,"], "--set"),
+    ("[field]\nfile = 'missing.parquet'\n", [], "field.file"),
+    ("[field]\nfile = 'corrupt.parquet'\n", [], "field.file"),
+    ("[ship]\nfile = 'missing.csv'\n", [], "ship.file"),
+    ("[ship]\nfile = 'corrupt.csv'\n", [], "ship.file"),
+]
+
+
+@pytest.mark.parametrize(
+    ("text", "args", "key"), BAD_RUNS, ids=[f"{i}-{b[2]}" for i, b in enumerate(BAD_RUNS)]
+)
+def test_bad_run_input_exit_2_one_line_nothing_written(tmp_path, monkeypatch, capsys, text, args, key):
+    (tmp_path / "corrupt.parquet").write_bytes(b"PAR1 garbage")
+    (tmp_path / "corrupt.csv").write_text("line,x_m,y_m\nupper,1,oops\n", encoding="utf-8")
+    scenario = tmp_path / "s.toml"
+    if text is not None:
+        scenario.write_text(text + "[field]\nlength_m = 60.0\n" * (text == ""), encoding="utf-8")
+    before = {p.name for p in tmp_path.iterdir()}
+    code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "out"), *args)
+    assert code == 2, err
+    assert err.strip().count("\n") == 0 and f"error: {key}:" in err
+    assert {p.name for p in tmp_path.iterdir()} == before
+
+
+def test_allowed_values_are_listed(tmp_path, monkeypatch, capsys):
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("[failure]\ncrack_criterion = 'shear'\n", encoding="utf-8")
+    _, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "out"))
+    for name in ("point_load", "line_load", "tensile_stress", "flexural_stress"):
+        assert name in err
+
+
+def test_output_directory_problems(tmp_path, monkeypatch, capsys):
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("[field]\nlength_m = 60.0\n", encoding="utf-8")
+    (tmp_path / "exists").mkdir()
+    code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "exists"))
+    assert code == 2 and "error: out:" in err and "--overwrite" in err
+    assert list((tmp_path / "exists").iterdir()) == []
+    code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "no" / "out"))
+    assert code == 2 and "error: out:" in err and not (tmp_path / "no").exists()
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root can write into read-only directories")
+def test_unwritable_output_directory(tmp_path, monkeypatch, capsys):
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("", encoding="utf-8")
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(locked / "out"))
+    finally:
+        locked.chmod(0o700)
+    assert code == 2 and "not writable" in err
+
+
+def test_internal_error_exit_1_saves_the_scenario(tmp_path, monkeypatch, capsys):
+    run_module = importlib.import_module("floebreak.run")
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("a bug")
+
+    monkeypatch.setattr(run_module, "simulate", broken)
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("seed = 9\n[field]\nlength_m = 60.0\n", encoding="utf-8")
+    code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "out"), "-q")
+    assert code == 1
+    assert "internal error" in err and "ZeroDivisionError" in err
+    saved = tmp_path / "out.failed-scenario.toml"
+    assert saved.exists() and not (tmp_path / "out").exists()
+    data = tomllib.loads(saved.read_text())
+    assert data["seed"] == 9 and data["field"]["length_m"] == 60.0  # the resolved scenario
+    assert "ZeroDivisionError" in saved.read_text()
+
+
+def test_validate_single_floe_calls_the_study(tmp_path, monkeypatch, capsys):
+    study = importlib.import_module("floebreak.studies.single_floe")
+    calls = []
+
+    def fake(out_dir, overwrite=False):
+        calls.append((out_dir, overwrite))
+        return out_dir
+
+    monkeypatch.setattr(study, "write_single_floe_matrix", fake)
+    code, _, _ = cli(
+        monkeypatch, capsys, "validate", "single-floe", "--out", str(tmp_path / "sf"), "--overwrite"
+    )
+    assert code == 0 and calls == [(tmp_path / "sf", True)]

@@ -10,6 +10,7 @@ from typing import Annotated
 import numpy as np
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from floebreak.errors import InputError
@@ -143,60 +144,249 @@ def _observation_from_options(obs, concentration, mean_thickness, diameters, per
     )
 
 
-REFERENCE_OBSERVATION = "2019-12-18T20:20"  # thesis §5.3 reference scenario
+# --- run, demo, schema, report ----------------------------------------------------------------------
+
+
+class _Progress:
+    """Callback for `simulate`: a rich progress bar with the bow position and the cusps so far."""
+
+    def __init__(self, progress) -> None:
+        self.progress = progress
+        self.task = None
+        self.n_steps = 0
+
+    def __call__(self, event) -> None:
+        from floebreak.simulation import RunStarted, StepDone
+
+        if isinstance(event, RunStarted):
+            self.n_steps = event.n_steps
+            self.task = self.progress.add_task(
+                "transit", total=event.n_steps, bow_x=event.x_start_m, cusps=0, flipped=0
+            )
+        elif isinstance(event, StepDone) and self.task is not None:
+            if event.step % 16 == 0 or event.step == self.n_steps - 1:
+                self.progress.update(
+                    self.task,
+                    completed=event.step + 1,
+                    bow_x=event.bow_x_m,
+                    cusps=event.n_cusps,
+                    flipped=event.n_flipped,
+                )
+
+
+def _failed_scenario_path(out: Path) -> Path:
+    return out.parent / f"{out.name}.failed-scenario.toml"
+
+
+def _save_failed_scenario(out: Path, scenario, error: BaseException) -> Path | None:
+    """Write the scenario and the traceback next to `out` for a bug report (best effort)."""
+    import traceback
+
+    path = _failed_scenario_path(out)
+    lines = traceback.format_exception(type(error), error, error.__traceback__)
+    comment = "".join("# " + line + "\n" for line in "".join(lines).rstrip().splitlines())
+    try:
+        path.write_text(
+            "# floebreak internal error — please attach this file to a bug report\n"
+            + comment
+            + "\n"
+            + scenario.to_toml(),
+            encoding="utf-8",
+        )
+    except OSError:
+        return None
+    return path
+
+
+def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str) -> None:
+    """Run a (validated) scenario with a progress bar, write the run directory, print the summary."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from floebreak.run import check_output_directory
+    from floebreak.run import run as run_scenario
+
+    check_output_directory(out, overwrite)  # refuse before spending the run time
+    resolved = scenario.resolved()
+    try:
+        progress = Progress(
+            TextColumn("[progress.description]{task.description}"),
+            BarColumn(),
+            TextColumn("bow x = {task.fields[bow_x]:7.1f} m"),
+            TextColumn("cusps {task.fields[cusps]:5d}  flipped {task.fields[flipped]:4d}"),
+            TimeElapsedColumn(),
+            console=err_console,
+            disable=quiet,
+            transient=False,
+        )
+        with progress:
+            result = run_scenario(resolved, callbacks=[_Progress(progress)])
+        result.write(out, overwrite=overwrite)
+    except InputError:
+        raise
+    except Exception as error:
+        saved = _save_failed_scenario(out, resolved, error)
+        where = f"; scenario and traceback saved to {saved}" if saved else ""
+        err_console.print(
+            f"[bold red]internal error:[/] {escape(f'{type(error).__name__}: {error}{where}')} "
+            "— please report this bug",
+            soft_wrap=True,
+            markup=True,
+            highlight=False,
+        )
+        raise typer.Exit(1) from None
+    if not quiet:
+        console.print(_summary_table(result.summary, label))
+    console.print(f"written: {out}/ (summary.json, *.parquet, figures/, report.html)", soft_wrap=True)
+
+
+def _summary_table(summary: dict, label: str) -> Table:
+    table = Table(title=label)
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    rows = (
+        ("floes (initial)", "n_floes_initial", "{:d}"),
+        (r"initial ice area \[m²]", "initial_ice_area_m2", "{:.1f}"),
+        ("cusps n_cusp", "n_cusps", "{:d}"),
+        (r"cusp area A_cusp^tot \[m²]", "cusp_area_m2", "{:.1f}"),
+        (r"mean cusp volume \[m³]", "mean_cusp_volume_m3", "{:.2f}"),
+        ("flipped n_flip", "n_flipped", "{:d}"),
+        (r"flipped area A_flip^tot \[m²]", "flipped_area_m2", "{:.1f}"),
+        (r"remaining ice area \[m²]", "remaining_ice_area_m2", "{:.1f}"),
+        ("area balance (rel. error)", "area_balance_rel_error", "{:.1e}"),
+        (r"max crushing force \[MN]", "crushing_force_max_n", "{:.2f}"),
+        (r"wall time \[s]", "wall_time_s", "{:.1f}"),
+    )
+    for name, key, fmt in rows:
+        value = summary.get(key)
+        if key == "crushing_force_max_n" and value is not None:
+            value = value / 1e6
+        text = "–" if value is None or value != value else fmt.format(value)
+        table.add_row(name, text)
+    return table
+
+
+SetOption = Annotated[
+    list[str] | None,
+    typer.Option("--set", help="override a scenario key, e.g. --set ice.thickness_m=0.8 (repeatable)"),
+]
+OverwriteOption = Annotated[bool, typer.Option("--overwrite", help="replace an existing output directory")]
+QuietOption = Annotated[bool, typer.Option("--quiet", "-q", help="no progress bar and no summary table")]
+
+
+@app.command("run")
+def run_command(
+    scenario_file: Annotated[Path, typer.Argument(metavar="SCENARIO.toml", help="scenario file (TOML)")],
+    out: Annotated[Path, typer.Option("--out", help="run directory to write (must not exist)")],
+    overrides: SetOption = None,
+    overwrite: OverwriteOption = False,
+    quiet: QuietOption = False,
+) -> None:
+    """Run a scenario file and write a complete run directory (see `floebreak schema` for the keys)."""
+    from floebreak.scenario import Scenario
+
+    scenario = Scenario.from_toml(scenario_file, overrides=overrides or ())
+    _execute(scenario, out, overwrite, quiet, f"floebreak run: {scenario_file.name}")
 
 
 @app.command()
 def demo(
     out: Annotated[Path, typer.Option("--out", help="output directory")] = Path("demo-output"),
+    overwrite: OverwriteOption = False,
+    seed: Annotated[
+        int | None, typer.Option("--seed", help="random seed (default: the scenario's, 1)")
+    ] = None,
+    overrides: SetOption = None,
+    quiet: QuietOption = False,
+) -> None:
+    """Run the reference scenario (thesis §5.3: obs 2019-12-18T20:20, 400 m × 50 m, h = 1 m, Agulhas II).
+
+    Writes a run directory into OUT (atomically: a failed demo leaves nothing); no scenario file needed.
+    """
+    from floebreak.scenario import Scenario
+
+    extra = [*(overrides or ()), *([f"seed={seed}"] if seed is not None else [])]
+    scenario = Scenario.reference(overrides=extra)
+    _execute(scenario, out, overwrite, quiet, f"floebreak demo: reference scenario, seed {scenario.seed}")
+
+
+@app.command()
+def schema() -> None:
+    """Print the JSON schema of scenario files (units in the descriptions)."""
+    import json
+
+    from floebreak.scenario import json_schema
+
+    typer.echo(json.dumps(json_schema(), indent=2, ensure_ascii=False))
+
+
+@app.command()
+def report(
+    run_dir: Annotated[Path, typer.Argument(metavar="DIR", help="run directory")],
+) -> None:
+    """Write DIR/report.html: summary, figures, scenario and provenance on one self-contained page."""
+    from floebreak.report import write_report
+
+    console.print(f"written: {write_report(run_dir)}", soft_wrap=True)
+
+
+validate_app = typer.Typer(no_args_is_help=True, help="Validation studies (thesis §5).")
+app.add_typer(validate_app, name="validate")
+
+
+@validate_app.command("single-floe")
+def validate_single_floe(
+    out: Annotated[Path, typer.Option("--out", help="output directory")],
+    overwrite: OverwriteOption = False,
+) -> None:
+    """Single-floe validation matrix (thesis §5.2, Figs. 14–16): diameters × thicknesses × positions."""
+    from floebreak.studies.single_floe import write_single_floe_matrix
+
+    path = write_single_floe_matrix(out, overwrite=overwrite)
+    console.print(f"written: {path}", soft_wrap=True)
+
+
+def _register_studies() -> None:
+    from floebreak.studies.cli import aggregate_command, study
+
+    app.command("study")(study)
+    app.command("aggregate")(aggregate_command)
+
+
+_register_studies()
+
+
+@app.command()
+def propeller(
+    run_or_study_dir: Annotated[Path, typer.Argument(help="a run directory or a study directory")],
+    out: Annotated[Path, typer.Option("--out", help="output directory")],
+    fem_table: Annotated[
+        Path | None,
+        typer.Option("--fem-table", help="own FEM table CSV (volume, length, width, height, force, torque)"),
+    ] = None,
+    torque_csv: Annotated[Path | None, typer.Option("--torque-csv", help="measured shaft torque CSV")] = None,
+    polar_class: Annotated[
+        str | None, typer.Option("--polar-class", help="IACS polar class, e.g. PC5")
+    ] = None,
+    interpolation: Annotated[str, typer.Option("--interpolation", help="newton | pchip")] = "newton",
+    beyond: Annotated[str, typer.Option("--beyond", help="clamp | extrapolate | flag")] = "clamp",
     overwrite: Annotated[
         bool, typer.Option("--overwrite", help="replace an existing output directory")
     ] = False,
-    seed: Annotated[int, typer.Option("--seed", help="random seed")] = 1,
 ) -> None:
-    """Reference scenario: the thesis' floe field (obs 2019-12-18T20:20, 400 m × 50 m, h = 1 m) and the bow.
+    """Propeller–ice force and torque spectra of the cusps of a run or study (thesis chapter 6)."""
+    from floebreak.propeller.pipeline import propeller_analysis
 
-    Writes field.parquet, field.geojson and figures/ into OUT (atomically: a failed demo leaves nothing).
-    """
-    import time
-
-    from floebreak.ice.generation import generate_field
-    from floebreak.io.atomic import atomic_directory
-    from floebreak.io.field_files import export_geojson, save_field
-    from floebreak.io.figures import save_figure
-    from floebreak.plotting.field import plot_field
-
-    started = time.perf_counter()
-    observation = get_observation(REFERENCE_OBSERVATION)
-    with console.status("generating the reference floe field …"):
-        floe_field = generate_field(
-            observation, 400.0, 50.0, np.random.default_rng(seed), thickness_m=1.0, seed=seed
-        )
-    with atomic_directory(out, overwrite=overwrite, field="out") as temp:
-        save_field(floe_field, temp / "field.parquet")
-        export_geojson(floe_field, temp / "field.geojson")
-        (temp / "figures").mkdir()
-        save_figure(plot_field(floe_field), temp / "figures" / "field.png")
-        try:
-            from floebreak.plotting.bow import plot_bow
-            from floebreak.ship.hulls import agulhas_ii
-
-            save_figure(plot_bow(agulhas_ii(ice_thickness_m=1.0)), temp / "figures" / "bow_agulhas_ii.png")
-        except ImportError:  # pragma: no cover - the bow module ships with the package
-            pass
-    table = Table(title=f"floebreak demo: reference floe field (obs {REFERENCE_OBSERVATION}, seed {seed})")
-    table.add_column("quantity")
-    table.add_column("value", justify="right")
-    table.add_row("floes", f"{floe_field.n_floes}")
-    table.add_row(r"ice area \[m²]", f"{floe_field.ice_area_m2:.1f}")
-    table.add_row(
-        r"concentration \[%] (target)",
-        f"{100 * floe_field.concentration:.2f} ({100 * observation.concentration:g})",
+    written = propeller_analysis(
+        run_or_study_dir,
+        out,
+        fem_table=fem_table,
+        torque_csv=torque_csv,
+        polar_class=polar_class,
+        interpolation=interpolation,
+        beyond=beyond,
+        overwrite=overwrite,
     )
-    table.add_row(r"thickness \[m]", "1.0")
-    table.add_row(r"wall time \[s]", f"{time.perf_counter() - started:.1f}")
-    console.print(table)
-    console.print(f"written: {out}/field.parquet, field.geojson, figures/")
+    console.print(f"propeller spectra written to {written}")
 
 
 @app.callback()
@@ -209,5 +399,5 @@ def main() -> None:
     try:
         app()
     except InputError as error:
-        err_console.print(f"[bold red]error:[/] {error}")
+        err_console.print(f"[bold red]error:[/] {escape(str(error))}", soft_wrap=True, highlight=False)
         sys.exit(2)

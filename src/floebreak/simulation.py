@@ -10,6 +10,7 @@ Initial ice area = cusps + flipped + remaining is checked at the end of every ru
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any, Literal
@@ -30,7 +31,13 @@ from floebreak.failure import (
 )
 from floebreak.ice.field import FloeField
 from floebreak.mechanics.classify import Classification, ClassificationParams, classify
-from floebreak.mechanics.contact import BowContactGeometry, Contact, ContactParams, evaluate_contact
+from floebreak.mechanics.contact import (
+    BowContactGeometry,
+    Contact,
+    ContactParams,
+    evaluate_contact,
+    evaluate_contacts,
+)
 
 AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overlay (exact up to rounding)
 
@@ -306,13 +313,26 @@ def simulate(
         if candidates:
             polygons_bf = _translate(np.array([pieces.polygon[i] for i in candidates], dtype=object), -bow_x)
             near = shapely.dwithin(geometry.hull_upper, polygons_bf, d)
-            queue = [(pid, poly) for pid, poly, ok in zip(candidates, polygons_bf, near, strict=True) if ok]
+            queue = deque(
+                (pid, poly) for pid, poly, ok in zip(candidates, polygons_bf, near, strict=True) if ok
+            )
+            # the floes queued at the start of the step are evaluated in one batch (vectorised GEOS calls);
+            # pieces created during the step are evaluated one by one when their turn comes
+            batch = evaluate_contacts(
+                np.array([poly for _, poly in queue], dtype=object),
+                [pieces.thickness[pid] for pid, _ in queue],
+                geometry,
+                model.contact,
+            )
             evaluations = 0
             while queue:
-                pid, polygon_bf = queue.pop(0)
+                pid, polygon_bf = queue.popleft()
                 evaluations += 1
                 thickness = pieces.thickness[pid]
-                contact = evaluate_contact(polygon_bf, thickness, geometry, model.contact)
+                if evaluations <= len(batch):
+                    contact = batch[evaluations - 1]
+                else:
+                    contact = evaluate_contact(polygon_bf, thickness, geometry, model.contact)
                 if not contact.in_contact:
                     continue
                 zone = contact.dominant

@@ -17,6 +17,7 @@ Eqs. 9/10 taken literally (errata 9, 10).
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -155,16 +156,73 @@ def evaluate_contact(
 
     `geometry` is the bow's prepared contact geometry, `BowContactGeometry.from_bow(bow)`, built once per run.
     """
-    if not shapely.intersects(geometry.hull_upper, floe_bow_frame):
-        return Contact()
-    overlap = shapely.intersection(floe_bow_frame, geometry.hull_upper)
-    parts = [p for p in shapely.get_parts(overlap) if shapely.get_type_id(p) == 3 and p.area > 0.0]
-    zones = []
-    for index, zone_polygon in enumerate(parts):
-        zone = _evaluate_zone(index, zone_polygon, floe_bow_frame, thickness_m, geometry, params)
-        if zone is not None:
-            zones.append(zone)
-    return Contact(tuple(zones))
+    return evaluate_contacts(np.array([floe_bow_frame], dtype=object), [thickness_m], geometry, params)[0]
+
+
+def evaluate_contacts(
+    floes_bow_frame: np.ndarray, thickness_m, geometry: BowContactGeometry, params: ContactParams
+) -> list[Contact]:
+    """`evaluate_contact` for many floes at once (one `Contact` per floe, in input order).
+
+    The GEOS overlays of all floes (floe ∩ H_u, zone ∩ footprints, waterline ∩ zone) run as one vectorised
+    shapely call each instead of one call per floe and zone; every element is the same GEOS operation on the
+    same arguments as before, so the results are bit-identical.
+    """
+    floes = np.asarray(floes_bow_frame, dtype=object).reshape(-1)
+    thickness = np.asarray(thickness_m, dtype=float).reshape(-1)
+    contacts = [Contact()] * len(floes)
+    hit = np.flatnonzero(shapely.intersects(geometry.hull_upper, floes))
+    if hit.size == 0:
+        return contacts
+    overlaps = shapely.intersection(floes[hit], geometry.hull_upper)
+    parts, owner = shapely.get_parts(overlaps, return_index=True)
+    if parts.size:
+        is_polygon = shapely.get_type_id(parts) == 3
+        areas = shapely.area(parts)
+        keep = is_polygon & (areas > 0.0)
+        parts, owner, areas = parts[keep], hit[owner[keep]], areas[keep]
+    if parts.size == 0:
+        return contacts
+    a_h_by_zone, panels_by_zone = _panel_areas(parts, geometry)
+    centres, centre_panels = _zone_centres(parts, geometry)
+    zones_by_floe: dict[int, list[ContactZone]] = {}
+    for k in range(len(parts)):
+        floe_index = int(owner[k])
+        zones = zones_by_floe.setdefault(floe_index, [])
+        panels, a_h = panels_by_zone[k], a_h_by_zone[k]
+        a_u = float(areas[k])
+        a_l = max(a_u - float(a_h.sum()), 0.0)  # Σ A_h,i = A_u − A_l (footprints tile H_u \ H_l)
+        centre_panel = int(centre_panels[k])
+        if params.area_model == "single_psi":
+            # thesis Eq. 6 literally: one ψ (at the zone centre) for the whole horizontal area A_h = A_u − A_l
+            panels = np.array([centre_panel])
+            a_h = np.array([a_u - a_l])
+        psi = geometry.panel_psi_rad[panels]
+        a_c = _contact_area(a_h, psi, panels, floes[floe_index], thickness[floe_index], geometry, params)
+        f_c, f_v, f_h = panel_forces(a_c, psi, params)
+        force_xy = (f_h[:, None] * geometry.panel_normals[panels]).sum(axis=0) if len(panels) else np.zeros(2)
+        zones.append(
+            ContactZone(
+                zone=len(zones),
+                overlap_upper=parts[k],
+                centre_xy_m=centres[k],
+                centre_panel=centre_panel,
+                centre_normal=geometry.panel_normals[centre_panel],
+                a_u_m2=a_u,
+                a_l_m2=a_l,
+                panels=panels,
+                a_h_m2=a_h,
+                a_c_m2=a_c,
+                psi_rad=psi,
+                f_c_n=f_c,
+                f_v_n=f_v,
+                f_h_n=f_h,
+                force_on_ice_xy_n=force_xy,
+            )
+        )
+    for floe_index, zones in zones_by_floe.items():
+        contacts[floe_index] = Contact(tuple(zones))
+    return contacts
 
 
 # --- internals --------------------------------------------------------------------------------------
@@ -203,63 +261,49 @@ class BowContactGeometry:
         )
 
 
-def _zone_centre(zone_polygon, geometry: BowContactGeometry) -> tuple[np.ndarray, int]:
-    """Middle of the upper waterline inside the zone, and the panel it lies on (thesis "midBow")."""
-    inside = shapely.intersection(geometry.waterline, zone_polygon)
-    lines = [p for p in shapely.get_parts(inside) if shapely.get_type_id(p) == 1 and p.length > 0.0]
-    if lines:
-        longest = max(lines, key=lambda line: line.length)
-        centre = shapely.line_interpolate_point(longest, 0.5, normalized=True)
-    else:  # the zone does not reach the waterline (a piece already inside the hull): nearest point
-        centre = shapely.get_point(shapely.shortest_line(zone_polygon, geometry.waterline), 1)
-    distance = shapely.line_locate_point(geometry.waterline, centre)
-    panel = int(
-        np.clip(np.searchsorted(geometry.node_distance_m, distance) - 1, 0, len(geometry.footprints) - 1)
-    )
-    return np.array(shapely.get_coordinates(centre)[0]), panel
-
-
-def _evaluate_zone(
-    index, zone_polygon, floe, thickness_m, geometry: BowContactGeometry, params: ContactParams
-):
-    candidates = geometry.footprint_tree.query(zone_polygon, predicate="intersects")
-    candidates = np.sort(candidates)
-    a_h = (
-        shapely.area(shapely.intersection(zone_polygon, geometry.footprints[candidates]))
-        if len(candidates)
-        else np.zeros(0)
-    )
+def _panel_areas(zones: np.ndarray, geometry: BowContactGeometry) -> tuple[list, list]:
+    """Per zone: (A_h,i > 0 of the footprints it overlaps, their panel indices, ascending) — one STRtree query
+    and one vectorised intersection for all zones."""
+    zone_index, panel = geometry.footprint_tree.query(zones, predicate="intersects")
+    order = np.lexsort((panel, zone_index))
+    zone_index, panel = zone_index[order], panel[order]
+    a_h = shapely.area(shapely.intersection(zones[zone_index], geometry.footprints[panel]))
     keep = a_h > 0.0
-    panels, a_h = candidates[keep], a_h[keep]
-    a_u = float(zone_polygon.area)
-    a_l = max(a_u - float(a_h.sum()), 0.0)  # Σ A_h,i = A_u − A_l (footprints tile H_u \ H_l)
-    centre, centre_panel = _zone_centre(zone_polygon, geometry)
-    centre_normal = geometry.panel_normals[centre_panel]
-    if params.area_model == "single_psi":
-        # thesis Eq. 6 literally: one ψ (at the zone centre) for the whole horizontal area A_h = A_u − A_l
-        panels = np.array([centre_panel])
-        a_h = np.array([a_u - a_l])
-    psi = geometry.panel_psi_rad[panels]
-    a_c = _contact_area(a_h, psi, panels, floe, thickness_m, geometry, params)
-    f_c, f_v, f_h = panel_forces(a_c, psi, params)
-    force_xy = (f_h[:, None] * geometry.panel_normals[panels]).sum(axis=0) if len(panels) else np.zeros(2)
-    return ContactZone(
-        zone=index,
-        overlap_upper=zone_polygon,
-        centre_xy_m=centre,
-        centre_panel=centre_panel,
-        centre_normal=centre_normal,
-        a_u_m2=a_u,
-        a_l_m2=a_l,
-        panels=panels,
-        a_h_m2=a_h,
-        a_c_m2=a_c,
-        psi_rad=psi,
-        f_c_n=f_c,
-        f_v_n=f_v,
-        f_h_n=f_h,
-        force_on_ice_xy_n=force_xy,
-    )
+    bounds = np.searchsorted(zone_index, np.arange(len(zones) + 1))
+    a_h_by_zone, panels_by_zone = [], []
+    for start, stop in itertools.pairwise(bounds):
+        kept = keep[start:stop]
+        a_h_by_zone.append(a_h[start:stop][kept])
+        panels_by_zone.append(panel[start:stop][kept])
+    return a_h_by_zone, panels_by_zone
+
+
+def _zone_centres(zones: np.ndarray, geometry: BowContactGeometry) -> tuple[np.ndarray, np.ndarray]:
+    """Middle of the upper waterline inside each zone, and the panel it lies on (thesis "midBow").
+
+    The middle of the longest line of waterline ∩ zone; a zone that does not reach the waterline (a piece
+    already inside the hull) takes the nearest waterline point.
+    """
+    inside = shapely.intersection(geometry.waterline, zones)
+    lines, owner = shapely.get_parts(inside, return_index=True)
+    longest = np.full(len(zones), None, dtype=object)
+    if lines.size:
+        lengths = shapely.length(lines)
+        usable = (shapely.get_type_id(lines) == 1) & (lengths > 0.0)
+        best = np.full(len(zones), -1.0)
+        for line, k, length, ok in zip(lines, owner, lengths, usable, strict=True):
+            if ok and length > best[k]:  # first longest, as max() over the parts
+                best[k], longest[k] = length, line
+    centres = np.empty(len(zones), dtype=object)
+    has_line = longest != None  # noqa: E711 (element-wise on an object array)
+    if has_line.any():
+        centres[has_line] = shapely.line_interpolate_point(longest[has_line], 0.5, normalized=True)
+    if (~has_line).any():
+        nearest = shapely.shortest_line(zones[~has_line], geometry.waterline)
+        centres[~has_line] = shapely.get_point(nearest, 1)
+    distance = shapely.line_locate_point(geometry.waterline, centres)
+    panels = np.clip(np.searchsorted(geometry.node_distance_m, distance) - 1, 0, len(geometry.footprints) - 1)
+    return shapely.get_coordinates(centres), panels
 
 
 def _contact_area(a_h, psi, panels, floe, thickness_m, geometry: BowContactGeometry, params: ContactParams):

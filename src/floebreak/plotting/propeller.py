@@ -1,0 +1,128 @@
+"""Propeller figures: volume–load curves (thesis Figs. 30–31), load and torque spectra (Figs. 32–33),
+measured vs simulated torque (Fig. 35, A.3) and the UR I3 Weibull exceedance overlay (notes §7.3)."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from floebreak.plotting.common import new_figure
+from floebreak.propeller.iceclass import empirical_exceedance, weibull_exceedance
+from floebreak.propeller.interpolation import VolumeInterpolant
+
+PITCH_COLOURS = ("#4c72b0", "#d62728", "#2ca02c", "#9467bd", "#8c564b")
+
+
+def _colour(i: int) -> str:
+    return PITCH_COLOURS[i % len(PITCH_COLOURS)]
+
+
+def plot_volume_loads(
+    tables, method: str = "newton", beyond: str = "clamp", v_max_m3: float | None = None
+) -> Figure:
+    """Force and torque vs cusp volume for each FEM table: points, chosen interpolant (solid), the other
+    method (dashed)."""
+    figure = Figure(figsize=(11.0, 4.0), constrained_layout=True)
+    axes = figure.subplots(1, 2)
+    other = "pchip" if method == "newton" else "newton"
+    top = v_max_m3 or max(t.max_volume_m3 for t in tables.values()) * 1.15
+    v = np.linspace(0.0, top, 300)
+    for i, (pitch, table) in enumerate(tables.items()):
+        for ax, values, scale in ((axes[0], table.force_n, 1e3), (axes[1], table.torque_nm, 1e3)):
+            chosen = VolumeInterpolant.through_origin(table.volume_m3, values, method, beyond)
+            alt = VolumeInterpolant.through_origin(table.volume_m3, values, other, beyond)
+            ax.plot(v, chosen(v) / scale, color=_colour(i), label=f"P = {pitch:g} % ({method})")
+            ax.plot(v, alt(v) / scale, color=_colour(i), ls="--", lw=0.8, label=f"P = {pitch:g} % ({other})")
+            ax.plot(np.r_[0.0, table.volume_m3], np.r_[0.0, values] / scale, "o", color=_colour(i))
+    for ax, label in ((axes[0], "force F [kN]"), (axes[1], "torque Q [kN m]")):
+        ax.axvline(max(t.max_volume_m3 for t in tables.values()), color="0.5", lw=0.6, ls=":")
+        ax.set_xlabel("cusp volume V [m³]")
+        ax.set_ylabel(label)
+        ax.legend(fontsize=7)
+    figure.suptitle(f"Volume–load interpolation through (0, 0); beyond the table: {beyond}")
+    return figure
+
+
+def plot_spectrum(ds, quantity: str = "force", log: bool = False) -> Figure:
+    """Probability density of |F| (quantity "force") or |Q| ("torque") per pitch, run-averaged."""
+    figure, ax = new_figure(7.5, 4.0)
+    if quantity == "force":
+        lower, upper, var, unit = "force_bin_lower_kn", "force_bin_upper_kn", "force_density", "kN"
+    else:
+        lower, upper, var, unit = "torque_bin_lower_knm", "torque_bin_upper_knm", "torque_density", "kN m"
+    edges = np.r_[ds[lower].values, ds[upper].values[-1:]] if ds.sizes["bin"] else np.zeros(1)
+    any_data = False
+    for i, pitch in enumerate(ds["pitch"].values):
+        dens = ds[var].sel(pitch=pitch).values
+        if np.all(~np.isfinite(dens)):
+            continue
+        any_data = True
+        ax.stairs(np.nan_to_num(dens), edges, color=_colour(i), label=f"P = {pitch:g} %", fill=False, lw=1.2)
+    if not any_data:
+        ax.text(0.5, 0.5, "no loads", transform=ax.transAxes, ha="center")
+    if log and any_data:
+        ax.set_yscale("log")
+    name = "force |F|" if quantity == "force" else "torque |Q|"
+    ax.set_xlabel(f"{name} [{unit}]")
+    ax.set_ylabel(f"probability density [1/{unit}]")
+    n_runs = ds.sizes.get("run", 1)
+    ax.set_title(f"{'Load' if quantity == 'force' else 'Torque'} spectrum (mean over {n_runs} run(s))")
+    if any_data:
+        ax.legend()
+    return figure
+
+
+def plot_measured_comparison(
+    measured_edges_knm, measured_density, ds, log: bool = True, threshold_per_knm: float = 1e-3
+) -> Figure:
+    """Measured shaft-torque density vs simulated |Q| densities (thesis Fig. 35 log, Fig. 37 linear)."""
+    figure, ax = new_figure(8.0, 4.0)
+    ax.stairs(measured_density, measured_edges_knm, color="k", lw=1.4, label="measured (shaft)")
+    edges = np.r_[ds["torque_bin_lower_knm"].values, ds["torque_bin_upper_knm"].values[-1:]]
+    for i, pitch in enumerate(ds["pitch"].values):
+        dens = ds["torque_density"].sel(pitch=pitch).values
+        if np.any(np.isfinite(dens)):
+            ax.stairs(np.nan_to_num(dens), edges, color=_colour(i), label=f"simulated P = {pitch:g} % (|Q|)")
+    ax.axhline(threshold_per_knm, color="0.5", ls=":", lw=0.8, label=f"{threshold_per_knm:g} per kN m")
+    if log:
+        ax.set_yscale("log")
+    ax.set_xlabel("torque [kN m]")
+    ax.set_ylabel("probability density [1/(kN m)]")
+    ax.set_title("Measured vs simulated torque spectra")
+    ax.legend(fontsize=8)
+    return figure
+
+
+def plot_rule_exceedance(force_n: dict, torque_nm: dict, rule, shape: float = 0.75) -> Figure:
+    """Empirical exceedance of |F|/F_b and |Q|/Q_max per pitch with the rule's Weibull shape
+    exp(−x^k ln N) for N = the number of simulated loads (notes §7.3)."""
+    figure = Figure(figsize=(11.0, 4.0), constrained_layout=True)
+    axes = figure.subplots(1, 2)
+    for ax, data, cap, label in (
+        (axes[0], force_n, rule.backward_force_n, "|F| / F_b"),
+        (axes[1], torque_nm, rule.max_torque_nm, "|Q| / Q_max"),
+    ):
+        x_top = 1.0
+        for i, (pitch, values) in enumerate(data.items()):
+            v, p = empirical_exceedance(np.abs(values))
+            if v.size < 2:
+                continue
+            x = v / cap
+            x_top = max(x_top, float(x.max()))
+            ax.step(x, p, where="post", color=_colour(i), label=f"simulated P = {pitch:g} % (n = {v.size})")
+            xs = np.linspace(0.0, x_top * 1.05, 200)
+            ax.plot(
+                xs,
+                weibull_exceedance(xs, v.size, shape),
+                color=_colour(i),
+                ls="--",
+                lw=0.8,
+                label=f"UR I3 Weibull k = {shape:g}, N = {v.size}",
+            )
+        ax.axvline(1.0, color="k", lw=0.8, ls=":", label=f"rule maximum ({rule.polar_class})")
+        ax.set_yscale("log")
+        ax.set_xlabel(label)
+        ax.set_ylabel("P(X ≥ x)")
+        ax.legend(fontsize=7)
+    figure.suptitle("Simulated loads against the IACS UR I3 exceedance shape")
+    return figure

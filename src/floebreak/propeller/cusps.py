@@ -1,0 +1,187 @@
+"""Cusp tables: reading runs and studies, bounding-box volume classes, kinetic energy.
+
+Volume classes and class means follow thesis §6.1.1 / Alg. 1 / Fig. 26: cuboidal bounding box of each cusp
+(shorter side l_min, longer side l_max in the plane, thickness h), box volume l_max·l_min·h, classes
+(0, 5], (5, 8], (8, 11], (11, 14] m³ by default; per class the means of l_max, l_min, h and the box volume
+(the structure of thesis Tables 10/11). Kinetic energy: thesis Eqs. 27–28.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from floebreak.constants import ICE_DENSITY_KG_M3
+from floebreak.errors import InputError
+
+REQUIRED_COLUMNS = ("volume_m3", "bbox_length_m", "bbox_width_m", "thickness_m", "area_m2")
+DEFAULT_CLASS_EDGES_M3 = (5.0, 8.0, 11.0, 14.0)
+CUSPS_FILE = "cusps.parquet"
+
+
+def load_cusps(run_or_study_dir: str | os.PathLike[str]) -> pa.Table:
+    """Cusp columns of one run directory, or of every run directory below a study directory.
+
+    A directory holding ``cusps.parquet`` is a run; otherwise every ``cusps.parquet`` below it (hidden
+    folders skipped) is read. The geometry column is ignored; a ``run_id`` column holds the run folder's
+    name (its path relative to the study folder if names repeat).
+    """
+    root = Path(run_or_study_dir)
+    field = "run_or_study_dir"
+    if not root.is_dir():
+        raise InputError(field, f"{str(root)!r} is not a directory", value=str(root))
+    if (root / CUSPS_FILE).is_file():
+        files = [root / CUSPS_FILE]
+    else:
+        files = sorted(
+            p
+            for p in root.rglob(CUSPS_FILE)
+            if not any(part.startswith(".") for part in p.relative_to(root).parts)
+        )
+    if not files:
+        raise InputError(
+            field,
+            f"no {CUSPS_FILE} in or below {str(root)!r}",
+            value=str(root),
+            allowed="a run directory or a study directory containing run directories",
+        )
+    names = [f.parent.name for f in files]
+    if len(set(names)) < len(names):
+        names = [f.parent.relative_to(root).as_posix() if f.parent != root else root.name for f in files]
+    tables = []
+    for path, run_id in zip(files, names, strict=True):
+        try:
+            table = pq.read_table(path)
+        except (OSError, pa.ArrowInvalid) as error:
+            raise InputError(field, f"cannot read {str(path)!r}: {error}", value=str(path)) from None
+        missing = [c for c in REQUIRED_COLUMNS if c not in table.column_names]
+        if missing:
+            raise InputError(
+                field,
+                f"{str(path)!r} lacks column(s) {', '.join(missing)}",
+                value=str(path),
+                allowed=", ".join(REQUIRED_COLUMNS),
+            )
+        columns = {c: table.column(c).cast(pa.float64()) for c in REQUIRED_COLUMNS}
+        columns["run_id"] = pa.array([run_id] * table.num_rows, type=pa.string())
+        tables.append(pa.table(columns))
+    return pa.concat_tables(tables)
+
+
+def cusp_columns(cusps: pa.Table | Mapping[str, Sequence], field: str = "cusps") -> dict[str, np.ndarray]:
+    """Validated float arrays of the required columns plus ``run_id`` (default "run")."""
+    if isinstance(cusps, pa.Table):
+        names = cusps.column_names
+
+        def get(c):
+            return cusps.column(c).to_numpy(zero_copy_only=False)
+    elif isinstance(cusps, Mapping):
+        names = list(cusps)
+
+        def get(c):
+            return np.asarray(cusps[c])
+    else:
+        raise InputError(
+            field, f"unsupported type {type(cusps).__name__}", allowed="a pyarrow.Table or a dict of arrays"
+        )
+    missing = [c for c in REQUIRED_COLUMNS if c not in names]
+    if missing:
+        raise InputError(
+            field, f"missing column(s) {', '.join(missing)}", allowed=", ".join(REQUIRED_COLUMNS)
+        )
+    out: dict[str, np.ndarray] = {}
+    n = None
+    for c in REQUIRED_COLUMNS:
+        try:
+            values = np.asarray(get(c), dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise InputError(field, f"column {c!r} is not numeric") from None
+        bad = np.flatnonzero(~np.isfinite(values) | (values < 0.0))
+        if bad.size:
+            raise InputError(
+                field,
+                f"column {c!r}, row {bad[0]}: {values[bad[0]]!r}",
+                value=float(values[bad[0]]),
+                allowed="finite values >= 0",
+            )
+        if n is not None and values.size != n:
+            raise InputError(field, f"column {c!r} has {values.size} rows, expected {n}")
+        n = values.size
+        out[c] = values
+    run_id = (
+        np.asarray(get("run_id"), dtype=object).reshape(-1)
+        if "run_id" in names
+        else np.full(n, "run", object)
+    )
+    if run_id.size != n:
+        raise InputError(field, f"column 'run_id' has {run_id.size} rows, expected {n}")
+    out["run_id"] = run_id.astype(str).astype(object)
+    return out
+
+
+def box_dimensions(length_m, width_m, thickness_m) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(longer side, shorter side, box volume l_max·l_min·h) (thesis Alg. 1, Fig. 26)."""
+    length_m, width_m, thickness_m = (np.asarray(a, dtype=float) for a in (length_m, width_m, thickness_m))
+    longer = np.maximum(length_m, width_m)
+    shorter = np.minimum(length_m, width_m)
+    return longer, shorter, longer * shorter * thickness_m
+
+
+def check_class_edges(edges_m3) -> np.ndarray:
+    edges = np.asarray(edges_m3, dtype=float).reshape(-1)
+    if edges.size < 1 or not np.all(np.isfinite(edges)) or edges[0] <= 0.0 or np.any(np.diff(edges) <= 0.0):
+        raise InputError(
+            "volume_class_edges_m3",
+            f"{edges.tolist()} is not strictly increasing and > 0",
+            value=edges.tolist(),
+            allowed="increasing positive upper class edges, e.g. 5, 8, 11, 14",
+        )
+    return edges
+
+
+def volume_class(volume_m3, edges_m3=DEFAULT_CLASS_EDGES_M3) -> np.ndarray:
+    """Class index i with edges[i−1] < V ≤ edges[i] (edges[−1] = 0); −1 above the last edge or at V = 0."""
+    edges = check_class_edges(edges_m3)
+    v = np.asarray(volume_m3, dtype=float)
+    index = np.searchsorted(edges, v, side="left")
+    return np.where((v > 0.0) & (index < edges.size), index, -1)
+
+
+def class_means(
+    longer_m, shorter_m, thickness_m, box_volume_m3, edges_m3=DEFAULT_CLASS_EDGES_M3
+) -> dict[str, np.ndarray]:
+    """Per volume class: count and mean box volume, longer side, shorter side, thickness (thesis Alg. 1).
+
+    Empty classes have NaN means. Classification is by box volume, as in Alg. 1.
+    """
+    edges = check_class_edges(edges_m3)
+    cls = volume_class(box_volume_m3, edges)
+    out = {
+        "class_index": np.arange(edges.size),
+        "lower_m3": np.concatenate([[0.0], edges[:-1]]),
+        "upper_m3": edges.copy(),
+        "n_cusps": np.zeros(edges.size, dtype=int),
+    }
+    for name in ("mean_box_volume_m3", "mean_longer_side_m", "mean_shorter_side_m", "mean_thickness_m"):
+        out[name] = np.full(edges.size, np.nan)
+    for i in range(edges.size):
+        m = cls == i
+        out["n_cusps"][i] = int(m.sum())
+        if m.any():
+            out["mean_box_volume_m3"][i] = float(np.mean(np.asarray(box_volume_m3)[m]))
+            out["mean_longer_side_m"][i] = float(np.mean(np.asarray(longer_m)[m]))
+            out["mean_shorter_side_m"][i] = float(np.mean(np.asarray(shorter_m)[m]))
+            out["mean_thickness_m"][i] = float(np.mean(np.asarray(thickness_m)[m]))
+    return out
+
+
+def kinetic_energy_j(
+    volume_m3, speed_m_s: float = 3.0, density_kg_m3: float = ICE_DENSITY_KG_M3
+) -> np.ndarray:
+    """E_kin = ½ ρ_ice V v² [J] (thesis Eqs. 27–28). An energy, reported apart from torque (erratum 25)."""
+    return 0.5 * density_kg_m3 * np.asarray(volume_m3, dtype=float) * speed_m_s**2

@@ -1,0 +1,288 @@
+"""FEM force/torque tables per cusp volume (thesis Tables 10 and 11, §6.1.2; notes erratum 24).
+
+A table CSV has `#` comment lines, then a header with the six columns volume, length, width, height,
+force, torque, each with its unit in the name (``volume_m3``, ``force_kN``, ``torque [kN m]`` …), then one
+numeric row per exemplary cusp. An optional ``# pitch_percent: X`` comment names the pitch the table
+belongs to. A leading row at volume 0 must have zero force and torque (the thesis' boundary condition);
+the interpolation always passes through (0, 0) whether or not the row is present.
+"""
+
+from __future__ import annotations
+
+import csv
+import importlib.resources
+import io
+import math
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from floebreak.errors import InputError
+
+SHIPPED_TABLES = {0.0: "fem_pitch0.csv", 95.0: "fem_pitch95.csv"}
+
+_UNITS = {
+    "volume": {"m3": 1.0, "m^3": 1.0, "m³": 1.0},
+    "length": {"m": 1.0},
+    "width": {"m": 1.0},
+    "height": {"m": 1.0},
+    "force": {"n": 1.0, "kn": 1e3, "mn": 1e6},
+    "torque": {
+        "nm": 1.0,
+        "n_m": 1.0,
+        "n m": 1.0,
+        "n·m": 1.0,
+        "knm": 1e3,
+        "kn_m": 1e3,
+        "kn m": 1e3,
+        "kn·m": 1e3,
+        "mnm": 1e6,
+        "mn_m": 1e6,
+        "mn m": 1e6,
+        "mn·m": 1e6,
+    },
+}
+COLUMNS = tuple(_UNITS)
+
+
+@dataclass(frozen=True)
+class FemTable:
+    """One FEM table in SI: points sorted by volume, without the origin row.
+
+    volume_m3, force_n, torque_nm (signed as in the FEM output), length_m, width_m, height_m: (k,) arrays.
+    """
+
+    pitch_percent: float
+    volume_m3: np.ndarray
+    length_m: np.ndarray
+    width_m: np.ndarray
+    height_m: np.ndarray
+    force_n: np.ndarray
+    torque_nm: np.ndarray
+    source: str
+
+    @property
+    def max_volume_m3(self) -> float:
+        return float(self.volume_m3[-1])
+
+
+def split_name_unit(name: str) -> tuple[str, str | None]:
+    """'force_kN' / 'force [kN]' / 'force (kN)' → ('force', 'kn'); 'force' → ('force', None)."""
+    text = name.strip()
+    match = re.fullmatch(r"\s*([A-Za-z]+)\s*[\[(]\s*([^\])]*)\s*[\])]\s*", text)
+    if match:
+        return match.group(1).lower(), match.group(2).strip().lower()
+    base, _, unit = text.partition("_")
+    return base.lower(), (unit.strip().lower() or None)
+
+
+def unit_factor(
+    quantity: str, unit: str | None, column: str, field: str, units=None, source: str = ""
+) -> float:
+    """Factor to SI for `unit` of `quantity`; InputError naming file and column if unknown or missing."""
+    table = (units or _UNITS)[quantity]
+    where = f"{source}: " if source else ""
+    if unit is None:
+        raise InputError(
+            field,
+            f"{where}column {column!r} has no unit in its name",
+            value=column,
+            allowed=f"{quantity}_<unit> with unit one of {', '.join(sorted(table))}",
+        )
+    if unit not in table:
+        raise InputError(
+            field,
+            f"{where}column {column!r}: unknown unit {unit!r}",
+            value=column,
+            allowed=", ".join(sorted(table)),
+        )
+    return table[unit]
+
+
+def parse_fem_table(
+    text: str, source: str, default_pitch_percent: float | None = None, field: str = "fem_table"
+) -> FemTable:
+    """Parse and validate a FEM table CSV text (see module docstring)."""
+    pitch = default_pitch_percent
+    lines = []
+    for line in text.splitlines():
+        stripped = line.strip()
+        if stripped.startswith("#"):
+            match = re.match(r"#\s*pitch_percent\s*:\s*(\S+)", stripped)
+            if match:
+                try:
+                    pitch = float(match.group(1))
+                except ValueError:
+                    raise InputError(
+                        field,
+                        f"{source}: pitch_percent {match.group(1)!r} is not a number",
+                        value=match.group(1),
+                    ) from None
+            continue
+        if stripped:
+            lines.append(line)
+    if not lines:
+        raise InputError(field, f"{source}: no header line", allowed="a CSV header " + ",".join(COLUMNS))
+    rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    header = rows[0]
+    index: dict[str, tuple[int, float]] = {}
+    for i, name in enumerate(header):
+        base, unit = split_name_unit(name)
+        if base in _UNITS:
+            if base in index:
+                raise InputError(field, f"{source}: column {base!r} appears twice", value=name)
+            index[base] = (i, unit_factor(base, unit, name, field, source=source))
+    missing = [c for c in COLUMNS if c not in index]
+    if missing:
+        raise InputError(
+            field,
+            f"{source}: missing column(s) {', '.join(missing)}",
+            value=header,
+            allowed="volume, length, width, height, force, torque, each with its unit",
+        )
+    values = {c: [] for c in COLUMNS}
+    for r, row in enumerate(rows[1:], start=1):
+        for c in COLUMNS:
+            i, factor = index[c]
+            cell = row[i].strip() if i < len(row) else ""
+            try:
+                number = float(cell)
+            except ValueError:
+                raise InputError(
+                    field, f"{source}: row {r}, column {header[i]!r}: {cell!r} is not a number", value=cell
+                ) from None
+            if not math.isfinite(number):
+                raise InputError(
+                    field,
+                    f"{source}: row {r}, column {header[i]!r} is {cell!r}",
+                    value=cell,
+                    allowed="finite numbers",
+                )
+            values[c].append(number * factor)
+    arrays = {c: np.asarray(v, dtype=float) for c, v in values.items()}
+    return fem_table_from_arrays(arrays, pitch, source, field, header=header, index=index)
+
+
+def fem_table_from_arrays(
+    arrays, pitch_percent, source, field="fem_table", header=None, index=None
+) -> FemTable:
+    """Validate SI arrays (keys volume, length, width, height, force, torque) and build a FemTable."""
+
+    def name(c):
+        return header[index[c][0]] if header is not None else c
+
+    volume = np.asarray(arrays["volume"], dtype=float)
+    for c in COLUMNS:
+        bad = np.flatnonzero(~np.isfinite(np.asarray(arrays[c], dtype=float)))
+        if bad.size:
+            raise InputError(
+                field,
+                f"{source}: row {bad[0] + 1}, column {name(c)!r} is not finite",
+                allowed="finite numbers",
+            )
+    keep = np.ones(volume.size, dtype=bool)
+    if volume.size and volume[0] == 0.0:
+        if arrays["force"][0] != 0.0 or arrays["torque"][0] != 0.0:
+            raise InputError(
+                field,
+                f"{source}: row 1 has volume 0 but non-zero force or torque",
+                allowed="force = torque = 0 at volume 0 (the interpolation passes through 0)",
+            )
+        keep[0] = False
+    negative = np.flatnonzero(volume[keep] <= 0.0)
+    if negative.size:
+        row = np.flatnonzero(keep)[negative[0]] + 1
+        raise InputError(
+            field,
+            f"{source}: row {row}, column {name('volume')!r}: volume must be > 0",
+            value=float(volume[row - 1]),
+        )
+    if int(keep.sum()) < 2:
+        raise InputError(
+            field, f"{source}: {int(keep.sum())} table point(s) with volume > 0", allowed="at least 2 points"
+        )
+    steps = np.flatnonzero(np.diff(volume[keep]) <= 0.0)
+    if steps.size:
+        row = np.flatnonzero(keep)[steps[0] + 1] + 1
+        raise InputError(
+            field,
+            f"{source}: row {row}, column {name('volume')!r}: volumes must increase strictly",
+            value=float(volume[row - 1]),
+        )
+    if pitch_percent is None:
+        raise InputError(
+            field,
+            f"{source}: pitch unknown",
+            allowed="a '# pitch_percent: X' comment line or an explicit pitch",
+        )
+    out = {c: np.asarray(arrays[c], dtype=float)[keep] for c in COLUMNS}
+    for a in out.values():
+        a.setflags(write=False)
+    return FemTable(
+        pitch_percent=float(pitch_percent),
+        volume_m3=out["volume"],
+        length_m=out["length"],
+        width_m=out["width"],
+        height_m=out["height"],
+        force_n=out["force"],
+        torque_nm=out["torque"],
+        source=source,
+    )
+
+
+def read_fem_table(
+    path: str | os.PathLike[str], pitch_percent: float | None = None, field: str = "fem_table"
+) -> FemTable:
+    """Read a user FEM table CSV; the pitch comes from ``# pitch_percent:`` or `pitch_percent`."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(field, f"file {str(path)!r} does not exist", value=str(path)) from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(field, f"cannot read {str(path)!r}: {error}", value=str(path)) from None
+    return parse_fem_table(text, str(path), pitch_percent, field)
+
+
+def shipped_fem_tables() -> dict[float, FemTable]:
+    """Thesis Table 10 (pitch 0 %) and Table 11 (pitch 95 %) as shipped in floebreak/data."""
+    tables = {}
+    for pitch, name in SHIPPED_TABLES.items():
+        text = importlib.resources.files("floebreak.data").joinpath(name).read_text(encoding="utf-8")
+        tables[pitch] = parse_fem_table(text, f"floebreak/data/{name}", pitch)
+    return tables
+
+
+def resolve_fem_tables(fem_table, default_pitch_percent: float) -> dict[float, FemTable]:
+    """None → the shipped tables; a path → one table; a mapping {pitch_percent: path or FemTable};
+    a list of paths/FemTables. Pitches must be distinct."""
+    if fem_table is None:
+        return shipped_fem_tables()
+    if isinstance(fem_table, FemTable | str | os.PathLike):
+        items = [(None, fem_table)]
+    elif isinstance(fem_table, dict):
+        items = list(fem_table.items())
+    else:
+        items = [(None, t) for t in fem_table]
+    tables: dict[float, FemTable] = {}
+    for pitch, item in items:
+        if isinstance(item, FemTable):
+            table = item
+        else:
+            table = read_fem_table(item, default_pitch_percent if pitch is None else float(pitch))
+            if pitch is not None:
+                table = FemTable(**{**table.__dict__, "pitch_percent": float(pitch)})
+        if table.pitch_percent in tables:
+            raise InputError(
+                "fem_table",
+                f"two tables for pitch {table.pitch_percent:g} %",
+                value=table.source,
+                allowed="one table per pitch",
+            )
+        tables[table.pitch_percent] = table
+    if not tables:
+        raise InputError("fem_table", "no table given", allowed="a CSV path or a mapping pitch → path")
+    return dict(sorted(tables.items()))

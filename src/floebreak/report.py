@@ -1,0 +1,138 @@
+"""A self-contained HTML report of a run directory: summary, figures (embedded as base64 PNG), the resolved
+scenario and the provenance, on one page a user can mail to a colleague."""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from floebreak.errors import InputError
+from floebreak.io.atomic import atomic_path
+
+# summary rows shown first, with labels (thesis Tables 5–8 notation where it exists)
+_SUMMARY_ROWS = (
+    ("n_floes_initial", "floes in the initial field", ""),
+    ("initial_ice_area_m2", "initial ice area", "m²"),
+    ("n_cusps", "n_cusp (cusps)", ""),
+    ("cusp_area_m2", "A_cusp^tot (total cusp area)", "m²"),
+    ("mean_cusp_area_m2", "Ā_cusp (mean cusp area)", "m²"),
+    ("mean_cusp_volume_m3", "V̄_cusp (mean cusp volume)", "m³"),
+    ("n_flipped", "n_flip (flipped floes)", ""),
+    ("flipped_area_m2", "A_flip^tot (total flipped area)", "m²"),
+    ("remaining_ice_area_m2", "remaining ice area", "m²"),
+    ("area_balance_rel_error", "area balance, relative error", ""),
+    ("n_contacts", "contact evaluations", ""),
+    ("n_breaks", "breaks", ""),
+    ("crushing_force_max_n", "maximum crushing force", "N"),
+    ("wall_time_s", "wall time", "s"),
+)
+
+_FIGURE_CAPTIONS = {
+    "breaking_pattern.png": "Breaking pattern: blue ice in the field, orange flipped, red cusps; bow ice "
+    "waterlines at the start (dashed) and the end (solid).",
+    "cusp_volume_spectrum.png": "Cusp-volume spectrum (thesis Fig. 17 style).",
+    "crushing_force_spectrum.png": "Crushing-force spectrum per contact evaluation (thesis Fig. 13).",
+    "field.png": "Initial floe field, coloured by diameter class.",
+}
+
+_STYLE = """
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 60em; color: #222; }
+table { border-collapse: collapse; margin: 0.5em 0 1.5em; }
+td, th { border: 1px solid #ccc; padding: 0.2em 0.6em; text-align: left; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; font-size: 0.85em; }
+figure { margin: 1em 0 2em; } img { max-width: 100%; } figcaption { font-size: 0.9em; color: #555; }
+"""
+
+
+def _format(value: Any) -> str:
+    if value is None:
+        return "–"
+    if isinstance(value, bool):
+        return str(value)
+    if isinstance(value, int):
+        return f"{value:d}"
+    if isinstance(value, float):
+        return f"{value:.3e}" if value != 0 and (abs(value) < 1e-2 or abs(value) >= 1e6) else f"{value:.4g}"
+    if isinstance(value, dict):
+        return ", ".join(f"{k}: {_format(v)}" for k, v in value.items())
+    return str(value)
+
+
+def render_report(run_dir: str | os.PathLike[str]) -> str:
+    """The HTML text of the report of run directory `run_dir` (InputError if it is not a run directory)."""
+    run_dir = Path(run_dir)
+    summary_path = run_dir / "summary.json"
+    if not summary_path.is_file():
+        raise InputError(
+            "run_dir",
+            f"{str(run_dir)!r} has no summary.json",
+            allowed="a run directory written by `floebreak run` or `floebreak demo`",
+        )
+    try:
+        summary = json.loads(summary_path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as error:
+        raise InputError("run_dir", f"{str(summary_path)!r} is not readable JSON ({error})") from None
+    provenance = summary.pop("provenance", {})
+    scenario_path = run_dir / "scenario.resolved.toml"
+    scenario_text = scenario_path.read_text(encoding="utf-8") if scenario_path.is_file() else "(missing)"
+    esc = html.escape
+    title = f"floebreak run {summary.get('scenario_hash', '')[:12]}"
+    parts = [
+        "<!DOCTYPE html>",
+        '<html lang="en"><head><meta charset="utf-8">',
+        f"<title>{esc(title)}</title><style>{_STYLE}</style></head><body>",
+        f"<h1>{esc(title)}</h1>",
+        f"<p>profile <b>{esc(str(summary.get('profile')))}</b>, seed <b>{esc(str(summary.get('seed')))}</b>, "
+        f"floebreak {esc(str(summary.get('floebreak_version')))}; directory <code>{esc(run_dir.name)}</code>"
+        "</p>",
+        "<h2>Summary</h2><table><tr><th>quantity</th><th>value</th><th>unit</th><th>key</th></tr>",
+    ]
+    shown = set()
+    for key, label, unit in _SUMMARY_ROWS:
+        if key in summary:
+            shown.add(key)
+            parts.append(
+                f"<tr><td>{esc(label)}</td><td class='num'>{esc(_format(summary[key]))}</td>"
+                f"<td>{esc(unit)}</td><td><code>{esc(key)}</code></td></tr>"
+            )
+    for key, value in summary.items():
+        if key not in shown:
+            parts.append(
+                f"<tr><td>{esc(key)}</td><td class='num'>{esc(_format(value))}</td><td></td>"
+                f"<td><code>{esc(key)}</code></td></tr>"
+            )
+    parts.append("</table><h2>Figures</h2>")
+    figures = run_dir / "figures"
+    names = sorted(p.name for p in figures.glob("*.png")) if figures.is_dir() else []
+    order = [n for n in _FIGURE_CAPTIONS if n in names] + [n for n in names if n not in _FIGURE_CAPTIONS]
+    for name in order:
+        data = base64.b64encode((figures / name).read_bytes()).decode("ascii")
+        caption = _FIGURE_CAPTIONS.get(name, name)
+        parts.append(
+            f"<figure><img alt='{esc(name)}' src='data:image/png;base64,{data}'>"
+            f"<figcaption>{esc(caption)}</figcaption></figure>"
+        )
+    if not order:
+        parts.append("<p>(no figures)</p>")
+    parts += [
+        "<h2>Scenario (resolved)</h2>",
+        f"<pre>{esc(scenario_text)}</pre>",
+        "<h2>Provenance</h2>",
+        f"<pre>{esc(json.dumps(provenance, indent=2, sort_keys=True))}</pre>",
+        "</body></html>",
+    ]
+    return "\n".join(parts) + "\n"
+
+
+def write_report(run_dir: str | os.PathLike[str], out: str | os.PathLike[str] | None = None) -> Path:
+    """Write the report of `run_dir` to `out` (default ``run_dir/report.html``) atomically."""
+    text = render_report(run_dir)
+    path = Path(out) if out is not None else Path(run_dir) / "report.html"
+    with atomic_path(path, field="out") as temp:
+        temp.write_text(text, encoding="utf-8")
+    return path

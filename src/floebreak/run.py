@@ -1,0 +1,543 @@
+"""One run: scenario → field + bow + model → `simulate` (with a ContactRecorder) → `Result` → run directory.
+
+``floebreak.run(scenario)`` is the Python API (no files touched); ``Result.write(out)`` writes the run
+directory atomically (temporary sibling, renamed when complete; a failed run leaves no half directory):
+
+- ``summary.json``: thesis Tables 5–8 columns (n_cusp, A_cusp^tot, n_flip, A_flip^tot, V̄_cusp, Ā_cusp), the
+  area balance, contact/break counters, the maximum crushing force, wall time, provenance;
+- ``cusps.parquet``, ``flipped.parquet``, ``remaining.parquet``, ``field.parquet`` (the initial field as
+  simulated, i.e. after any shift for no initial contact): GeoParquet, ``"crs": null``, one row per piece;
+- ``contacts.parquet``: one row per floe–panel contact evaluation (`floebreak.results.CONTACT_COLUMNS`);
+- ``scenario.resolved.toml`` (every default filled in), ``figures/*.png``, ``report.html``.
+
+Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
+The only randomness is ``numpy.random.default_rng(seed)``, used for the field only, so the same scenario and
+seed give identical Parquet contents. ``wall_time_s`` covers field generation and simulation, not writing.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, replace
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+import shapely
+
+from floebreak import constants as c
+from floebreak.errors import InputError
+from floebreak.ice.field import FloeField, circle_polygons
+from floebreak.io.atomic import atomic_directory
+from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, to_json, write_geoparquet
+from floebreak.io.provenance import floebreak_version, provenance
+from floebreak.results import (
+    ContactRecorder,
+    crushing_force_per_evaluation_n,
+    oriented_box_dimensions_m,
+    piece_table,
+    summary,
+)
+from floebreak.scenario import Scenario
+from floebreak.simulation import Callback, Model, SimulationParams, SimulationResult, simulate
+
+PIECE_FILES = {"cusp": "cusps.parquet", "flipped": "flipped.parquet", "remaining": "remaining.parquet"}
+FIGURES = {
+    "breaking_pattern": "breaking_pattern.png",
+    "cusp_volume_spectrum": "cusp_volume_spectrum.png",
+    "crushing_force_spectrum": "crushing_force_spectrum.png",
+    "field": "field.png",
+}
+
+# where generate_field's own field names belong in a scenario
+_GENERATION_KEYS = {
+    "thickness_m": "ice.thickness_m",
+    "thickness_range_m": "ice.thickness_range_m",
+    "thickness_min_m": "ice.thickness_range_m",
+    "thickness_max_m": "ice.thickness_range_m",
+    "thickness_summands": "ice.thickness_summands",
+}
+
+
+def _prefixed(key: str, error: InputError) -> InputError:
+    """`error` re-labelled with the scenario key `key`."""
+    message = str(error).removeprefix(f"{error.field}: ")
+    return InputError(key, message, value=error.value, allowed=error.allowed)
+
+
+# --- scenario → field, bow, model ------------------------------------------------------------------
+
+
+def _bow_thickness_m(scenario: Scenario, floe_field: FloeField | None = None) -> float:
+    ice = scenario.ice
+    if ice.thickness_m is not None:
+        return ice.thickness_m
+    if ice.thickness_range_m is not None:
+        return 0.5 * (ice.thickness_range_m[0] + ice.thickness_range_m[1])
+    if floe_field is not None and floe_field.n_floes:
+        return float(np.mean(floe_field.thickness_m))
+    return 1.0
+
+
+def _draw_thickness(scenario: Scenario, n: int, rng: np.random.Generator) -> np.ndarray:
+    from floebreak.ice.thickness import bounded_random_thickness_m
+    from floebreak.profiles import field_switches
+
+    low, high = scenario.ice.thickness_range_m
+    summands = scenario.ice.thickness_summands or field_switches(scenario.profile).thickness_summands
+    from_zero = field_switches(scenario.profile).thickness_sum_from_zero
+    return bounded_random_thickness_m(rng, low, high, n, summands, thesis_sum_from_zero=from_zero)
+
+
+def _observation(scenario: Scenario):
+    from floebreak.ice.observations import Observation, get_observation
+
+    spec = scenario.field
+    try:
+        if spec.source == "observation":
+            observation = get_observation(spec.observation)
+            if spec.concentration is not None:
+                observation = replace(observation, concentration=spec.concentration)
+            return observation
+        mean = _bow_thickness_m(scenario)
+        if scenario.ice.thickness_m is None and scenario.ice.thickness_range_m is None:
+            raise InputError(
+                "ice.thickness_m",
+                "a user observation needs a thickness",
+                allowed="ice.thickness_m or ice.thickness_range_m",
+            )
+        return Observation(
+            concentration=spec.concentration,
+            mean_thickness_m=mean,
+            diameter_classes_m=tuple(spec.diameter_classes_m),
+            percentages=tuple(spec.percentages),
+        )
+    except InputError as error:
+        if error.field.startswith(("field.", "ice.")):
+            raise
+        raise _prefixed(f"field.{error.field}", error) from None
+
+
+def build_field(scenario: Scenario, rng: np.random.Generator) -> FloeField:
+    """The initial floe field of a resolved scenario (generated, read from a file, or inline)."""
+    from floebreak.profiles import field_switches
+
+    spec, ice = scenario.field, scenario.ice
+    if spec.source in ("observation", "user_observation"):
+        from floebreak.ice.generation import generate_field
+
+        switches = field_switches(scenario.profile)
+        thesis_thickness = ice.thickness_range_m is not None and switches.thickness_sum_from_zero
+        try:
+            floe_field = generate_field(
+                _observation(scenario),
+                spec.length_m,
+                spec.width_m,
+                rng,
+                generator=spec.generator,
+                thickness_m=ice.thickness_m if not thesis_thickness else _bow_thickness_m(scenario),
+                thickness_range_m=None if thesis_thickness else ice.thickness_range_m,
+                thickness_summands=ice.thickness_summands or switches.thickness_summands,
+                floe_area_factor=spec.floe_area_factor or switches.floe_area_factor,
+                clustering=spec.clustering,
+                seed=scenario.seed,
+            )
+        except InputError as error:
+            if error.field.startswith(("field.", "ice.")):
+                raise
+            raise _prefixed(_GENERATION_KEYS.get(error.field, f"field.{error.field}"), error) from None
+        if thesis_thickness:  # thesis' literal Bates sum from i = 0 (erratum 6), drawn after the placement
+            floe_field = floe_field.with_thickness(_draw_thickness(scenario, floe_field.n_floes, rng))
+        return floe_field
+    if spec.source == "file":
+        from floebreak.io.field_files import load_field
+
+        floe_field = load_field(spec.file, field="field.file")
+    else:
+        floe_field = _inline_field(scenario)
+    if ice.thickness_m is not None:
+        floe_field = floe_field.with_thickness(ice.thickness_m)
+    elif ice.thickness_range_m is not None:
+        floe_field = floe_field.with_thickness(_draw_thickness(scenario, floe_field.n_floes, rng))
+    return floe_field
+
+
+def _inline_field(scenario: Scenario) -> FloeField:
+    floes = scenario.field.floes
+    centres = np.array([[f.x_m, f.y_m] for f in floes], dtype=float)
+    radii = np.array([0.5 * f.diameter_m for f in floes], dtype=float)
+    polygons = circle_polygons(centres, radii, c.CIRCLE_POLYGON_VERTICES)
+    for i in range(len(floes)):
+        for j in range(i + 1, len(floes)):
+            if shapely.intersection(polygons[i], polygons[j]).area > 0.0:
+                raise InputError(
+                    f"field.floes[{j}]",
+                    f"overlaps field.floes[{i}]",
+                    allowed="floes that do not overlap (distance between centres ≥ sum of radii)",
+                )
+    fallback = scenario.ice.thickness_m
+    thickness = []
+    for i, floe in enumerate(floes):
+        h = floe.thickness_m if floe.thickness_m is not None else fallback
+        if h is None and scenario.ice.thickness_range_m is None:
+            raise InputError(
+                f"field.floes[{i}].thickness_m",
+                "no thickness for this floe",
+                allowed="thickness_m per floe, or ice.thickness_m / ice.thickness_range_m",
+            )
+        thickness.append(h if h is not None else 1.0)  # a range is drawn afterwards
+    return FloeField(
+        polygons=polygons,
+        thickness_m=np.array(thickness),
+        diameter_class_m=2.0 * radii,
+        floe_id=np.arange(len(floes)),
+        domain_m=tuple(float(v) for v in shapely.total_bounds(polygons)),
+        metadata={"source": "inline floes (scenario)", "vertices": c.CIRCLE_POLYGON_VERTICES},
+    )
+
+
+def build_bow(scenario: Scenario, floe_field: FloeField | None = None):
+    """The bow of a resolved scenario: a built-in hull at the ice thickness, or a CSV file."""
+    ship = scenario.ship
+    if ship.file is not None:
+        from floebreak.ship.bow import Bow
+
+        try:
+            return Bow.from_csv(ship.file)
+        except InputError as error:
+            raise _prefixed("ship.file", error) from None
+    from floebreak.ship.hulls import get_hull
+
+    try:
+        return get_hull(
+            ship.hull or "agulhas_ii",
+            ice_thickness_m=_bow_thickness_m(scenario, floe_field),
+            **ship.hull_parameters,
+        )
+    except InputError as error:
+        key = error.field.rsplit(".", 1)[-1]
+        raise _prefixed(
+            f"ship.hull_parameters.{key}" if ship.hull_parameters else "ship.hull", error
+        ) from None
+
+
+def build_model_for(scenario: Scenario) -> Model:
+    """The physics `Model`: the scenario's profile with the [ice] and [failure] values applied."""
+    from floebreak.profiles import build_model
+
+    ice, failure = scenario.ice, scenario.failure
+    material = {"youngs_modulus_pa": ice.youngs_modulus_pa, "poisson_ratio": ice.poisson_ratio}
+    return build_model(
+        scenario.profile,
+        contact={
+            "crushing_strength_pa": ice.crushing_strength_pa,
+            "contact_coefficient": ice.contact_coefficient,
+            "friction_coefficient": ice.friction_coefficient,
+        },
+        classification=material,
+        bending={
+            "flexural_strength_pa": ice.flexural_strength_pa,
+            "wedge_angle_deg": failure.wedge_angle_deg,
+            **material,
+        },
+        cracking={
+            "criterion": failure.crack_criterion,
+            "fracture_toughness_pa_sqrt_m": ice.fracture_toughness_pa_sqrt_m,
+            "size_effect_law": failure.size_effect_law,
+            "stress_mode": failure.stress_mode,
+            "next_crack_angle_deg": failure.next_crack_angle_deg,
+        },
+        failure={
+            "shoulder_region_start": failure.shoulder_region_start,
+            "flip_uncracked_at_shoulder": failure.flip_uncracked_at_shoulder,
+        },
+    )
+
+
+def as_scenario(scenario: Scenario | Mapping[str, Any] | str | os.PathLike[str] | None) -> Scenario:
+    """A Scenario from a Scenario, a dict, a TOML file path, or None (the reference scenario)."""
+    if scenario is None:
+        return Scenario.reference()
+    if isinstance(scenario, Scenario):
+        return scenario
+    if isinstance(scenario, Mapping):
+        return Scenario.from_dict(scenario)
+    return Scenario.from_toml(scenario)
+
+
+# --- the result -----------------------------------------------------------------------------------------
+
+
+def _json_safe(value: Any) -> Any:
+    """NaN/inf → None (strict JSON), recursively."""
+    if isinstance(value, float | np.floating):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _json_safe(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_json_safe(v) for v in value]
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """A finished run: the resolved scenario, the simulation result, contact records and the summary.
+
+    ``cusps``/``flipped``/``remaining`` are column dicts (geometry included, see `floebreak.results
+    .piece_table`); ``contacts`` holds one row per floe–panel contact evaluation.
+    """
+
+    scenario: Scenario  # resolved
+    simulation: SimulationResult
+    contacts: dict[str, np.ndarray]
+    summary: dict[str, Any]
+
+    @property
+    def field(self) -> FloeField:
+        """The initial field as simulated (after any shift for no initial contact)."""
+        return self.simulation.field
+
+    @cached_property
+    def cusps(self) -> dict[str, Any]:
+        return piece_table(self.simulation, "cusp")
+
+    @cached_property
+    def flipped(self) -> dict[str, Any]:
+        return piece_table(self.simulation, "flipped")
+
+    @cached_property
+    def remaining(self) -> dict[str, Any]:
+        return piece_table(self.simulation, "remaining")
+
+    @cached_property
+    def crushing_forces_n(self) -> np.ndarray:
+        """Total crushing force of each contact-zone evaluation [N] (thesis Fig. 13)."""
+        return crushing_force_per_evaluation_n(self.contacts)
+
+    def provenance(self, kind: str) -> dict[str, Any]:
+        return provenance(
+            kind=kind,
+            seed=self.scenario.seed,
+            profile=self.scenario.profile,
+            scenario_hash=self.summary["scenario_hash"],
+            scenario=self.scenario.to_dict(),
+        )
+
+    # --- figures (matplotlib Figures; the caller closes or saves them) -------------------------------
+    def plot_breaking_pattern(self, title: str | None = None):
+        """Thesis colour code: blue remaining, orange flipped, red cusps; bow outline at start and end."""
+        from floebreak.plotting.pattern import plot_breaking_pattern
+
+        sim = self.simulation
+        upper_x = np.asarray(sim.bow.upper_xy_m)[:, 0]
+        x_last = sim.params.x_start_m + (sim.n_steps - 1) * sim.params.step_m
+        pieces = shapely.total_bounds(sim.polygon) if sim.polygon.size else np.array(sim.field.domain_m)
+        xlim = (
+            min(pieces[0], sim.params.x_start_m + upper_x.min()) - 2.0,
+            max(pieces[2], x_last + upper_x.max()) + 2.0,
+        )  # both bow outlines (start and end) inside the frame
+        return plot_breaking_pattern(sim, title=title or self._title("breaking pattern"), xlim=xlim)
+
+    def plot_cusp_volume_spectrum(self):
+        """Cusp-volume probability density (thesis Fig. 17 style)."""
+        from floebreak.plotting.spectra import plot_cusp_volume_spectrum
+
+        return plot_cusp_volume_spectrum(self.cusps["volume_m3"])
+
+    def plot_crushing_force_spectrum(self):
+        """Crushing-force probability density per contact evaluation (thesis Fig. 13)."""
+        from floebreak.plotting.spectra import plot_crushing_force_spectrum
+
+        return plot_crushing_force_spectrum(self.crushing_forces_n)
+
+    def plot_field(self):
+        """The initial floe field."""
+        from floebreak.plotting.field import plot_field
+
+        return plot_field(self.field, title=self._title("initial floe field"))
+
+    def _title(self, what: str) -> str:
+        name = self.scenario.name or (self.scenario.field.observation or self.scenario.field.source)
+        return f"{what}: {name}, profile {self.scenario.profile}, seed {self.scenario.seed}"
+
+    # --- writing ----------------------------------------------------------------------------------
+    def write(
+        self, out: str | os.PathLike[str], overwrite: bool = False, report: bool = True, figures: bool = True
+    ) -> Path:
+        """Write the run directory `out` atomically; refuses an existing `out` unless `overwrite`."""
+        return write_run_directory(self, out, overwrite=overwrite, report=report, figures=figures)
+
+
+def run(
+    scenario: Scenario | Mapping[str, Any] | str | os.PathLike[str] | None = None,
+    *,
+    overrides: Iterable[str] = (),
+    callbacks: Iterable[Callback] = (),
+) -> Result:
+    """Run a scenario (a `Scenario`, a dict, a TOML path; None = the reference scenario) and return a Result.
+
+    `overrides` are ``"a.b=value"`` strings (as ``--set``); `callbacks` receive the engine's events. No files
+    are written; call ``result.write(out)`` for a run directory.
+    """
+    started = time.perf_counter()
+    scenario = as_scenario(scenario)
+    if overrides:
+        scenario = Scenario.from_dict(scenario.to_dict(), overrides=overrides)
+    scenario = scenario.resolved()
+    rng = np.random.default_rng(scenario.seed)
+    floe_field = build_field(scenario, rng)
+    bow = build_bow(scenario, floe_field)
+    model = build_model_for(scenario)
+    ship = scenario.ship
+    params = SimulationParams(
+        step_m=ship.step_m,
+        x_start_m=ship.x_start_m,
+        x_end_m=ship.x_end_m,
+        initial_contact=ship.initial_contact,
+    )
+    recorder = ContactRecorder()
+    simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *callbacks])
+    contacts = recorder.table()
+    stats = summary(simulation, contacts)
+    shift = simulation.field.metadata.get("shifts_m", [])
+    head = {
+        "floebreak_version": floebreak_version(),
+        "profile": scenario.profile,
+        "seed": scenario.seed,
+        "scenario_hash": scenario.hash(),
+    }
+    tail = {
+        "field_shift_m": float(sum(s["dx_m"] for s in shift)) if shift else 0.0,
+        "bow": getattr(bow, "name", "bow"),
+        "wall_time_s": time.perf_counter() - started,
+    }
+    return Result(scenario, simulation, contacts, {**head, **stats, **tail})
+
+
+# --- the run directory ------------------------------------------------------------------------------
+
+
+def field_table(floe_field: FloeField) -> dict[str, Any]:
+    """Columns of the initial field in the layout of the piece tables (step −1, no failure chain)."""
+    polygons = floe_field.polygons
+    area = floe_field.area_m2
+    length, width = oriented_box_dimensions_m(polygons)
+    centroids = shapely.get_coordinates(shapely.centroid(polygons)) if polygons.size else np.zeros((0, 2))
+    n = floe_field.n_floes
+    return {
+        "geometry": polygons,
+        "floe_id": floe_field.floe_id,
+        "area_m2": area,
+        "thickness_m": floe_field.thickness_m,
+        "volume_m3": area * floe_field.thickness_m,
+        "diameter_class_m": floe_field.diameter_class_m,
+        "centroid_x_m": centroids[:, 0],
+        "centroid_y_m": centroids[:, 1],
+        "bbox_length_m": length,
+        "bbox_width_m": width,
+        "step": np.full(n, -1, dtype=np.int64),
+        "bow_x_m": np.full(n, np.nan),
+        "parent_floe_id": floe_field.floe_id,
+        "failure_chain": np.array([""] * n, dtype=object),
+    }
+
+
+def _write_table(path: Path, columns: Mapping[str, Any], metadata: Mapping[str, Any]) -> None:
+    geometry = columns["geometry"]
+    rest = {k: (v.tolist() if v.dtype == object else v) for k, v in columns.items() if k != "geometry"}
+    write_geoparquet(path, geometry, rest, metadata)
+
+
+def _write_contacts(path: Path, contacts: Mapping[str, np.ndarray], metadata: Mapping[str, Any]) -> None:
+    arrays = {k: pa.array(v.tolist() if v.dtype == object else v) for k, v in contacts.items()}
+    arrays = {k: (v.cast(pa.string()) if pa.types.is_null(v.type) else v) for k, v in arrays.items()}
+    table = pa.table(arrays).replace_schema_metadata(
+        {FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode()}
+    )
+    pq.write_table(table, path)
+
+
+def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
+    figure.savefig(
+        path,
+        format="png",
+        dpi=150,
+        metadata={"Software": f"floebreak {meta['floebreak_version']}", "Description": to_json(dict(meta))},
+    )
+
+
+def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path:
+    """Refuse (InputError on key "out") an existing `out` without `overwrite`, or an unwritable parent."""
+    out = Path(out)
+    if out.exists() and not overwrite:
+        raise InputError("out", f"{str(out)!r} exists", allowed="a new path, or pass --overwrite")
+    if out.exists() and not out.is_dir():
+        raise InputError("out", f"{str(out)!r} is a file", allowed="a directory path")
+    parent = out.parent if str(out.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError("out", f"directory {str(parent)!r} does not exist", allowed="an existing directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError("out", f"directory {str(parent)!r} is not writable", allowed="a writable directory")
+    return out
+
+
+def write_run_directory(
+    result: Result,
+    out: str | os.PathLike[str],
+    overwrite: bool = False,
+    report: bool = True,
+    figures: bool = True,
+) -> Path:
+    """Write the run directory (see the module docstring) atomically and return its path.
+
+    `figures=False` skips ``figures/`` (and the report then has none): for large studies and tests.
+    """
+    out = check_output_directory(out, overwrite)
+    with atomic_directory(out, overwrite=overwrite, field="out") as temp:
+        field_meta = {
+            **result.provenance("floe_field"),
+            "domain_m": list(result.field.domain_m),
+            "field": dict(result.field.metadata),
+        }
+        _write_table(temp / "field.parquet", field_table(result.field), field_meta)
+        for fate, name in PIECE_FILES.items():
+            table = getattr(result, {"cusp": "cusps"}.get(fate, fate))
+            _write_table(temp / name, table, result.provenance(fate))
+        _write_contacts(temp / "contacts.parquet", result.contacts, result.provenance("contacts"))
+        summary_doc = {**_json_safe(result.summary), "provenance": result.provenance("summary")}
+        (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
+        header = (
+            f"# resolved scenario written by floebreak {floebreak_version()}; "
+            f"scenario_hash = {result.summary['scenario_hash']}\n"
+        )
+        (temp / "scenario.resolved.toml").write_text(header + result.scenario.to_toml(), encoding="utf-8")
+        if figures:
+            folder = temp / "figures"
+            folder.mkdir()
+            meta = result.provenance("figure")
+            for key, name in FIGURES.items():
+                _save_png(getattr(result, f"plot_{key}")(), folder / name, meta)
+        if report:
+            from floebreak.report import write_report
+
+            write_report(temp)
+        _normal_permissions(temp)
+    return out
+
+
+def _normal_permissions(root: Path) -> None:
+    """Temporary files and directories are private (0600/0700); give the finished run the umask's modes."""
+    umask = os.umask(0)
+    os.umask(umask)
+    root.chmod(0o777 & ~umask)
+    for path in root.rglob("*"):
+        path.chmod((0o777 if path.is_dir() else 0o666) & ~umask)

@@ -1,0 +1,532 @@
+"""Scenario files: one TOML file describes a run (field, ice, ship, failure switches, profile, seed).
+
+Validated with pydantic v2; every section forbids unknown keys, numbers are strict (a string is not a number),
+and every validation error becomes an `InputError` naming the dotted key (``ice.thickness_m``) and the allowed
+values or range. Command-line overrides ``--set ice.thickness_m=0.8`` parse the value with `tomllib`
+(``0.8`` → float, ``"x"``/``x`` → string, ``[0.75, 1.25]`` → list) and are validated like the file.
+
+`Scenario.resolved()` fills in every profile-dependent default (field-generation switches, the observation's
+mean thickness, the hull), so ``scenario.resolved.toml`` in a run directory reproduces the run on its own.
+Physical parameters cite thesis / physics-notes sections in their descriptions; units are in the key names.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import json
+import re
+import tomllib
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import tomli_w
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    Strict,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+from pydantic_core import PydanticCustomError
+
+from floebreak import constants as c
+from floebreak.errors import InputError
+
+REFERENCE_OBSERVATION = "2019-12-18T20:20"  # thesis §5.3 reference scenario (Table 1, first row)
+
+# the reference scenario of issue 5 (thesis §5.3: obs 2019-12-18T20:20, 400 m × 50 m, h = 1 m, Agulhas II);
+# examples/reference.toml holds the same text
+REFERENCE_TOML = """\
+profile = "default"            # or "thesis"
+seed = 1
+
+[field]
+observation = "2019-12-18T20:20"
+# or: file = "field.parquet", or: floes = [{x_m = 20.0, y_m = 0.0, diameter_m = 10.0}]
+length_m = 400.0
+width_m = 50.0
+generator = "circles"          # or "voronoi"
+
+[ice]
+thickness_m = 1.0              # or: thickness_range_m = [0.75, 1.25]
+fracture_toughness_pa_sqrt_m = 145.7e3
+
+[ship]
+hull = "agulhas_ii"            # or "polarstern", or: file = "bow.csv"
+step_m = 0.25
+
+[failure]
+crack_criterion = "tensile_stress"   # point_load | line_load | tensile_stress | flexural_stress
+size_effect_law = "BZ"               # BZ | BZ1 | BZ2
+"""
+
+# strict scalars: TOML gives real types, so "1.0" (a string) is a type error, not a number
+Float = Annotated[float, Strict()]
+Int = Annotated[int, Strict()]
+Bool = Annotated[bool, Strict()]
+
+HULL_NAMES = ("agulhas_ii", "polarstern")
+PROFILE_NAMES = ("default", "thesis")
+
+
+def _cross(key: str, message: str) -> PydanticCustomError:
+    """A cross-field error; `key` (relative to the section) becomes the reported field."""
+    return PydanticCustomError("floebreak_cross", message, {"key": key})
+
+
+class _Section(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+
+def _resolve_path(value: Path | None, info: ValidationInfo) -> Path | None:
+    if value is None:
+        return None
+    base = (info.context or {}).get("base_dir")
+    path = Path(value).expanduser()
+    if not path.is_absolute() and base is not None:
+        path = Path(base) / path
+    return path
+
+
+class InlineFloe(_Section):
+    """A circular floe given in the scenario file (becomes a 64-gon inscribed in the circle)."""
+
+    x_m: Float = Field(description="centre x in the field frame [m] (bow stem tip at x = 0 at the start)")
+    y_m: Float = Field(description="centre y in the field frame [m] (to port)")
+    diameter_m: Float = Field(gt=0.0, description="diameter [m]")
+    thickness_m: Float | None = Field(
+        None, gt=0.0, description="thickness [m]; default: ice.thickness_m (or ice.thickness_range_m)"
+    )
+
+
+class FieldSection(_Section):
+    """The floe field: generated from an ice observation (thesis §2.1), read from a file, or given inline.
+
+    Exactly one source: `observation` (thesis Table 1 key), `diameter_classes_m` + `percentages` +
+    `concentration` (a user observation), `file` (GeoParquet written by floebreak), or `floes` (inline).
+    """
+
+    observation: str | None = Field(
+        None, description="thesis Table 1 observation key (`floebreak observations`), e.g. 2019-12-18T20:20"
+    )
+    concentration: Float | None = Field(
+        None,
+        gt=0.0,
+        le=1.0,
+        description="ice concentration, fraction in (0, 1]; overrides the observation's (thesis §2.1)",
+    )
+    diameter_classes_m: list[Annotated[float, Strict(), Field(gt=0.0)]] | None = Field(
+        None, description="user observation: equivalent-diameter classes [m]"
+    )
+    percentages: list[Annotated[float, Strict(), Field(ge=0.0, le=100.0)]] | None = Field(
+        None, description="user observation: share of floes per diameter class [%], summing to 100"
+    )
+    file: Path | None = Field(None, description="GeoParquet floe field (columns floe_id, thickness_m)")
+    floes: list[InlineFloe] | None = Field(None, description="inline circular floes")
+    length_m: Float | None = Field(
+        None, gt=0.0, description="generated field length along x [m] (default 400)"
+    )
+    width_m: Float | None = Field(None, gt=0.0, description="generated field width along y [m] (default 50)")
+    generator: Literal["circles", "voronoi", "sqp"] = Field(
+        "circles", description="floe placement: circles (relaxation), voronoi (angular), sqp (thesis)"
+    )
+    floe_area_factor: Float | None = Field(
+        None,
+        gt=0.0,
+        description="mean floe area A = factor · π d² (default 0.25; thesis profile 0.5, erratum 1) [-]",
+    )
+    clustering: Float = Field(0.05, ge=0.0, description="clustering tendency of the circle placement [-]")
+
+    _resolve_file = field_validator("file")(_resolve_path)
+
+    @field_validator("observation")
+    @classmethod
+    def _known_observation(cls, value: str | None) -> str | None:
+        if value is None:
+            return None
+        from floebreak.ice.observations import thesis_observations
+
+        keys = list(thesis_observations())
+        if value not in keys:
+            raise PydanticCustomError(
+                "unknown_observation",
+                "unknown observation {value!r}; allowed: {allowed}",
+                {"value": value, "allowed": ", ".join(keys)},
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _one_source(self) -> FieldSection:
+        user = self.diameter_classes_m is not None or self.percentages is not None
+        sources = [
+            name
+            for name, given in (
+                ("observation", self.observation is not None),
+                ("diameter_classes_m", user),
+                ("file", self.file is not None),
+                ("floes", self.floes is not None),
+            )
+            if given
+        ]
+        if len(sources) > 1:
+            raise _cross(sources[1], f"give only one field source, got {' and '.join(sources)}")
+        if user:
+            if self.diameter_classes_m is None or self.percentages is None or self.concentration is None:
+                raise _cross(
+                    "diameter_classes_m",
+                    "a user observation needs concentration, diameter_classes_m and percentages",
+                )
+            if len(self.diameter_classes_m) != len(self.percentages):
+                raise _cross("percentages", "needs one percentage per diameter class")
+        generated = not sources or sources[0] in ("observation", "diameter_classes_m")
+        if not generated:
+            for key in ("length_m", "width_m", "concentration", "floe_area_factor"):
+                if getattr(self, key) is not None:
+                    raise _cross(key, f"only for generated fields, not with {sources[0]}")
+        if self.floes is not None and not self.floes:
+            raise _cross("floes", "is empty; give at least one floe")
+        return self
+
+    @property
+    def source(self) -> Literal["observation", "user_observation", "file", "floes"]:
+        if self.file is not None:
+            return "file"
+        if self.floes is not None:
+            return "floes"
+        if self.diameter_classes_m is not None:
+            return "user_observation"
+        return "observation"
+
+
+class IceSection(_Section):
+    """Ice thickness and material (thesis §2.1, §4; physics-notes §0 for values the thesis does not give)."""
+
+    thickness_m: Float | None = Field(
+        None, gt=0.0, description="thickness of every floe [m]; default: the observation's mean thickness"
+    )
+    thickness_range_m: tuple[Float, Float] | None = Field(
+        None, description="bounded random thickness [h_min, h_max] [m] (thesis §5.3.3, Bates distribution)"
+    )
+    thickness_summands: Int | None = Field(
+        None, ge=1, description="p_h of the Bates thickness (default 12; thesis profile 1180, erratum 6) [-]"
+    )
+    fracture_toughness_pa_sqrt_m: Float = Field(
+        c.FRACTURE_TOUGHNESS_PA_SQRT_M, gt=0.0, description="K_Ic [Pa·√m] (thesis Table 4)"
+    )
+    flexural_strength_pa: Float = Field(
+        c.FLEXURAL_STRENGTH_PA, gt=0.0, description="σ_f [Pa] (physics-notes §0; not given in the thesis)"
+    )
+    crushing_strength_pa: Float = Field(
+        c.CRUSHING_STRENGTH_PA, gt=0.0, description="σ_c [Pa] (thesis Alg. 3: 1280 kPa)"
+    )
+    contact_coefficient: Float = Field(c.CONTACT_COEFFICIENT, gt=0.0, description="k_c (thesis Alg. 3) [-]")
+    friction_coefficient: Float = Field(
+        c.FRICTION_COEFFICIENT, ge=0.0, description="μ ice–hull (thesis Alg. 3) [-]"
+    )
+    youngs_modulus_pa: Float = Field(c.YOUNGS_MODULUS_PA, gt=0.0, description="E [Pa] (thesis §4.1.1)")
+    poisson_ratio: Float = Field(c.POISSON_RATIO, gt=0.0, lt=0.5, description="ν (thesis §4.1.1) [-]")
+
+    @model_validator(mode="after")
+    def _thickness(self) -> IceSection:
+        if self.thickness_m is not None and self.thickness_range_m is not None:
+            raise _cross("thickness_range_m", "give either thickness_m or thickness_range_m, not both")
+        if self.thickness_range_m is not None:
+            low, high = self.thickness_range_m
+            if not 0.0 < low <= high:
+                raise _cross("thickness_range_m", f"[{low:g}, {high:g}] m is not 0 < h_min ≤ h_max")
+        return self
+
+
+class ShipSection(_Section):
+    """The ship: a built-in parametric hull (physics-notes §6.3) or a bow CSV file; the step (thesis §3.2)."""
+
+    hull: str | None = Field(None, description=f"built-in hull: {', '.join(HULL_NAMES)} (default agulhas_ii)")
+    file: Path | None = Field(None, description="bow CSV file (`Bow.from_csv` formats)")
+    hull_parameters: dict[str, float | int | str] = Field(
+        default_factory=dict, description="keyword overrides of the parametric hull (e.g. beam_m [m])"
+    )
+    step_m: Float = Field(0.25, gt=0.0, description="bow advance per step [m] (thesis §3.2)")
+    x_start_m: Float = Field(0.0, description="stem tip position at the start [m]")
+    x_end_m: Float | None = Field(
+        None, description="stem tip position at the end [m]; default: the hull has passed the field"
+    )
+    initial_contact: Literal["shift_field", "shift_floes"] = Field(
+        "shift_field", description="how floes touching the bow at the start are moved ahead (thesis §3.2)"
+    )
+
+    _resolve_file = field_validator("file")(_resolve_path)
+
+    @field_validator("hull")
+    @classmethod
+    def _known_hull(cls, value: str | None) -> str | None:
+        if value is not None and value not in HULL_NAMES:
+            raise PydanticCustomError(
+                "unknown_hull",
+                "unknown hull {value!r}; allowed: {allowed}",
+                {"value": value, "allowed": ", ".join(HULL_NAMES)},
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _one_bow(self) -> ShipSection:
+        if self.hull is not None and self.file is not None:
+            raise _cross("file", "give either hull or file, not both")
+        if self.file is not None and self.hull_parameters:
+            raise _cross("hull_parameters", "only for built-in hulls, not with file")
+        if self.x_end_m is not None and not self.x_end_m > self.x_start_m:
+            raise _cross("x_end_m", f"{self.x_end_m:g} m is not after x_start_m = {self.x_start_m:g} m")
+        return self
+
+
+class FailureSection(_Section):
+    """Failure-mode switches (thesis §4, physics-notes §3–4)."""
+
+    crack_criterion: Literal["point_load", "line_load", "tensile_stress", "flexural_stress"] = Field(
+        "tensile_stress", description="global/local cracking criterion (thesis §4.2)"
+    )
+    size_effect_law: Literal["BZ", "BZ1", "BZ2"] = Field(
+        "BZ", description="size-effect law of the fracture toughness (thesis §4.2.1)"
+    )
+    stress_mode: Literal["thesis", "strength", "sif"] = Field(
+        "thesis", description="stress criteria form (physics-notes §4.4)"
+    )
+    wedge_angle_deg: Float = Field(
+        c.WEDGE_ANGLE_DEG, gt=0.0, le=60.0, description="bending wedge angle φ [deg] (thesis §4.1.2)"
+    )
+    next_crack_angle_deg: Float = Field(
+        c.NEXT_CRACK_ANGLE_DEG, ge=0.0, le=90.0, description="α_nextcrack [deg] (thesis §4.2.3)"
+    )
+    shoulder_region_start: Float = Field(
+        0.5, ge=0.0, le=1.0, description="fraction of stem→shoulder length where the shoulder begins [-]"
+    )
+    flip_uncracked_at_shoulder: Bool = Field(
+        True, description="an uncracked cracking-class floe at the shoulder is rotated (flipped)"
+    )
+
+
+class Scenario(_Section):
+    """A complete run description: profile, seed and the field / ice / ship / failure sections."""
+
+    profile: Literal["default", "thesis"] = Field(
+        "default",
+        description="model profile: default (corrected physics) or thesis (literal, docs/model.md §9)",
+    )
+    seed: Int = Field(1, ge=0, description="seed of numpy.random.default_rng for the field generation")
+    name: str = Field("", description="free-text name shown in reports")
+    field: FieldSection = Field(default_factory=FieldSection)
+    ice: IceSection = Field(default_factory=IceSection)
+    ship: ShipSection = Field(default_factory=ShipSection)
+    failure: FailureSection = Field(default_factory=FailureSection)
+
+    # --- construction -----------------------------------------------------------------------------
+    @classmethod
+    def from_dict(
+        cls, data: Mapping[str, Any], base_dir: str | Path | None = None, overrides: Iterable[str] = ()
+    ) -> Scenario:
+        """Validate a plain dict (as read from TOML), after applying ``--set`` overrides."""
+        data = apply_overrides(data, overrides)
+        try:
+            return cls.model_validate(data, context={"base_dir": base_dir})
+        except ValidationError as error:
+            raise input_error_from_validation(error, cls) from None
+
+    @classmethod
+    def from_toml_text(
+        cls, text: str, base_dir: str | Path | None = None, overrides: Iterable[str] = (), source: str = ""
+    ) -> Scenario:
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as error:
+            where = f"{source}: " if source else ""
+            raise InputError("scenario", f"{where}malformed TOML: {error}", allowed="a TOML file") from None
+        return cls.from_dict(data, base_dir=base_dir, overrides=overrides)
+
+    @classmethod
+    def from_toml(cls, path: str | Path, overrides: Iterable[str] = ()) -> Scenario:
+        """Read a scenario file; relative `file` paths are relative to the scenario file's directory."""
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as error:
+            raise InputError(
+                "scenario", f"cannot read {str(path)!r}: {error}", allowed="a readable TOML file"
+            ) from None
+        return cls.from_toml_text(text, base_dir=path.parent, overrides=overrides, source=str(path))
+
+    @classmethod
+    def reference(cls, overrides: Iterable[str] = ()) -> Scenario:
+        """The reference scenario of issue 5 (thesis §5.3)."""
+        return cls.from_toml_text(REFERENCE_TOML, overrides=overrides, source="reference scenario")
+
+    # --- resolution and output ------------------------------------------------------------------
+    def resolved(self) -> Scenario:
+        """The same scenario with every profile- and source-dependent default filled in."""
+        from floebreak.profiles import field_switches
+
+        switches = field_switches(self.profile)
+        field, ice, ship = self.field, self.ice, self.ship
+        field_update: dict[str, Any] = {}
+        if field.source in ("observation", "user_observation"):
+            if field.source == "observation" and field.observation is None:
+                field_update["observation"] = REFERENCE_OBSERVATION
+            field_update["length_m"] = 400.0 if field.length_m is None else field.length_m
+            field_update["width_m"] = 50.0 if field.width_m is None else field.width_m
+            if field.floe_area_factor is None:
+                field_update["floe_area_factor"] = switches.floe_area_factor
+        ice_update: dict[str, Any] = {}
+        if ice.thickness_summands is None:
+            ice_update["thickness_summands"] = switches.thickness_summands
+        if ice.thickness_m is None and ice.thickness_range_m is None and field.source == "observation":
+            from floebreak.ice.observations import get_observation
+
+            key = field_update.get("observation", field.observation)
+            ice_update["thickness_m"] = get_observation(key).mean_thickness_m
+        ship_update: dict[str, Any] = {}
+        if ship.hull is None and ship.file is None:
+            ship_update["hull"] = "agulhas_ii"
+        return self.model_copy(
+            update={
+                "field": field.model_copy(update=field_update),
+                "ice": ice.model_copy(update=ice_update),
+                "ship": ship.model_copy(update=ship_update),
+            }
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-compatible dict without unset (None) keys."""
+        return self.model_dump(mode="json", exclude_none=True)
+
+    def to_toml(self) -> str:
+        return tomli_w.dumps(self.to_dict())
+
+    def hash(self) -> str:
+        """SHA-256 of the canonical JSON of this scenario (hash the resolved scenario for a run id)."""
+        return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True).encode()).hexdigest()
+
+
+def json_schema() -> dict[str, Any]:
+    """The JSON schema of a scenario file (units in the descriptions)."""
+    return Scenario.model_json_schema()
+
+
+# --- overrides ----------------------------------------------------------------------------------------
+
+_KEY = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
+_BARE = re.compile(r"^[A-Za-z0-9_.:+\-]+$")
+
+
+def parse_override(expression: str) -> tuple[list[str], Any]:
+    """``a.b=value`` → (["a", "b"], value); the value is parsed as a TOML value, bare words as strings."""
+    key, sep, text = expression.partition("=")
+    key, text = key.strip(), text.strip()
+    if not sep or not _KEY.match(key) or not text:
+        raise InputError(
+            "--set",
+            f"{expression!r} is not KEY=VALUE",
+            value=expression,
+            allowed="dotted.key=value, e.g. ice.thickness_m=0.8 or ship.hull=polarstern",
+        )
+    try:
+        value = tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        if not _BARE.match(text):
+            raise InputError(
+                "--set",
+                f"{expression!r}: {text!r} is not a TOML value",
+                value=expression,
+                allowed='a number, true/false, "string", a bare word, or [list]',
+            ) from None
+        value = text
+    if isinstance(value, _dt.date | _dt.time):  # TOML dates (e.g. observation keys) stay text
+        value = text
+    return key.split("."), value
+
+
+def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:
+    """A deep copy of `data` with each ``a.b=value`` override set."""
+    result = json.loads(json.dumps(data, default=str)) if data else {}
+    for expression in overrides:
+        path, value = parse_override(expression)
+        node = result
+        for i, part in enumerate(path[:-1]):
+            child = node.setdefault(part, {})
+            if not isinstance(child, dict):
+                raise InputError(
+                    "--set",
+                    f"{'.'.join(path[: i + 1])} is not a table",
+                    value=expression,
+                    allowed="a table key",
+                )
+            node = child
+        node[path[-1]] = value
+    return result
+
+
+# --- pydantic errors → InputError -------------------------------------------------------------------
+
+
+def _model_at(model: type[BaseModel], loc: tuple) -> type[BaseModel] | None:
+    """The pydantic model class that holds the last element of `loc` (for listing allowed keys)."""
+    current: Any = model
+    for part in loc[:-1]:
+        if isinstance(part, int):
+            continue
+        if not (isinstance(current, type) and issubclass(current, BaseModel)):
+            return None
+        info = current.model_fields.get(part)
+        if info is None:
+            return None
+        current = _inner_model(info.annotation)
+    return current if isinstance(current, type) and issubclass(current, BaseModel) else None
+
+
+def _inner_model(annotation: Any) -> Any:
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in getattr(annotation, "__args__", ()) or ():
+        found = _inner_model(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _dotted(loc: Iterable[Any]) -> str:
+    text = ""
+    for part in loc:
+        if isinstance(part, int):
+            text += f"[{part}]"
+        elif not str(part).startswith(("function-", "tuple[", "list[", "float", "int", "str", "bool")):
+            text += ("." if text else "") + str(part)
+    return text or "scenario"
+
+
+def input_error_from_validation(error: ValidationError, model: type[BaseModel] = Scenario) -> InputError:
+    """The first pydantic error as an InputError naming the dotted key, with allowed values where known."""
+    first = error.errors(include_url=False)[0]
+    loc = tuple(first["loc"])
+    kind = first["type"]
+    message = str(first["msg"]).removeprefix("Value error, ")
+    allowed = None
+    ctx = first.get("ctx") or {}
+    if kind == "floebreak_cross":
+        loc = (*loc, ctx["key"])
+    elif kind == "extra_forbidden":
+        holder = _model_at(model, loc)
+        if holder is not None:
+            allowed = ", ".join(holder.model_fields)
+        message = "unknown key"
+    elif kind in ("unknown_observation", "unknown_hull"):
+        message = f"unknown value {ctx['value']!r}"
+        allowed = ctx["allowed"]
+    key = _dotted(loc)
+    value = first.get("input")
+    if kind not in ("extra_forbidden", "missing", "unknown_observation", "unknown_hull") and not isinstance(
+        value, dict | list
+    ):
+        message = f"{message} (got {value!r})"
+    return InputError(key, message, value=value, allowed=allowed)

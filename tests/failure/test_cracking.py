@@ -1,0 +1,216 @@
+"""Global failure by cracking (thesis §4.2, Alg. 5 and 7, Eq. 20; physics-notes §3.3, §4).
+
+Floes are rectangles pressed against the straight midbody panel (conftest): the crack line must run along
+the panel normal (+y) through the zone centre O and cross the whole floe; a piece that has cracked before
+cracks along a line rotated by α_nextcrack = 30° (thesis §4.2.3, Fig. 11). Each criterion is made to fail and
+not to fail where an independent calculation from physics-notes §4 says so.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+from floebreak.failure import Cracking, CrackingSettings, Fate
+from floebreak.failure.cracking import indentation_depth_m
+
+WIDTH_M = 9.0  # along the panel: w > l → cracking class (thesis Eq. 4)
+LENGTH_M = 6.0  # along the panel normal
+
+
+def kappa(tip_angle_deg: float = 64.54) -> float:
+    """F_cr / F_h = 1 / (2 tan(α/2)) (thesis Alg. 7, physics-notes §3.3 with μ = 0)."""
+    return 1.0 / (2.0 * math.tan(math.radians(tip_angle_deg) / 2.0))
+
+
+def bz_strength_pa(size_m: float) -> float:
+    """BZ size-effect law σ = 0.68 (1 + L/0.26)^(−1/2) MPa (thesis Eq. 15, physics-notes §4.1)."""
+    return 0.68e6 / math.sqrt(1.0 + size_m / 0.26)
+
+
+def tada_factor(eps: float, polynomial: str) -> float:
+    """√(tan t/t) G(ε), t = πε/2; "tension" G_T or "bending" G_B (Tada; physics-notes §4.3)."""
+    t = math.pi * eps / 2.0
+    if polynomial == "tension":
+        g = (0.752 + 2.02 * eps + 0.37 * (1.0 - math.sin(t)) ** 3) / math.cos(t)
+    else:
+        g = (0.923 + 0.199 * (1.0 - math.sin(t)) ** 4) / math.cos(t)
+    return math.sqrt(math.tan(t) / t) * g
+
+
+def thickness_for_ell_over_5(kit, a_m: float) -> float:
+    """h with ℓ(h)/5 = a (ℓ ∝ h^(3/4))."""
+    return (5.0 * a_m / kit.ell_m(1.0)) ** (4.0 / 3.0)
+
+
+def test_first_crack_runs_along_the_normal_and_crosses_the_whole_floe(make_input, context, kit):
+    p = 0.1
+    floe = kit.midbody_box(WIDTH_M, LENGTH_M, p)
+    inp = make_input(floe)
+    assert inp.classification.failure_class == "cracking"
+    # point_load with P_t = σ_t h b: F_h = 3.3 MN > 0.342 MPa · 1 m · 6 m = 2.05 MN
+    outcome = Cracking(CrackingSettings(criterion="point_load", point_load_capacity="tensile_Pt")).evaluate(
+        inp, context
+    )
+    assert outcome.failed
+    assert len(outcome.pieces) == 2
+    assert all(piece.fate == Fate.FLOE and piece.crack_count == 1 for piece in outcome.pieces)
+    x_o = inp.zone.centre_xy_m[0]
+    # the crack line is x = x_O: the pieces are the two halves of the rectangle
+    far_edge = shapely.LineString(
+        [(x_o - WIDTH_M, kit.panel0_y_m - p + LENGTH_M), (x_o + WIDTH_M, kit.panel0_y_m - p + LENGTH_M)]
+    )
+    for piece in outcome.pieces:
+        assert piece.polygon.area == pytest.approx(WIDTH_M * LENGTH_M / 2.0, rel=1e-9)
+        assert shapely.intersection(piece.polygon.boundary, far_edge).length == pytest.approx(WIDTH_M / 2.0)
+    shared = shapely.intersection(outcome.pieces[0].polygon.boundary, outcome.pieces[1].polygon.boundary)
+    coords = shapely.get_coordinates(shared)
+    np.testing.assert_allclose(coords[:, 0], x_o, atol=1e-9)  # along n̂ = +y through O
+    assert np.ptp(coords[:, 1]) == pytest.approx(LENGTH_M, rel=1e-9)  # through the whole floe
+
+
+@pytest.mark.parametrize("sign_of_offset", [1.0, -1.0])
+def test_later_crack_is_rotated_by_30_degrees(make_input, context, kit, sign_of_offset):
+    p = 0.1
+    # centre the floe a little off O so that one of the two ±30° lines passes closer to the centroid
+    floe = kit.midbody_box(WIDTH_M, LENGTH_M, p, x_centre_m=kit.panel0_x_centre_m + 0.5 * sign_of_offset)
+    inp = make_input(floe, crack_count=1)
+    settings = CrackingSettings(criterion="point_load", point_load_capacity="tensile_Pt")
+    outcome = Cracking(settings).evaluate(inp, context)
+    assert outcome.failed and len(outcome.pieces) == 2
+    assert all(piece.crack_count == 2 for piece in outcome.pieces)
+    shared = shapely.line_merge(
+        shapely.intersection(outcome.pieces[0].polygon.boundary, outcome.pieces[1].polygon.boundary)
+    )
+    start, end = shapely.get_coordinates(shared)[[0, -1]]
+    direction = (end - start) / np.hypot(*(end - start))
+    angle = math.degrees(math.acos(abs(direction[1])))  # angle to the normal n̂ = +y
+    assert angle == pytest.approx(30.0, abs=1e-6)
+    # the line passes through O
+    o = inp.zone.centre_xy_m
+    assert abs(direction[0] * (o[1] - start[1]) - direction[1] * (o[0] - start[0])) < 1e-9
+    # independent areas of the two trapezoids cut by x = x_O + s (y − y_O), s = ±tan 30°
+    x_left = floe.bounds[0]
+    y0, y1 = floe.bounds[1], floe.bounds[3]
+    areas = []
+    for s in (math.tan(math.radians(30.0)), -math.tan(math.radians(30.0))):
+        left = (y1 - y0) * (o[0] - x_left) + s * ((y1 - o[1]) ** 2 - (y0 - o[1]) ** 2) / 2.0
+        areas.append(sorted([left, floe.area - left]))
+    got = sorted(piece.polygon.area for piece in outcome.pieces)
+    assert any(got == pytest.approx(a, rel=1e-9) for a in areas)
+    assert sum(got) == pytest.approx(floe.area, rel=1e-9)
+
+
+@pytest.mark.parametrize(("thickness_m", "must_fail"), [(1.0, True), (2.0, False)])
+def test_point_load_tensile_capacity(make_input, context, kit, thickness_m, must_fail):
+    """F_h > P_t = σ_t h b, σ_t = 4.278 ν_t^(−0.6455) MPa = 0.342 MPa at 50 ppt (physics-notes §4.2)."""
+    p = 0.1
+    f_h = kit.panel0_forces_per_area()[1] * WIDTH_M * p  # 3.34 MN
+    p_t = 4.278e6 * 50.0**-0.6455 * thickness_m * LENGTH_M  # b = extent along the crack = L
+    assert 4.278e6 * 50.0**-0.6455 == pytest.approx(0.342e6, rel=2e-3)
+    assert (f_h > 1.3 * p_t) if must_fail else (f_h < p_t / 1.1)
+    inp = make_input(kit.midbody_box(WIDTH_M, LENGTH_M, p), thickness_m)
+    settings = CrackingSettings(criterion="point_load", point_load_capacity="tensile_Pt")
+    outcome = Cracking(settings).evaluate(inp, context)
+    assert outcome.failed is must_fail
+    assert outcome.diagnostics["resistance"] == pytest.approx(p_t, rel=1e-9)
+    assert outcome.diagnostics["driving"] == pytest.approx(f_h, rel=1e-9)
+
+
+@pytest.mark.parametrize(("penetration_m", "must_fail"), [(0.005, False), (0.05, True)])
+def test_point_load_bending_capacity(make_input, context, kit, penetration_m, must_fail):
+    """F_h > P with P the Nevel capacity at the contact (thesis Alg. 7 `fracture_criterion_simple`)."""
+    a_h = WIDTH_M * penetration_m
+    f_h = kit.panel0_forces_per_area()[1] * a_h
+    theta = math.radians(180.0)
+    # Θ is 180° or 185° (see test_bending); bracket both Θ and ρ = √(2 A_h/Θ)/ℓ
+    rho_low = math.sqrt(2.0 * a_h / math.radians(185.0)) / kit.ell_m(1.0)
+    rho_high = math.sqrt(2.0 * a_h / theta) / kit.ell_m(1.0)
+    low = kit.capacity_bracket_n(1.0, theta, rho_low)[0]
+    high = kit.capacity_bracket_n(1.0, math.radians(185.0), rho_high)[1]
+    assert (f_h > 1.3 * high) if must_fail else (f_h < low / 1.3)
+    inp = make_input(kit.midbody_box(WIDTH_M, LENGTH_M, penetration_m))
+    outcome = Cracking(CrackingSettings(criterion="point_load")).evaluate(inp, context)
+    assert outcome.failed is must_fail
+    assert low <= outcome.diagnostics["resistance"] <= high
+
+
+@pytest.mark.parametrize(("penetration_m", "must_fail"), [(0.003, False), (0.02, True)])
+def test_line_load_with_crack_length_ell_over_5(make_input, context, kit, penetration_m, must_fail):
+    """K_I = 0.878 (κ F_h / h) √(π/a) ≥ K_Ic, κ = 1/(2 tan(64.54°/2)), a = ℓ/5 (Alg. 5, 7; notes §4.3)."""
+    h = 1.0
+    f_h = kit.panel0_forces_per_area()[1] * WIDTH_M * penetration_m
+    a = kit.ell_m(h) / 5.0
+    k_i = 0.878 * kappa() * f_h / h * math.sqrt(math.pi / a)
+    assert kappa() == pytest.approx(0.792, abs=1e-3)  # physics-notes §3.3
+    assert (k_i > 1.3 * kit.k_ic_pa_sqrt_m) if must_fail else (k_i < kit.k_ic_pa_sqrt_m / 1.3)
+    inp = make_input(kit.midbody_box(WIDTH_M, LENGTH_M, penetration_m), h)
+    settings = CrackingSettings(criterion="line_load", crack_length="ell_over_5")
+    outcome = Cracking(settings).evaluate(inp, context)
+    assert outcome.failed is must_fail
+    assert outcome.diagnostics["driving"] == pytest.approx(k_i, rel=1e-9)
+    assert outcome.diagnostics["resistance"] == kit.k_ic_pa_sqrt_m
+
+
+def test_indentation_depth_is_the_penetration(make_input, context, kit):
+    """Default crack length a: the crack line behind O inside the floe, = the penetration p here."""
+    p = 0.07
+    floe = kit.midbody_box(WIDTH_M, LENGTH_M, p)
+    inp = make_input(floe)
+    assert indentation_depth_m(floe, inp.zone.centre_xy_m, np.array([0.0, 1.0])) == pytest.approx(p, rel=1e-9)
+    f_h = kit.panel0_forces_per_area()[1] * WIDTH_M * p
+    expected = 0.878 * kappa() * f_h * math.sqrt(math.pi / p)
+    outcome = Cracking(CrackingSettings(criterion="line_load")).evaluate(inp, context)
+    assert outcome.diagnostics["driving"] == pytest.approx(expected, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("criterion", "labels", "a_m", "must_fail"),
+    [
+        # physics-notes §4.4: BZ, b = L = 10 m → cracks once a ≥ 0.44 m (correct Tada tension) …
+        ("tensile_stress", "correct", 0.40, False),
+        ("tensile_stress", "correct", 0.48, True),
+        # … or a ≥ 0.50 m with the thesis' swapped labels (tension → the bending polynomial)
+        ("tensile_stress", "thesis_alg7", 0.46, False),
+        ("tensile_stress", "thesis_alg7", 0.54, True),
+        # in-plane bending (G_B): the same threshold as the thesis' "tensile" variant
+        ("flexural_stress", "correct", 0.46, False),
+        ("flexural_stress", "correct", 0.54, True),
+    ],
+)
+def test_stress_criteria_are_load_independent_thresholds_on_a(
+    make_input, context, kit, criterion, labels, a_m, must_fail
+):
+    b = 10.0
+    h = thickness_for_ell_over_5(kit, a_m)
+    assert kit.ell_m(h) / 5.0 == pytest.approx(a_m, rel=1e-12)
+    polynomial = "tension" if (criterion == "tensile_stress") == (labels == "correct") else "bending"
+    k_i = bz_strength_pa(b) * math.sqrt(math.pi * a_m) * tada_factor(a_m / b, polynomial)
+    assert (k_i > 1.02 * kit.k_ic_pa_sqrt_m) if must_fail else (k_i < kit.k_ic_pa_sqrt_m / 1.02)
+    settings = CrackingSettings(
+        criterion=criterion, tada_labels=labels, crack_length="ell_over_5", size_effect_law="BZ"
+    )
+    for p in (0.01, 0.1):  # the verdict does not depend on the contact load (erratum 19)
+        inp = make_input(kit.midbody_box(WIDTH_M, b, p), h)
+        outcome = Cracking(settings).evaluate(inp, context)
+        assert outcome.failed is must_fail
+        assert outcome.diagnostics["driving"] == pytest.approx(k_i, rel=1e-9)
+
+
+@pytest.mark.parametrize(("penetration_m", "must_fail"), [(0.015, False), (0.06, True)])
+def test_stress_criterion_strength_mode_follows_the_load(make_input, context, kit, penetration_m, must_fail):
+    """Load-consistent alternative (physics-notes §4.4): F_h / (h b) ≥ σ_n^t(L = b)."""
+    b, h = 10.0, 1.0
+    applied = kit.panel0_forces_per_area()[1] * WIDTH_M * penetration_m / (h * b)
+    strength = bz_strength_pa(b)
+    assert strength == pytest.approx(0.108e6, rel=5e-3)  # notes §4.1 table
+    assert (applied > 1.3 * strength) if must_fail else (applied < strength / 1.3)
+    inp = make_input(kit.midbody_box(WIDTH_M, b, penetration_m), h)
+    settings = CrackingSettings(criterion="tensile_stress", stress_mode="strength")
+    outcome = Cracking(settings).evaluate(inp, context)
+    assert outcome.failed is must_fail
+    assert outcome.diagnostics["driving"] == pytest.approx(applied, rel=1e-9)
+    assert outcome.diagnostics["resistance"] == pytest.approx(strength, rel=1e-9)

@@ -1,0 +1,170 @@
+"""Property tests of the floe cutters (thesis §4.1–4.3): the half-plane split of cracking, the disk split of
+bending and the local-cracking cutter, on random star-shaped polygons, circles and boxes.
+
+Properties (the engine's area balance, tolerance 1e-9 as in `simulation`): the pieces' areas sum to the
+parent's within 1e-9 relative, pieces do not overlap (pairwise intersection area ≤ 1e-9 · parent), every piece
+is a valid polygon.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from floebreak.failure.bending import BendingCheck, split_by_radius
+from floebreak.failure.cracking import split_by_line
+from floebreak.failure.local_cracking import local_crack_line
+from floebreak.mechanics.wedge_fan import WedgeFan
+
+SETTINGS = settings(
+    max_examples=50, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
+)
+PHI_RAD = math.radians(5.0)
+
+coordinate = st.floats(-60.0, 60.0, allow_nan=False)
+angle = st.floats(0.0, 2.0 * math.pi, allow_nan=False, exclude_max=True)
+
+
+@st.composite
+def star_polygons(draw):
+    """Star-shaped (generally concave) polygons about a random centre: simple by construction."""
+    n = draw(st.integers(3, 40))
+    angles = np.sort(np.array(draw(st.lists(angle, min_size=n, max_size=n, unique=True))))
+    gaps = np.diff(np.concatenate([angles, [angles[0] + 2.0 * math.pi]]))
+    if gaps.min() < 1e-3 or gaps.max() > math.pi - 1e-3:
+        angles = np.linspace(0.0, 2.0 * math.pi, n, endpoint=False) + angles[0]
+    radii = np.array(draw(st.lists(st.floats(0.5, 25.0), min_size=n, max_size=n)))
+    centre = np.array([draw(coordinate), draw(coordinate)])
+    ring = centre + radii[:, None] * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    return shapely.Polygon(ring)
+
+
+@st.composite
+def circles(draw):
+    centre = (draw(coordinate), draw(coordinate))
+    return shapely.Point(centre).buffer(draw(st.floats(0.5, 30.0)), quad_segs=draw(st.integers(2, 32)))
+
+
+@st.composite
+def boxes(draw):
+    x0, y0 = draw(coordinate), draw(coordinate)
+    box = shapely.box(x0, y0, x0 + draw(st.floats(0.5, 40.0)), y0 + draw(st.floats(0.5, 40.0)))
+    rotation = draw(st.floats(0.0, 180.0))
+    return shapely.affinity.rotate(box, rotation, origin="centroid")
+
+
+polygons = st.one_of(star_polygons(), circles(), boxes())
+
+
+@st.composite
+def point_near(draw, polygon, spread: float = 1.2):
+    """A point in the polygon's bounding box enlarged by `spread` (mostly cuts, sometimes misses)."""
+    x0, y0, x1, y1 = polygon.bounds
+    cx, cy, hx, hy = (x0 + x1) / 2, (y0 + y1) / 2, spread * (x1 - x0) / 2, spread * (y1 - y0) / 2
+    return np.array([draw(st.floats(cx - hx, cx + hx)), draw(st.floats(cy - hy, cy + hy))])
+
+
+def assert_partition(parent, pieces) -> None:
+    assert all(shapely.get_type_id(p) == 3 and p.is_valid and p.area > 0 for p in pieces)
+    total = sum(p.area for p in pieces)
+    assert total == pytest.approx(parent.area, rel=1e-9)
+    for a, b in itertools.combinations(pieces, 2):
+        assert shapely.area(shapely.intersection(a, b)) <= 1e-9 * parent.area
+
+
+@SETTINGS
+@given(data=st.data(), polygon=polygons, direction_angle=angle)
+def test_split_by_line_partitions_the_floe(data, polygon, direction_angle):
+    assert polygon.is_valid
+    point = data.draw(point_near(polygon))
+    direction = np.array([math.cos(direction_angle), math.sin(direction_angle)])
+    left, right = split_by_line(polygon, point, direction)
+    assert_partition(polygon, [*left, *right])
+    # each side lies on its side of the line
+    for side, sign in ((left, 1.0), (right, -1.0)):
+        for piece in side:
+            rel = shapely.get_coordinates(piece) - point
+            cross = direction[0] * rel[:, 1] - direction[1] * rel[:, 0]
+            assert np.all(sign * cross >= -1e-7 * (1.0 + np.hypot(*rel.T)))
+
+
+@SETTINGS
+@given(
+    data=st.data(),
+    polygon=polygons,
+    centre_angle=angle,
+    n_wedges=st.integers(1, 72),
+    radius=st.floats(0.2, 40.0),
+)
+def test_split_by_radius_partitions_the_floe(data, polygon, centre_angle, n_wedges, radius):
+    origin = data.draw(point_near(polygon))
+    fan = WedgeFan(origin, centre_angle, n_wedges * PHI_RAD, PHI_RAD, 0.5)
+    check = BendingCheck(fan, 11.62, 1.0, 2.0, radius)
+    near, far = split_by_radius(polygon, check)
+    assert_partition(polygon, [*near, *far])
+    for piece in near:  # within the circumscribed radius of the 72-gon
+        assert np.all(np.hypot(*(shapely.get_coordinates(piece) - origin).T) <= radius * (1 + 1e-9))
+
+
+@SETTINGS
+@given(
+    data=st.data(),
+    polygon=polygons,
+    normal_angle=angle,
+    radius=st.floats(1.0, 15.0),
+    ell=st.floats(3.0, 15.0),
+)
+def test_local_cracking_cutter_partitions_the_floe(data, polygon, normal_angle, radius, ell):
+    origin = data.draw(point_near(polygon, spread=1.0))
+    normal = np.array([math.cos(normal_angle), math.sin(normal_angle)])
+    frontmost = origin + data.draw(st.floats(-2.0, 2.0)) * np.array([-normal[1], normal[0]])
+    line = local_crack_line(origin, normal, frontmost, radius, ell, PHI_RAD)
+    inside = shapely.get_parts(shapely.intersection(polygon, line.cutter))
+    outside = shapely.get_parts(shapely.difference(polygon, line.cutter))
+    pieces = [p for p in [*inside, *outside] if shapely.get_type_id(p) == 3 and p.area > 0]
+    assert_partition(polygon, pieces)
+
+
+# --------------------------------------------------------------------------------------------------------
+# A sub-threshold sliver: parts below MIN_PIECE_AREA_M2 = 1e-6 m² are dropped, and their area is lost
+# --------------------------------------------------------------------------------------------------------
+
+
+def comb_floe_with_bump(bump_height_m: float) -> shapely.Polygon:
+    """A concave floe (base 10 × 3 m, two 2 m towers to y = 10) with a 1 m wide flat bump up to 5 + δ."""
+    return shapely.Polygon(
+        [
+            (0, 0), (10, 0), (10, 10), (8, 10), (8, 3), (6, 3), (6, 5 + bump_height_m),
+            (5, 5 + bump_height_m), (5, 3), (2, 3), (2, 10), (0, 10),
+        ]
+    )  # fmt: skip
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="cracking._parts / bending._parts / local_cracking._parts drop parts < 1e-6 m²: the lost area "
+    "breaks the 1e-9 area balance for floes < 1000 m²",
+)
+def test_crack_line_grazing_a_bump_keeps_all_the_area():
+    floe = comb_floe_with_bump(5e-7)  # the bump crosses the crack line y = 5 by 0.5 µm over 1 m: 5e-7 m²
+    left, right = split_by_line(floe, np.array([0.0, 5.0]), np.array([1.0, 0.0]))
+    assert left and right
+    assert sum(p.area for p in [*left, *right]) == pytest.approx(floe.area, rel=1e-9)
+
+
+@pytest.mark.xfail(strict=True, reason="same sliver loss in bending.split_by_radius (see above)")
+def test_bending_disk_just_below_a_spike_tip_keeps_all_the_area():
+    # a 20 × 3 m floe with a triangular spike (base 2 m) up to y = 6; the bending disk about (5, 0) reaches
+    # y = 6 − 1.2 mm, so the spike's tip (≈ 5e-7 m²) lies beyond the bending line, with the two outer corners
+    floe = shapely.Polygon([(-5, 0), (15, 0), (15, 3), (6, 3), (5, 6), (4, 3), (-5, 3)])
+    fan = WedgeFan(np.array([5.0, 0.0]), math.pi / 2.0, PHI_RAD, PHI_RAD, 0.5)  # a disk vertex at 90°
+    check = BendingCheck(fan, 11.62, 1.0, 2.0, 6.0 - 1.2e-3)
+    near, far = split_by_radius(floe, check)
+    assert near and far
+    assert sum(p.area for p in [*near, *far]) == pytest.approx(floe.area, rel=1e-9)

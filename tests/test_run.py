@@ -1,0 +1,324 @@
+"""The run pipeline and run directory (issue 5 §2, §4, §6): Python API, files, consistency, determinism."""
+
+from __future__ import annotations
+
+import importlib
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+import shapely
+
+import floebreak
+from floebreak.errors import InputError
+from floebreak.io.field_files import load_field, save_field
+
+run_module = importlib.import_module("floebreak.run")  # `floebreak.run` is the function
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+SMALL = ["field.length_m=60.0"]  # a short reference field (the full one is the CLI demo test)
+PIECE_COLUMNS = {
+    "geometry",
+    "area_m2",
+    "thickness_m",
+    "volume_m3",
+    "bbox_length_m",
+    "bbox_width_m",
+    "step",
+    "bow_x_m",
+    "parent_floe_id",
+    "failure_chain",
+}
+CONTACT_COLUMNS = {
+    "step",
+    "bow_x_m",
+    "floe_id",
+    "panel",
+    "a_u_m2",
+    "a_l_m2",
+    "a_h_m2",
+    "a_c_m2",
+    "psi_deg",
+    "f_c_n",
+    "f_v_n",
+    "f_h_n",
+    "outcome",
+}
+SUMMARY_KEYS = {
+    "floebreak_version",
+    "profile",
+    "seed",
+    "scenario_hash",
+    "n_floes_initial",
+    "initial_ice_area_m2",
+    "n_cusps",
+    "cusp_area_m2",
+    "mean_cusp_area_m2",
+    "mean_cusp_volume_m3",
+    "n_flipped",
+    "flipped_area_m2",
+    "remaining_ice_area_m2",
+    "area_balance_rel_error",
+    "n_contacts",
+    "n_breaks",
+    "breaks_by_mode",
+    "crushing_force_max_n",
+    "wall_time_s",
+}
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    result = floebreak.run(overrides=SMALL)
+    out = tmp_path_factory.mktemp("runs") / "small"
+    result.write(out)
+    return result, out
+
+
+def _geometries(path: Path) -> np.ndarray:
+    return shapely.from_wkb(pq.read_table(path).column("geometry").to_numpy(zero_copy_only=False))
+
+
+def test_api_needs_no_files(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    result = floebreak.run(floebreak.Scenario.reference(SMALL))
+    assert list(tmp_path.iterdir()) == []
+    assert result.summary["n_cusps"] == len(result.cusps["geometry"]) > 0
+    assert len(result.contacts["step"]) == result.summary["n_contact_records"]
+    for figure in (
+        result.plot_breaking_pattern(),
+        result.plot_cusp_volume_spectrum(),
+        result.plot_crushing_force_spectrum(),
+        result.plot_field(),
+    ):
+        assert figure.axes
+
+
+def test_run_directory_contents(small_run):
+    _, out = small_run
+    names = {p.name for p in out.iterdir()}
+    assert names == {
+        "summary.json",
+        "cusps.parquet",
+        "flipped.parquet",
+        "remaining.parquet",
+        "field.parquet",
+        "contacts.parquet",
+        "scenario.resolved.toml",
+        "figures",
+        "report.html",
+    }
+    assert {p.name for p in (out / "figures").iterdir()} == {
+        "breaking_pattern.png",
+        "cusp_volume_spectrum.png",
+        "crushing_force_spectrum.png",
+        "field.png",
+    }
+    assert not list(out.parent.glob(".small.tmp-*"))  # no temporary leftovers
+    summary = json.loads((out / "summary.json").read_text())
+    assert SUMMARY_KEYS <= set(summary)
+    assert summary["floebreak_version"] == floebreak.__version__
+    assert summary["provenance"]["scenario"]["seed"] == 1
+
+
+def test_parquet_files_are_geoparquet_with_provenance(small_run):
+    result, out = small_run
+    for name in ("cusps", "flipped", "remaining", "field"):
+        table = pq.read_table(out / f"{name}.parquet")
+        assert PIECE_COLUMNS <= set(table.column_names), name
+        meta = table.schema.metadata
+        geo = json.loads(meta[b"geo"])
+        assert geo["columns"]["geometry"]["crs"] is None
+        prov = json.loads(meta[b"floebreak"])
+        assert prov["seed"] == 1 and prov["scenario_hash"] == result.summary["scenario_hash"]
+        assert prov["scenario"]["field"]["length_m"] == 60.0
+        assert "numpy" in prov["libraries"]
+        assert np.all(shapely.is_valid(_geometries(out / f"{name}.parquet")))
+    contacts = pq.read_table(out / "contacts.parquet")
+    assert CONTACT_COLUMNS <= set(contacts.column_names)
+    assert json.loads(contacts.schema.metadata[b"floebreak"])["kind"] == "contacts"
+    # field.parquet is a loadable floe field (e.g. for `[field] file = ...`)
+    assert load_field(out / "field.parquet").n_floes == result.summary["n_floes_initial"]
+
+
+def test_summary_matches_the_parquet_files(small_run):
+    _, out = small_run
+    summary = json.loads((out / "summary.json").read_text())
+    areas = {}
+    for name in ("cusps", "flipped", "remaining", "field"):
+        geometries = _geometries(out / f"{name}.parquet")
+        table = pq.read_table(out / f"{name}.parquet")
+        areas[name] = float(shapely.area(geometries).sum())  # independent of the stored area column
+        np.testing.assert_allclose(table.column("area_m2").to_numpy(), shapely.area(geometries), rtol=1e-12)
+        np.testing.assert_allclose(
+            table.column("volume_m3").to_numpy(),
+            shapely.area(geometries) * table.column("thickness_m").to_numpy(),
+            rtol=1e-12,
+        )
+        if name == "cusps":
+            assert table.num_rows == summary["n_cusps"]
+            assert summary["mean_cusp_volume_m3"] == pytest.approx(
+                table.column("volume_m3").to_numpy().mean()
+            )
+        if name == "flipped":
+            assert table.num_rows == summary["n_flipped"]
+        if name == "field":
+            assert table.num_rows == summary["n_floes_initial"]
+    assert areas["cusps"] == pytest.approx(summary["cusp_area_m2"], rel=1e-12)
+    assert areas["flipped"] == pytest.approx(summary["flipped_area_m2"], rel=1e-12)
+    assert areas["remaining"] == pytest.approx(summary["remaining_ice_area_m2"], rel=1e-12)
+    assert areas["field"] == pytest.approx(summary["initial_ice_area_m2"], rel=1e-12)
+    balance = abs(areas["field"] - areas["cusps"] - areas["flipped"] - areas["remaining"]) / areas["field"]
+    assert balance <= 1e-9 and summary["area_balance_rel_error"] <= 1e-9
+    contacts = pq.read_table(out / "contacts.parquet")
+    assert contacts.num_rows == summary["n_contact_records"]
+    assert summary["crushing_force_max_n"] >= contacts.column("f_c_n").to_numpy().max() > 0
+    assert sum(summary["breaks_by_mode"].values()) >= summary["n_breaks"]
+
+
+def test_report_is_self_contained(small_run):
+    _, out = small_run
+    html = (out / "report.html").read_text()
+    assert html.count("data:image/png;base64,") == 4
+    assert "src='http" not in html and 'src="http' not in html
+    assert "scenario_hash" in html and "2019-12-18T20:20" in html and "numpy" in html
+
+
+def test_same_scenario_and_seed_give_identical_parquet(tmp_path):
+    outs = []
+    for i in range(2):
+        out = tmp_path / f"run{i}"
+        floebreak.run(overrides=[*SMALL, "seed=4"]).write(out, figures=False, report=False)
+        outs.append(out)
+    for name in ("cusps", "flipped", "remaining", "field", "contacts"):
+        # byte-identical files (Table.equals would fail on the NaN bow_x_m of never-touched floes)
+        assert (outs[0] / f"{name}.parquet").read_bytes() == (outs[1] / f"{name}.parquet").read_bytes(), name
+        a, b = (pq.read_table(o / f"{name}.parquet") for o in outs)
+        assert a.schema.metadata == b.schema.metadata and a.num_rows == b.num_rows
+    other = floebreak.run(overrides=[*SMALL, "seed=5"])
+    first = pq.read_table(outs[0] / "field.parquet")
+    assert len(other.field.polygons) != first.num_rows or not np.array_equal(
+        shapely.get_coordinates(other.field.polygons),
+        shapely.get_coordinates(_geometries(outs[0] / "field.parquet")),
+    )
+
+
+@pytest.mark.parametrize(
+    ("example", "overrides"),
+    [
+        ("reference.toml", SMALL),
+        ("thesis_profile.toml", SMALL),
+        ("polarstern.toml", ["field.length_m=120.0"]),
+        ("random_thickness.toml", SMALL),
+        ("single_floe.toml", []),
+    ],
+)
+def test_each_example_runs(example, overrides):
+    result = floebreak.run(EXAMPLES / example, overrides=overrides)
+    s = result.summary
+    assert s["area_balance_rel_error"] <= 1e-9
+    assert s["n_cusps"] + s["n_flipped"] > 0
+    total = s["cusp_area_m2"] + s["flipped_area_m2"] + s["remaining_ice_area_m2"]
+    assert total == pytest.approx(s["initial_ice_area_m2"], rel=1e-9)
+    if example == "random_thickness.toml":
+        h = result.field.thickness_m
+        assert h.min() >= 0.75 and h.max() <= 1.25 and h.std() > 0
+    if example == "single_floe.toml":
+        assert s["n_floes_initial"] == 3
+        # inline floes: 64-gons inscribed in circles of 10, 20, 30 m (area (n/2π) sin(2π/n) π d²/4)
+        n = 64
+        expected = sum(n / 2 * np.sin(2 * np.pi / n) * (d / 2) ** 2 for d in (10.0, 20.0, 30.0))
+        assert s["initial_ice_area_m2"] == pytest.approx(expected, rel=1e-12)
+    if example == "polarstern.toml":
+        assert s["bow"] == "polarstern"
+        assert result.scenario.ice.thickness_m == pytest.approx(0.84)  # obs mean, thesis Table 1
+
+
+def test_thickness_override_reaches_field_and_bow():
+    result = floebreak.run(overrides=[*SMALL, "ice.thickness_m=0.8"])
+    assert np.all(result.field.thickness_m == 0.8)
+    # ice waterlines z_u = (1 − ρ_i/ρ_w) h, z_l = −(ρ_i/ρ_w) h: Δz = h
+    bow = result.simulation.bow
+    assert bow.z_upper_m - bow.z_lower_m == pytest.approx(0.8)
+
+
+def test_field_file_source(small_run, tmp_path):
+    base, _ = small_run
+    save_field(base.field, tmp_path / "f.parquet")
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("[field]\nfile = 'f.parquet'\n[ice]\nthickness_m = 1.0\n", encoding="utf-8")
+    again = floebreak.run(scenario)
+    for key in ("n_cusps", "n_flipped", "cusp_area_m2", "flipped_area_m2"):
+        assert again.summary[key] == base.summary[key]
+
+
+@pytest.mark.parametrize(
+    ("setup", "field"),
+    [
+        ("missing_field", "field.file"),
+        ("corrupt_field", "field.file"),
+        ("missing_bow", "ship.file"),
+        ("corrupt_bow", "ship.file"),
+        ("overlapping_floes", "field.floes[1]"),
+        ("small_field", "field.length_m"),
+        ("hull_parameter", "ship.hull_parameters.beam_x"),
+    ],
+)
+def test_bad_inputs_found_while_building(tmp_path, setup, field):
+    (tmp_path / "corrupt.parquet").write_bytes(b"not parquet at all")
+    (tmp_path / "corrupt.csv").write_text("x_m,y_m\n1,2,3\n", encoding="utf-8")
+    data = {
+        "missing_field": {"field": {"file": str(tmp_path / "none.parquet")}},
+        "corrupt_field": {"field": {"file": str(tmp_path / "corrupt.parquet")}},
+        "missing_bow": {"ship": {"file": str(tmp_path / "none.csv")}},
+        "corrupt_bow": {"ship": {"file": str(tmp_path / "corrupt.csv")}},
+        "overlapping_floes": {
+            "field": {
+                "floes": [
+                    {"x_m": 10.0, "y_m": 0.0, "diameter_m": 10.0},
+                    {"x_m": 15.0, "y_m": 0.0, "diameter_m": 10.0},
+                ]
+            },
+            "ice": {"thickness_m": 1.0},
+        },
+        "small_field": {"field": {"length_m": 20.0, "width_m": 20.0}},
+        "hull_parameter": {"ship": {"hull_parameters": {"beam_x": 3.0}}},
+    }[setup]
+    with pytest.raises(InputError) as info:
+        floebreak.run(data)
+    assert info.value.field == field
+    assert {p.name for p in tmp_path.iterdir()} == {"corrupt.csv", "corrupt.parquet"}  # nothing written
+
+
+def test_existing_output_is_refused_and_overwrite_replaces(small_run, tmp_path):
+    result, _ = small_run
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "keep.txt").write_text("x")
+    with pytest.raises(InputError) as info:
+        result.write(out)
+    assert info.value.field == "out" and (out / "keep.txt").exists()
+    result.write(out, overwrite=True, figures=False)
+    assert not (out / "keep.txt").exists() and (out / "summary.json").exists()
+    with pytest.raises(InputError) as info:
+        result.write(tmp_path / "missing" / "out")
+    assert info.value.field == "out"
+
+
+def test_failed_write_leaves_nothing(small_run, tmp_path, monkeypatch):
+    result, _ = small_run
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("disk on fire")
+
+    monkeypatch.setattr(run_module, "_save_png", broken)
+    with pytest.raises(RuntimeError):
+        result.write(tmp_path / "out")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_run_module_is_reachable():
+    assert sys.modules["floebreak.run"] is run_module and floebreak.run is run_module.run

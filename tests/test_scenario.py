@@ -1,0 +1,201 @@
+"""Scenario files: validation, defaults, --set overrides, resolution and the JSON schema (issue 5 §1, §5)."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from floebreak.errors import InputError
+from floebreak.scenario import REFERENCE_TOML, Scenario, json_schema, parse_override
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def test_reference_example_is_the_issue_scenario():
+    assert (EXAMPLES / "reference.toml").read_text(encoding="utf-8") == REFERENCE_TOML
+    s = Scenario.reference()
+    # the values of the issue's TOML
+    assert (s.profile, s.seed) == ("default", 1)
+    assert s.field.observation == "2019-12-18T20:20"
+    assert (s.field.length_m, s.field.width_m, s.field.generator) == (400.0, 50.0, "circles")
+    assert s.ice.thickness_m == 1.0 and s.ice.fracture_toughness_pa_sqrt_m == 145.7e3
+    assert (s.ship.hull, s.ship.step_m) == ("agulhas_ii", 0.25)
+    assert (s.failure.crack_criterion, s.failure.size_effect_law) == ("tensile_stress", "BZ")
+
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.name)
+def test_every_example_validates_and_resolves(path):
+    scenario = Scenario.from_toml(path).resolved()
+    again = Scenario.from_toml_text(scenario.to_toml())
+    assert again.hash() == scenario.hash()  # the resolved TOML reproduces the scenario exactly
+
+
+def test_examples_cover_the_documented_sources():
+    names = {p.name for p in EXAMPLES.glob("*.toml")}
+    assert names >= {
+        "reference.toml",
+        "thesis_profile.toml",
+        "polarstern.toml",
+        "random_thickness.toml",
+        "single_floe.toml",
+    }
+    assert Scenario.from_toml(EXAMPLES / "single_floe.toml").field.source == "floes"
+    assert Scenario.from_toml(EXAMPLES / "random_thickness.toml").ice.thickness_range_m == (0.75, 1.25)
+
+
+def test_resolution_fills_profile_and_observation_defaults():
+    # thesis profile: floe area factor 1/2 (erratum 1) and p_h = 1180 (erratum 6), from physics-notes §5
+    thesis = Scenario.from_dict({"profile": "thesis"}).resolved()
+    assert thesis.field.floe_area_factor == 0.5 and thesis.ice.thickness_summands == 1180
+    default = Scenario.from_dict({"field": {"observation": "2019-12-19T04:40"}}).resolved()
+    assert default.field.floe_area_factor == 0.25 and default.ice.thickness_summands == 12
+    # no thickness given: the observation's mean thickness (thesis Table 1: 1.12 m for 2019-12-19 04:40)
+    assert default.ice.thickness_m == pytest.approx(1.12)
+    assert (default.field.length_m, default.field.width_m, default.ship.hull) == (400.0, 50.0, "agulhas_ii")
+    assert "thickness_m = 1.12" in default.to_toml()
+
+
+def test_empty_scenario_is_the_reference_observation():
+    s = Scenario.from_dict({}).resolved()
+    assert s.field.observation == "2019-12-18T20:20"
+
+
+def test_hash_changes_with_any_value():
+    base = Scenario.reference().resolved()
+    assert base.hash() == Scenario.reference().resolved().hash()
+    assert Scenario.reference(["seed=2"]).resolved().hash() != base.hash()
+    assert Scenario.reference(["ice.thickness_m=0.8"]).resolved().hash() != base.hash()
+
+
+@pytest.mark.parametrize(
+    ("expression", "path", "value"),
+    [
+        ("ice.thickness_m=0.8", ["ice", "thickness_m"], 0.8),
+        ("seed=3", ["seed"], 3),
+        ("ship.hull=polarstern", ["ship", "hull"], "polarstern"),
+        ('ship.hull="polarstern"', ["ship", "hull"], "polarstern"),
+        ("field.observation=2019-12-30T07:10", ["field", "observation"], "2019-12-30T07:10"),
+        ("ice.thickness_range_m=[0.75, 1.25]", ["ice", "thickness_range_m"], [0.75, 1.25]),
+        ("failure.flip_uncracked_at_shoulder=false", ["failure", "flip_uncracked_at_shoulder"], False),
+    ],
+)
+def test_override_parsing(expression, path, value):
+    assert parse_override(expression) == (path, value)
+
+
+def test_overrides_are_validated_like_the_file():
+    s = Scenario.reference(["ice.thickness_m=0.8", "ship.hull=polarstern", "seed=5"])
+    assert (s.ice.thickness_m, s.ship.hull, s.seed) == (0.8, "polarstern", 5)
+    with pytest.raises(InputError, match=r"ice\.thickness_m"):
+        Scenario.reference(["ice.thickness_m=-0.8"])
+
+
+@pytest.mark.parametrize(
+    ("expression", "field"),
+    [
+        ("ice.thickness_m", "--set"),  # no '='
+        ("=1", "--set"),
+        ("ice..x=1", "--set"),
+        ("ice.thickness_m=", "--set"),
+        ("ice.thickness_m=[1,", "--set"),
+        ("ice.thickness_m.x=1", "--set"),  # not a table
+        ("ice.thickness_mm=1.0", "ice.thickness_mm"),  # unknown key
+    ],
+)
+def test_bad_set_expression(expression, field):
+    with pytest.raises(InputError) as info:
+        Scenario.reference([expression])
+    assert info.value.field == field
+
+
+def _write(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "s.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+# (TOML text, key named in the error, a word of the allowed values/range that must be in the message)
+BAD_FILES = [
+    ("seed = 1\n[field\n", "scenario", "TOML"),  # malformed
+    ("colour = 'red'\n", "colour", "profile"),  # unknown top-level key, allowed keys listed
+    ("[ice]\nthickness = 1.0\n", "ice.thickness", "thickness_m"),  # unknown key in a section
+    ("[ship]\nbow = 'x'\n", "ship.bow", "hull"),
+    ("[ice]\nthickness_m = '1.0'\n", "ice.thickness_m", "number"),  # wrong type: string
+    ("seed = 1.5\n", "seed", "integer"),
+    ("[failure]\nflip_uncracked_at_shoulder = 1\n", "failure.flip_uncracked_at_shoulder", "bool"),
+    ("[ice]\nthickness_m = 0.0\n", "ice.thickness_m", "greater than 0"),
+    ("[ice]\nthickness_m = -1.0\n", "ice.thickness_m", "greater than 0"),
+    ("[ship]\nstep_m = 0.0\n", "ship.step_m", "greater than 0"),
+    ("[ship]\nstep_m = -0.25\n", "ship.step_m", "greater than 0"),
+    ("[field]\nconcentration = 1.2\n", "field.concentration", "less than or equal to 1"),
+    ("[field]\nconcentration = 0.0\n", "field.concentration", "greater than 0"),
+    (
+        "[ice]\nfracture_toughness_pa_sqrt_m = -145.7e3\n",
+        "ice.fracture_toughness_pa_sqrt_m",
+        "greater than 0",
+    ),
+    ("[ship]\nhull = 'titanic'\n", "ship.hull", "agulhas_ii, polarstern"),
+    ("[failure]\ncrack_criterion = 'shear'\n", "failure.crack_criterion", "tensile_stress"),
+    ("[failure]\nsize_effect_law = 'BZ3'\n", "failure.size_effect_law", "BZ1"),
+    ("profile = 'fast'\n", "profile", "thesis"),
+    ("[field]\nobservation = '2019-01-01T00:00'\n", "field.observation", "2019-12-18T20:20"),
+    ("[field]\ngenerator = 'hexagons'\n", "field.generator", "voronoi"),
+    ("[ice]\nthickness_range_m = [1.25, 0.75]\n", "ice.thickness_range_m", "h_min"),
+    ("[ice]\nthickness_m = 1.0\nthickness_range_m = [0.75, 1.25]\n", "ice.thickness_range_m", "not both"),
+    ("[field]\nobservation = '2019-12-18T20:20'\nfile = 'f.parquet'\n", "field.file", "only one"),
+    ("[field]\nfloes = [{x_m = 1.0, y_m = 0.0, diameter_m = 0.0}]\n", "field.floes[0].diameter_m", "greater"),
+    ("[field]\nfloes = [{x_m = 1.0, y_m = 0.0}]\n", "field.floes[0].diameter_m", "required"),
+    (
+        "[field]\nfloes = [{x_m = 1.0, y_m = 0.0, diameter_m = 5.0}]\nlength_m = 60.0\n",
+        "field.length_m",
+        "only",
+    ),
+    (
+        "[field]\ndiameter_classes_m = [5.0, 10.0]\npercentages = [50.0, 50.0]\n",
+        "field.diameter_classes_m",
+        "conc",
+    ),
+    ("[ship]\nhull = 'polarstern'\nfile = 'bow.csv'\n", "ship.file", "not both"),
+]
+
+
+@pytest.mark.parametrize(("text", "field", "word"), BAD_FILES, ids=[b[1] for b in BAD_FILES])
+def test_bad_scenario_names_the_key(tmp_path, text, field, word):
+    with pytest.raises(InputError) as info:
+        Scenario.from_toml(_write(tmp_path, text))
+    assert info.value.field == field
+    assert word.lower() in str(info.value).lower()
+    assert str(info.value).startswith(f"{field}:")
+
+
+def test_missing_scenario_file(tmp_path):
+    with pytest.raises(InputError) as info:
+        Scenario.from_toml(tmp_path / "nope.toml")
+    assert info.value.field == "scenario"
+
+
+def test_relative_file_paths_are_relative_to_the_scenario(tmp_path):
+    (tmp_path / "sub").mkdir()
+    path = tmp_path / "sub" / "s.toml"
+    path.write_text("[field]\nfile = 'field.parquet'\n[ship]\nfile = '../bow.csv'\n", encoding="utf-8")
+    s = Scenario.from_toml(path)
+    assert s.field.file == tmp_path / "sub" / "field.parquet"
+    assert s.ship.file.resolve() == (tmp_path / "bow.csv").resolve()
+
+
+def test_schema_has_units_and_forbids_extra_keys():
+    schema = json_schema()
+    ice = schema["$defs"]["IceSection"]
+    assert ice["additionalProperties"] is False
+    assert "[m]" in ice["properties"]["thickness_m"]["description"]
+    assert "Pa·√m" in ice["properties"]["fracture_toughness_pa_sqrt_m"]["description"]
+    assert "[m]" in schema["$defs"]["ShipSection"]["properties"]["step_m"]["description"]
+    assert set(schema["properties"]) >= {"profile", "seed", "field", "ice", "ship", "failure"}
+
+
+def test_resolved_toml_is_valid_toml_without_nulls():
+    data = tomllib.loads(Scenario.reference().resolved().to_toml())
+    assert data["ice"]["thickness_summands"] == 12
+    assert "x_end_m" not in data["ship"]  # unset optional keys are omitted, not written as null
