@@ -153,3 +153,39 @@ def test_unreachable_scheduler_is_a_clear_error():
     with pytest.raises(InputError) as info:
         DaskExecutor("tcp://127.0.0.1:9")
     assert info.value.field == "scheduler"
+
+
+def test_study_cli_runs_and_resumes(tmp_path):
+    import subprocess
+    import sys
+
+    study_file = tmp_path / "study.toml"
+    study_file.write_text(
+        'name = "cli"\nn_fields = 1\n[base]\nseed = 1\n[base.field]\nobservation = "2019-12-18T20:20"\n'
+        "length_m = 50.0\nwidth_m = 30.0\n[base.ship]\nstep_m = 0.5\n"
+        '[[sweeps]]\nname = "K"\nparameters = { "ice.fracture_toughness_pa_sqrt_m" = [120e3, 230e3] }\n',
+        encoding="utf-8",
+    )
+    command = [
+        sys.executable,
+        "-c",
+        "from floebreak.cli import main; main()",
+        "study",
+        str(study_file),
+        "--out",
+        str(tmp_path / "out"),
+        "--workers",
+        "1",
+    ]
+    first = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    assert first.returncode == 0, first.stderr
+    assert (tmp_path / "out" / "tables" / "k.csv").exists()
+    second = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    assert second.returncode == 0 and "complete 2, failed 0" in second.stdout.replace("\n", " ")
+    bad = subprocess.run(
+        [*command[:4], str(tmp_path / "missing.toml"), "--out", str(tmp_path / "x")],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert bad.returncode == 2 and "study" in bad.stderr and not (tmp_path / "x").exists()
