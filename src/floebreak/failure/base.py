@@ -80,3 +80,13 @@ class FailureMode(Protocol):
 
 def no_failure(mode: str, reason: str, **diagnostics: float) -> Outcome:
     return Outcome(mode=mode, failed=False, reason=reason, diagnostics=diagnostics)
+
+
+MIN_PIECE_AREA_M2 = 1e-6  # split parts below this are GEOS rounding slivers, not pieces
+
+
+def polygon_parts(geometry) -> list:
+    """The polygon parts of a split result with area above `MIN_PIECE_AREA_M2` (shared by every mode)."""
+    return [
+        p for p in shapely.get_parts(geometry) if shapely.get_type_id(p) == 3 and p.area > MIN_PIECE_AREA_M2
+    ]

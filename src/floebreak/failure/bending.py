@@ -18,15 +18,21 @@ import shapely
 
 from floebreak import constants as c
 from floebreak.errors import require_range
-from floebreak.failure.base import FailureContext, FailureInput, Fate, NewPiece, Outcome, no_failure
+from floebreak.failure.base import (
+    FailureContext,
+    FailureInput,
+    Fate,
+    NewPiece,
+    Outcome,
+    no_failure,
+    polygon_parts,
+)
 from floebreak.ice.material import characteristic_length_m
 from floebreak.mechanics import nevel
 from floebreak.mechanics.wedge_fan import LoadingRadiusModel, WedgeFan, disk_polygon, wedge_fan
 
 CapacityModel = Literal["nevel_narrow", "kashtelyan", "thesis_per_wedge"]
 BreakingLengthMode = Literal["max_stress", "max_moment"]
-
-MIN_PIECE_AREA_M2 = 1e-6  # split parts below this are not pieces (GEOS rounding slivers)
 
 
 @dataclass(frozen=True)
@@ -113,14 +119,9 @@ def split_by_radius(polygon, check: BendingCheck) -> tuple[list, list]:
     start = fan.centre_angle_rad - fan.opening_rad / 2.0 + fan.wedge_angle_rad / 2.0  # a vertex at B_0
     vertices = round(2.0 * np.pi / fan.wedge_angle_rad)
     disk = disk_polygon(fan.origin_xy_m, check.breaking_radius_m, start, vertices)
-    near = _parts(shapely.intersection(polygon, disk))
-    far = _parts(shapely.difference(polygon, disk))
+    near = polygon_parts(shapely.intersection(polygon, disk))
+    far = polygon_parts(shapely.difference(polygon, disk))
     return near, far
-
-
-def _parts(geometry) -> list:
-    parts = shapely.get_parts(geometry)
-    return [p for p in parts if shapely.get_type_id(p) == 3 and p.area > MIN_PIECE_AREA_M2]
 
 
 def diagnostics(check: BendingCheck) -> dict[str, float]:

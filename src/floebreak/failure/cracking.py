@@ -26,7 +26,15 @@ import shapely
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
-from floebreak.failure.base import FailureContext, FailureInput, Fate, NewPiece, Outcome, no_failure
+from floebreak.failure.base import (
+    FailureContext,
+    FailureInput,
+    Fate,
+    NewPiece,
+    Outcome,
+    no_failure,
+    polygon_parts,
+)
 from floebreak.failure.bending import BendingSettings, bending_check
 from floebreak.ice.material import characteristic_length_m
 from floebreak.mechanics import fracture
@@ -36,7 +44,6 @@ PointLoadCapacity = Literal["bending_P", "tensile_Pt"]
 CrackLengthDefinition = Literal["indentation", "ell_over_5"]
 SizeSource = Literal["b", "equiv_diameter", "thickness"]
 
-MIN_PIECE_AREA_M2 = 1e-6
 MAX_RELATIVE_CRACK_LENGTH = 0.95  # a/b cap for the Tada factors (they diverge as a → b)
 MIN_CRACK_LENGTH_M = 1e-3  # a → 0 makes K_I singular (line load) or zero (stress); keep it finite
 
@@ -115,13 +122,8 @@ def split_by_line(polygon, point_xy_m: np.ndarray, direction: np.ndarray) -> tup
     a, b = point_xy_m - reach * d, point_xy_m + reach * d
     left = shapely.Polygon([a, b, b + reach * left_normal, a + reach * left_normal])
     right = shapely.Polygon([a, a - reach * left_normal, b - reach * left_normal, b])
-    return _parts(shapely.intersection(polygon, left)), _parts(shapely.intersection(polygon, right))
-
-
-def _parts(geometry) -> list:
-    return [
-        p for p in shapely.get_parts(geometry) if shapely.get_type_id(p) == 3 and p.area > MIN_PIECE_AREA_M2
-    ]
+    left_parts = polygon_parts(shapely.intersection(polygon, left))
+    return left_parts, polygon_parts(shapely.intersection(polygon, right))
 
 
 def indentation_depth_m(polygon, origin_xy_m: np.ndarray, direction: np.ndarray) -> float:

@@ -22,10 +22,17 @@ import numpy as np
 import shapely
 from scipy.special import comb
 
-from floebreak.failure.base import FailureContext, FailureInput, Fate, NewPiece, Outcome, no_failure
+from floebreak.failure.base import (
+    FailureContext,
+    FailureInput,
+    Fate,
+    NewPiece,
+    Outcome,
+    no_failure,
+    polygon_parts,
+)
 from floebreak.failure.bending import BendingSettings, bending_check, diagnostics
 
-MIN_PIECE_AREA_M2 = 1e-6
 CRACK_POINTS = 30  # thesis Alg. 6 (intended linspace with 30 points)
 BEZIER_POINTS = 30
 
@@ -103,12 +110,6 @@ def frontmost_contact_point(floe, waterline) -> np.ndarray | None:
     return points[int(np.argmax(points[:, 0]))]
 
 
-def _parts(geometry) -> list:
-    return [
-        p for p in shapely.get_parts(geometry) if shapely.get_type_id(p) == 3 and p.area > MIN_PIECE_AREA_M2
-    ]
-
-
 @dataclass(frozen=True)
 class LocalCracking:
     name: ClassVar[str] = "local_cracking"
@@ -132,8 +133,8 @@ class LocalCracking:
             check.characteristic_length_m,
             check.fan.wedge_angle_rad,
         )
-        near = _parts(shapely.intersection(inp.polygon, line.cutter))
-        far = _parts(shapely.difference(inp.polygon, line.cutter))
+        near = polygon_parts(shapely.intersection(inp.polygon, line.cutter))
+        far = polygon_parts(shapely.difference(inp.polygon, line.cutter))
         if not near:
             return no_failure(self.name, "local cracking line misses the floe", **diagnostics(check))
         if not far:  # the floe lies within the line: it cannot bend and is pushed under whole

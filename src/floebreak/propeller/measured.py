@@ -17,25 +17,11 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.errors import InputError
+from floebreak.propeller.fem import _UNITS as _FEM_UNITS
 from floebreak.propeller.fem import split_name_unit, unit_factor
 
 _TIME_UNITS = {"time": {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}}
-_TORQUE_UNITS = {
-    "torque": {
-        "nm": 1.0,
-        "n_m": 1.0,
-        "n m": 1.0,
-        "n·m": 1.0,
-        "knm": 1e3,
-        "kn_m": 1e3,
-        "kn m": 1e3,
-        "kn·m": 1e3,
-        "mnm": 1e6,
-        "mn_m": 1e6,
-        "mn m": 1e6,
-        "mn·m": 1e6,
-    }
-}
+_TORQUE_UNITS = {"torque": _FEM_UNITS["torque"]}  # the same torque units as FEM tables
 
 
 @dataclass(frozen=True)
