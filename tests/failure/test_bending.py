@@ -175,20 +175,7 @@ def test_cusps_from_direct_rotation_are_unbreakable_by_size(profile):
     assert all(result.polygon[i].area <= UNBREAKABLE_AREA_M2 for i in rotated)
 
 
-@pytest.mark.parametrize(
-    "profile",
-    [
-        pytest.param(
-            profile,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="bending.py/local_cracking.py push a floe that lies within the breaking radius under "
-                "the hull as a cusp whatever its size (thesis §3.2: cusps are the unbreakable pieces)",
-            ),
-        )
-        for profile in ("default", "thesis")
-    ],
-)
+@pytest.mark.parametrize("profile", ["default", "thesis"])
 def test_every_cusp_is_unbreakable_by_the_classification_rule(profile):
     result = single_floe_run(profile)
     cusps = result.polygon[result.mask("cusp")]

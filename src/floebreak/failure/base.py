@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import Any, ClassVar, Literal, Protocol
 
+import numpy as np
 import shapely
 
 from floebreak.mechanics.classify import Classification
@@ -82,11 +83,38 @@ def no_failure(mode: str, reason: str, **diagnostics: float) -> Outcome:
     return Outcome(mode=mode, failed=False, reason=reason, diagnostics=diagnostics)
 
 
-MIN_PIECE_AREA_M2 = 1e-6  # split parts below this are GEOS rounding slivers, not pieces
+MIN_PIECE_AREA_M2 = 1e-6  # split parts at or below this are slivers of the cut, merged into a neighbour
 
 
 def polygon_parts(geometry) -> list:
-    """The polygon parts of a split result with area above `MIN_PIECE_AREA_M2` (shared by every mode)."""
-    return [
-        p for p in shapely.get_parts(geometry) if shapely.get_type_id(p) == 3 and p.area > MIN_PIECE_AREA_M2
-    ]
+    """All polygon parts of a geometry with positive area (points and lines of an overlay are dropped)."""
+    return [p for p in shapely.get_parts(geometry) if shapely.get_type_id(p) == 3 and p.area > 0.0]
+
+
+def split_parts(*sides) -> tuple[list, ...]:
+    """The polygon parts of each side of a split (e.g. F ∩ D and F − D), with slivers merged, not dropped.
+
+    A part of at most `MIN_PIECE_AREA_M2` (a cut grazing a corner or a bump) is not a piece of ice, but its
+    area must not vanish either (area conservation, thesis §3.2): it is merged into the non-sliver part, of
+    either side, with which it shares the longest stretch of boundary. A sliver that shares no boundary
+    with any larger part (or whose union would not be one polygon) stays a piece of its own.
+    """
+    parts = [polygon_parts(side) for side in sides]
+    labelled = [(k, p) for k, side in enumerate(parts) for p in side]
+    slivers = [(k, p) for k, p in labelled if p.area <= MIN_PIECE_AREA_M2]
+    if not slivers or len(slivers) == len(labelled):
+        return tuple(parts)
+    result = [[p for p in side if p.area > MIN_PIECE_AREA_M2] for side in parts]
+    for side, sliver in slivers:
+        owners = [(k, i) for k, ps in enumerate(result) for i in range(len(ps))]
+        bigs = np.array([result[k][i] for k, i in owners], dtype=object)
+        shared = shapely.length(shapely.intersection(shapely.boundary(bigs), sliver.boundary))
+        best = int(np.argmax(shared))
+        if shared[best] > 0.0:
+            k, i = owners[best]
+            merged = shapely.union(result[k][i], sliver)
+            if shapely.get_type_id(merged) == 3:
+                result[k][i] = merged
+                continue
+        result[side].append(sliver)
+    return tuple(result)

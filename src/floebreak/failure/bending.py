@@ -25,7 +25,7 @@ from floebreak.failure.base import (
     NewPiece,
     Outcome,
     no_failure,
-    polygon_parts,
+    split_parts,
 )
 from floebreak.ice.material import characteristic_length_m
 from floebreak.mechanics import nevel
@@ -113,14 +113,16 @@ def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSetti
     return BendingCheck(fan, ell, capacity, zone.vertical_force_n, radius)
 
 
+WITHIN_BREAKING_RADIUS = "floe within the breaking radius: no bending line crosses it"
+
+
 def split_by_radius(polygon, check: BendingCheck) -> tuple[list, list]:
     """(parts within the bending line, parts beyond it): F ∩ disk(O, R) and F − disk(O, R)."""
     fan = check.fan
     start = fan.centre_angle_rad - fan.opening_rad / 2.0 + fan.wedge_angle_rad / 2.0  # a vertex at B_0
     vertices = round(2.0 * np.pi / fan.wedge_angle_rad)
     disk = disk_polygon(fan.origin_xy_m, check.breaking_radius_m, start, vertices)
-    near = polygon_parts(shapely.intersection(polygon, disk))
-    far = polygon_parts(shapely.difference(polygon, disk))
+    near, far = split_parts(shapely.intersection(polygon, disk), shapely.difference(polygon, disk))
     return near, far
 
 
@@ -149,13 +151,7 @@ class Bending:
         if not near:
             return no_failure(self.name, "bending line misses the floe", **diagnostics(check))
         if not far:
-            # the floe lies within the breaking radius: it cannot bend and is pushed under whole
-            return Outcome(
-                self.name,
-                True,
-                (NewPiece(inp.polygon, Fate.CUSP, inp.crack_count),),
-                reason="floe within the breaking radius: pushed under whole",
-                diagnostics=diagnostics(check),
-            )
+            # no bending line crosses the floe: it cannot fail in bending here (cracking is tried next)
+            return no_failure(self.name, WITHIN_BREAKING_RADIUS, **diagnostics(check))
         pieces = tuple(NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far])
         return Outcome(self.name, True, pieces, reason="F_v > P_f", diagnostics=diagnostics(check))

@@ -33,7 +33,7 @@ from floebreak.failure.base import (
     NewPiece,
     Outcome,
     no_failure,
-    polygon_parts,
+    split_parts,
 )
 from floebreak.failure.bending import BendingSettings, bending_check
 from floebreak.ice.material import characteristic_length_m
@@ -122,8 +122,7 @@ def split_by_line(polygon, point_xy_m: np.ndarray, direction: np.ndarray) -> tup
     a, b = point_xy_m - reach * d, point_xy_m + reach * d
     left = shapely.Polygon([a, b, b + reach * left_normal, a + reach * left_normal])
     right = shapely.Polygon([a, a - reach * left_normal, b - reach * left_normal, b])
-    left_parts = polygon_parts(shapely.intersection(polygon, left))
-    return left_parts, polygon_parts(shapely.intersection(polygon, right))
+    return split_parts(shapely.intersection(polygon, left), shapely.intersection(polygon, right))
 
 
 def indentation_depth_m(polygon, origin_xy_m: np.ndarray, direction: np.ndarray) -> float:

@@ -3,6 +3,9 @@
 - "unbreakable" → direct rotation (a cusp);
 - "bending" → bending at the stem region; local cracking at the bow side and shoulder (the thesis'
   breaking patterns show local cracking on bent floes near the bow side and shoulder, §4.3, Figs. 15–16);
+- a floe of the "bending" class that lies wholly within the breaking radius (no bending line crosses
+  it) cannot bend there: it is treated like the "cracking" class below (it is not pushed under whole —
+  cusps are the unbreakable pieces, thesis §3.2);
 - "cracking" → global cracking; if no crack starts while the contact lies in the shoulder region, the
   floe is rotated aside by its position → flipped (thesis §4.4, second case).
 
@@ -16,6 +19,7 @@ from dataclasses import dataclass, replace
 
 from floebreak.errors import require_range
 from floebreak.failure.base import BowRegion, FailureContext, FailureInput, FailureMode, Outcome
+from floebreak.failure.bending import WITHIN_BREAKING_RADIUS
 from floebreak.failure.none import NoFailure
 from floebreak.failure.rotation import DirectRotation
 
@@ -50,7 +54,9 @@ def resolve_failure(model: FailureModel, inp: FailureInput, ctx: FailureContext)
         return model.rotation.evaluate(inp, ctx)
     if failure_class == "bending":
         local = inp.region == "shoulder" and not isinstance(model.local_cracking, NoFailure)
-        return (model.local_cracking if local else model.bending).evaluate(inp, ctx)
+        bent = (model.local_cracking if local else model.bending).evaluate(inp, ctx)
+        if bent.failed or bent.reason != WITHIN_BREAKING_RADIUS:
+            return bent
     outcome = model.cracking.evaluate(inp, ctx)
     if not outcome.failed and inp.region == "shoulder" and model.flip_uncracked_at_shoulder:
         flipped = model.rotation.evaluate(inp, ctx)

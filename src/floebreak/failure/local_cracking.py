@@ -29,9 +29,9 @@ from floebreak.failure.base import (
     NewPiece,
     Outcome,
     no_failure,
-    polygon_parts,
+    split_parts,
 )
-from floebreak.failure.bending import BendingSettings, bending_check, diagnostics
+from floebreak.failure.bending import WITHIN_BREAKING_RADIUS, BendingSettings, bending_check, diagnostics
 
 CRACK_POINTS = 30  # thesis Alg. 6 (intended linspace with 30 points)
 BEZIER_POINTS = 30
@@ -133,18 +133,13 @@ class LocalCracking:
             check.characteristic_length_m,
             check.fan.wedge_angle_rad,
         )
-        near = polygon_parts(shapely.intersection(inp.polygon, line.cutter))
-        far = polygon_parts(shapely.difference(inp.polygon, line.cutter))
+        near, far = split_parts(
+            shapely.intersection(inp.polygon, line.cutter), shapely.difference(inp.polygon, line.cutter)
+        )
         if not near:
             return no_failure(self.name, "local cracking line misses the floe", **diagnostics(check))
-        if not far:  # the floe lies within the line: it cannot bend and is pushed under whole
-            return Outcome(
-                self.name,
-                True,
-                (NewPiece(inp.polygon, Fate.CUSP, inp.crack_count),),
-                reason="floe within the local cracking line: pushed under whole",
-                diagnostics=diagnostics(check),
-            )
+        if not far:  # no line crosses the floe: no local cracking here (cracking is tried next)
+            return no_failure(self.name, WITHIN_BREAKING_RADIUS, **diagnostics(check))
         pieces = tuple(NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*near, *far])
         return Outcome(
             self.name, True, pieces, reason="F_v > P_f (local cracking)", diagnostics=diagnostics(check)
