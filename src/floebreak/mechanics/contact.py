@@ -184,7 +184,7 @@ def evaluate_contacts(
     if parts.size == 0:
         return contacts
     a_h_by_zone, panels_by_zone = _panel_areas(parts, geometry)
-    centres, centre_panels = _zone_centres(parts, geometry)
+    centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
     zones_by_floe: dict[int, list[ContactZone]] = {}
     for k in range(len(parts)):
         floe_index = int(owner[k])
@@ -278,22 +278,35 @@ def _panel_areas(zones: np.ndarray, geometry: BowContactGeometry) -> tuple[list,
     return a_h_by_zone, panels_by_zone
 
 
-def _zone_centres(zones: np.ndarray, geometry: BowContactGeometry) -> tuple[np.ndarray, np.ndarray]:
-    """Middle of the upper waterline inside each zone, and the panel it lies on (thesis "midBow").
+def _zone_centres(
+    zones: np.ndarray, zone_owner: np.ndarray, floes: np.ndarray, geometry: BowContactGeometry
+) -> tuple[np.ndarray, np.ndarray]:
+    """Middle of the upper waterline inside each zone's floe, and the panel it lies on (thesis "midBow").
 
-    The middle of the longest line of waterline ∩ zone; a zone that does not reach the waterline (a piece
-    already inside the hull) takes the nearest waterline point.
+    The waterline is intersected with the *floe* (whose outline crosses it transversally), not with the zone
+    Z = F ∩ H_u, whose edge is the waterline itself: that overlay of collinear segments is numerically fragile
+    and made mirrored floes differ port/starboard. Of the parts of waterline ∩ F, those on the zone's boundary
+    count; the middle of the longest is the centre. A zone that does not reach the waterline (a piece already
+    inside the hull) takes the nearest waterline point.
     """
-    inside = shapely.intersection(geometry.waterline, zones)
-    lines, owner = shapely.get_parts(inside, return_index=True)
+    unique_owner, floe_of_zone = np.unique(zone_owner, return_inverse=True)
+    inside = shapely.intersection(geometry.waterline, floes[unique_owner])
+    lines, line_floe = shapely.get_parts(inside, return_index=True)
     longest = np.full(len(zones), None, dtype=object)
     if lines.size:
         lengths = shapely.length(lines)
         usable = (shapely.get_type_id(lines) == 1) & (lengths > 0.0)
+        lines, line_floe, lengths = lines[usable], line_floe[usable], lengths[usable]
+        # pair each zone with the lines of its floe; a line belongs to the zones it touches
+        zone_index = np.flatnonzero(np.isin(floe_of_zone, line_floe))
         best = np.full(len(zones), -1.0)
-        for line, k, length, ok in zip(lines, owner, lengths, usable, strict=True):
-            if ok and length > best[k]:  # first longest, as max() over the parts
-                best[k], longest[k] = length, line
+        for k in zone_index:
+            mine = np.flatnonzero(line_floe == floe_of_zone[k])
+            if len(mine) > 1:
+                mine = mine[shapely.dwithin(lines[mine], zones[k], _ON_BOUNDARY_M)]
+            for j in mine:  # first longest, as max() over the parts
+                if lengths[j] > best[k]:
+                    best[k], longest[k] = lengths[j], lines[j]
     centres = np.empty(len(zones), dtype=object)
     has_line = longest != None  # noqa: E711 (element-wise on an object array)
     if has_line.any():
@@ -304,6 +317,9 @@ def _zone_centres(zones: np.ndarray, geometry: BowContactGeometry) -> tuple[np.n
     distance = shapely.line_locate_point(geometry.waterline, centres)
     panels = np.clip(np.searchsorted(geometry.node_distance_m, distance) - 1, 0, len(geometry.footprints) - 1)
     return shapely.get_coordinates(centres), panels
+
+
+_ON_BOUNDARY_M = 1e-6  # a waterline part of F lies on the boundary of its zone up to rounding
 
 
 def _contact_area(a_h, psi, panels, floe, thickness_m, geometry: BowContactGeometry, params: ContactParams):
