@@ -35,7 +35,6 @@ from floebreak.mechanics.contact import (
     BowContactGeometry,
     Contact,
     ContactParams,
-    evaluate_contact,
     evaluate_contacts,
 )
 
@@ -316,23 +315,25 @@ def simulate(
             queue = deque(
                 (pid, poly) for pid, poly, ok in zip(candidates, polygons_bf, near, strict=True) if ok
             )
-            # the floes queued at the start of the step are evaluated in one batch (vectorised GEOS calls);
-            # pieces created during the step are evaluated one by one when their turn comes
-            batch = evaluate_contacts(
-                np.array([poly for _, poly in queue], dtype=object),
-                [pieces.thickness[pid] for pid, _ in queue],
-                geometry,
-                model.contact,
-            )
+            # contact is evaluated in batches (vectorised GEOS calls): the floes queued at the start of the
+            # step, then, whenever the queue reaches pieces not evaluated yet, all pieces queued by then. A
+            # piece's contact depends only on its own polygon and the bow position: batching changes nothing.
+            batch: deque[Contact] = deque()
             evaluations = 0
             while queue:
+                if not batch:
+                    batch.extend(
+                        evaluate_contacts(
+                            np.array([poly for _, poly in queue], dtype=object),
+                            [pieces.thickness[pid] for pid, _ in queue],
+                            geometry,
+                            model.contact,
+                        )
+                    )
                 pid, polygon_bf = queue.popleft()
+                contact = batch.popleft()
                 evaluations += 1
                 thickness = pieces.thickness[pid]
-                if evaluations <= len(batch):
-                    contact = batch[evaluations - 1]
-                else:
-                    contact = evaluate_contact(polygon_bf, thickness, geometry, model.contact)
                 if not contact.in_contact:
                     continue
                 zone = contact.dominant

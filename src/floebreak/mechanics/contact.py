@@ -289,24 +289,26 @@ def _zone_centres(
     count; the middle of the longest is the centre. A zone that does not reach the waterline (a piece already
     inside the hull) takes the nearest waterline point.
     """
-    unique_owner, floe_of_zone = np.unique(zone_owner, return_inverse=True)
-    inside = shapely.intersection(geometry.waterline, floes[unique_owner])
+    zones_of_floe: dict[int, list[int]] = {}
+    for k, floe_index in enumerate(zone_owner.tolist()):
+        zones_of_floe.setdefault(floe_index, []).append(k)
+    owners = list(zones_of_floe)
+    inside = shapely.intersection(geometry.waterline, floes[owners])
     lines, line_floe = shapely.get_parts(inside, return_index=True)
     longest = np.full(len(zones), None, dtype=object)
+    best = np.full(len(zones), -1.0)
     if lines.size:
         lengths = shapely.length(lines)
         usable = (shapely.get_type_id(lines) == 1) & (lengths > 0.0)
-        lines, line_floe, lengths = lines[usable], line_floe[usable], lengths[usable]
-        # pair each zone with the lines of its floe; a line belongs to the zones it touches
-        zone_index = np.flatnonzero(np.isin(floe_of_zone, line_floe))
-        best = np.full(len(zones), -1.0)
-        for k in zone_index:
-            mine = np.flatnonzero(line_floe == floe_of_zone[k])
-            if len(mine) > 1:
-                mine = mine[shapely.dwithin(lines[mine], zones[k], _ON_BOUNDARY_M)]
-            for j in mine:  # first longest, as max() over the parts
-                if lengths[j] > best[k]:
-                    best[k], longest[k] = lengths[j], lines[j]
+        for line, j, length, ok in zip(lines, line_floe.tolist(), lengths.tolist(), usable, strict=True):
+            if not ok:
+                continue
+            candidates = zones_of_floe[owners[j]]
+            if len(candidates) > 1:  # a floe with several zones: the line belongs to the zones it bounds
+                candidates = [k for k in candidates if shapely.dwithin(line, zones[k], _ON_BOUNDARY_M)]
+            for k in candidates:
+                if length > best[k]:  # first longest, as max() over the parts
+                    best[k], longest[k] = length, line
     centres = np.empty(len(zones), dtype=object)
     has_line = longest != None  # noqa: E711 (element-wise on an object array)
     if has_line.any():
