@@ -107,6 +107,7 @@ def test_run_directory_contents(small_run):
         "remaining.parquet",
         "field.parquet",
         "contacts.parquet",
+        "pieces.parquet",
         "scenario.resolved.toml",
         "figures",
         "report.html",
@@ -193,7 +194,7 @@ def test_same_scenario_and_seed_give_identical_parquet(tmp_path):
         out = tmp_path / f"run{i}"
         floebreak.run(overrides=[*SMALL, "seed=4"]).write(out, figures=False, report=False)
         outs.append(out)
-    for name in ("cusps", "flipped", "remaining", "field", "contacts"):
+    for name in ("cusps", "flipped", "remaining", "field", "contacts", "pieces"):
         # byte-identical files (Table.equals would fail on the NaN bow_x_m of never-touched floes)
         assert (outs[0] / f"{name}.parquet").read_bytes() == (outs[1] / f"{name}.parquet").read_bytes(), name
         a, b = (pq.read_table(o / f"{name}.parquet") for o in outs)

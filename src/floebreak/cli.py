@@ -329,6 +329,57 @@ def report(
     console.print(f"written: {write_report(run_dir)}", soft_wrap=True)
 
 
+@app.command()
+def animate(
+    run_dir: Annotated[Path, typer.Argument(metavar="DIR", help="run directory (floebreak run / demo)")],
+    out: Annotated[
+        Path | None, typer.Option("--out", help="animation file (default DIR/animation.gif or .mp4)")
+    ] = None,
+    fps: Annotated[int, typer.Option("--fps", help="frames per second (1 … 60)")] = 10,
+    every: Annotated[
+        int | None,
+        typer.Option("--every", help="one frame every K bow steps (default: K for at most 200 frames)"),
+    ] = None,
+    fmt: Annotated[
+        str | None,
+        typer.Option("--format", help="gif | mp4 (mp4 needs ffmpeg; default: from --out, else gif)"),
+    ] = None,
+    overwrite: Annotated[
+        bool, typer.Option("--overwrite", help="replace an existing animation file")
+    ] = False,
+    quiet: QuietOption = False,
+) -> None:
+    """Write an animation of the transit (bow advancing, floes breaking, cusps and flipped pieces appearing),
+    replayed from DIR/pieces.parquet. Written atomically; nothing is written on bad input."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from floebreak.replay import animate_run_directory
+
+    progress = Progress(
+        TextColumn("frames"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=err_console,
+        disable=quiet,
+    )
+    tasks = []
+
+    def advance(done: int, total: int) -> None:
+        if not tasks:  # started with the first frame: bad input fails before, without a bar
+            progress.start()
+            tasks.append(progress.add_task("frames", total=total))
+        progress.update(tasks[0], completed=done)
+
+    try:
+        path, n_frames = animate_run_directory(
+            run_dir, out, fps=fps, every=every, fmt=fmt, overwrite=overwrite, progress=advance
+        )
+    finally:
+        progress.stop()
+    console.print(f"written: {path} ({n_frames} frames at {fps} fps)", soft_wrap=True, highlight=False)
+
+
 validate_app = typer.Typer(no_args_is_help=True, help="Validation studies (thesis §5).")
 app.add_typer(validate_app, name="validate")
 

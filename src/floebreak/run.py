@@ -8,6 +8,12 @@ directory atomically (temporary sibling, renamed when complete; a failed run lea
 - ``cusps.parquet``, ``flipped.parquet``, ``remaining.parquet``, ``field.parquet`` (the initial field as
   simulated, i.e. after any shift for no initial contact): GeoParquet, ``"crs": null``, one row per piece;
 - ``contacts.parquet``: one row per floe–panel contact evaluation (`floebreak.results.CONTACT_COLUMNS`);
+- ``pieces.parquet``: every piece that existed in the run (initial floes, broken pieces, cusps, flipped and
+  remaining pieces; GeoParquet, field frame) with ``piece_id``, ``parent_piece_id`` (−1 for initial floes),
+  ``parent_floe_id``, ``fate`` (``broken``/``cusp``/``flipped``/``remaining``), ``created_step`` (−1 for
+  initial floes), ``ended_step`` (the step it broke or left the field; −1 if it remains), ``thickness_m``,
+  ``area_m2``, ``failure_chain``; the metadata adds ``x_start_m``, ``step_m``, ``n_steps`` (bow x at step s
+  = x_start_m + s·step_m). Enough to replay the transit (``floebreak animate``);
 - ``scenario.resolved.toml`` (every default filled in), ``figures/*.png``, ``report.html``.
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
@@ -49,6 +55,7 @@ from floebreak.scenario import Scenario
 from floebreak.simulation import Callback, Model, SimulationParams, SimulationResult, simulate
 
 PIECE_FILES = {"cusp": "cusps.parquet", "flipped": "flipped.parquet", "remaining": "remaining.parquet"}
+PIECES_FILE = "pieces.parquet"  # every piece with its life span (replay / `floebreak animate`)
 FIGURES = {
     "breaking_pattern": "breaking_pattern.png",
     "cusp_volume_spectrum": "cusp_volume_spectrum.png",
@@ -319,6 +326,11 @@ class Result:
         return piece_table(self.simulation, "remaining")
 
     @cached_property
+    def pieces(self) -> dict[str, Any]:
+        """Every piece of the run with its life span (`pieces_table`), for replaying the transit."""
+        return pieces_table(self.simulation, self.contacts)
+
+    @cached_property
     def crushing_forces_n(self) -> np.ndarray:
         """Total crushing force of each contact-zone evaluation [N] (thesis Fig. 13)."""
         return crushing_force_per_evaluation_n(self.contacts)
@@ -451,6 +463,52 @@ def field_table(floe_field: FloeField) -> dict[str, Any]:
     }
 
 
+def pieces_table(simulation: SimulationResult, contacts: Mapping[str, np.ndarray]) -> dict[str, Any]:
+    """Columns of every piece of the run (fates "broken", "cusp", "flipped", "remaining"), geometry included.
+
+    ``created_step``: −1 for initial floes, else the step at which the parent broke (the engine adds the
+    children in the same step, `floebreak.simulation.simulate`). ``ended_step``: the step a cusp or flipped
+    piece left the field (`SimulationResult.step`), the step a broken piece broke, −1 for remaining pieces.
+    `SimulationResult.step` of a broken piece is its creation step, and a child that rotated away later
+    carries its leaving step, so the break step is taken from the recorded contact evaluations: a piece
+    fails at most once, in its one evaluation with an outcome other than "no_failure". (Fallback without a
+    record: the earliest step among its children, which is exact whenever one child stayed in the field or
+    broke again.)
+    """
+    fate = simulation.fate
+    n = len(fate)
+    ended = np.full(n, -1, dtype=np.int64)
+    gone = (fate == "cusp") | (fate == "flipped")
+    ended[gone] = simulation.step[gone]
+    parents = simulation.parent_piece_id
+    broken = np.flatnonzero(fate == "broken")
+    if broken.size:
+        never = np.iinfo(np.int64).max
+        failed = np.asarray(contacts["outcome"]) != "no_failure"
+        break_step = np.full(n, never, dtype=np.int64)
+        np.minimum.at(
+            break_step, np.asarray(contacts["piece_id"])[failed], np.asarray(contacts["step"])[failed]
+        )
+        children_step = np.full(n, never, dtype=np.int64)
+        child = parents >= 0
+        np.minimum.at(children_step, parents[child], simulation.step[child])
+        ended[broken] = np.where(break_step[broken] != never, break_step[broken], children_step[broken])
+    created = np.where(parents >= 0, ended[np.maximum(parents, 0)], -1).astype(np.int64)
+    polygons = simulation.polygon
+    return {
+        "geometry": polygons,
+        "piece_id": simulation.piece_id,
+        "parent_piece_id": parents,
+        "parent_floe_id": simulation.parent_floe_id,
+        "fate": np.asarray(fate, dtype=object),
+        "created_step": created,
+        "ended_step": ended,
+        "thickness_m": simulation.thickness_m,
+        "area_m2": shapely.area(polygons) if n else np.zeros(0),
+        "failure_chain": np.array([">".join(chain) for chain in simulation.failure_chain], dtype=object),
+    }
+
+
 def _write_table(path: Path, columns: Mapping[str, Any], metadata: Mapping[str, Any]) -> None:
     geometry = columns["geometry"]
     rest = {k: (v.tolist() if v.dtype == object else v) for k, v in columns.items() if k != "geometry"}
@@ -513,6 +571,9 @@ def write_run_directory(
             table = getattr(result, {"cusp": "cusps"}.get(fate, fate))
             _write_table(temp / name, table, result.provenance(fate))
         _write_contacts(temp / "contacts.parquet", result.contacts, result.provenance("contacts"))
+        sim = result.simulation
+        stepping = {"x_start_m": sim.params.x_start_m, "step_m": sim.params.step_m, "n_steps": sim.n_steps}
+        _write_table(temp / PIECES_FILE, result.pieces, {**result.provenance("pieces"), **stepping})
         summary_doc = {**_json_safe(result.summary), "provenance": result.provenance("summary")}
         (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
         header = (

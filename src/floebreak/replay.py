@@ -1,0 +1,204 @@
+"""Replay a run directory as an animation (``floebreak animate DIR``): GIF by default, MP4 with ffmpeg.
+
+Reads ``pieces.parquet`` (every piece with ``created_step``/``ended_step``, written by `floebreak.run`), the
+resolved scenario (the bow is rebuilt with `floebreak.run.build_bow`, as in the run) and draws the frames
+with `floebreak.plotting.animation`. The file is written under a temporary name and renamed when complete,
+so a failure leaves nothing; every input is checked before anything is written.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from floebreak.errors import InputError, require_range
+from floebreak.plotting.animation import MAX_FRAMES, Transit, TransitFigure, frame_steps
+
+FORMATS = ("gif", "mp4")
+PIECE_COLUMNS = ("piece_id", "parent_piece_id", "fate", "created_step", "ended_step")
+RERUN_HINT = "a complete run directory written by this version of floebreak"
+
+
+def _gif_writer(fps: int, view: TransitFigure):
+    from matplotlib.animation import PillowWriter
+    from PIL import Image
+
+    class PalettePillowWriter(PillowWriter):
+        """PillowWriter that grabs the Agg buffer directly (no savefig round trip per frame) and keeps each
+        frame as a 256-colour palette image (GIF stores palette images anyway; ⅓ of the RGB memory)."""
+
+        def grab_frame(self, **savefig_kwargs):
+            image = Image.fromarray(view.render_rgb())
+            self._frames.append(image.quantize(256, method=Image.Quantize.FASTOCTREE))
+
+    return PalettePillowWriter(fps=fps)
+
+
+def _mp4_writer(fps: int):
+    from matplotlib.animation import FFMpegWriter
+
+    # yuv420p: playable in browsers and common players (the frame size is even, see TransitFigure)
+    return FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+
+
+def choose_format(out: Path | None, fmt: str | None) -> str:
+    """The animation format from `fmt` or the suffix of `out` (default gif); mp4 needs ffmpeg on PATH."""
+    suffix = out.suffix.lower().lstrip(".") if out is not None else ""
+    if fmt is not None:
+        fmt = fmt.lower()
+        if fmt not in FORMATS:
+            raise InputError("format", repr(fmt), allowed=", ".join(FORMATS))
+        if suffix and suffix != fmt:
+            raise InputError("out", f"suffix .{suffix} does not match --format {fmt}", allowed=f"*.{fmt}")
+    elif suffix in FORMATS:
+        fmt = suffix
+    elif suffix:
+        raise InputError("out", f"unknown animation suffix .{suffix}", allowed="*.gif, *.mp4")
+    else:
+        fmt = "gif"
+    if fmt == "mp4" and shutil.which("ffmpeg") is None:
+        raise InputError(
+            "format",
+            "mp4 needs ffmpeg, which is not on PATH",
+            allowed="gif (no extra program needed), or install ffmpeg for mp4",
+        )
+    return fmt
+
+
+def _check_run_directory(run_dir: Path) -> None:
+    if not run_dir.is_dir():
+        raise InputError(
+            "run_dir",
+            f"{str(run_dir)!r} is not a directory",
+            allowed="a run directory (floebreak run / demo)",
+        )
+    if not (run_dir / "pieces.parquet").is_file():
+        raise InputError(
+            "run_dir",
+            f"{str(run_dir)!r} has no pieces.parquet (run directories of floebreak before the animation "
+            "support lack it); re-run the scenario with this version",
+            allowed=RERUN_HINT,
+        )
+    for name in ("scenario.resolved.toml", "field.parquet"):
+        if not (run_dir / name).is_file():
+            raise InputError("run_dir", f"{str(run_dir)!r} has no {name}", allowed=RERUN_HINT)
+
+
+def _check_out(out: Path, overwrite: bool) -> None:
+    if out.exists() and not overwrite:
+        raise InputError("out", f"{str(out)!r} exists", allowed="a new path, or pass --overwrite")
+    if out.is_dir():
+        raise InputError("out", f"{str(out)!r} is a directory", allowed="a file path")
+    parent = out.parent if str(out.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError("out", f"directory {str(parent)!r} does not exist", allowed="an existing directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError("out", f"directory {str(parent)!r} is not writable", allowed="a writable directory")
+
+
+def load_transit(run_dir: str | os.PathLike[str]) -> tuple[Transit, str]:
+    """The `Transit` of a run directory and a short label (scenario name, profile, seed) for titles."""
+    from floebreak.io.field_files import load_field
+    from floebreak.io.geoparquet import read_geoparquet
+    from floebreak.run import build_bow
+    from floebreak.scenario import Scenario
+
+    run_dir = Path(run_dir)
+    _check_run_directory(run_dir)
+    polygons, columns, meta = read_geoparquet(run_dir / "pieces.parquet", field="run_dir")
+    missing = [name for name in PIECE_COLUMNS if name not in columns]
+    stepping = [key for key in ("x_start_m", "step_m", "n_steps") if key not in meta]
+    if missing or stepping:
+        raise InputError(
+            "run_dir", f"pieces.parquet lacks {missing + stepping}", allowed="pieces.parquet of " + RERUN_HINT
+        )
+    scenario = Scenario.from_toml(run_dir / "scenario.resolved.toml")
+    floe_field = None
+    if scenario.ice.thickness_m is None and scenario.ice.thickness_range_m is None:
+        floe_field = load_field(run_dir / "field.parquet", field="run_dir")  # bow at the field's mean h
+    bow = build_bow(scenario, floe_field)
+    transit = Transit(
+        polygons=polygons,
+        fate=np.asarray(columns["fate"], dtype=object),
+        created_step=np.asarray(columns["created_step"], dtype=np.int64),
+        ended_step=np.asarray(columns["ended_step"], dtype=np.int64),
+        upper_xy_m=np.asarray(bow.upper_xy_m, dtype=float),
+        lower_xy_m=np.asarray(bow.lower_xy_m, dtype=float),
+        x_start_m=float(meta["x_start_m"]),
+        step_m=float(meta["step_m"]),
+        n_steps=int(meta["n_steps"]),
+    )
+    name = scenario.name or scenario.field.observation or scenario.field.source
+    return transit, f"{name}, profile {scenario.profile}, seed {scenario.seed}"
+
+
+@contextlib.contextmanager
+def _atomic_file_with_suffix(out: Path):
+    """Like `floebreak.io.atomic.atomic_path`, but the temporary name keeps the suffix: Pillow and ffmpeg
+    choose the file format from it."""
+    handle, name = tempfile.mkstemp(prefix=f".{out.name}.tmp-", suffix=out.suffix, dir=out.parent)
+    os.close(handle)
+    temp = Path(name)
+    try:
+        yield temp
+        umask = os.umask(0)
+        os.umask(umask)
+        temp.chmod(0o666 & ~umask)  # mkstemp makes it private; the animation is an ordinary file
+        os.replace(temp, out)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            temp.unlink()
+        raise
+
+
+def animate_run_directory(
+    run_dir: str | os.PathLike[str],
+    out: str | os.PathLike[str] | None = None,
+    *,
+    fps: int = 10,
+    every: int | None = None,
+    fmt: str | None = None,
+    overwrite: bool = False,
+    max_frames: int = MAX_FRAMES,
+    window_m: float | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> tuple[Path, int]:
+    """Write the animation of `run_dir` (default ``run_dir/animation.gif``); returns (path, frame count).
+
+    `every`: one frame per `every` bow steps (default: as few as keep ≤ `max_frames` frames; the last step
+    is always shown). `progress(done, total)` is called after each frame.
+    """
+    run_dir = Path(run_dir)
+    if fps != int(fps):
+        raise InputError("fps", f"{fps!r} is not a whole number", allowed="1 … 60")
+    fps = int(require_range("fps", fps, low=1, high=60, low_inclusive=True))
+    if every is not None:
+        if every != int(every) or every < 1:
+            raise InputError("every", f"{every!r}", allowed="a whole number of steps ≥ 1")
+        every = int(every)
+    require_range("max_frames", max_frames, low=1, low_inclusive=True)
+    out_path = Path(out) if out is not None else None
+    fmt = choose_format(out_path, fmt)
+    _check_run_directory(run_dir)
+    out_path = out_path if out_path is not None else run_dir / f"animation.{fmt}"
+    _check_out(out_path, overwrite)
+    transit, label = load_transit(run_dir)
+    steps = frame_steps(transit.n_steps, every, max_frames)
+    if not steps:
+        raise InputError("run_dir", "the run has no steps to show", allowed=RERUN_HINT)
+    view = TransitFigure(transit, window_m=window_m, title=label)
+    writer = _gif_writer(fps, view) if fmt == "gif" else _mp4_writer(fps)
+    with _atomic_file_with_suffix(out_path) as temp:
+        with writer.saving(view.figure, str(temp), dpi=view.figure.dpi):
+            for done, step in enumerate(steps, start=1):
+                view.draw(step)
+                writer.grab_frame()
+                if progress is not None:
+                    progress(done, len(steps))
+    return out_path, len(steps)
