@@ -140,6 +140,66 @@ def test_demo_runs_the_reference_scenario(tmp_path):
     # the field covers the observation's 44 % of 400 m × 50 m within ±1 percentage point (issue 2)
     assert summary["initial_ice_area_m2"] / (400.0 * 50.0) == pytest.approx(0.44, abs=0.01)
     assert "cusps" in result.stdout and "wall time" in result.stdout
+    check_demo_propeller(out, summary["n_cusps"], result.stdout)
+
+
+def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
+    """`make demo` ends with the propeller spectra of the reference run (issue 7 §6), in OUT/propeller/."""
+    import io
+
+    import pyarrow.csv
+    import xarray as xr
+
+    prop = out / "propeller"
+    for name in ("spectra.nc", "spectra.csv", "cusp_loads.csv", "summary.json", "volume_classes.csv"):
+        assert (prop / name).is_file(), name
+    for quantity in ("torque", "load"):
+        for scale in ("linear", "log"):
+            assert (prop / "figures" / f"{quantity}_spectrum_{scale}.png").stat().st_size > 0
+    with xr.open_dataset(prop / "spectra.nc") as ds:
+        assert ds["pitch"].values.tolist() == [0.0, 95.0]  # Agulhas II: neutral and 95 % pitch
+        assert ds["run"].values.tolist() == [out.name]  # the final folder name, not a temporary one
+        assert ds["n_loads"].values.tolist() == [[n_cusps, n_cusps]]
+        width = ds.attrs["torque_bin_width_knm"]
+        # probability densities: each pitch integrates to 1 over its bins
+        assert (ds["torque_density"].sum("bin") * width).values == pytest.approx([1.0, 1.0])
+    text = (prop / "cusp_loads.csv").read_bytes()
+    lines = [line for line in text.splitlines() if not line.startswith(b"#")]  # provenance comments
+    loads = pyarrow.csv.read_csv(io.BytesIO(b"\n".join(lines))).to_pydict()
+    assert len(loads["torque_knm_p95"]) == n_cusps
+    # clamp policy: a box volume beyond the largest FEM cusp (12.5043 m³) gets that cusp's loads,
+    # thesis Table 10: −347.22 kN·m at 0 %, Table 11: −1658.78 kN·m at 95 %
+    beyond = [i for i, v in enumerate(loads["box_volume_m3"]) if v > 12.5043]
+    assert beyond, "the reference run (h = 1 m) has cusps beyond the FEM table"
+    assert {round(loads["torque_knm_p0"][i], 2) for i in beyond} == {-347.22}
+    assert {round(loads["torque_knm_p95"][i], 2) for i in beyond} == {-1658.78}
+    assert "propeller spectra" in stdout and f"{prop}" in stdout
+
+
+def test_demo_without_propeller_overwrite_and_failure(tmp_path, monkeypatch, capsys):
+    """A short reference field: --no-propeller skips OUT/propeller/; a failing propeller step leaves nothing
+    (not even the run) and exit 1; --overwrite replaces an earlier demo as a whole."""
+    pipeline = importlib.import_module("floebreak.propeller.pipeline")
+    out = tmp_path / "demo"
+    short = ("--set", "field.length_m=60.0", "-q")
+    code, stdout, err = cli(monkeypatch, capsys, "demo", "--out", str(out), *short, "--no-propeller")
+    assert code == 0, err
+    assert (out / "cusps.parquet").is_file() and not (out / "propeller").exists()
+    assert "spectra.nc" not in stdout
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("a bug")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(pipeline, "propeller_analysis", broken)
+        code, _, err = cli(monkeypatch, capsys, "demo", "--out", str(tmp_path / "failed"), *short)
+    assert code == 1 and "ZeroDivisionError" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo", "failed.failed-scenario.toml"]
+
+    code, stdout, err = cli(monkeypatch, capsys, "demo", "--out", str(out), *short, "--overwrite")
+    assert code == 0, err
+    assert (out / "propeller" / "spectra.nc").is_file() and f"{out / 'propeller'}" in stdout
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo", "failed.failed-scenario.toml"]
 
 
 def test_run_report_and_schema_commands(tmp_path, monkeypatch, capsys):

@@ -198,8 +198,12 @@ def _save_failed_scenario(out: Path, scenario, error: BaseException) -> Path | N
     return path
 
 
-def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str) -> None:
-    """Run a (validated) scenario with a progress bar, write the run directory, print the summary."""
+def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then=None):
+    """Run a (validated) scenario with a progress bar, write the run directory, print the summary.
+
+    `then(run_dir, run_id)`, if given, adds to the run directory before it appears under `out` (the whole
+    directory stays atomic); its return value is returned.
+    """
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from floebreak.run import check_output_directory
@@ -220,7 +224,15 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str) -> N
         )
         with progress:
             result = run_scenario(resolved, callbacks=[_Progress(progress)])
-        result.write(out, overwrite=overwrite)
+        if then is None:
+            result.write(out, overwrite=overwrite)
+            added = None
+        else:
+            from floebreak.io.atomic import atomic_directory
+
+            with atomic_directory(out, overwrite=overwrite, field="out") as temp:
+                result.write(temp, overwrite=True)  # replaces the empty temporary directory
+                added = then(temp, out.name)
     except InputError:
         raise
     except Exception as error:
@@ -237,6 +249,7 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str) -> N
     if not quiet:
         console.print(_summary_table(result.summary, label))
     console.print(f"written: {out}/ (summary.json, *.parquet, figures/, report.html)", soft_wrap=True)
+    return added
 
 
 def _summary_table(summary: dict, label: str) -> Table:
@@ -297,16 +310,79 @@ def demo(
     ] = None,
     overrides: SetOption = None,
     quiet: QuietOption = False,
+    no_propeller: Annotated[
+        bool, typer.Option("--no-propeller", help="skip the propeller spectra (OUT/propeller/)")
+    ] = False,
 ) -> None:
     """Run the reference scenario (thesis §5.3: obs 2019-12-18T20:20, 400 m × 50 m, h = 1 m, Agulhas II).
 
-    Writes a run directory into OUT (atomically: a failed demo leaves nothing); no scenario file needed.
+    Writes a run directory into OUT and, inside it, the propeller force and torque spectra of its cusps
+    (OUT/propeller/, as `floebreak propeller OUT`: Agulhas II, pitch 0 % and 95 %). Atomic: a failed demo
+    leaves nothing. No scenario file needed.
     """
     from floebreak.scenario import Scenario
 
     extra = [*(overrides or ()), *([f"seed={seed}"] if seed is not None else [])]
     scenario = Scenario.reference(overrides=extra)
-    _execute(scenario, out, overwrite, quiet, f"floebreak demo: reference scenario, seed {scenario.seed}")
+    label = f"floebreak demo: reference scenario, seed {scenario.seed}"
+    then = None if no_propeller else _demo_propeller
+    propeller_summary = _execute(scenario, out, overwrite, quiet, label, then=then)
+    if propeller_summary is not None:
+        _print_propeller_summary(propeller_summary, out / DEMO_PROPELLER_DIR, quiet)
+
+
+DEMO_PROPELLER_DIR = "propeller"
+
+
+def _demo_propeller(run_dir: Path, run_id: str) -> dict:
+    """Propeller analysis (defaults: Agulhas II, FEM thesis Tables 10/11) of `run_dir` into
+    `run_dir/propeller`; returns its summary. `run_id` names the run (the folder is still temporary)."""
+    import json
+
+    import pyarrow as pa
+
+    from floebreak.propeller.pipeline import load_cusps, propeller_analysis
+
+    cusps = load_cusps(run_dir)
+    cusps = cusps.set_column(
+        cusps.column_names.index("run_id"), "run_id", pa.array([run_id] * cusps.num_rows, pa.string())
+    )
+    target = propeller_analysis(cusps, run_dir / DEMO_PROPELLER_DIR)
+    return json.loads((target / "summary.json").read_text(encoding="utf-8"))
+
+
+def _print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
+    """Per pitch: cusps with a load, the |Q| ranges with density > 0.1 % per kN·m (thesis §6.2), maxima."""
+    options = summary["options"]
+    if not quiet:
+        table = Table(
+            title=f"propeller spectra ({options['interpolation']}, beyond table: {options['beyond']})"
+        )
+        table.add_column(r"pitch \[%]", justify="right")
+        table.add_column("cusps", justify="right")
+        table.add_column("beyond table", justify="right")
+        table.add_column(r"|Q| density > 0.1 %/kN·m \[kN·m]")
+        table.add_column(r"max |Q| \[kN·m]", justify="right")
+        for label, info in summary["pitches"].items():
+            intervals = summary["simulated_torque_above_threshold"][label]["intervals_knm"]
+            ranges = "–" if not intervals else f"{intervals[0][0]:g}–{intervals[-1][1]:g}"
+            if len(intervals) > 1:  # bins below the threshold inside the envelope
+                ranges += f" ({len(intervals)} parts)"
+            q_range = info["torque_range_knm"]
+            table.add_row(
+                f"{info['pitch_percent']:g}",
+                str(summary["n_cusps"] - info["n_without_load"]),
+                str(info["n_beyond_table"]),
+                ranges,
+                "–" if q_range is None else f"{q_range[1]:.0f}",
+            )
+        console.print(table)
+    console.print(
+        f"written: {folder}/ (spectra.nc, spectra.csv, cusp_loads.csv, summary.json, "
+        "figures/torque_spectrum_{linear,log}.png, figures/load_spectrum_{linear,log}.png)",
+        soft_wrap=True,
+        highlight=False,
+    )
 
 
 @app.command()

@@ -12,8 +12,9 @@ import xarray as xr
 
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
+from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.measured import synthetic_torque_path
-from floebreak.propeller.pipeline import propeller_analysis
+from floebreak.propeller.pipeline import load_spectra, propeller_analysis, torque_ranges_above
 
 
 def _cusps():
@@ -175,3 +176,24 @@ def test_no_cusps(tmp_path):
     out = propeller_analysis(empty, tmp_path / "out")
     summary = json.loads((out / "summary.json").read_text())
     assert summary["n_cusps"] == 0
+
+
+def test_load_spectra_weights_runs_equally_and_ranges_above():
+    """|Q| = 5, 15 kN·m in run a and 15 kN·m in run b on 10 kN·m bins: run a has 0.05/kN·m in both bins,
+    run b 0.1/kN·m in the second; the mean of the runs is 0.025 and 0.075/kN·m (pooling would give
+    1/30 and 2/30)."""
+    tables = shipped_fem_tables()
+    torque = np.array([-5e3, -15e3, -15e3])
+    loads = {"run_id": np.array(["a", "a", "b"], dtype=object)}
+    for pitch in tables:
+        loads[f"force_n_p{pitch:g}"] = -torque
+        loads[f"torque_nm_p{pitch:g}"] = torque
+    ds = load_spectra(loads, tables, 10.0, 10.0)
+    assert ds["torque_density"].sel(pitch=0.0).values[:2] == pytest.approx([0.025, 0.075])
+    assert ds["force_density"].sel(pitch=95.0).values[:2] == pytest.approx([0.025, 0.075])
+    assert ds["n_loads"].sel(run="a").values.tolist() == [2, 2]
+    assert torque_ranges_above(ds, 0.03) == {
+        "p0": {"intervals_knm": [(10.0, 20.0)], "envelope_knm": (10.0, 20.0)},
+        "p95": {"intervals_knm": [(10.0, 20.0)], "envelope_knm": (10.0, 20.0)},
+    }
+    assert torque_ranges_above(ds, 0.01)["p0"]["envelope_knm"] == (0.0, 20.0)

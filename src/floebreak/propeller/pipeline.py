@@ -45,7 +45,7 @@ from floebreak.propeller.spectra import (
 
 VOLUME_BASES = ("box", "actual")
 
-__all__ = ["load_cusps", "propeller_analysis", "propeller_loads"]
+__all__ = ["load_cusps", "load_spectra", "propeller_analysis", "propeller_loads", "torque_ranges_above"]
 
 
 def _pitch_label(pitch: float) -> str:
@@ -92,6 +92,38 @@ def propeller_loads(
         out[f"force_n_{label}"] = f(v)
         out[f"torque_nm_{label}"] = q(v)
         out[f"beyond_table_{label}"] = v > table.max_volume_m3
+    return out
+
+
+def load_spectra(
+    loads: dict[str, np.ndarray],
+    tables: dict[float, FemTable],
+    force_bin_kn: float = 10.0,
+    torque_bin_knm: float = 10.0,
+    attrs: dict | None = None,
+):
+    """Spectra dataset (pure) of |F| [kN] and |Q| [kN·m] per pitch from a `propeller_loads` table: each
+    run's density and their mean, every run weighted equally (thesis Figs. 32–33; see `spectra_dataset`)."""
+    run_id = loads["run_id"]
+    runs = sorted(set(run_id.tolist()))
+    force_kn = {}
+    torque_knm = {}
+    for pitch in tables:
+        label = _pitch_label(pitch)
+        f, q = loads[f"force_n_{label}"], loads[f"torque_nm_{label}"]
+        force_kn[pitch] = {r: np.abs(f[run_id == r]) / 1e3 for r in runs}
+        torque_knm[pitch] = {r: np.abs(q[run_id == r]) / 1e3 for r in runs}
+    return spectra_dataset(force_kn, torque_knm, force_bin_kn, torque_bin_knm, attrs=attrs)
+
+
+def torque_ranges_above(ds, threshold_per_knm: float = DENSITY_THRESHOLD_PER_KNM) -> dict[str, dict]:
+    """Per pitch label ("p0", "p95"): the torque intervals [kN·m] whose run-averaged density exceeds
+    `threshold_per_knm` (the thesis' "probability density above 0.1 %", §6.2) and their envelope."""
+    q_edges = np.r_[ds["torque_bin_lower_knm"].values, ds["torque_bin_upper_knm"].values[-1:]]
+    out = {}
+    for pitch in ds["pitch"].values:
+        intervals = ranges_above(q_edges, ds["torque_density"].sel(pitch=pitch).values, threshold_per_knm)
+        out[_pitch_label(float(pitch))] = {"intervals_knm": intervals, "envelope_knm": envelope(intervals)}
     return out
 
 
@@ -200,14 +232,10 @@ def propeller_analysis(
     )
     loads["volume_class"] = volume_class(loads["box_volume_m3"], edges_m3)
     runs = sorted(set(columns["run_id"].tolist()))
-    force_kn = {}
-    torque_knm = {}
     table_info = {}
     for pitch, table in tables.items():
         label = _pitch_label(pitch)
         f, q = loads[f"force_n_{label}"], loads[f"torque_nm_{label}"]
-        force_kn[pitch] = {r: np.abs(f[columns["run_id"] == r]) / 1e3 for r in runs}
-        torque_knm[pitch] = {r: np.abs(q[columns["run_id"] == r]) / 1e3 for r in runs}
         table_sign_f = np.sign(np.sum(table.force_n))
         table_sign_q = np.sign(np.sum(table.torque_nm))
         table_info[label] = {
@@ -240,9 +268,9 @@ def propeller_analysis(
         fem_tables=[t.source for t in tables.values()],
         torque_csv=None if series is None else series.source,
     )
-    ds = spectra_dataset(
-        force_kn,
-        torque_knm,
+    ds = load_spectra(
+        loads,
+        tables,
         force_bin_kn,
         torque_bin_knm,
         attrs={
@@ -254,15 +282,7 @@ def propeller_analysis(
             "provenance": json.dumps(_clean(prov), sort_keys=True),
         },
     )
-    simulated_ranges = {}
-    for pitch in tables:
-        dens = ds["torque_density"].sel(pitch=pitch).values
-        q_edges = np.r_[ds["torque_bin_lower_knm"].values, ds["torque_bin_upper_knm"].values[-1:]]
-        intervals = ranges_above(q_edges, dens, DENSITY_THRESHOLD_PER_KNM)
-        simulated_ranges[_pitch_label(pitch)] = {
-            "intervals_knm": intervals,
-            "envelope_knm": envelope(intervals),
-        }
+    simulated_ranges = torque_ranges_above(ds)
     measured = None
     if series is not None:
         q_meas_knm = series.torque_nm / 1e3
@@ -436,4 +456,13 @@ def propeller_analysis(
         (tmp / "summary.json").write_text(
             json.dumps(_clean(summary), indent=2, sort_keys=True) + "\n", encoding="utf-8"
         )
+        _normal_permissions(tmp)
     return Path(out_dir)
+
+
+def _normal_permissions(root: Path) -> None:
+    """The temporary directory is private (0700); give the finished one the umask's modes."""
+    umask = os.umask(0)
+    os.umask(umask)
+    for path in [root, *root.rglob("*")]:
+        path.chmod((0o777 if path.is_dir() else 0o666) & ~umask)
