@@ -17,7 +17,6 @@ Eqs. 9/10 taken literally (errata 9, 10).
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -164,9 +163,8 @@ def evaluate_contacts(
 ) -> list[Contact]:
     """`evaluate_contact` for many floes at once (one `Contact` per floe, in input order).
 
-    The GEOS overlays of all floes (floe ∩ H_u, zone ∩ footprints, waterline ∩ zone) run as one vectorised
-    shapely call each instead of one call per floe and zone; every element is the same GEOS operation on the
-    same arguments as before, so the results are bit-identical.
+    The GEOS overlays of all floes (floe ∩ H_u, zone ∩ footprints, waterline ∩ floe) run as one vectorised
+    shapely call each, and the per-panel areas and forces of all zones as one array computation.
     """
     floes = np.asarray(floes_bow_frame, dtype=object).reshape(-1)
     thickness = np.asarray(thickness_m, dtype=float).reshape(-1)
@@ -183,24 +181,27 @@ def evaluate_contacts(
         parts, owner, areas = parts[keep], hit[owner[keep]], areas[keep]
     if parts.size == 0:
         return contacts
-    a_h_by_zone, panels_by_zone = _panel_areas(parts, geometry)
+    n_zones = len(parts)
+    row_zone, row_panel, row_a_h = _panel_areas(parts, geometry)
     centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
+    a_l = np.maximum(areas - np.bincount(row_zone, row_a_h, minlength=n_zones), 0.0)  # Σ A_h,i = A_u − A_l
+    if params.area_model == "single_psi":
+        # thesis Eq. 6 literally: one ψ (at the zone centre) for the whole horizontal area A_h = A_u − A_l
+        row_zone, row_panel, row_a_h = np.arange(n_zones), centre_panels, areas - a_l
+    # every row (zone × panel) of the batch at once
+    row_psi = geometry.panel_psi_rad[row_panel]
+    row_floe = owner[row_zone]
+    row_a_c = _contact_area(
+        row_a_h, row_psi, row_panel, floes[row_floe], thickness[row_floe], geometry, params
+    )
+    row_f_c, row_f_v, row_f_h = panel_forces(row_a_c, row_psi, params)
+    row_force_xy = row_f_h[:, None] * geometry.panel_normals[row_panel]
+    bounds = np.searchsorted(row_zone, np.arange(n_zones + 1)).tolist()
     zones_by_floe: dict[int, list[ContactZone]] = {}
-    for k in range(len(parts)):
-        floe_index = int(owner[k])
+    for k, floe_index in enumerate(owner.tolist()):
         zones = zones_by_floe.setdefault(floe_index, [])
-        panels, a_h = panels_by_zone[k], a_h_by_zone[k]
-        a_u = float(areas[k])
-        a_l = max(a_u - float(a_h.sum()), 0.0)  # Σ A_h,i = A_u − A_l (footprints tile H_u \ H_l)
+        rows = slice(bounds[k], bounds[k + 1])
         centre_panel = int(centre_panels[k])
-        if params.area_model == "single_psi":
-            # thesis Eq. 6 literally: one ψ (at the zone centre) for the whole horizontal area A_h = A_u − A_l
-            panels = np.array([centre_panel])
-            a_h = np.array([a_u - a_l])
-        psi = geometry.panel_psi_rad[panels]
-        a_c = _contact_area(a_h, psi, panels, floes[floe_index], thickness[floe_index], geometry, params)
-        f_c, f_v, f_h = panel_forces(a_c, psi, params)
-        force_xy = (f_h[:, None] * geometry.panel_normals[panels]).sum(axis=0) if len(panels) else np.zeros(2)
         zones.append(
             ContactZone(
                 zone=len(zones),
@@ -208,16 +209,16 @@ def evaluate_contacts(
                 centre_xy_m=centres[k],
                 centre_panel=centre_panel,
                 centre_normal=geometry.panel_normals[centre_panel],
-                a_u_m2=a_u,
-                a_l_m2=a_l,
-                panels=panels,
-                a_h_m2=a_h,
-                a_c_m2=a_c,
-                psi_rad=psi,
-                f_c_n=f_c,
-                f_v_n=f_v,
-                f_h_n=f_h,
-                force_on_ice_xy_n=force_xy,
+                a_u_m2=float(areas[k]),
+                a_l_m2=float(a_l[k]),
+                panels=row_panel[rows],
+                a_h_m2=row_a_h[rows],
+                a_c_m2=row_a_c[rows],
+                psi_rad=row_psi[rows],
+                f_c_n=row_f_c[rows],
+                f_v_n=row_f_v[rows],
+                f_h_n=row_f_h[rows],
+                force_on_ice_xy_n=row_force_xy[rows].sum(axis=0),
             )
         )
     for floe_index, zones in zones_by_floe.items():
@@ -261,21 +262,17 @@ class BowContactGeometry:
         )
 
 
-def _panel_areas(zones: np.ndarray, geometry: BowContactGeometry) -> tuple[list, list]:
-    """Per zone: (A_h,i > 0 of the footprints it overlaps, their panel indices, ascending) — one STRtree query
-    and one vectorised intersection for all zones."""
+def _panel_areas(
+    zones: np.ndarray, geometry: BowContactGeometry
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows (zone, panel, A_h,i > 0) of every zone × footprint overlap, sorted by zone then panel — one
+    STRtree query and one vectorised intersection for all zones."""
     zone_index, panel = geometry.footprint_tree.query(zones, predicate="intersects")
     order = np.lexsort((panel, zone_index))
     zone_index, panel = zone_index[order], panel[order]
     a_h = shapely.area(shapely.intersection(zones[zone_index], geometry.footprints[panel]))
     keep = a_h > 0.0
-    bounds = np.searchsorted(zone_index, np.arange(len(zones) + 1))
-    a_h_by_zone, panels_by_zone = [], []
-    for start, stop in itertools.pairwise(bounds):
-        kept = keep[start:stop]
-        a_h_by_zone.append(a_h[start:stop][kept])
-        panels_by_zone.append(panel[start:stop][kept])
-    return a_h_by_zone, panels_by_zone
+    return zone_index[keep], panel[keep], a_h[keep]
 
 
 def _zone_centres(
@@ -324,17 +321,21 @@ def _zone_centres(
 _ON_BOUNDARY_M = 1e-6  # a waterline part of F lies on the boundary of its zone up to rounding
 
 
-def _contact_area(a_h, psi, panels, floe, thickness_m, geometry: BowContactGeometry, params: ContactParams):
-    """A_c = A_h / sin ψ (thesis Eq. 6) with the near-vertical guard of physics-notes §2.2."""
+def _contact_area(a_h, psi, panels, floes, thickness_m, geometry: BowContactGeometry, params: ContactParams):
+    """A_c = A_h / sin ψ (thesis Eq. 6) with the near-vertical guard of physics-notes §2.2, per row
+    (`floes` and `thickness_m` are those of each row's floe)."""
     sin_psi = np.sin(psi)
     sin_min = np.sin(np.radians(params.psi_min_deg))
     steep = sin_psi < sin_min
+    with np.errstate(divide="ignore"):
+        a_c = np.where(a_h > 0.0, a_h / np.maximum(sin_psi, 1e-12), 0.0)
     if params.near_vertical == "none" or not steep.any():
-        with np.errstate(divide="ignore"):
-            return np.where(a_h > 0.0, a_h / np.maximum(sin_psi, 1e-12), 0.0)
-    a_c = a_h / np.where(steep, sin_min, sin_psi)  # "cap": 1/sin ψ limited to 1/sin ψ_min
-    if params.near_vertical == "vertical_face":
-        # vertical face: contact area = thickness × length of the panel overlapping the floe
-        overlap_length = shapely.length(shapely.intersection(geometry.panel_segments[panels[steep]], floe))
-        a_c[steep] = thickness_m * overlap_length
+        return a_c
+    if params.near_vertical == "cap":  # 1/sin ψ limited to 1/sin ψ_min
+        a_c[steep] = a_h[steep] / sin_min
+    else:  # "vertical_face": contact area = thickness × length of the panel overlapping the floe
+        overlap_length = shapely.length(
+            shapely.intersection(geometry.panel_segments[panels[steep]], floes[steep])
+        )
+        a_c[steep] = thickness_m[steep] * overlap_length
     return a_c
