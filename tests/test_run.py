@@ -186,6 +186,7 @@ def test_report_is_self_contained(small_run):
     assert html.count("data:image/png;base64,") == 4
     assert "src='http" not in html and 'src="http' not in html
     assert "scenario_hash" in html and "2019-12-18T20:20" in html and "numpy" in html
+    assert f"<code>{out.name}</code>" in html and ".tmp" not in html  # the final directory name
 
 
 def test_same_scenario_and_seed_give_identical_parquet(tmp_path):

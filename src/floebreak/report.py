@@ -63,8 +63,11 @@ def _format(value: Any) -> str:
     return str(value)
 
 
-def render_report(run_dir: str | os.PathLike[str]) -> str:
-    """The HTML text of the report of run directory `run_dir` (InputError if it is not a run directory)."""
+def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = None) -> str:
+    """The HTML text of the report of run directory `run_dir` (InputError if it is not a run directory).
+
+    `directory_name` is the name shown for the run directory (default: its current name; a run being
+    written in a temporary directory passes its final name)."""
     run_dir = Path(run_dir)
     summary_path = run_dir / "summary.json"
     if not summary_path.is_file():
@@ -88,7 +91,8 @@ def render_report(run_dir: str | os.PathLike[str]) -> str:
         f"<title>{esc(title)}</title><style>{_STYLE}</style></head><body>",
         f"<h1>{esc(title)}</h1>",
         f"<p>profile <b>{esc(str(summary.get('profile')))}</b>, seed <b>{esc(str(summary.get('seed')))}</b>, "
-        f"floebreak {esc(str(summary.get('floebreak_version')))}; directory <code>{esc(run_dir.name)}</code>"
+        f"floebreak {esc(str(summary.get('floebreak_version')))}; "
+        f"directory <code>{esc(directory_name or run_dir.name)}</code>"
         "</p>",
         "<h2>Summary</h2><table><tr><th>quantity</th><th>value</th><th>unit</th><th>key</th></tr>",
     ]
@@ -129,9 +133,13 @@ def render_report(run_dir: str | os.PathLike[str]) -> str:
     return "\n".join(parts) + "\n"
 
 
-def write_report(run_dir: str | os.PathLike[str], out: str | os.PathLike[str] | None = None) -> Path:
+def write_report(
+    run_dir: str | os.PathLike[str],
+    out: str | os.PathLike[str] | None = None,
+    directory_name: str | None = None,
+) -> Path:
     """Write the report of `run_dir` to `out` (default ``run_dir/report.html``) atomically."""
-    text = render_report(run_dir)
+    text = render_report(run_dir, directory_name)
     path = Path(out) if out is not None else Path(run_dir) / "report.html"
     with atomic_path(path, field="out") as temp:
         temp.write_text(text, encoding="utf-8")

@@ -590,7 +590,7 @@ def write_run_directory(
         if report:
             from floebreak.report import write_report
 
-            write_report(temp)
+            write_report(temp, directory_name=out.name)
         _normal_permissions(temp)
     return out
 
