@@ -12,8 +12,8 @@ from floebreak.errors import InputError
 from floebreak.ice.generation import ConcentrationError, floe_counts, generate_field, largest_remainder
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
-# Circles reach every Table 1 row except the 89 % one (see docs/model.md): that row is reached by 'voronoi'.
-CIRCLE_ROWS = [k for k, o in thesis_observations().items() if o.concentration < 0.85]
+# Circles reach every Table 1 row; the 89 % one (7.5/15/60 m) needs the corner-insertion fallback.
+CIRCLE_ROWS = list(thesis_observations())
 
 
 def field_size_m(observation: Observation) -> tuple[float, float]:
@@ -76,19 +76,30 @@ def test_every_table1_row_with_voronoi(key):
     assert_valid_field(floe_field, obs)
 
 
-def test_dense_row_with_circles_reports_the_concentration_reached():
-    obs = get_observation("2019-12-18T22:30")  # 89 %
+def test_dense_row_is_placed_by_corner_insertion():
+    obs = get_observation("2019-12-18T22:30")  # 89 %: 31 floes of 60 m alone cover 76 % of 480 m × 240 m
+    floe_field = generate_field(obs, 480.0, 240.0, np.random.default_rng(0))
+    assert floe_field.metadata["placement"] == "corner"
+    assert_valid_field(floe_field, obs)
+
+
+def test_unreachable_concentration_reports_the_concentration_reached():
+    # 93 % with the 89 % row's classes: 60 m floes alone would cover 80 %, four across a 240 m wide field
+    obs = Observation(0.93, 0.8, (7.5, 15.0, 60.0), (40.0, 40.0, 20.0))
     with pytest.raises(ConcentrationError) as info:
         generate_field(obs, 480.0, 240.0, np.random.default_rng(0))
     assert "highest concentration reached" in str(info.value)
     assert 0.3 < info.value.reached < obs.concentration
 
 
-def test_same_seed_same_field_different_seed_different_field():
-    obs = get_observation("2019-12-18T20:20")
-    a = generate_field(obs, 200.0, 50.0, np.random.default_rng(7))
-    b = generate_field(obs, 200.0, 50.0, np.random.default_rng(7))
-    c = generate_field(obs, 200.0, 50.0, np.random.default_rng(8))
+@pytest.mark.parametrize(
+    ("key", "length_m", "width_m"), [("2019-12-18T20:20", 200.0, 50.0), ("2019-12-18T22:30", 480.0, 240.0)]
+)
+def test_same_seed_same_field_different_seed_different_field(key, length_m, width_m):
+    obs = get_observation(key)
+    a = generate_field(obs, length_m, width_m, np.random.default_rng(7))
+    b = generate_field(obs, length_m, width_m, np.random.default_rng(7))
+    c = generate_field(obs, length_m, width_m, np.random.default_rng(8))
     assert all(shapely.equals_exact(a.polygons, b.polygons, tolerance=0.0))
     assert not all(shapely.equals_exact(a.polygons, c.polygons, tolerance=1e-6))
 

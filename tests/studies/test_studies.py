@@ -115,8 +115,9 @@ def test_failing_run_is_recorded_and_the_study_goes_on(tmp_path):
                 name="obs",
                 parameters={
                     "field.observation": ["2019-12-18T20:20", "2019-12-18T22:30"],
-                    "field.width_m": [30.0, 240.0],
-                    "field.length_m": [50.0, 480.0],
+                    # 89 % in 400 m × 200 m: its 22 floes of 60 m do not fit (18 at most in a lattice)
+                    "field.width_m": [30.0, 200.0],
+                    "field.length_m": [50.0, 400.0],
                 },
                 mode="zip",
             )

@@ -5,7 +5,9 @@
    p_k·m are rounded by largest remainder so they are integers summing to m (erratum 5).
 2. Placement, by one of the registered generators:
    * ``circles`` (default): circular floes placed by soft-disk relaxation (`floebreak.ice.packing`), with the
-     thesis' clustering tendency. Scales to ≥ 10 000 floes.
+     thesis' clustering tendency. Scales to ≥ 10 000 floes. Dense targets the relaxation cannot reach fall
+     back to largest-first corner insertion (`corner_circles`); the metadata key ``placement`` says which
+     placed the field (``relax`` or ``corner``).
    * ``sqp``: the thesis' own SQP formulation (errata 2–4 fixed); a reference for small fields (≲ 200 floes).
    * ``voronoi``: angular floes — Voronoi cells of random seeds, each shrunk about its centroid so the field
      reaches the target concentration exactly (any concentration up to 100 %). The count per class is kept
@@ -140,14 +142,23 @@ def _circle_field(counts: FloeCounts, domain, rng, generator: str, clustering: f
     packing = CIRCLE_GENERATORS[generator](diameters / 2.0, domain, rng, clustering)
     if not packing.overlap_free:
         reached = _best_subset_concentration(packing, domain)
+        failed = (
+            f"{int(np.sum(~packing.placed))} of {len(diameters)} floes did not fit"
+            if packing.placed is not None
+            else f"overlap up to {packing.max_overlap_m:.3g} m"
+        )
         raise ConcentrationError(
             counts.circle_concentration,
             reached,
-            f"{generator!r} could not place all floes without overlap (up to {packing.max_overlap_m:.3g} m); "
+            f"{generator!r} could not place all floes without overlap ({failed}); "
             "the concentration given is that of the floes it did place without overlap",
         )
     polygons = circle_polygons(packing.centers_m, packing.radii_m, vertices)
-    info = {"iterations": packing.iterations, "min_gap_m": float(-packing.max_overlap_m)}
+    info = {
+        "placement": packing.solver,
+        "iterations": packing.iterations,
+        "min_gap_m": float(-packing.max_overlap_m),
+    }
     return polygons, diameters, info
 
 

@@ -1,7 +1,7 @@
 """Non-overlapping circle placement inside a rectangle (thesis §2.1, errata 2–4).
 
-Two solvers for the same problem — place circles of given radii in a rectangle, no two overlapping, each
-entirely inside, pulled together the way the thesis' objective pulls floes together:
+Three solvers for the same problem — place circles of given radii in a rectangle, no two overlapping,
+each entirely inside, pulled together the way the thesis' objective pulls floes together:
 
 * `relax_circles` (default, scales to ≥ 10 000 circles): soft-disk overlap relaxation. The energy
   E = Σ_pairs max(0, r_i + r_j + gap − d_ij)² + λ Σ_i max(0, δ_i)² / n, with δ_i the gap from circle i to
@@ -10,6 +10,10 @@ entirely inside, pulled together the way the thesis' objective pulls floes toget
   Verlet skin), so one evaluation costs O(n). The radii grow from a fraction of their size to full size
   over a few rounds (Lubachevsky–Stillinger-style compression), which reaches much denser packings than
   relaxing full-size circles from random positions.
+* `corner_circles` (dense fallback of `relax_circles`, few distinct radii): largest-first insertion of
+  each circle at the corner position (tangent to two placed circles or walls) of maximum hole degree, so
+  the large floes form a dense frame and the smaller classes fill its voids. Reaches what relaxation
+  cannot, e.g. 88 % cover with 7.5/15/60 m floes in a field only 4 large floes wide.
 * `sqp_circles` (reference, small n): the thesis' formulation solved with SLSQP — all pairwise
   non-overlap constraints g1^{ij} = r_i + r_j + gap − d_ij ≤ 0 for i < j (erratum 2), bounds including
   the radius (erratum 3), the same clustering objective (nearest neighbour excludes j = i, erratum 4).
@@ -200,7 +204,9 @@ def relax_circles(
 ) -> Packing:
     """Place circles without overlap by soft-disk relaxation (module docstring). Large circles first.
 
-    Returns the best packing found; `Packing.overlap_free` tells whether it succeeded.
+    Above `DENSE_COVER`, when the relaxation jams before every circle fits, `corner_circles` (dense
+    corner insertion) is tried. Returns the best packing found; `Packing.overlap_free` tells whether it
+    succeeded.
     """
     radii = np.asarray(radii_m, dtype=float)
     n = len(radii)
@@ -216,7 +222,14 @@ def relax_circles(
     cover = float(np.sum(np.pi * r**2)) / ((x1s - x0s) * (y1s - y0s))
     groups = _size_groups(r)[::-1]  # largest first
     if cover > DENSE_COVER and len(groups) > 1:
-        return _relax_hierarchical(r, scale, domain, groups, rng, clustering, gap, max_polish_rounds)
+        packing = _relax_hierarchical(r, scale, domain, groups, rng, clustering, gap, max_polish_rounds)
+        if packing.overlap_free or len(np.unique(radii)) > CORNER_MAX_CLASSES:
+            return packing
+        # the relaxation jams before the target (e.g. 89 % with 7.5/15/60 m floes): corner insertion
+        dense = corner_circles(radii, domain_m, rng, gap_m=gap_m)
+        if dense.overlap_free or _placed_cover(dense) > _placed_cover(packing):
+            return dense
+        return packing
     xy = random_centers_m(r, domain, rng)
     iterations = 0
     middle = np.array([(domain[0] + domain[2]) / 2.0, (domain[1] + domain[3]) / 2.0])
@@ -255,6 +268,12 @@ def relax_circles(
         run(r, 0.0, ROUND_ITERATIONS)
         best_overlap = max_pair_overlap_m(xy, r)
     return Packing(xy * scale, radii, best_overlap * scale, iterations, "relax")
+
+
+def _placed_cover(packing: Packing) -> float:
+    """Σ r² of the circles a failed packing placed without overlap (all of them when it succeeded)."""
+    placed = np.ones(len(packing.radii_m), bool) if packing.placed is None else packing.placed
+    return float(np.sum(packing.radii_m[placed] ** 2))
 
 
 def _free_space_centers(
@@ -332,6 +351,230 @@ def _polish(xy, r, domain, gap, clustering, max_rounds) -> tuple[np.ndarray, int
         xy = result.x.reshape(-1, 2)
         overlap = max_pair_overlap_m(xy, r)
     return xy, iterations, overlap
+
+
+# --- dense fallback: largest-first insertion at corner positions -----------------------------------------
+
+
+class _PlacedByClass:
+    """Placed circles grouped by exact radius, for exact nearest-gap queries.
+
+    Within one class all radii are equal, so the k nearest centres (KD-tree) are exactly the k smallest
+    surface gaps of that class. The newest circles of a class sit in a small list searched by brute force;
+    the class tree is rebuilt when that list grows past `rebuild`.
+    """
+
+    def __init__(self, class_radii: np.ndarray, rebuild: int = 128):
+        self.class_radii = class_radii
+        self.rebuild = rebuild
+        self.stored = [np.empty((0, 2)) for _ in class_radii]
+        self.trees: list[cKDTree | None] = [None for _ in class_radii]
+        self.recent: list[list[np.ndarray]] = [[] for _ in class_radii]
+
+    def add(self, q: int, xy: np.ndarray) -> None:
+        self.recent[q].append(xy)
+        if len(self.recent[q]) >= self.rebuild:
+            self.stored[q] = self.centres(q)
+            self.trees[q] = cKDTree(self.stored[q])
+            self.recent[q] = []
+
+    def centres(self, q: int) -> np.ndarray:
+        return np.concatenate([self.stored[q], np.reshape(self.recent[q], (-1, 2))])
+
+    def all(self) -> tuple[np.ndarray, np.ndarray]:
+        xy = [self.centres(q) for q in range(len(self.class_radii))]
+        r = [np.full(len(c), rq) for c, rq in zip(xy, self.class_radii, strict=True)]
+        return np.concatenate(xy), np.concatenate(r)
+
+    def excess(self, pts: np.ndarray, rho: float, clearance: np.ndarray, k: int = 3) -> np.ndarray:
+        """The k smallest (surface gap − required clearance) from circles of radius `rho` at `pts`."""
+        columns = [np.full((len(pts), k), np.inf)]
+        for q, rq in enumerate(self.class_radii):
+            offset = rq + rho + clearance[q]
+            if len(self.stored[q]):
+                kq = min(k, len(self.stored[q]))
+                d, _ = self.trees[q].query(pts, k=kq)
+                columns.append(np.reshape(d, (len(pts), kq)) - offset)
+            if self.recent[q]:
+                recent = np.asarray(self.recent[q])
+                d = np.hypot(pts[:, None, 0] - recent[None, :, 0], pts[:, None, 1] - recent[None, :, 1])
+                columns.append(d - offset)
+        gaps = np.concatenate(columns, axis=1)
+        return np.sort(np.partition(gaps, k - 1, axis=1)[:, :k], axis=1) if gaps.shape[1] > k else gaps
+
+    def near(self, xy: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Centres and radii of the circles whose centre lies within reach[q] of `xy` (q: their class)."""
+        found_xy, found_r = [], []
+        for q, rq in enumerate(self.class_radii):
+            if len(self.stored[q]):
+                close = self.stored[q][self.trees[q].query_ball_point(xy, reach[q])]
+                found_xy.append(close)
+                found_r.append(np.full(len(close), rq))
+            if self.recent[q]:
+                recent = np.asarray(self.recent[q])
+                close = recent[np.hypot(*(recent - xy).T) <= reach[q]]
+                found_xy.append(close)
+                found_r.append(np.full(len(close), rq))
+        if not found_xy:
+            return np.empty((0, 2)), np.empty(0)
+        return np.concatenate(found_xy), np.concatenate(found_r)
+
+
+def _tangent_points(ci: np.ndarray, ri: np.ndarray, cj: np.ndarray, rj: np.ndarray) -> np.ndarray:
+    """Both points at distance ri from ci and rj from cj (pairs where the two circles intersect)."""
+    delta = cj - ci
+    d = np.hypot(*delta.T)
+    ok = (d > 0.0) & (d <= ri + rj) & (d >= np.abs(ri - rj))
+    delta, d, ci, ri, rj = delta[ok], d[ok], ci[ok], ri[ok], rj[ok]
+    a = (ri**2 - rj**2 + d**2) / (2.0 * d)
+    h = np.sqrt(np.maximum(ri**2 - a**2, 0.0))
+    unit = delta / d[:, None]
+    base = ci + a[:, None] * unit
+    normal = np.stack([-unit[:, 1], unit[:, 0]], axis=1) * h[:, None]
+    return np.concatenate([base + normal, base - normal])
+
+
+def _wall_points(c: np.ndarray, reach: np.ndarray, rho: float, domain) -> np.ndarray:
+    """Points on the walls' centre lines (offset rho inside) at distance `reach` from the centres c."""
+    x0, y0, x1, y1 = domain
+    found = []
+    for axis, line in ((0, x0 + rho), (0, x1 - rho), (1, y0 + rho), (1, y1 - rho)):
+        off = np.abs(c[:, axis] - line)
+        ok = off <= reach
+        h = np.sqrt(np.maximum(reach[ok] ** 2 - off[ok] ** 2, 0.0))
+        for sign in (-1.0, 1.0):
+            p = np.empty((int(ok.sum()), 2))
+            p[:, axis] = line
+            p[:, 1 - axis] = c[ok, 1 - axis] + sign * h
+            found.append(p)
+    return np.concatenate(found) if found else np.empty((0, 2))
+
+
+def _corner_attempt(radii, domain, rng, gap, spread, noise, stop_on_failure):
+    """One largest-first pass of corner insertion (see `corner_circles`). Returns centres and placed mask."""
+    n = len(radii)
+    order = np.argsort(-radii, kind="stable")
+    class_radii = np.unique(radii)[::-1]
+    placed_by_class = _PlacedByClass(class_radii)
+    xy = np.full((n, 2), np.nan)
+    placed = np.zeros(n, dtype=bool)
+    x0, y0, x1, y1 = domain
+    tol = 1e-9 * max(x1 - x0, y1 - y0)  # rounding of the tangent construction
+    start = 0
+    while start < n:
+        q = int(np.flatnonzero(class_radii == radii[order[start]])[0])
+        rho = float(class_radii[q])
+        members = order[start : start + int(np.sum(radii == rho))]
+        start += len(members)
+        # the clearance a circle of this class keeps from each class: `spread` widens it within the class
+        clearance = np.full(len(class_radii), gap)
+        clearance[q] += 2.0 * spread * rho
+        lo, hi = np.array([x0 + rho, y0 + rho]), np.array([x1 - rho, y1 - rho])
+        if np.any(lo > hi + tol):
+            if stop_on_failure:
+                return xy, placed
+            continue
+
+        def feasible_scored(points, lo=lo, hi=hi, rho=rho, clearance=clearance):
+            inside = np.all((points >= lo - tol) & (points <= hi + tol), axis=1)
+            points = np.clip(points[inside], lo, hi)
+            walls = np.concatenate([points - lo, hi - points], axis=1)
+            three = np.sort(np.concatenate([placed_by_class.excess(points, rho, clearance), walls], 1), 1)
+            ok = three[:, 0] >= -tol
+            return points[ok], three[ok, :3]
+
+        p_xy, p_r = placed_by_class.all()
+        reach = p_r + rho + clearance[np.searchsorted(-class_radii, -p_r)] if len(p_r) else p_r
+        points = [np.array([lo, [hi[0], lo[1]], [lo[0], hi[1]], hi])]
+        if len(p_r):
+            points.append(_wall_points(p_xy, reach, rho, domain))
+            pairs = _close_pairs(p_xy, p_r, _size_groups(p_r), 2.0 * (rho + gap))
+            if len(pairs):
+                i, j = pairs[:, 0], pairs[:, 1]
+                points.append(_tangent_points(p_xy[i], reach[i], p_xy[j], reach[j]))
+        candidates, three = feasible_scored(np.concatenate(points))
+        own_reach = 2.0 * rho + clearance[q]
+        for k in members:
+            if len(candidates) == 0:
+                if stop_on_failure:
+                    return xy, placed
+                continue
+            # hole degree: the third-smallest gap (the first two are the defining contacts); ties at random
+            score = -three[:, 2] / rho + noise * rng.random(len(candidates))
+            p = candidates[int(np.argmax(score))]
+            xy[k], placed[k] = p, True
+            placed_by_class.add(q, p)
+            # the new circle invalidates candidates it covers and may lower their hole-degree gaps
+            new_gap = np.hypot(*(candidates - p).T) - own_reach
+            keep = new_gap >= -tol
+            candidates = candidates[keep]
+            three = np.sort(np.concatenate([three[keep], new_gap[keep, None]], 1), 1)[:, :3]
+            # new corner positions: tangent to the new circle and a neighbour or a wall
+            near_reach = own_reach + class_radii + rho + clearance
+            n_xy, n_r = placed_by_class.near(p, near_reach)
+            n_reach = n_r + rho + clearance[np.searchsorted(-class_radii, -n_r)]
+            fresh = [
+                _wall_points(p[None, :], np.array([own_reach]), rho, domain),
+                _tangent_points(
+                    np.repeat(p[None, :], len(n_r), 0), np.full(len(n_r), own_reach), n_xy, n_reach
+                ),
+            ]
+            new_points, new_three = feasible_scored(np.concatenate(fresh))
+            candidates = np.concatenate([candidates, new_points])
+            three = np.concatenate([three, new_three])
+    return xy, placed
+
+
+CORNER_SPREADS = (0.0, 0.0025, 0.005, 0.0075, 0.01, 0.015)  # relative extra clearance within a size class
+CORNER_NOISE = 0.05  # random tie-breaking between corner positions, in units of the circle's radius
+CORNER_MAX_CLASSES = 32  # the corner packer queries per exact radius: only for a few distinct radii
+
+
+def corner_circles(
+    radii_m: np.ndarray,
+    domain_m: tuple[float, float, float, float],
+    rng: np.random.Generator,
+    *,
+    gap_m: float = DEFAULT_GAP_M,
+    spreads: tuple[float, ...] = CORNER_SPREADS,
+    noise: float = CORNER_NOISE,
+) -> Packing:
+    """Dense placement for targets the relaxation cannot reach: largest-first corner insertion.
+
+    Circles are inserted one by one, largest first, each at a *corner position* — tangent (at the gap) to
+    two objects among the placed circles and the four walls, overlapping nothing — choosing the position of
+    maximum hole degree (the third-nearest object closest, i.e. the snuggest hole; Huang, Li, Akeb & Li
+    2005, J. Oper. Res. Soc. 56: 539), ties broken at random with `rng`. Large floes first build a
+    dense frame; each smaller class then fills the voids that are left (gap filling), so the small floes
+    end up between the large ones. Every floe touches (at the gap) at least two neighbours or walls: the
+    thesis' clustering objective (nearest gap → 0) holds by construction. A pass that cannot place a floe
+    is repeated with floes of one class kept slightly further apart (`spreads`, relative extra clearance
+    2·spread·r within the class): a touching frame of large floes can leave voids a hair too small for the
+    next class (e.g. 15 m floes between 60 m ones), a frame opened by a few decimetres fits them.
+
+    Returns the first complete packing, or the most complete one with `Packing.placed` marking the
+    circles placed (the others are parked at the field's centre and overlap).
+    """
+    radii = np.asarray(radii_m, dtype=float)
+    n = len(radii)
+    x0, y0, x1, y1 = domain_m
+    margin = 0.5 * gap_m  # walls keep half the floe gap, as in `relax_circles`
+    domain = (x0 + margin, y0 + margin, x1 - margin, y1 - margin)
+    best = None
+    for k, spread in enumerate(spreads):
+        last = k == len(spreads) - 1
+        xy, placed = _corner_attempt(radii, domain, rng, gap_m, spread, noise, stop_on_failure=not last)
+        cover = float(np.sum(radii[placed] ** 2))
+        if best is None or cover > best[2]:
+            best = (xy, placed, cover, spread)
+        if np.all(placed):
+            break
+    xy, placed, _, spread = best
+    if not np.all(placed) and best[3] != spreads[-1]:  # aborted pass: fill what fits, for the report
+        xy, placed = _corner_attempt(radii, domain, rng, gap_m, spread, noise, stop_on_failure=False)
+    xy = np.where(placed[:, None], xy, [[(x0 + x1) / 2.0, (y0 + y1) / 2.0]])
+    overlap = max_pair_overlap_m(xy, radii) if n > 1 else -np.inf
+    return Packing(xy, radii, overlap, 0, "corner", None if np.all(placed) else placed)
 
 
 def sqp_circles(
