@@ -18,17 +18,19 @@ demo: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks scripts validation
 
+# one BLAS/OpenMP thread per process: the physics is not BLAS-bound, and extra threads only oversubscribe the cores
+# (pytest-xdist workers, benchmarks measured on one core)
 test: $(STAMP) lint
-	$(BIN)/python -m pytest -q
+	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q
 
 test-slow: $(STAMP)
-	$(BIN)/python -m pytest -q -m slow
+	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m slow
 
 validate: $(STAMP)
-	$(BIN)/python -m pytest -q -m validation
+	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m validation
 
 bench: $(STAMP)
-	@for script in benchmarks/*.py; do echo "== $$script"; $(BIN)/python $$script || exit 1; done
+	@for script in benchmarks/*.py; do echo "== $$script"; OMP_NUM_THREADS=1 $(BIN)/python $$script || exit 1; done
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache
