@@ -120,6 +120,16 @@ def table5_section() -> list[str]:
         "",
         "Reading the table: the means V̄ and Ā do not depend on the field size; the totals do. The thesis "
         "profile switches the literal formulas of every erratum (see docs/model.md §11).",
+        "",
+        "Why the means are below the thesis': a floe that lies wholly within its breaking radius is not "
+        "pushed under whole (cusps are only the unbreakable pieces, thesis §3.2); it goes on to cracking, "
+        "and its pieces are classified again (docs/model.md, failure modes). An earlier version pushed such "
+        "floes under whole and came closer to the thesis' V̄ (8.42 m³ default, 10.01 m³ thesis profile), "
+        "which "
+        "suggests the thesis' implementation does something similar; it is not documented there, so we keep "
+        "the rule. In the thesis profile the capacity of a single 5° wedge (erratum 13) is exceeded at first "
+        "touch, and local cracking then shaves small pieces off the floes step by step: many cusps are "
+        "below 1 m².",
     ]
     return lines
 
