@@ -1,0 +1,128 @@
+"""End-to-end benchmark (issue 5): the installed CLI as a user runs it, wall time and peak memory, one core.
+
+Cases: ``floebreak demo`` (reference scenario, 400 m × 50 m, everything the demo writes) and the reference
+scenario on a 1 km × 200 m field via ``floebreak run examples/reference.toml --set field.length_m=1000
+--set field.width_m=200`` (run directory with figures and report). Goal for the 1 km × 200 m run: ≤ 5 s on
+one core and ≤ 500 MB.
+
+Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1). Wall
+time: ``time.perf_counter`` around the child. Peak memory: the child's ``ru_maxrss`` (``os.wait4`` returns
+the rusage of that one child; ``resource.getrusage(RUSAGE_CHILDREN)`` would give the maximum over all
+children so far, which hides a smaller later case). CPU time (user + system) is printed too: on a shared
+machine it is less sensitive to load than wall time. ``engine s`` is the run's own ``wall_time_s`` (field
+generation and simulation, no start-up or writing).
+
+Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N]`` (the CLI next to the running Python is used).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+GOAL_SECONDS = 5.0
+GOAL_MB = 500.0
+
+
+def _cli() -> str:
+    """The `floebreak` entry point installed next to the interpreter running this script."""
+    path = Path(sys.executable).parent / "floebreak"
+    if not path.exists():
+        sys.exit(f"no floebreak entry point next to {sys.executable}; run with the project's venv Python")
+    return str(path)
+
+
+def _one_core() -> None:
+    if hasattr(os, "sched_setaffinity"):
+        os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
+
+
+def measure(args: list[str]) -> dict:
+    """Run the CLI with `args` (``{out}`` → a fresh directory) in a child pinned to one core."""
+    env = {
+        **os.environ,
+        **{k: "1" for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")},
+        "MPLBACKEND": "Agg",
+    }
+    with tempfile.TemporaryDirectory(prefix="floebreak-e2e-") as tmp:
+        out = Path(tmp) / "out"
+        command = [_cli(), *(a.replace("{out}", str(out)) for a in args)]
+        start = time.perf_counter()
+        errors = Path(tmp) / "stderr.txt"
+        with errors.open("wb") as stderr:  # a file, not a pipe: nothing can block while we wait
+            child = subprocess.Popen(
+                command, stdout=subprocess.DEVNULL, stderr=stderr, env=env, cwd=REPO, preexec_fn=_one_core
+            )
+            _, status, usage = os.wait4(child.pid, 0)
+        wall = time.perf_counter() - start
+        child.returncode = os.waitstatus_to_exitcode(status)  # reaped by wait4; Popen must not wait again
+        if child.returncode != 0:
+            sys.exit(f"{' '.join(command)} failed with exit code {child.returncode}:\n{errors.read_text()}")
+        summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    return {
+        "wall_s": wall,
+        "cpu_s": usage.ru_utime + usage.ru_stime,
+        "peak_mb": usage.ru_maxrss / 1024.0,  # Linux: KiB
+        "summary": summary,
+    }
+
+
+CASES = {
+    "demo (400 m × 50 m)": ["demo", "--out", "{out}", "--quiet"],
+    "run 1 km × 200 m": [
+        "run",
+        "examples/reference.toml",
+        "--out",
+        "{out}",
+        "--quiet",
+        "--set",
+        "field.length_m=1000",
+        "--set",
+        "field.width_m=200",
+    ],
+}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=1, help="runs per case (the fastest is shown)")
+    options = parser.parse_args()
+    try:
+        load = os.getloadavg()
+        print(f"load average before: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} ({os.cpu_count()} CPUs)")
+    except OSError:
+        pass
+    header = (
+        "| case | floes | steps | cusps | wall s | CPU s | engine s | peak MB | goal ≤ 5 s, ≤ 500 MB |",
+        "|---|---|---|---|---|---|---|---|---|",
+    )
+    rows = []
+    for name, args in CASES.items():
+        runs = [measure(args) for _ in range(max(options.repeat, 1))]
+        best = min(runs, key=lambda r: r["wall_s"])
+        peak = max(r["peak_mb"] for r in runs)
+        s = best["summary"]
+        if name.startswith("run 1 km"):
+            met = best["wall_s"] <= GOAL_SECONDS and peak <= GOAL_MB
+            goal = f"{'met' if met else 'not met'} (time {'✓' if best['wall_s'] <= GOAL_SECONDS else '✗'}, "
+            goal += f"memory {'✓' if peak <= GOAL_MB else '✗'})"
+        else:
+            goal = "–"
+        rows.append(
+            f"| {name} | {s['n_floes_initial']} | {s['n_steps']} | {s['n_cusps']} | {best['wall_s']:.1f} | "
+            f"{best['cpu_s']:.1f} | {s['wall_time_s']:.1f} | {peak:.0f} | {goal} |"
+        )
+        print(rows[-1], flush=True)
+    print()
+    print("\n".join((*header, *rows)))
+
+
+if __name__ == "__main__":
+    main()
