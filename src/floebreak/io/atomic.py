@@ -24,6 +24,12 @@ def _check_parent_writable(path: Path, field: str) -> None:
         raise InputError(field, f"directory {str(parent)!r} is not writable", allowed="a writable directory")
 
 
+def _umask() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike[str], field: str = "output") -> Iterator[Path]:
     """Yield a temporary path next to `path`; on success rename it onto `path`, else delete it."""
@@ -34,6 +40,8 @@ def atomic_path(path: str | os.PathLike[str], field: str = "output") -> Iterator
     temp = Path(temp_name)
     try:
         yield temp
+        if temp.is_file():  # mkstemp files are private (0600): give the result the usual umask mode
+            temp.chmod(0o666 & ~_umask())
         os.replace(temp, final)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
@@ -56,6 +64,7 @@ def atomic_directory(
     temp = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-", dir=final.parent or "."))
     try:
         yield temp
+        temp.chmod(0o777 & ~_umask())  # mkdtemp directories are private (0700)
         if final.exists():
             trash = Path(tempfile.mkdtemp(prefix=f".{final.name}.old-", dir=final.parent or "."))
             os.replace(final, trash / final.name)
