@@ -7,6 +7,7 @@ from floebreak.ice.material import (
     characteristic_length_by_name_m,
     characteristic_length_lu_m,
     characteristic_length_m,
+    characteristic_length_scalar_m,
     flexural_rigidity_n_m,
     foundation_modulus_n_m3,
 )
@@ -45,3 +46,16 @@ def test_by_name():
     assert characteristic_length_by_name_m(0.8, "eq1") == pytest.approx(characteristic_length_m(0.8))
     with pytest.raises(ValueError, match=r"lu_13\.5"):
         characteristic_length_by_name_m(0.8, "other")  # type: ignore[arg-type]
+
+
+def test_scalar_form_is_the_array_value_for_each_model():
+    for h in (0.3, 1.0, 1.7):
+        assert characteristic_length_scalar_m(h) == float(characteristic_length_m(h))
+        assert characteristic_length_scalar_m(h, "lu_13.5") == pytest.approx(13.5 * h**0.75, rel=1e-12)
+        assert characteristic_length_scalar_m(h, "eq1", 3.65e9, 0.3, 10_000.0) == float(
+            characteristic_length_m(h, 3.65e9, 0.3, 10_000.0)
+        )
+    assert isinstance(characteristic_length_scalar_m(1.0), float)
+    assert characteristic_length_scalar_m(np.float64(0.7)) == characteristic_length_scalar_m(np.array(0.7))
+    with pytest.raises(ValueError, match=r"lu_13\.5"):
+        characteristic_length_scalar_m(0.8, "other")  # type: ignore[arg-type]

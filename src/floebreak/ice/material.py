@@ -5,6 +5,7 @@ Pure functions on floats or numpy arrays, SI units.
 
 from __future__ import annotations
 
+import functools
 from typing import Literal
 
 import numpy as np
@@ -65,3 +66,35 @@ def characteristic_length_by_name_m(
     if model == "lu_13.5":
         return characteristic_length_lu_m(thickness_m)
     raise ValueError(f"unknown characteristic-length model {model!r}; allowed: 'eq1', 'lu_13.5'")
+
+
+def characteristic_length_scalar_m(
+    thickness_m: float,
+    model: CharacteristicLengthModel = "eq1",
+    youngs_modulus_pa: float = c.YOUNGS_MODULUS_PA,
+    poisson_ratio: float = c.POISSON_RATIO,
+    foundation_modulus: float = c.FOUNDATION_MODULUS_N_M3,
+) -> float:
+    """`characteristic_length_by_name_m` for one thickness, as a float, cached per (h, model, E, ν, k).
+
+    The failure modes and the classification ask for ℓ at every contact, almost always for the same few
+    thicknesses; the value is the very same float as the array function's.
+    """
+    return _characteristic_length_cached(
+        float(thickness_m), model, float(youngs_modulus_pa), float(poisson_ratio), float(foundation_modulus)
+    )
+
+
+@functools.lru_cache(maxsize=256)
+def _characteristic_length_cached(
+    thickness_m: float,
+    model: CharacteristicLengthModel,
+    youngs_modulus_pa: float,
+    poisson_ratio: float,
+    foundation_modulus: float,
+) -> float:
+    return float(
+        characteristic_length_by_name_m(
+            thickness_m, model, youngs_modulus_pa, poisson_ratio, foundation_modulus
+        )
+    )

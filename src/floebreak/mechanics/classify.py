@@ -19,7 +19,7 @@ import shapely
 
 from floebreak import constants as c
 from floebreak.errors import require_range
-from floebreak.ice.material import CharacteristicLengthModel, characteristic_length_by_name_m
+from floebreak.ice.material import CharacteristicLengthModel, characteristic_length_scalar_m
 
 FailureClass = Literal["unbreakable", "bending", "cracking"]
 UnbreakableRule = Literal["thesis_1m_ell", "ell_squared", "bbox_lt_ell"]
@@ -62,14 +62,12 @@ class ClassificationParams:
     def characteristic_length_m(
         self, thickness_m: float, model: CharacteristicLengthModel | None = None
     ) -> float:
-        return float(
-            characteristic_length_by_name_m(
-                thickness_m,
-                model or self.bending_ell,
-                self.youngs_modulus_pa,
-                self.poisson_ratio,
-                self.foundation_modulus_n_m3,
-            )
+        return characteristic_length_scalar_m(
+            thickness_m,
+            model or self.bending_ell,
+            self.youngs_modulus_pa,
+            self.poisson_ratio,
+            self.foundation_modulus_n_m3,
         )
 
 
@@ -91,7 +89,7 @@ def oriented_extent_m(polygon: shapely.Geometry, normal_xy: np.ndarray) -> tuple
     tangent = np.array([-normal[1], normal[0]])
     along_normal = coords @ normal
     along_tangent = coords @ tangent
-    return float(np.ptp(along_normal)), float(np.ptp(along_tangent))
+    return float(along_normal.max() - along_normal.min()), float(along_tangent.max() - along_tangent.min())
 
 
 def unbreakable_area_m2(thickness_m: float, params: ClassificationParams) -> float:
