@@ -376,3 +376,82 @@ def test_other_bad_inputs_raise():
         nevel.breaking_distance_from_apex_m(1.0, 0.5, mode="moment")
     with pytest.raises(InputError, match="flexural_strength_pa"):
         nevel.bearing_capacity_n(1.0, 0.5, 1.0, flexural_strength_pa=0.0)
+
+
+# --------------------------------------------------------------------------------------------------
+# Scalar fast path (the bending check's hot path) against scipy's PCHIP and the array functions
+# --------------------------------------------------------------------------------------------------
+
+
+def test_scalar_evaluation_equals_scipy_pchip_on_the_shipped_table():
+    # an independent PCHIP in t = ρ^(1/3) built here from the shipped table (physics-notes §1.2 step 4)
+    from scipy.interpolate import PchipInterpolator
+
+    table = nevel.load_table()
+    rho_grid = table["rho"]
+    t_grid = np.cbrt(rho_grid)
+    references = {
+        nevel.stress_factor: PchipInterpolator(t_grid, table["stress_factor_S"]),
+        nevel.max_moment: PchipInterpolator(t_grid, table["m_max"]),
+    }
+    offsets = {
+        nevel.max_stress_distance: PchipInterpolator(t_grid, table["xi_sigma"] - rho_grid),
+        nevel.max_moment_distance: PchipInterpolator(t_grid, table["xi_M"] - rho_grid),
+    }
+    rng = np.random.default_rng(7)
+    midpoints = ((t_grid[:-1] + t_grid[1:]) / 2.0) ** 3
+    rho = np.concatenate(
+        [rho_grid[1:], midpoints, rng.uniform(1e-9, rho_grid[-1], 400), 10 ** rng.uniform(-9, 1.7, 400)]
+    )
+    rho = rho[rho <= rho_grid[-1]]
+    for func, pchip in references.items():
+        got = np.array([func(float(r)) for r in rho])
+        np.testing.assert_allclose(got, pchip(np.cbrt(rho)), rtol=1e-12, atol=0.0)
+    for func, pchip in offsets.items():
+        got = np.array([func(float(r)) for r in rho])
+        np.testing.assert_allclose(got, rho + pchip(np.cbrt(rho)), rtol=1e-12, atol=0.0)
+
+
+def test_scalar_evaluation_equals_the_array_evaluation():
+    rho = np.concatenate(
+        [[0.0, 50.0, 50.5, 1e3, 1e6], np.linspace(0.0, 60.0, 601), np.geomspace(1e-9, 1, 50)]
+    )
+    for func in (nevel.stress_factor, nevel.max_stress_distance, nevel.max_moment, nevel.max_moment_distance):
+        scalar = np.array([func(float(r)) for r in rho])
+        np.testing.assert_allclose(scalar, func(rho), rtol=1e-12, atol=0.0)
+
+
+@pytest.mark.parametrize("model", nevel.CAPACITY_MODELS)
+@pytest.mark.parametrize("mode", nevel.BREAKING_DISTANCE_MODES)
+def test_capacity_and_breaking_distance_equals_the_two_public_functions(model, mode):
+    rng = np.random.default_rng(11)
+    material = dict(youngs_modulus_pa=5e9, poisson_ratio=0.33, foundation_modulus=10_055.25)
+    for _ in range(200):
+        h = float(rng.uniform(0.05, 4.0))
+        r = float(rng.choice([0.0, rng.uniform(0.0, 2.0), rng.uniform(0.0, 800.0)]))
+        theta = float(rng.uniform(1e-3, 2.0 * math.pi))
+        kwargs = dict(flexural_strength_pa=0.6e6, kashtelyan_coefficient=2.5, wedge_angle_rad=0.1, **material)
+        capacity, distance = nevel.capacity_and_breaking_distance(
+            h, r, theta, model=model, mode=mode, **kwargs
+        )
+        assert capacity == pytest.approx(
+            nevel.bearing_capacity_n(h, r, theta, model=model, **kwargs), rel=1e-12, abs=0.0
+        )
+        assert distance == pytest.approx(
+            nevel.breaking_distance_from_apex_m(h, r, mode=mode, **material), rel=1e-12, abs=0.0
+        )
+
+
+def test_capacity_and_breaking_distance_rejects_what_the_public_functions_reject():
+    with pytest.raises(InputError, match="thickness_m"):
+        nevel.capacity_and_breaking_distance(0.0, 0.5, 1.0)
+    with pytest.raises(InputError, match="loading_radius_m"):
+        nevel.capacity_and_breaking_distance(1.0, float("nan"), 1.0)
+    with pytest.raises(InputError, match="opening_rad"):
+        nevel.capacity_and_breaking_distance(1.0, 0.5, 7.0)
+    with pytest.raises(InputError, match="kashtelyan"):
+        nevel.capacity_and_breaking_distance(1.0, 0.5, 1.0, model="other")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="max_moment"):
+        nevel.capacity_and_breaking_distance(1.0, 0.5, 1.0, mode="other")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="flexural_strength_pa"):
+        nevel.capacity_and_breaking_distance(1.0, 0.5, 1.0, flexural_strength_pa=-1.0)

@@ -27,7 +27,7 @@ from floebreak.failure.base import (
     no_failure,
     split_parts,
 )
-from floebreak.ice.material import characteristic_length_m
+from floebreak.ice.material import characteristic_length_scalar_m
 from floebreak.mechanics import nevel
 from floebreak.mechanics.wedge_fan import LoadingRadiusModel, WedgeFan, disk_polygon, wedge_fan
 
@@ -89,24 +89,18 @@ def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSetti
         poisson_ratio=settings.poisson_ratio,
         foundation_modulus=settings.foundation_modulus_n_m3,
     )
-    ell = float(characteristic_length_m(inp.thickness_m, **material))
+    ell = characteristic_length_scalar_m(inp.thickness_m, "eq1", **material)
     if fan.opening_rad > 0.0:
-        capacity = float(
-            nevel.bearing_capacity_n(
-                inp.thickness_m,
-                fan.loading_radius_m,
-                fan.opening_rad,
-                model=settings.capacity_model,
-                flexural_strength_pa=settings.flexural_strength_pa,
-                kashtelyan_coefficient=settings.kashtelyan_coefficient,
-                wedge_angle_rad=wedge,
-                **material,
-            )
-        )
-        radius = float(
-            nevel.breaking_distance_from_apex_m(
-                inp.thickness_m, fan.loading_radius_m, mode=settings.breaking_length_mode, **material
-            )
+        capacity, radius = nevel.capacity_and_breaking_distance(
+            inp.thickness_m,
+            fan.loading_radius_m,
+            fan.opening_rad,
+            model=settings.capacity_model,
+            mode=settings.breaking_length_mode,
+            flexural_strength_pa=settings.flexural_strength_pa,
+            kashtelyan_coefficient=settings.kashtelyan_coefficient,
+            wedge_angle_rad=wedge,
+            **material,
         )
     else:
         capacity, radius = float("inf"), 0.0

@@ -28,6 +28,7 @@ Capacity models (physics-notes §1.5, errata 11 and 13): see `bearing_capacity_n
 
 from __future__ import annotations
 
+import bisect
 import functools
 import importlib.resources
 import math
@@ -42,7 +43,7 @@ from scipy.optimize import minimize_scalar
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
-from floebreak.ice.material import characteristic_length_m
+from floebreak.ice.material import characteristic_length_m, characteristic_length_scalar_m
 
 CapacityModel = Literal["nevel_narrow", "kashtelyan", "thesis_per_wedge"]
 BreakingDistanceMode = Literal["max_stress", "max_moment"]
@@ -258,6 +259,11 @@ class _Interpolants:
     tail_xi_sigma: float
     tail_moment: float
     tail_xi_m: float
+    # the same four PCHIPs as plain floats for one-point evaluation (`_pchip_at`): the breakpoints in
+    # t = ρ^(1/3) (shared) and, per function ("S", "xi_sigma", "m_max", "xi_M"), the cubic coefficients of
+    # each interval, highest power first (scipy's PPoly layout)
+    knots: tuple[float, ...]
+    pieces: dict[str, tuple[tuple[float, float, float, float], ...]]
 
 
 @functools.lru_cache(maxsize=1)
@@ -270,16 +276,24 @@ def _interpolants() -> _Interpolants:
     xs_end = float(table["xi_sigma"][-1]) - rho_max
     m_end = float(table["m_max"][-1])
     xm_end = float(table["xi_M"][-1]) - rho_max
+    interpolants = {
+        "S": PchipInterpolator(t, table["stress_factor_S"]),
+        "xi_sigma": PchipInterpolator(t, table["xi_sigma"] - rho),
+        "m_max": PchipInterpolator(t, table["m_max"]),
+        "xi_M": PchipInterpolator(t, table["xi_M"] - rho),
+    }
     return _Interpolants(
         rho_max=rho_max,
-        stress_factor=PchipInterpolator(t, table["stress_factor_S"]),
-        xi_sigma_offset=PchipInterpolator(t, table["xi_sigma"] - rho),
-        max_moment=PchipInterpolator(t, table["m_max"]),
-        xi_m_offset=PchipInterpolator(t, table["xi_M"] - rho),
+        stress_factor=interpolants["S"],
+        xi_sigma_offset=interpolants["xi_sigma"],
+        max_moment=interpolants["m_max"],
+        xi_m_offset=interpolants["xi_M"],
         tail_stress=(rho_max * s_end - BEAM_LIMIT_MAX_MOMENT) * rho_max,
         tail_xi_sigma=(xs_end - BEAM_LIMIT_MAX_MOMENT_OFFSET) * rho_max,
         tail_moment=(m_end - BEAM_LIMIT_MAX_MOMENT) * rho_max,
         tail_xi_m=(xm_end - BEAM_LIMIT_MAX_MOMENT_OFFSET) * rho_max,
+        knots=tuple(float(v) for v in interpolants["S"].x),
+        pieces={name: tuple(map(tuple, pp.c.T.tolist())) for name, pp in interpolants.items()},
     )
 
 
@@ -292,8 +306,41 @@ def _check_rho(rho: ArrayLike) -> np.ndarray:
     return arr
 
 
+def _pchip_at(knots: tuple[float, ...], pieces: tuple[tuple[float, ...], ...], t: float) -> float:
+    """One value of a PCHIP from its cubic pieces: the operations of scipy's `PPoly` evaluation (interval
+    x_i ≤ t < x_(i+1), extrapolating with the end pieces; c3 + c2 s + c1 s² + c0 s³ summed in that order,
+    s = t − x_i), so the float is the same, without scipy's per-call array overhead."""
+    i = min(max(bisect.bisect_right(knots, t) - 1, 0), len(knots) - 2)
+    c0, c1, c2, c3 = pieces[i]
+    s = t - knots[i]
+    s2 = s * s
+    return c3 + c2 * s + c1 * s2 + c0 * (s2 * s)
+
+
+def _evaluate_scalar(rho: float, which: str) -> float:
+    """`_evaluate` for one ρ ≥ 0 given as a float (the hot path of the bending check): the same formulas."""
+    ip = _interpolants()
+    if rho <= ip.rho_max:
+        value = _pchip_at(ip.knots, ip.pieces[which], float(np.cbrt(rho)))
+    elif which == "S":
+        return (BEAM_LIMIT_MAX_MOMENT + ip.tail_stress / rho) / rho
+    elif which == "xi_sigma":
+        value = BEAM_LIMIT_MAX_MOMENT_OFFSET + ip.tail_xi_sigma / rho
+    elif which == "m_max":
+        return BEAM_LIMIT_MAX_MOMENT + ip.tail_moment / rho
+    else:
+        value = BEAM_LIMIT_MAX_MOMENT_OFFSET + ip.tail_xi_m / rho
+    if which == "xi_sigma":
+        return 0.0 if rho == 0.0 else rho + value
+    if which == "xi_M":
+        return rho + value
+    return value
+
+
 def _evaluate(rho: ArrayLike, which: str) -> np.ndarray | float:
     arr = _check_rho(rho)
+    if arr.ndim == 0:
+        return _evaluate_scalar(float(arr), which)
     ip = _interpolants()
     inside = arr <= ip.rho_max
     t = np.cbrt(np.where(inside, arr, ip.rho_max))
@@ -308,7 +355,7 @@ def _evaluate(rho: ArrayLike, which: str) -> np.ndarray | float:
         out = np.where(inside, ip.max_moment(t), BEAM_LIMIT_MAX_MOMENT + ip.tail_moment / big)
     else:
         out = arr + np.where(inside, ip.xi_m_offset(t), BEAM_LIMIT_MAX_MOMENT_OFFSET + ip.tail_xi_m / big)
-    return float(out) if out.ndim == 0 else out
+    return out
 
 
 def stress_factor(rho: ArrayLike) -> np.ndarray | float:
@@ -430,3 +477,70 @@ def breaking_distance_from_apex_m(
     ell = characteristic_length_m(h, youngs_modulus_pa, poisson_ratio, foundation_modulus)
     xi = max_stress_distance(r / ell) if mode == "max_stress" else max_moment_distance(r / ell)
     return _as_output(np.asarray(xi) * ell)
+
+
+def capacity_and_breaking_distance(
+    thickness_m: float,
+    loading_radius_m: float,
+    opening_rad: float,
+    *,
+    model: CapacityModel = "nevel_narrow",
+    mode: BreakingDistanceMode = "max_stress",
+    flexural_strength_pa: float = c.FLEXURAL_STRENGTH_PA,
+    kashtelyan_coefficient: float = KASHTELYAN_COEFFICIENT,
+    wedge_angle_rad: float = THESIS_WEDGE_ANGLE_RAD,
+    youngs_modulus_pa: float = c.YOUNGS_MODULUS_PA,
+    poisson_ratio: float = c.POISSON_RATIO,
+    foundation_modulus: float = c.FOUNDATION_MODULUS_N_M3,
+) -> tuple[float, float]:
+    """(`bearing_capacity_n`, `breaking_distance_from_apex_m`) for one contact, as floats.
+
+    The bending check's hot path: the same equations in the same order (P_f = σ_f Θ h² / (6 S(ρ)),
+    physics-notes Eq. 1.4 and §1.5; distance ξ_σ(ρ) ℓ or ξ_M(ρ) ℓ, Eq. 1.5 and §1.6), so the same floats,
+    with ℓ cached per thickness and ρ = r/ℓ computed once. Inputs outside the public functions' ranges
+    (and unknown model names) are passed to them, which raise the `InputError`.
+    """
+    h, r, theta = float(thickness_m), float(loading_radius_m), float(opening_rad)
+    valid = (
+        0.0 < h < math.inf
+        and 0.0 <= r < math.inf
+        and 0.0 < theta <= 2.0 * math.pi
+        and model in CAPACITY_MODELS
+        and mode in BREAKING_DISTANCE_MODES
+        and flexural_strength_pa > 0.0
+    )
+    if not valid:
+        capacity = bearing_capacity_n(
+            h,
+            r,
+            theta,
+            model=model,
+            flexural_strength_pa=flexural_strength_pa,
+            kashtelyan_coefficient=kashtelyan_coefficient,
+            wedge_angle_rad=wedge_angle_rad,
+            youngs_modulus_pa=youngs_modulus_pa,
+            poisson_ratio=poisson_ratio,
+            foundation_modulus=foundation_modulus,
+        )
+        distance = breaking_distance_from_apex_m(
+            h,
+            r,
+            mode=mode,
+            youngs_modulus_pa=youngs_modulus_pa,
+            poisson_ratio=poisson_ratio,
+            foundation_modulus=foundation_modulus,
+        )
+        return float(capacity), float(distance)
+    ell = characteristic_length_scalar_m(h, "eq1", youngs_modulus_pa, poisson_ratio, foundation_modulus)
+    rho = r / ell
+    sigma_f = flexural_strength_pa
+    if model == "kashtelyan":
+        c_f = require_range("kashtelyan_coefficient", kashtelyan_coefficient, low=0.0)
+        ratio = theta / math.pi
+        capacity = c_f * ratio**2 * sigma_f * (h * h)  # pow() and h·h, as numpy evaluates the array form
+    else:
+        if model == "thesis_per_wedge":
+            theta = require_range("wedge_angle_rad", wedge_angle_rad, low=0.0, high=2.0 * math.pi, unit="rad")
+        capacity = sigma_f * theta * (h * h) / (6.0 * _evaluate_scalar(rho, "S"))
+    xi = _evaluate_scalar(rho, "xi_sigma" if mode == "max_stress" else "xi_M")
+    return capacity, xi * ell
