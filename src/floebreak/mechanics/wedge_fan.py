@@ -14,6 +14,7 @@ Pure functions; bow frame; SI.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -49,29 +50,32 @@ class WedgeFan:
 
 
 def _contiguous_block(kept: np.ndarray) -> np.ndarray:
-    """Indices of the circular run of True values containing index 0, or the run nearest to it."""
+    """Indices of the circular run of True values containing index 0, or the run nearest to it.
+
+    Runs are taken in circular order from the first False index; the chosen run is the one nearest to
+    index 0 (circular index distance), the longer one on a tie, the first one on a full tie. Its indices
+    are returned in circular order.
+    """
     n = kept.size
     if not kept.any():
         return np.zeros(0, dtype=int)
     if kept.all():
         return np.arange(n)
-    # rotate so that index `start` begins a run, then split runs
-    start = int(np.flatnonzero(~kept)[0])
+    if kept[0]:  # the usual case: the run through index 0, which wraps round from its last False index
+        first_false = int(np.argmin(kept))
+        last_false = n - 1 - int(np.argmin(kept[::-1]))
+        return np.concatenate([np.arange(last_false + 1, n), np.arange(first_false)])
+    # rotate so that the sequence starts with a False value: every run then starts and ends inside it
+    start = int(np.argmin(kept))
     order = (np.arange(n) + start) % n
-    runs, current = [], []
-    for index in order:
-        if kept[index]:
-            current.append(index)
-        elif current:
-            runs.append(current)
-            current = []
-    if current:
-        runs.append(current)
-
-    def distance_to_zero(run: list[int]) -> int:
-        return min(min(i, n - i) for i in run)
-
-    return np.array(min(runs, key=lambda run: (distance_to_zero(run), -len(run))), dtype=int)
+    rotated = np.concatenate([kept[order], [False]])
+    steps = np.diff(rotated.astype(np.int8))
+    run_starts = np.flatnonzero(steps == 1) + 1
+    run_ends = np.flatnonzero(steps == -1) + 1
+    distance = np.where(rotated[:-1], np.minimum(order, n - order), n)  # to index 0; n off the runs
+    run_distance = np.minimum.reduceat(distance, run_starts)
+    best = np.lexsort((run_starts - run_ends, run_distance))[0]  # stable: the first on a full tie
+    return order[run_starts[best] : run_ends[best]]
 
 
 def intact_fan(
@@ -87,22 +91,21 @@ def intact_fan(
     Rays start at the bow normal and step by the wedge angle; Θ = 0 when no ray meets intact ice.
     """
     n_rays = round(2.0 * np.pi / wedge_angle_rad)
+    step = 2.0 * np.pi / n_rays
     normal_angle = float(np.arctan2(normal_xy[1], normal_xy[0]))
-    angles = normal_angle + np.arange(n_rays) * (2.0 * np.pi / n_rays)
-    probes = origin_xy_m[None, :] + (probe_radius_m + RAY_PROBE_OFFSET_M) * np.stack(
-        [np.cos(angles), np.sin(angles)], axis=1
-    )
-    kept = shapely.contains_xy(floe, probes[:, 0], probes[:, 1]) & ~shapely.contains_xy(
-        hull_upper, probes[:, 0], probes[:, 1]
-    )
+    angles = normal_angle + np.arange(n_rays) * step
+    reach = probe_radius_m + RAY_PROBE_OFFSET_M
+    x = origin_xy_m[0] + reach * np.cos(angles)
+    y = origin_xy_m[1] + reach * np.sin(angles)
+    kept = shapely.contains_xy(floe, x, y) & ~shapely.contains_xy(hull_upper, x, y)
     block = _contiguous_block(kept)
     if block.size == 0:
         return 0.0, normal_angle
-    opening = block.size * (2.0 * np.pi / n_rays)
+    opening = block.size * step
+    if block.size == n_rays:
+        return opening, normal_angle
     # centre of the block on the circle: average the unit vectors of its rays
     centre = float(np.arctan2(np.sin(angles[block]).sum(), np.cos(angles[block]).sum()))
-    if block.size == n_rays:
-        centre = normal_angle
     return opening, centre
 
 
@@ -123,9 +126,10 @@ def loading_radius_m(
             raise ValueError("max_distance needs the zone polygon and the origin")
         coords = shapely.get_coordinates(zone_polygon)
         return float(np.max(np.hypot(*(coords - origin_xy_m).T))) if len(coords) else 0.0
-    radius = float(np.sqrt(2.0 * max(crushed_area_m2, 0.0) / opening_rad)) if opening_rad > 0 else 0.0
+    radius = math.sqrt(2.0 * max(float(crushed_area_m2), 0.0) / opening_rad) if opening_rad > 0 else 0.0
     if model == "sector_area_clipped":
-        radius = float(np.clip(radius, *ERCEG_RADIUS_RANGE_M))
+        low, high = ERCEG_RADIUS_RANGE_M
+        radius = min(max(radius, low), high)
     return radius
 
 
@@ -156,4 +160,4 @@ def disk_polygon(
     """Regular polygon with `vertices` corners on a circle, one corner at `start_angle_rad`."""
     angles = start_angle_rad + np.arange(vertices) * (2.0 * np.pi / vertices)
     ring = centre_xy_m[None, :] + radius_m * np.stack([np.cos(angles), np.sin(angles)], axis=1)
-    return shapely.Polygon(ring)
+    return shapely.polygons(ring)  # = shapely.Polygon(ring), without the class constructor's overhead
