@@ -167,6 +167,19 @@ def test_indentation_depth_is_the_penetration(make_input, context, kit):
     assert outcome.diagnostics["driving"] == pytest.approx(expected, rel=1e-9)
 
 
+def test_indentation_depth_counts_only_the_part_connected_to_o():
+    # a U-shaped floe (arms x ∈ [0, 2] and [4, 6], bar y ∈ [0, 2]); the line behind O runs along −direction
+    # behind O = (1, 9) for direction −y: up the left arm to its end at y = 10
+    u_shape = shapely.Polygon([(0, 0), (6, 0), (6, 10), (4, 10), (4, 2), (2, 2), (2, 10), (0, 10)])
+    assert indentation_depth_m(u_shape, np.array([1.0, 9.0]), np.array([0.0, -1.0])) == pytest.approx(1.0)
+    # from O = (1, 1) along +x (behind O: −x): 1 m to the left edge, the right arm beyond is not connected
+    assert indentation_depth_m(u_shape, np.array([1.0, 1.0]), np.array([1.0, 0.0])) == pytest.approx(1.0)
+    # O = (3, 5) in the notch, outside the floe: the ray behind it (−y) meets the bar 3 m away, not at O
+    assert indentation_depth_m(u_shape, np.array([3.0, 5.0]), np.array([0.0, 1.0])) == 0.0
+    # behind O = (5, 3) towards −x: 1 m in the right arm, then the notch, then the left arm (not counted)
+    assert indentation_depth_m(u_shape, np.array([5.0, 3.0]), np.array([1.0, 0.0])) == pytest.approx(1.0)
+
+
 @pytest.mark.parametrize(
     ("criterion", "labels", "a_m", "must_fail"),
     [

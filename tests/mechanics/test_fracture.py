@@ -347,3 +347,40 @@ def test_stress_criterion_rejects_bad_input():
             law="Bazant",
             loading="tension",
         )
+
+
+@pytest.mark.parametrize("law", fr.SIZE_EFFECT_LAWS)
+@pytest.mark.parametrize("bz2_mode", fr.BZ2_MODES)
+@pytest.mark.parametrize("labels", fr.TADA_LABELS)
+@pytest.mark.parametrize("loading", fr.LOADINGS)
+def test_stress_criterion_is_the_public_strength_and_tada_factor(law, bz2_mode, labels, loading):
+    # check_stress_sif evaluates σ_n^t(L) and F(a/b) in scalar form; it must equal the array functions
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        b = float(rng.uniform(0.5, 200.0))
+        a = float(rng.uniform(1e-3, 0.95) * b)
+        size = float(rng.choice([b, rng.uniform(0.01, 0.5), rng.uniform(80.0, 500.0)]))
+        check = fr.check_stress_sif(
+            crack_length_m=a,
+            strip_width_m=b,
+            size_m=size,
+            toughness_pa_sqrt_m=145.7e3,
+            law=law,
+            loading=loading,
+            labels=labels,
+            bz2_mode=bz2_mode,
+        )
+        strength = fr.size_effect_strength_pa(size, law, bz2_mode=bz2_mode)
+        factor = fr.tada_geometry_factor(a / b, loading, labels=labels)
+        assert check.driving == pytest.approx(strength * math.sqrt(math.pi * a) * factor, rel=1e-12, abs=0.0)
+
+
+def test_stress_criterion_rejects_bad_size_and_choices():
+    common = dict(crack_length_m=1.0, strip_width_m=10.0, toughness_pa_sqrt_m=145.7e3, law="BZ")
+    for size in (0.0, -1.0, float("inf"), float("nan")):
+        with pytest.raises(InputError, match="size_m"):
+            fr.check_stress_sif(size_m=size, loading="tension", **common)
+    with pytest.raises(InputError, match="tension, bending"):
+        fr.check_stress_sif(size_m=10.0, loading="torsion", **common)
+    with pytest.raises(InputError, match="correct, thesis"):
+        fr.check_stress_sif(size_m=10.0, loading="tension", labels="other", **common)

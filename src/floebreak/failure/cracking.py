@@ -36,7 +36,7 @@ from floebreak.failure.base import (
     split_parts,
 )
 from floebreak.failure.bending import BendingSettings, bending_check
-from floebreak.ice.material import characteristic_length_m
+from floebreak.ice.material import characteristic_length_scalar_m
 from floebreak.mechanics import fracture
 
 CrackCriterion = Literal["point_load", "line_load", "tensile_stress", "flexural_stress"]
@@ -120,9 +120,14 @@ def split_by_line(polygon, point_xy_m: np.ndarray, direction: np.ndarray) -> tup
     d = direction / np.hypot(*direction)
     left_normal = np.array([-d[1], d[0]])
     a, b = point_xy_m - reach * d, point_xy_m + reach * d
-    left = shapely.Polygon([a, b, b + reach * left_normal, a + reach * left_normal])
-    right = shapely.Polygon([a, a - reach * left_normal, b - reach * left_normal, b])
-    return split_parts(shapely.intersection(polygon, left), shapely.intersection(polygon, right))
+    halves = shapely.polygons(
+        [
+            [a, b, b + reach * left_normal, a + reach * left_normal],
+            [a, a - reach * left_normal, b - reach * left_normal, b],
+        ]
+    )
+    left, right = shapely.intersection(polygon, halves)
+    return split_parts(left, right)
 
 
 def indentation_depth_m(polygon, origin_xy_m: np.ndarray, direction: np.ndarray) -> float:
@@ -130,20 +135,18 @@ def indentation_depth_m(polygon, origin_xy_m: np.ndarray, direction: np.ndarray)
     (towards −direction) that still lies inside the floe."""
     x0, y0, x1, y1 = shapely.bounds(polygon)
     reach = 2.0 * np.hypot(x1 - x0, y1 - y0) + 1.0
-    ray = shapely.LineString([origin_xy_m, origin_xy_m - reach * direction])
+    ray = shapely.linestrings([origin_xy_m, origin_xy_m - reach * direction])
     inside = shapely.intersection(ray, polygon)
-    if shapely.is_empty(inside):
-        return 0.0
-    # only the part connected to O counts
-    parts = [p for p in shapely.get_parts(inside) if p.length > 0]
-    start = shapely.Point(origin_xy_m)
-    connected = [p for p in parts if p.distance(start) < 1e-6]
-    return float(connected[0].length) if connected else 0.0
+    # only the (first) line part connected to O counts; a single line is its own part
+    parts = shapely.get_parts(inside) if shapely.get_type_id(inside) >= 4 else np.array([inside])
+    lengths = shapely.length(parts)
+    connected = (lengths > 0.0) & (shapely.distance(parts, shapely.points(origin_xy_m)) < 1e-6)
+    return float(lengths[connected][0]) if connected.any() else 0.0
 
 
 def extent_along_m(polygon, direction: np.ndarray) -> float:
-    coords = shapely.get_coordinates(polygon)
-    return float(np.ptp(coords @ (direction / np.hypot(*direction))))
+    along = shapely.get_coordinates(polygon) @ (direction / np.hypot(*direction))
+    return float(along.max() - along.min())
 
 
 @dataclass(frozen=True)
@@ -157,10 +160,8 @@ class Cracking:
         h = inp.thickness_m
         b = extent_along_m(inp.polygon, direction)
         bending = s.bending
-        ell = float(
-            characteristic_length_m(
-                h, bending.youngs_modulus_pa, bending.poisson_ratio, bending.foundation_modulus_n_m3
-            )
+        ell = characteristic_length_scalar_m(
+            h, "eq1", bending.youngs_modulus_pa, bending.poisson_ratio, bending.foundation_modulus_n_m3
         )
         if s.crack_length == "indentation":
             a = indentation_depth_m(inp.polygon, inp.zone.centre_xy_m, direction)

@@ -232,21 +232,20 @@ def size_effect_strength_pa(
     length = _positive_array("size_m", size_m, "m")
     if clamp:
         length = np.clip(length, *SIZE_EFFECT_RANGE_M)
+    return _as_output(_size_effect_strength_mpa(length, law, bz2_mode) * MPA_TO_PA, size_m)
+
+
+def _size_effect_strength_mpa(length, law: SizeEffectLaw, bz2_mode: BZ2Mode):
+    """σ_n^t(L) [MPa] of Eqs. 15–17 for validated (and clamped) L, a float or an array."""
     sigma = SIZE_EFFECT_SIGMA_MPA[law]
     transition = SIZE_EFFECT_B_M[law]
     if law == "BZ":
-        strength_mpa = sigma / np.sqrt(1.0 + length / transition)
-    elif law == "BZ1":
-        strength_mpa = sigma / np.sqrt(1.0 + length / transition + BZ1_C_M / length)
-    elif bz2_mode == "generalised":
-        strength_mpa = bz2_generalised_mpa(
-            length, sigma_mpa=sigma, transition_m=transition, exponent_f=BZ2_F_DEMPSEY
-        )
-    else:
-        strength_mpa = bz2_thesis_literal_mpa(
-            length, sigma_mpa=sigma, transition_m=transition, exponent_f=BZ2_F_THESIS
-        )
-    return _as_output(strength_mpa * MPA_TO_PA, size_m)
+        return sigma / np.sqrt(1.0 + length / transition)
+    if law == "BZ1":
+        return sigma / np.sqrt(1.0 + length / transition + BZ1_C_M / length)
+    if bz2_mode == "generalised":
+        return bz2_generalised_mpa(length, sigma_mpa=sigma, transition_m=transition, exponent_f=BZ2_F_DEMPSEY)
+    return bz2_thesis_literal_mpa(length, sigma_mpa=sigma, transition_m=transition, exponent_f=BZ2_F_THESIS)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -254,8 +253,10 @@ def size_effect_strength_pa(
 # ----------------------------------------------------------------------------------------------------------
 
 
-def _tan_ratio_sqrt(t: np.ndarray) -> np.ndarray:
-    """√(tan t / t), = 1 at t = 0."""
+def _tan_ratio_sqrt(t):
+    """√(tan t / t), = 1 at t = 0 (a float or an array)."""
+    if np.ndim(t) == 0:
+        return np.sqrt(np.tan(t) / t) if t > 0.0 else 1.0
     safe = np.where(t > 0.0, t, 1.0)
     return np.where(t > 0.0, np.sqrt(np.tan(safe) / safe), 1.0)
 
@@ -295,12 +296,17 @@ def tada_geometry_factor(relative_crack_length, loading: Loading, *, labels: Tad
             value=relative_crack_length,
             allowed="[0, 1)",
         )
+    return _as_output(_tada_factor(eps, loading, labels), relative_crack_length)
+
+
+def _tada_factor(eps, loading: Loading, labels: TadaLabels):
+    """F(ε) of `tada_geometry_factor` for validated ε ∈ [0, 1), a float or an array."""
     use_tension_polynomial = (loading == "tension") == (labels == "correct")
     if use_tension_polynomial:
         g = tada_tension_g(eps, exponent=4 if labels == "thesis" else 3)
     else:
         g = tada_bending_g(eps)
-    return _as_output(_tan_ratio_sqrt(0.5 * np.pi * eps) * g, relative_crack_length)
+    return _tan_ratio_sqrt(0.5 * np.pi * eps) * g
 
 
 def edge_crack_sif_pa_sqrt_m(
@@ -358,10 +364,18 @@ def check_stress_sif(
     Fails when driving ≥ resistance.
     """
     _check_choice("failure.stress_mode", stress_mode, STRESS_MODES)
+    _check_choice("failure.size_effect_law", law, SIZE_EFFECT_LAWS)
+    _check_choice("failure.bz2_mode", bz2_mode, BZ2_MODES)
+    _check_choice("loading", loading, LOADINGS)
+    _check_choice("failure.tada_labels", labels, TADA_LABELS)
     a, b = _crack_geometry(crack_length_m, strip_width_m)
     k_ic = require_range("ice.fracture_toughness_pa_sqrt_m", toughness_pa_sqrt_m, low=0.0, unit="Pa·√m")
-    strength = float(size_effect_strength_pa(size_m, law, bz2_mode=bz2_mode))
-    factor = float(tada_geometry_factor(a / b, loading, labels=labels))
+    size = require_range("size_m", size_m, low=0.0, high=math.inf, high_inclusive=False, unit="m")
+    # the scalar forms of size_effect_strength_pa and tada_geometry_factor (called at every contact):
+    # the inputs are checked above, a/b ∈ (0, 1) by _crack_geometry
+    size = min(max(size, SIZE_EFFECT_RANGE_M[0]), SIZE_EFFECT_RANGE_M[1])
+    strength = float(_size_effect_strength_mpa(size, law, bz2_mode) * MPA_TO_PA)
+    factor = float(_tada_factor(a / b, loading, labels))
     if stress_mode == "thesis":
         k_i = strength * math.sqrt(math.pi * a) * factor
         return CrackCheck(fails=k_i >= k_ic, driving=k_i, resistance=k_ic, quantity="K_I [Pa√m]")
