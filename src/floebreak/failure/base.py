@@ -88,7 +88,10 @@ MIN_PIECE_AREA_M2 = 1e-6  # split parts at or below this are slivers of the cut,
 
 def polygon_parts(geometry) -> list:
     """All polygon parts of a geometry with positive area (points and lines of an overlay are dropped)."""
-    return [p for p in shapely.get_parts(geometry) if shapely.get_type_id(p) == 3 and p.area > 0.0]
+    if shapely.get_type_id(geometry) == 3:  # one polygon, the usual result of a cut
+        return [geometry] if shapely.area(geometry) > 0.0 else []
+    parts = shapely.get_parts(geometry)
+    return list(parts[(shapely.get_type_id(parts) == 3) & (shapely.area(parts) > 0.0)])
 
 
 def split_parts(*sides) -> tuple[list, ...]:

@@ -15,6 +15,7 @@ side and shoulder).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -37,14 +38,20 @@ CRACK_POINTS = 30  # thesis Alg. 6 (intended linspace with 30 points)
 BEZIER_POINTS = 30
 
 
-def bezier_curve(nodes: np.ndarray, n_points: int = BEZIER_POINTS) -> np.ndarray:
-    """Points of the Bezier curve with control points `nodes` (Bernstein form), from first to last node."""
-    nodes = np.asarray(nodes, dtype=float)
-    degree = len(nodes) - 1
+@functools.lru_cache(maxsize=64)
+def _bernstein_basis(degree: int, n_points: int) -> np.ndarray:
+    """B_(i,degree)(t) = C(degree, i) tⁱ (1 − t)^(degree − i) at n_points t in [0, 1] (rows), read-only."""
     t = np.linspace(0.0, 1.0, n_points)[:, None]
     i = np.arange(degree + 1)[None, :]
     basis = comb(degree, i) * t**i * (1.0 - t) ** (degree - i)
-    return basis @ nodes
+    basis.setflags(write=False)
+    return basis
+
+
+def bezier_curve(nodes: np.ndarray, n_points: int = BEZIER_POINTS) -> np.ndarray:
+    """Points of the Bezier curve with control points `nodes` (Bernstein form), from first to last node."""
+    nodes = np.asarray(nodes, dtype=float)
+    return _bernstein_basis(len(nodes) - 1, n_points) @ nodes
 
 
 @dataclass(frozen=True)
@@ -93,12 +100,12 @@ def local_crack_line(
     within = np.hypot(*(arc - n1).T) <= dist_m
     n_used = int(np.argmin(within)) if not within.all() else len(arc)  # first arc point beyond dist_m
     n2 = arc[:n_used]
-    nodes = np.vstack([n0, n1, *n2]) if n_used else np.vstack([n0, n1, arc[0]])
+    nodes = np.vstack([n0, n1, n2]) if n_used else np.vstack([n0, n1, arc[0]])
     bezier = bezier_curve(nodes)
     bend = arc[n_used:] if n_used else arc[1:]
     crack_part = crack[: i_last + 1]
     ring = np.vstack([crack_part, bezier[1:], bend, crack_part[:1]])
-    cutter = shapely.make_valid(shapely.Polygon(ring))
+    cutter = shapely.make_valid(shapely.polygons(ring))
     return LocalCrackLine(crack_part, bezier, bend, cutter)
 
 
