@@ -311,10 +311,9 @@ def simulate(
         candidates = pieces.candidates(box)
         if candidates:
             polygons_bf = _translate(np.array([pieces.polygon[i] for i in candidates], dtype=object), -bow_x)
-            near = shapely.dwithin(geometry.hull_upper, polygons_bf, d)
-            queue = deque(
-                (pid, poly) for pid, poly, ok in zip(candidates, polygons_bf, near, strict=True) if ok
-            )
+            # no exact distance filter: a candidate that does not touch the hull has no contact, and the
+            # prepared-hull `intersects` test inside the contact evaluation rejects it more cheaply
+            queue = deque(zip(candidates, polygons_bf, strict=True))
             # contact is evaluated in batches (vectorised GEOS calls): the floes queued at the start of the
             # step, then, whenever the queue reaches pieces not evaluated yet, all pieces queued by then. A
             # piece's contact depends only on its own polygon and the bow position: batching changes nothing.
