@@ -16,8 +16,17 @@ from floebreak.plotting.common import (
 )
 
 
-def plot_breaking_pattern(result, ax=None, title: str | None = None, xlim=None, ylim=None):
-    """Plot a `SimulationResult`: remaining ice blue, flipped orange, cusps red; bow outline at start/end."""
+def plot_breaking_pattern(
+    result,
+    ax=None,
+    title: str | None = None,
+    xlim=None,
+    ylim=None,
+    bow_at_end: bool = True,
+    legend: bool = True,
+):
+    """Plot a `SimulationResult`: remaining ice blue, flipped orange, cusps red; bow outline at the start
+    (dashed) and, with `bow_at_end`, at the end position (solid). Pieces are drawn where they were made."""
     if ax is None:
         x0, y0, x1, y1 = result.field.domain_m
         figure, ax = new_figure(
@@ -33,10 +42,10 @@ def plot_breaking_pattern(result, ax=None, title: str | None = None, xlim=None, 
             )
     upper = np.asarray(result.bow.upper_xy_m)
     lower = np.asarray(result.bow.lower_xy_m)
-    for x_b, style in (
-        (result.params.x_start_m, "--"),
-        (result.params.x_start_m + (result.n_steps - 1) * result.params.step_m, "-"),
-    ):
+    positions = [(result.params.x_start_m, "--")]
+    if bow_at_end:
+        positions.append((result.params.x_start_m + (result.n_steps - 1) * result.params.step_m, "-"))
+    for x_b, style in positions:
         ax.plot(upper[:, 0] + x_b, upper[:, 1], style, color="k", linewidth=0.8)
         ax.plot(lower[:, 0] + x_b, lower[:, 1], style, color="0.5", linewidth=0.6)
     bounds = shapely.total_bounds(result.polygon) if result.polygon.size else np.array(result.field.domain_m)
@@ -45,16 +54,17 @@ def plot_breaking_pattern(result, ax=None, title: str | None = None, xlim=None, 
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.legend(
-        handles=[
-            Patch(facecolor=UNTOUCHED_COLOUR, label="ice in the field"),
-            Patch(facecolor=FLIPPED_COLOUR, label=f"flipped ({int(result.mask('flipped').sum())})"),
-            Patch(facecolor=CUSP_COLOUR, label=f"cusps ({int(result.mask('cusp').sum())})"),
-        ],
-        loc="upper left",
-        bbox_to_anchor=(1.0, 1.0),
-        fontsize="small",
-    )
+    if legend:
+        ax.legend(
+            handles=[
+                Patch(facecolor=UNTOUCHED_COLOUR, label="ice in the field"),
+                Patch(facecolor=FLIPPED_COLOUR, label=f"flipped ({int(result.mask('flipped').sum())})"),
+                Patch(facecolor=CUSP_COLOUR, label=f"cusps ({int(result.mask('cusp').sum())})"),
+            ],
+            loc="upper left",
+            bbox_to_anchor=(1.0, 1.0),
+            fontsize="small",
+        )
     if title:
         ax.set_title(title)
     return figure

@@ -95,8 +95,13 @@ def case_row(case: SingleFloeCase, result: SimulationResult) -> dict[str, float 
 
 def write_single_floe_matrix(out_dir: Path, overwrite: bool = False, profile: str = "default") -> Path:
     """Run all 45 cases; write `cases.csv`, `cases.md` and one pattern grid per diameter into `out_dir`."""
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     from floebreak.io.atomic import atomic_directory
     from floebreak.io.figures import save_figure
+    from floebreak.plotting.common import CUSP_COLOUR, FLIPPED_COLOUR, UNTOUCHED_COLOUR
     from floebreak.plotting.pattern import plot_breaking_pattern
     from floebreak.profiles import build_model
     from floebreak.ship.hulls import get_hull
@@ -105,22 +110,38 @@ def write_single_floe_matrix(out_dir: Path, overwrite: bool = False, profile: st
     rows = []
     with atomic_directory(out_dir, overwrite=overwrite, field="out") as temp:
         for diameter in DIAMETERS_M:
-            from matplotlib.figure import Figure
-
-            figure = Figure(figsize=(4.0 * len(POSITIONS), 3.6 * len(THICKNESSES_M)), constrained_layout=True)
+            figure = Figure(figsize=(4.0 * len(POSITIONS), 2.7 * len(THICKNESSES_M)), constrained_layout=True)
             axes = figure.subplots(len(THICKNESSES_M), len(POSITIONS))
             for i, thickness in enumerate(THICKNESSES_M):
                 bow = get_hull("agulhas_ii", ice_thickness_m=thickness)
                 for j, position in enumerate(POSITIONS):
                     case = SingleFloeCase(position, diameter, thickness)
                     result = run_case(case, bow, model)
-                    rows.append(case_row(case, result))
+                    row = case_row(case, result)
+                    rows.append(row)
                     plot_breaking_pattern(
-                        result, ax=axes[i, j], title=f"{position}) d = {diameter:g} m, h = {thickness:g} m"
+                        result,
+                        ax=axes[i, j],
+                        title=f"{position}) d = {diameter:g} m, h = {thickness:g} m: "
+                        f"{row['n_cusps']} cusps, {row['n_flipped']} flipped",
+                        bow_at_end=False,  # the end position lies far aft of the floe
+                        legend=False,
                     )
-                    legend = axes[i, j].get_legend()
-                    if legend is not None and j < len(POSITIONS) - 1:
-                        legend.remove()
+                    axes[i, j].title.set_fontsize("small")
+            figure.legend(
+                handles=[
+                    Patch(facecolor=UNTOUCHED_COLOUR, label="ice in the field"),
+                    Patch(facecolor=FLIPPED_COLOUR, label="flipped"),
+                    Patch(facecolor=CUSP_COLOUR, label="cusps"),
+                    Line2D([], [], color="k", ls="--", label="bow at the start (upper / lower waterline)"),
+                ],
+                loc="outside lower center",
+                ncols=4,
+            )
+            figure.suptitle(
+                f"Single floes of d = {diameter:g} m at the positions of thesis Fig. 14 (profile {profile}); "
+                "pieces drawn where they were made"
+            )
             save_figure(figure, temp / f"pattern_d{int(diameter)}m.png")
         with (temp / "cases.csv").open("w", newline="") as handle:
             writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
