@@ -29,9 +29,11 @@ def plot_breaking_pattern(
     (dashed) and, with `bow_at_end`, at the end position (solid). Pieces are drawn where they were made."""
     if ax is None:
         x0, y0, x1, y1 = result.field.domain_m
-        figure, ax = new_figure(
-            10.0, float(np.clip(10.0 * (y1 - y0 + 30) / max(x1 - x0, 1e-9) + 1.5, 2.5, 10))
-        )
+        hull_x0, hull_y0, _, hull_y1 = shapely.bounds(result.bow.hull_upper)
+        x_range = x1 - x0 - hull_x0 + 4.0
+        y_range = max(y1, hull_y1) - min(y0, hull_y0) + 4.0
+        # axes ≈ 8 in wide (legend outside on the right), equal aspect; + room for title and labels
+        figure, ax = new_figure(10.0, float(np.clip(8.0 * y_range / max(x_range, 1e-9) + 1.0, 2.0, 10.0)))
     else:
         figure = ax.figure
     for fate, colour in (("remaining", UNTOUCHED_COLOUR), ("flipped", FLIPPED_COLOUR), ("cusp", CUSP_COLOUR)):
