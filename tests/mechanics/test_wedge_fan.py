@@ -20,8 +20,8 @@ from floebreak.mechanics.wedge_fan import (
 
 def block_by_definition(kept: np.ndarray) -> list[int]:
     """The rule of physics-notes §2.5 step 3, written out as a loop: the circular runs of kept rays (listed
-    from the first unkept ray on), the run nearest to ray 0 (circular index distance), the longer one on a
-    tie, the first listed on a full tie; its rays in circular order."""
+    from the first unkept ray on), the run nearest to the normal (ray i lies (i + ½) steps from it), the
+    longer one on a tie, the first listed on a full tie; its rays in circular order."""
     n = len(kept)
     if not any(kept):
         return []
@@ -37,7 +37,7 @@ def block_by_definition(kept: np.ndarray) -> list[int]:
             current = []
     if current:
         runs.append(current)
-    return min(runs, key=lambda run: (min(min(i, n - i) for i in run), -len(run)))
+    return min(runs, key=lambda run: (min(min(i + 0.5, n - i - 0.5) for i in run), -len(run)))
 
 
 def test_contiguous_block_follows_the_rule_for_every_small_pattern():
@@ -67,13 +67,13 @@ def test_contiguous_block_examples():
 
 def test_half_plane_floe_gives_a_half_fan_centred_on_the_normal():
     # O just above the straight edge y = 0 of a large floe below it (outward bow normal −y), no hull: the
-    # probes (0.55 m from O) of the rays within ±85° of −y lie in the ice, those along ±x do not
+    # probes (0.55 m from O) of the 36 rays at ±2.5°, …, ±87.5° from −y lie in the ice, the others do not
     floe = shapely.box(-50.0, -50.0, 50.0, 0.0)
     no_hull = shapely.Polygon()
     opening, centre = intact_fan(
         floe, no_hull, np.array([0.0, 0.01]), np.array([0.0, -1.0]), 0.5, math.radians(5.0)
     )
-    assert opening == pytest.approx(math.radians(175.0))  # 35 rays strictly inside the half plane
+    assert opening == pytest.approx(math.radians(180.0))  # a half plane: exactly 180°
     assert centre == pytest.approx(-math.pi / 2.0, abs=1e-12)
 
 
@@ -94,9 +94,9 @@ def test_wedge_fan_radius_uses_the_found_opening():
     fan = wedge_fan(
         floe, shapely.Polygon(), np.array([0.0, 0.01]), np.array([0.0, -1.0]), 0.3, math.radians(5)
     )
-    assert fan.opening_rad == pytest.approx(math.radians(175.0))
-    assert fan.loading_radius_m == pytest.approx(math.sqrt(2.0 * 0.3 / math.radians(175.0)))
-    assert fan.n_wedges == 35
+    assert fan.opening_rad == pytest.approx(math.radians(180.0))
+    assert fan.loading_radius_m == pytest.approx(math.sqrt(2.0 * 0.3 / math.radians(180.0)))
+    assert fan.n_wedges == 36
 
 
 def test_disk_polygon_has_its_corners_on_the_circle():

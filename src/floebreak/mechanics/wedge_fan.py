@@ -5,7 +5,10 @@ Alg. 4). We use the deterministic procedure of physics-notes §2.5:
 
 1. O = the zone centre on the upper ice waterline (thesis "midBow", Alg. 5/6);
 2. centre direction n̂ = the outward bow normal at O (thesis Eq. 20);
-3. Θ = angular extent of intact ice seen from O: rays every φ = 5° over 360°; a ray counts when its point at
+3. Θ = angular extent of intact ice seen from O: rays every φ = 5° over 360°, at n̂ rotated by (k + ½) φ —
+   the wedge centre-lines U_k of step 3 of the notes, so that no ray runs along the bow's tangent at O (a
+   straight floe edge gives exactly Θ = 180°; rays *along* the waterline would touch the hull boundary and be
+   kept or not by rounding, which made mirrored floes break differently); a ray counts when its point at
    distance r + ε lies inside the floe and outside the hull H_u; Θ = (contiguous rays around n̂) × φ;
 4. r = √(2 A_h / Θ): the truncated sector with the crushed area (Nevel's load on the arc of radius r).
 
@@ -50,18 +53,20 @@ class WedgeFan:
 
 
 def _contiguous_block(kept: np.ndarray) -> np.ndarray:
-    """Indices of the circular run of True values containing index 0, or the run nearest to it.
+    """Indices of the circular run of True values nearest to the normal, which lies between the last index
+    and index 0 (ray k at (k + ½) φ from it).
 
-    Runs are taken in circular order from the first False index; the chosen run is the one nearest to
-    index 0 (circular index distance), the longer one on a tie, the first one on a full tie. Its indices
-    are returned in circular order.
+    Runs are taken in circular order from the first False index; the chosen run is the one nearest to the
+    normal (distance of ray k: min(k + ½, n − k − ½) steps), the longer one on a tie, the first one on a full
+    tie. Its indices are returned in circular order.
     """
     n = kept.size
     if not kept.any():
         return np.zeros(0, dtype=int)
     if kept.all():
         return np.arange(n)
-    if kept[0]:  # the usual case: the run through index 0, which wraps round from its last False index
+    if kept[0]:  # the usual case: the run through index 0 (distance ½, the least; a run through the last
+        # index is the same run), which wraps round from its last False index
         first_false = int(np.argmin(kept))
         last_false = n - 1 - int(np.argmin(kept[::-1]))
         return np.concatenate([np.arange(last_false + 1, n), np.arange(first_false)])
@@ -72,7 +77,7 @@ def _contiguous_block(kept: np.ndarray) -> np.ndarray:
     steps = np.diff(rotated.astype(np.int8))
     run_starts = np.flatnonzero(steps == 1) + 1
     run_ends = np.flatnonzero(steps == -1) + 1
-    distance = np.where(rotated[:-1], np.minimum(order, n - order), n)  # to index 0; n off the runs
+    distance = np.where(rotated[:-1], np.minimum(order + 0.5, n - order - 0.5), n)  # to n̂; n off the runs
     run_distance = np.minimum.reduceat(distance, run_starts)
     best = np.lexsort((run_starts - run_ends, run_distance))[0]  # stable: the first on a full tie
     return order[run_starts[best] : run_ends[best]]
@@ -88,12 +93,12 @@ def intact_fan(
 ) -> tuple[float, float]:
     """(Θ, centre angle) of the intact ice fan seen from `origin_xy_m` (physics-notes §2.5 step 3).
 
-    Rays start at the bow normal and step by the wedge angle; Θ = 0 when no ray meets intact ice.
+    Rays at (k + ½) × the wedge angle from the bow normal; Θ = 0 when no ray meets intact ice.
     """
     n_rays = round(2.0 * np.pi / wedge_angle_rad)
     step = 2.0 * np.pi / n_rays
     normal_angle = float(np.arctan2(normal_xy[1], normal_xy[0]))
-    angles = normal_angle + np.arange(n_rays) * step
+    angles = normal_angle + (np.arange(n_rays) + 0.5) * step
     reach = probe_radius_m + RAY_PROBE_OFFSET_M
     x = origin_xy_m[0] + reach * np.cos(angles)
     y = origin_xy_m[1] + reach * np.sin(angles)
