@@ -130,6 +130,15 @@ def diagnostics(check: BendingCheck) -> dict[str, float]:
     }
 
 
+def bending_gate(mode: str, check: BendingCheck) -> Outcome | None:
+    """ "No failure" when there is no intact-ice fan or F_v ≤ P_f (shared by bending and local cracking)."""
+    if check.fan.opening_rad == 0.0:
+        return no_failure(mode, "no intact ice fan at the contact")
+    if not check.fails:
+        return no_failure(mode, "F_v <= P_f", **diagnostics(check))
+    return None
+
+
 @dataclass(frozen=True)
 class Bending:
     name: ClassVar[str] = "bending"
@@ -137,10 +146,8 @@ class Bending:
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
         check = bending_check(inp, ctx, self.settings)
-        if check.fan.opening_rad == 0.0:
-            return no_failure(self.name, "no intact ice fan at the contact")
-        if not check.fails:
-            return no_failure(self.name, "F_v <= P_f", **diagnostics(check))
+        if (held := bending_gate(self.name, check)) is not None:
+            return held
         near, far = split_by_radius(inp.polygon, check)
         if not near:
             return no_failure(self.name, "bending line misses the floe", **diagnostics(check))

@@ -32,7 +32,13 @@ from floebreak.failure.base import (
     no_failure,
     split_parts,
 )
-from floebreak.failure.bending import WITHIN_BREAKING_RADIUS, BendingSettings, bending_check, diagnostics
+from floebreak.failure.bending import (
+    WITHIN_BREAKING_RADIUS,
+    BendingSettings,
+    bending_check,
+    bending_gate,
+    diagnostics,
+)
 
 CRACK_POINTS = 30  # thesis Alg. 6 (intended linspace with 30 points)
 BEZIER_POINTS = 30
@@ -124,10 +130,8 @@ class LocalCracking:
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
         check = bending_check(inp, ctx, self.settings)
-        if check.fan.opening_rad == 0.0:
-            return no_failure(self.name, "no intact ice fan at the contact")
-        if not check.fails:
-            return no_failure(self.name, "F_v <= P_f", **diagnostics(check))
+        if (held := bending_gate(self.name, check)) is not None:
+            return held
         zone = inp.zone
         x_int = frontmost_contact_point(inp.polygon, ctx.bow_geometry.waterline)
         if x_int is None:
