@@ -10,6 +10,7 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	$(BIN)/python -c "from floebreak.mechanics import contact_kernel; contact_kernel.compile_now()"
 	touch $(STAMP)
 
 demo: $(STAMP)

@@ -25,6 +25,7 @@ import shapely
 
 from floebreak import constants as c
 from floebreak.errors import require_range
+from floebreak.mechanics import contact_kernel
 
 AreaModel = Literal["per_panel", "single_psi"]
 ForceSigns = Literal["consistent", "thesis_alg3", "thesis_eq9_10"]
@@ -169,30 +170,23 @@ def evaluate_contacts(
     floes = np.asarray(floes_bow_frame, dtype=object).reshape(-1)
     thickness = np.asarray(thickness_m, dtype=float).reshape(-1)
     contacts = [Contact()] * len(floes)
-    hit = np.flatnonzero(shapely.intersects(geometry.hull_upper, floes))
-    if hit.size == 0:
+    table = _zone_table(floes, geometry)
+    if table is None:
         return contacts
-    overlaps = shapely.intersection(floes[hit], geometry.hull_upper)
-    parts, owner = shapely.get_parts(overlaps, return_index=True)
-    if parts.size:
-        is_polygon = shapely.get_type_id(parts) == 3
-        areas = shapely.area(parts)
-        keep = is_polygon & (areas > 0.0)
-        parts, owner, areas = parts[keep], hit[owner[keep]], areas[keep]
-    if parts.size == 0:
-        return contacts
+    parts, owner, areas = table.zones, table.owner, table.a_u_m2
+    row_zone, row_panel, row_a_h = table.row_zone, table.row_panel, table.row_a_h_m2
+    centres, centre_panels, row_overlap = table.centre_xy_m, table.centre_panel, table.row_overlap_m
     n_zones = len(parts)
-    row_zone, row_panel, row_a_h = _panel_areas(parts, geometry)
-    centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
     a_l = np.maximum(areas - np.bincount(row_zone, row_a_h, minlength=n_zones), 0.0)  # Σ A_h,i = A_u − A_l
     if params.area_model == "single_psi":
         # thesis Eq. 6 literally: one ψ (at the zone centre) for the whole horizontal area A_h = A_u − A_l
         row_zone, row_panel, row_a_h = np.arange(n_zones), centre_panels, areas - a_l
+        row_overlap = np.full(n_zones, np.nan)
     # every row (zone × panel) of the batch at once
     row_psi = geometry.panel_psi_rad[row_panel]
     row_floe = owner[row_zone]
     row_a_c = _contact_area(
-        row_a_h, row_psi, row_panel, floes[row_floe], thickness[row_floe], geometry, params
+        row_a_h, row_psi, row_panel, floes[row_floe], thickness[row_floe], row_overlap, geometry, params
     )
     row_f_c, row_f_v, row_f_h = panel_forces(row_a_c, row_psi, params)
     row_force_xy = row_f_h[:, None] * geometry.panel_normals[row_panel]
@@ -241,6 +235,7 @@ class BowContactGeometry:
     panel_segments: np.ndarray  # upper panel segments as LineStrings
     panel_normals: np.ndarray
     panel_psi_rad: np.ndarray
+    kernel: _ConvexBow | None = None  # arrays for the compiled kernel; None: a non-convex bow, shapely only
 
     @classmethod
     def from_bow(cls, bow) -> BowContactGeometry:
@@ -259,7 +254,170 @@ class BowContactGeometry:
             panel_segments=shapely.linestrings(np.stack([upper[:-1], upper[1:]], axis=1)),
             panel_normals=np.asarray(bow.panel_normals, dtype=float),
             panel_psi_rad=np.asarray(bow.panel_psi_rad, dtype=float),
+            kernel=_ConvexBow.from_bow(hull_upper, footprints, upper),
         )
+
+
+@dataclass(frozen=True, eq=False)
+class _ConvexBow:
+    """The bow as plain arrays for `contact_kernel.contact_batch` (only built when H_u and every footprint
+    are convex: the kernel's clipping needs convex clip polygons)."""
+
+    hull_x: np.ndarray
+    hull_y: np.ndarray
+    quad_x: np.ndarray
+    quad_y: np.ndarray
+    quad_bounds: np.ndarray
+    waterline_xy: np.ndarray
+    node_distance_m: np.ndarray
+
+    @classmethod
+    def from_bow(cls, hull_upper, footprints, upper_xy) -> _ConvexBow | None:
+        hull = contact_kernel.ccw_ring(shapely.get_coordinates(hull_upper.exterior))
+        quads = [contact_kernel.ccw_ring(shapely.get_coordinates(q.exterior)) for q in footprints]
+        if any(len(q) != 4 for q in quads) or not all(map(contact_kernel.is_convex_ring, [hull, *quads])):
+            return None
+        steps = np.hypot(*np.diff(upper_xy, axis=0).T)
+        quads = np.stack(quads)
+        return cls(
+            hull_x=np.ascontiguousarray(hull[:, 0]),
+            hull_y=np.ascontiguousarray(hull[:, 1]),
+            quad_x=np.ascontiguousarray(quads[:, :, 0]),
+            quad_y=np.ascontiguousarray(quads[:, :, 1]),
+            quad_bounds=np.ascontiguousarray(shapely.bounds(footprints)),
+            waterline_xy=np.ascontiguousarray(upper_xy, dtype=float),
+            node_distance_m=np.concatenate([[0.0], np.cumsum(steps)]),
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class _ZoneTable:
+    """Zones of a batch (one row per zone, grouped by floe) and their panel rows (sorted by zone, panel)."""
+
+    zones: np.ndarray  # Z = F ∩ H_u per zone (shapely polygons)
+    owner: np.ndarray  # index of each zone's floe in the batch
+    a_u_m2: np.ndarray
+    centre_xy_m: np.ndarray
+    centre_panel: np.ndarray
+    row_zone: np.ndarray
+    row_panel: np.ndarray
+    row_a_h_m2: np.ndarray
+    row_overlap_m: np.ndarray  # length of the row's upper panel segment inside the floe; NaN: not computed
+
+    @staticmethod
+    def concatenate(tables: list[_ZoneTable]) -> _ZoneTable | None:
+        tables = [t for t in tables if t is not None and len(t.zones)]
+        if not tables:
+            return None
+        if len(tables) == 1:
+            return tables[0]
+        offsets = np.cumsum([0] + [len(t.zones) for t in tables[:-1]])
+        return _ZoneTable(
+            zones=np.concatenate([t.zones for t in tables]),
+            owner=np.concatenate([t.owner for t in tables]),
+            a_u_m2=np.concatenate([t.a_u_m2 for t in tables]),
+            centre_xy_m=np.concatenate([t.centre_xy_m for t in tables]),
+            centre_panel=np.concatenate([t.centre_panel for t in tables]),
+            row_zone=np.concatenate([t.row_zone + o for t, o in zip(tables, offsets, strict=True)]),
+            row_panel=np.concatenate([t.row_panel for t in tables]),
+            row_a_h_m2=np.concatenate([t.row_a_h_m2 for t in tables]),
+            row_overlap_m=np.concatenate([t.row_overlap_m for t in tables]),
+        )
+
+
+def _zone_table(floes: np.ndarray, geometry: BowContactGeometry) -> _ZoneTable | None:
+    """Zones and panel rows of all floes: the compiled kernel where it applies, shapely for the rest."""
+    if geometry.kernel is None or len(floes) == 0:
+        return _zone_table_shapely(floes, np.arange(len(floes)), geometry)
+    simple = (shapely.get_type_id(floes) == 3) & (shapely.get_num_interior_rings(floes) == 0)
+    fast = np.flatnonzero(simple)
+    slow = [np.flatnonzero(~simple)]
+    tables = []
+    if fast.size:
+        table, fallback = _zone_table_kernel(floes, fast, geometry.kernel)
+        tables.append(table)
+        slow.append(fallback)
+    slow_index = np.sort(np.concatenate(slow))
+    if slow_index.size:
+        tables.append(_zone_table_shapely(floes, slow_index, geometry))
+    return _ZoneTable.concatenate(tables)
+
+
+def _zone_table_kernel(floes, index, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.ndarray]:
+    """`contact_kernel.contact_batch` on floes[index]: the table, and the floes it leaves to shapely."""
+    coords, which = shapely.get_coordinates(floes[index], return_index=True)
+    counts = np.bincount(which, minlength=len(index))
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    keep = np.ones(len(coords), dtype=bool)
+    keep[starts + counts - 1] = False  # drop each ring's closing vertex
+    (
+        status, a_u, centre, centre_panel, zone_start, zone_count, zone_xy, row_floe, row_panel, row_a_h,
+        row_overlap,
+    ) = contact_kernel.contact_batch(
+        np.ascontiguousarray(coords[keep, 0]),
+        np.ascontiguousarray(coords[keep, 1]),
+        starts - np.arange(len(index)),
+        counts - 1,
+        bow.hull_x,
+        bow.hull_y,
+        bow.quad_x,
+        bow.quad_y,
+        bow.quad_bounds,
+        bow.waterline_xy,
+        bow.node_distance_m,
+    )
+    fallback = index[status == contact_kernel.FALLBACK]
+    hit = np.flatnonzero(status == contact_kernel.CONTACT)
+    if hit.size == 0:
+        return None, fallback
+    zone_of_floe = np.full(len(index), -1)
+    zone_of_floe[hit] = np.arange(hit.size)
+    ring_index = np.repeat(np.arange(hit.size), zone_count[hit])
+    ring_coords = np.concatenate([zone_xy[zone_start[k] : zone_start[k] + zone_count[k]] for k in hit])
+    zones = shapely.polygons(shapely.linearrings(ring_coords, indices=ring_index))
+    table = _ZoneTable(
+        zones=zones,
+        owner=index[hit],
+        a_u_m2=a_u[hit],
+        centre_xy_m=centre[hit],
+        centre_panel=centre_panel[hit],
+        row_zone=zone_of_floe[row_floe],
+        row_panel=row_panel,
+        row_a_h_m2=row_a_h,
+        row_overlap_m=row_overlap,
+    )
+    return table, fallback
+
+
+def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTable | None:
+    """GEOS overlays for floes[index] (any polygon, any bow): connected parts of F ∩ H_u are the zones."""
+    if len(index) == 0:
+        return None
+    index = index[shapely.intersects(geometry.hull_upper, floes[index])]
+    if index.size == 0:
+        return None
+    overlaps = shapely.intersection(floes[index], geometry.hull_upper)
+    parts, owner = shapely.get_parts(overlaps, return_index=True)
+    if parts.size:
+        is_polygon = shapely.get_type_id(parts) == 3
+        areas = shapely.area(parts)
+        keep = is_polygon & (areas > 0.0)
+        parts, owner, areas = parts[keep], index[owner[keep]], areas[keep]
+    if parts.size == 0:
+        return None
+    row_zone, row_panel, row_a_h = _panel_areas(parts, geometry)
+    centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
+    return _ZoneTable(
+        zones=parts,
+        owner=owner,
+        a_u_m2=areas,
+        centre_xy_m=centres,
+        centre_panel=centre_panels,
+        row_zone=row_zone,
+        row_panel=row_panel,
+        row_a_h_m2=row_a_h,
+        row_overlap_m=np.full(len(row_zone), np.nan),
+    )
 
 
 def _panel_areas(
@@ -321,9 +479,12 @@ def _zone_centres(
 _ON_BOUNDARY_M = 1e-6  # a waterline part of F lies on the boundary of its zone up to rounding
 
 
-def _contact_area(a_h, psi, panels, floes, thickness_m, geometry: BowContactGeometry, params: ContactParams):
+def _contact_area(
+    a_h, psi, panels, floes, thickness_m, overlap_m, geometry: BowContactGeometry, params: ContactParams
+):
     """A_c = A_h / sin ψ (thesis Eq. 6) with the near-vertical guard of physics-notes §2.2, per row
-    (`floes` and `thickness_m` are those of each row's floe)."""
+    (`floes` and `thickness_m` are those of each row's floe; `overlap_m` the length of the row's panel
+    segment inside the floe where already known, else NaN)."""
     sin_psi = np.sin(psi)
     sin_min = np.sin(np.radians(params.psi_min_deg))
     steep = sin_psi < sin_min
@@ -334,8 +495,12 @@ def _contact_area(a_h, psi, panels, floes, thickness_m, geometry: BowContactGeom
     if params.near_vertical == "cap":  # 1/sin ψ limited to 1/sin ψ_min
         a_c[steep] = a_h[steep] / sin_min
     else:  # "vertical_face": contact area = thickness × length of the panel overlapping the floe
-        overlap_length = shapely.length(
-            shapely.intersection(geometry.panel_segments[panels[steep]], floes[steep])
-        )
+        overlap_length = np.asarray(overlap_m, dtype=float)[steep]
+        unknown = np.isnan(overlap_length)
+        if unknown.any():
+            rows = np.flatnonzero(steep)[unknown]
+            overlap_length[unknown] = shapely.length(
+                shapely.intersection(geometry.panel_segments[panels[rows]], floes[rows])
+            )
         a_c[steep] = thickness_m[steep] * overlap_length
     return a_c

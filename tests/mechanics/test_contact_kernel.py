@@ -1,0 +1,160 @@
+"""The compiled contact kernel against the shapely (GEOS) implementation it replaces for convex floes.
+
+Reference: `contact._zone_table_shapely`, the GEOS overlays (F ∩ H_u, Z ∩ Q_i, waterline ∩ F) — an
+independent implementation of the same definitions (docs/model.md, contact zones and areas).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from floebreak.mechanics import contact, contact_kernel
+from floebreak.mechanics.contact import BowContactGeometry, ContactParams, evaluate_contacts
+from floebreak.ship.hulls import agulhas_ii
+
+
+@pytest.fixture(scope="module")
+def geometry() -> BowContactGeometry:
+    return BowContactGeometry.from_bow(agulhas_ii(ice_thickness_m=1.0))
+
+
+def _by_floe(table):
+    """{floe: (A_u, centre, centre panel, {panel: A_h})} of a zone table with one zone per floe."""
+    out = {}
+    if table is None:
+        return out
+    for k, floe in enumerate(table.owner.tolist()):
+        rows = table.row_zone == k
+        panels = dict(zip(table.row_panel[rows].tolist(), table.row_a_h_m2[rows].tolist(), strict=True))
+        out[floe] = (table.a_u_m2[k], table.centre_xy_m[k], int(table.centre_panel[k]), panels)
+    return out
+
+
+def _assert_same(kernel_table, shapely_table, floes, geometry):
+    fast, reference = _by_floe(kernel_table), _by_floe(shapely_table)
+    # a floe whose overlap is a rounding-level sliver may be in one table only
+    for floe in set(fast) ^ set(reference):
+        only = fast.get(floe) or reference.get(floe)
+        assert only[0] < 1e-9
+    for floe in set(fast) & set(reference):
+        a_u, centre, panel, rows = fast[floe]
+        ref_a_u, ref_centre, ref_panel, ref_rows = reference[floe]
+        assert a_u == pytest.approx(ref_a_u, rel=1e-9, abs=1e-12)
+        if not np.allclose(centre, ref_centre, atol=1e-7):
+            # an exact tie (a mirror-symmetric floe touching the stem): both must be the middle of a longest
+            # part of waterline ∩ F; which of the equal parts comes first is an implementation detail
+            parts = shapely.get_parts(shapely.intersection(geometry.waterline, floes[floe]))
+            parts = parts[(shapely.get_type_id(parts) == 1) & (shapely.length(parts) > 0.0)]
+            if parts.size == 0:  # a zone clear of the waterline: both must be a nearest waterline point
+                gap = shapely.distance(geometry.waterline, floes[floe])
+                for point in (centre, ref_centre):
+                    assert shapely.distance(shapely.Point(point), floes[floe]) == pytest.approx(gap, abs=1e-9)
+                continue
+            lengths = shapely.length(parts)
+            middles = shapely.get_coordinates(shapely.line_interpolate_point(parts, 0.5, normalized=True))
+            longest = middles[lengths >= lengths.max() - 1e-9]
+            assert np.abs(longest - centre).max(axis=1).min() < 1e-7
+            assert np.abs(longest - ref_centre).max(axis=1).min() < 1e-7
+        elif panel != ref_panel:  # only a centre on a node may go to either panel
+            nodes = shapely.get_coordinates(geometry.waterline)
+            assert np.hypot(*(nodes - centre).T).min() < 1e-7
+            assert abs(panel - ref_panel) == 1
+        for p in set(rows) | set(ref_rows):
+            assert rows.get(p, 0.0) == pytest.approx(ref_rows.get(p, 0.0), rel=1e-9, abs=1e-10)
+
+
+def _convex_floe(x, y, radius, n_vertices, aspect, angle):
+    t = np.linspace(0.0, 2.0 * np.pi, n_vertices, endpoint=False)
+    ring = np.stack([radius * np.cos(t), aspect * radius * np.sin(t)], axis=1)
+    c, s = np.cos(angle), np.sin(angle)
+    ring = ring @ np.array([[c, s], [-s, c]]) + [x, y]
+    return shapely.Polygon(ring)
+
+
+@settings(max_examples=120, deadline=None)
+@given(
+    x=st.floats(-60.0, 10.0),
+    y=st.floats(-20.0, 20.0),
+    radius=st.floats(0.3, 25.0),
+    n_vertices=st.integers(3, 64),
+    aspect=st.floats(0.1, 1.0),
+    angle=st.floats(0.0, np.pi),
+)
+def test_kernel_matches_shapely_on_convex_floes(geometry, x, y, radius, n_vertices, aspect, angle):
+    floes = np.array([_convex_floe(x, y, radius, n_vertices, aspect, angle)], dtype=object)
+    fast, fallback = contact._zone_table_kernel(floes, np.arange(1), geometry.kernel)
+    assert fallback.size == 0  # convex floe, convex bow: the kernel decides alone
+    _assert_same(fast, contact._zone_table_shapely(floes, np.arange(1), geometry), floes, geometry)
+
+
+def test_kernel_matches_shapely_on_a_batch(geometry):
+    rng = np.random.default_rng(7)
+    floes = np.array(
+        [
+            _convex_floe(rng.uniform(-60, 10), rng.uniform(-20, 20), rng.uniform(0.5, 20), 64, 1.0, 0.0)
+            for _ in range(200)
+        ],
+        dtype=object,
+    )
+    index = np.arange(len(floes))
+    fast, fallback = contact._zone_table_kernel(floes, index, geometry.kernel)
+    assert fallback.size == 0
+    assert fast is not None and len(fast.zones) > 20  # the batch really has floes in contact
+    _assert_same(fast, contact._zone_table_shapely(floes, index, geometry), floes, geometry)
+    # the zone polygons are F ∩ H_u
+    reference = shapely.intersection(floes[fast.owner], geometry.hull_upper)
+    np.testing.assert_allclose(shapely.area(fast.zones), shapely.area(reference), rtol=1e-9)
+    assert shapely.area(shapely.symmetric_difference(fast.zones, reference)).max() < 1e-9
+
+
+def test_floe_inside_the_hull_takes_the_nearest_waterline_point(geometry):
+    # a small floe wholly inside H_u, clear of the waterline (a piece the bow has already passed over)
+    floes = np.array([shapely.Point(-30.0, 0.0).buffer(1.0)], dtype=object)
+    assert shapely.contains(geometry.hull_upper, floes[0])
+    assert not shapely.intersects(geometry.waterline, floes[0])
+    fast, fallback = contact._zone_table_kernel(floes, np.arange(1), geometry.kernel)
+    assert fallback.size == 0
+    _assert_same(fast, contact._zone_table_shapely(floes, np.arange(1), geometry), floes, geometry)
+
+
+def test_non_convex_floe_goes_to_shapely(geometry):
+    # an L-shaped floe across the stem: the kernel must hand it over, and evaluate_contacts still finds
+    # exactly the zones GEOS finds
+    l_shape = shapely.Polygon([(-4, -6), (6, -6), (6, 6), (2, 6), (2, -2), (-4, -2)])
+    floes = np.array([l_shape], dtype=object)
+    _, fallback = contact._zone_table_kernel(floes, np.arange(1), geometry.kernel)
+    assert fallback.tolist() == [0]
+    (result,) = evaluate_contacts(floes, [1.0], geometry, ContactParams())
+    expected = shapely.area(shapely.intersection(l_shape, geometry.hull_upper))
+    assert sum(z.a_u_m2 for z in result.zones) == pytest.approx(expected, rel=1e-12)
+
+
+def test_non_convex_bow_has_no_kernel():
+    bow = agulhas_ii(ice_thickness_m=1.0)
+    hull = np.asarray(bow.hull_upper.exterior.coords)
+    dented = hull.copy()
+    k = len(hull) // 2  # push one node towards the centre line: H_u is no longer convex
+    dented[k] = 0.5 * (hull[k - 1] + hull[k + 1]) * [1.0, 0.2]
+    assert contact_kernel.is_convex_ring(contact_kernel.ccw_ring(hull))
+    assert not contact_kernel.is_convex_ring(contact_kernel.ccw_ring(dented))
+    footprints, upper = np.asarray(bow.panel_footprints, dtype=object), np.asarray(bow.upper_xy_m)
+    assert contact._ConvexBow.from_bow(shapely.Polygon(hull), footprints, upper) is not None
+    assert contact._ConvexBow.from_bow(shapely.Polygon(dented), footprints, upper) is None
+
+
+def test_clip_and_area_of_unit_squares():
+    # independent hand values: two unit squares overlapping by half, and a square clipped by a triangle
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    shifted = square + np.array([0.5, 0.0])
+    triangle = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    for clip, area in ((shifted, 0.5), (triangle, 0.5), (square + np.array([2.0, 0.0]), 0.0)):
+        buf = [np.empty(16) for _ in range(4)]
+        k = contact_kernel._clip_convex(
+            square[:, 0].copy(), square[:, 1].copy(), 4, clip[:, 0].copy(), clip[:, 1].copy(), len(clip), *buf
+        )
+        got = abs(contact_kernel._signed_area(buf[0], buf[1], k)) if k >= 3 else 0.0
+        assert got == pytest.approx(area, abs=1e-15)
