@@ -27,6 +27,10 @@ from floebreak import constants as c
 from floebreak.errors import require_range
 from floebreak.mechanics import contact_kernel
 
+# Overlaps of at most a square micrometre are rounding, not contact: GEOS and the compiled kernel round
+# differently (the kernel's clipped outline of a non-convex floe leaves ~1e-15 m² on zero-width bridges).
+MIN_OVERLAP_M2 = 1e-12
+
 AreaModel = Literal["per_panel", "single_psi"]
 ForceSigns = Literal["consistent", "thesis_alg3", "thesis_eq9_10"]
 NearVerticalGuard = Literal["vertical_face", "cap", "none"]
@@ -89,7 +93,7 @@ class ContactZone:
     """
 
     zone: int
-    overlap_upper: shapely.Geometry  # Z = F ∩ H_u for this zone
+    overlap: shapely.Geometry | _LazyOverlap  # Z = F ∩ H_u for this zone (see `overlap_upper`)
     centre_xy_m: np.ndarray  # "midBow": middle of the upper waterline inside the floe (thesis Alg. 5)
     centre_panel: int
     centre_normal: np.ndarray  # outward unit normal of the centre panel (thesis Eq. 20)
@@ -103,6 +107,11 @@ class ContactZone:
     f_v_n: np.ndarray
     f_h_n: np.ndarray
     force_on_ice_xy_n: np.ndarray
+
+    @property
+    def overlap_upper(self) -> shapely.Geometry:
+        """Z = F ∩ H_u of this zone; where the compiled kernel found the zone, GEOS builds it on first use."""
+        return self.overlap.geometry if isinstance(self.overlap, _LazyOverlap) else self.overlap
 
     @property
     def a_h_total_m2(self) -> float:
@@ -199,7 +208,7 @@ def evaluate_contacts(
         zones.append(
             ContactZone(
                 zone=len(zones),
-                overlap_upper=parts[k],
+                overlap=parts[k],
                 centre_xy_m=centres[k],
                 centre_panel=centre_panel,
                 centre_normal=geometry.panel_normals[centre_panel],
@@ -290,11 +299,27 @@ class _ConvexBow:
         )
 
 
+class _LazyOverlap:
+    """F ∩ H_u of a floe with exactly one zone, computed once when first asked for (only the `max_distance`
+    loading-radius model needs the polygon; everything else comes from the kernel's numbers)."""
+
+    __slots__ = ("_floe", "_geometry", "_hull")
+
+    def __init__(self, floe: shapely.Geometry, hull: shapely.Geometry):
+        self._floe, self._hull, self._geometry = floe, hull, None
+
+    @property
+    def geometry(self) -> shapely.Geometry:
+        if self._geometry is None:
+            self._geometry = shapely.intersection(self._floe, self._hull)
+        return self._geometry
+
+
 @dataclass(frozen=True, eq=False)
 class _ZoneTable:
     """Zones of a batch (one row per zone, grouped by floe) and their panel rows (sorted by zone, panel)."""
 
-    zones: np.ndarray  # Z = F ∩ H_u per zone (shapely polygons)
+    zones: np.ndarray  # Z = F ∩ H_u per zone (shapely polygons, or `_LazyOverlap` from the kernel)
     owner: np.ndarray  # index of each zone's floe in the batch
     a_u_m2: np.ndarray
     centre_xy_m: np.ndarray
@@ -334,7 +359,7 @@ def _zone_table(floes: np.ndarray, geometry: BowContactGeometry) -> _ZoneTable |
     slow = [np.flatnonzero(~simple)]
     tables = []
     if fast.size:
-        table, fallback = _zone_table_kernel(floes, fast, geometry.kernel)
+        table, fallback = _zone_table_kernel(floes, fast, geometry.kernel, geometry.hull_upper)
         tables.append(table)
         slow.append(fallback)
     slow_index = np.sort(np.concatenate(slow))
@@ -343,17 +368,14 @@ def _zone_table(floes: np.ndarray, geometry: BowContactGeometry) -> _ZoneTable |
     return _ZoneTable.concatenate(tables)
 
 
-def _zone_table_kernel(floes, index, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.ndarray]:
+def _zone_table_kernel(floes, index, bow: _ConvexBow, hull) -> tuple[_ZoneTable | None, np.ndarray]:
     """`contact_kernel.contact_batch` on floes[index]: the table, and the floes it leaves to shapely."""
     coords, which = shapely.get_coordinates(floes[index], return_index=True)
     counts = np.bincount(which, minlength=len(index))
     starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
     keep = np.ones(len(coords), dtype=bool)
     keep[starts + counts - 1] = False  # drop each ring's closing vertex
-    (
-        status, a_u, centre, centre_panel, zone_start, zone_count, zone_xy, row_floe, row_panel, row_a_h,
-        row_overlap,
-    ) = contact_kernel.contact_batch(
+    result = contact_kernel.contact_batch(
         np.ascontiguousarray(coords[keep, 0]),
         np.ascontiguousarray(coords[keep, 1]),
         starts - np.arange(len(index)),
@@ -365,16 +387,17 @@ def _zone_table_kernel(floes, index, bow: _ConvexBow) -> tuple[_ZoneTable | None
         bow.quad_bounds,
         bow.waterline_xy,
         bow.node_distance_m,
+        MIN_OVERLAP_M2,
     )
+    status, a_u, centre, centre_panel, row_floe, row_panel, row_a_h, row_overlap = result
     fallback = index[status == contact_kernel.FALLBACK]
     hit = np.flatnonzero(status == contact_kernel.CONTACT)
     if hit.size == 0:
         return None, fallback
     zone_of_floe = np.full(len(index), -1)
     zone_of_floe[hit] = np.arange(hit.size)
-    ring_index = np.repeat(np.arange(hit.size), zone_count[hit])
-    ring_coords = np.concatenate([zone_xy[zone_start[k] : zone_start[k] + zone_count[k]] for k in hit])
-    zones = shapely.polygons(shapely.linearrings(ring_coords, indices=ring_index))
+    # one zone per floe: Z = F ∩ H_u itself, built by GEOS only if a failure model asks for the polygon
+    zones = np.array([_LazyOverlap(floes[j], hull) for j in index[hit]], dtype=object)
     table = _ZoneTable(
         zones=zones,
         owner=index[hit],
@@ -401,7 +424,7 @@ def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTabl
     if parts.size:
         is_polygon = shapely.get_type_id(parts) == 3
         areas = shapely.area(parts)
-        keep = is_polygon & (areas > 0.0)
+        keep = is_polygon & (areas > MIN_OVERLAP_M2)
         parts, owner, areas = parts[keep], index[owner[keep]], areas[keep]
     if parts.size == 0:
         return None
@@ -429,7 +452,7 @@ def _panel_areas(
     order = np.lexsort((panel, zone_index))
     zone_index, panel = zone_index[order], panel[order]
     a_h = shapely.area(shapely.intersection(zones[zone_index], geometry.footprints[panel]))
-    keep = a_h > 0.0
+    keep = a_h > MIN_OVERLAP_M2
     return zone_index[keep], panel[keep], a_h[keep]
 
 

@@ -1,22 +1,26 @@
-"""Compiled contact kernel: the geometry of `floebreak.mechanics.contact` for convex floes and a convex bow.
+"""Compiled contact kernel: the geometry of `floebreak.mechanics.contact` for a convex bow, in numba.
 
 Why hand-written geometry next to shapely: a contact evaluation needs three GEOS overlays per floe (floe ∩
-H_u, zone ∩ each panel footprint, waterline ∩ floe) and these cost ≈ 165 µs per floe, which capped the
-stepping engine far below its goal (benchmarks/README.md). For the common case — a convex floe (circles,
-Voronoi cells and every piece cut by a straight crack) against a convex upper hull with convex panel
-footprints (both built-in hulls) — the same quantities follow from two textbook algorithms in compiled code,
-several times faster (benchmarks/README.md):
+H_u, zone ∩ each panel footprint, waterline ∩ floe) at ≈ 165 µs per floe, which capped the stepping engine
+far below its goal (benchmarks/README.md). Against a convex upper hull H_u with convex panel footprints Q_i
+(both built-in hulls), the same quantities follow from textbook algorithms in compiled code, several times
+faster:
 
-- Sutherland–Hodgman clipping of the floe by the convex hull H_u gives the zone Z = F ∩ H_u (one zone: the
-  intersection of two convex sets is connected), then Z clipped by each footprint Q_i gives A_h,i;
-- Cyrus–Beck clipping of each upper-waterline segment by the convex floe gives the parts of the waterline
-  inside F: the middle of the longest connected part is the zone centre ("midBow", thesis Alg. 5), and the
-  clipped length of a panel's segment is the overlap used by the near-vertical guard.
+- Sutherland–Hodgman clipping of the floe F by H_u gives A_u = area(F ∩ H_u), then that clipped polygon
+  clipped by each Q_i gives A_h,i. For a non-convex F the clipped outline may carry zero-width bridges, but
+  its signed area is still exact.
+- Zones: F ∩ H_u is one zone if F is convex (two convex sets meet in a connected set), or if ∂F and ∂H_u
+  cross at most twice (one arc of ∂F inside H_u closes with one arc of ∂H_u inside F).
+- Each upper-waterline segment is cut where it meets ∂F, and the pieces inside F (even–odd test) form the
+  parts of waterline ∩ F, split at ∂F as GEOS splits them: the middle of the longest part is the zone centre
+  ("midBow", thesis Alg. 5), and the length inside F per panel is the overlap of the near-vertical guard.
+- A convex zone that does not reach the waterline (a piece already inside the hull) takes the waterline
+  point nearest to it.
 
-A zone that does not reach the waterline (a piece already inside the hull) takes the waterline point nearest
-to it. Anything else (a non-convex floe, a floe with holes, a non-convex user bow) is reported as "fallback"
-and evaluated with shapely, so results never depend on the kernel's
-limits. Tests compare both paths on random floes (tests/mechanics/test_contact_kernel.py).
+Anything else — more than one possible zone, boundaries that touch or run along each other, a non-convex
+zone clear of the waterline, a floe with holes, a non-convex user bow — is reported as "fallback" and
+evaluated with shapely, so results never depend on the kernel's limits. Tests compare both paths on random
+convex and non-convex floes (tests/mechanics/test_contact_kernel.py).
 """
 
 from __future__ import annotations
@@ -54,11 +58,12 @@ def _is_convex(xs, ys, n, orientation):
 
 
 @numba.njit(cache=True, nogil=True)
-def _clip_convex(px, py, n, cx, cy, m, out_x, out_y, tmp_x, tmp_y):
+def _clip_convex(px, py, n, cx, cy, m, out_x, out_y, tmp_x, tmp_y, capacity):
     """Sutherland–Hodgman: polygon (px, py)[:n] clipped by the CCW convex polygon (cx, cy)[:m].
 
-    Writes the result to out_x/out_y and returns its vertex count (0: empty). Scratch arrays must hold
-    n + m vertices (a convex polygon gains at most one vertex per clipping half-plane).
+    Writes the result to out_x/out_y and returns its vertex count (0: empty; −1: more than `capacity`
+    vertices). The subject may be non-convex: the output then may contain zero-width bridges along the clip
+    edges, but its signed area is still that of the intersection.
     """
     k = n
     for i in range(n):
@@ -83,6 +88,8 @@ def _clip_convex(px, py, n, cx, cy, m, out_x, out_y, tmp_x, tmp_y):
         for i in range(k):
             qx, qy = out_x[i], out_y[i]
             qd = ex * (qy - ay) - ey * (qx - ax)
+            if count + 2 > capacity:
+                return -1
             if qd >= 0.0:
                 if sd < 0.0:
                     t = sd / (sd - qd)
@@ -106,28 +113,79 @@ def _clip_convex(px, py, n, cx, cy, m, out_x, out_y, tmp_x, tmp_y):
 
 
 @numba.njit(cache=True, nogil=True)
-def _segment_inside(x0, y0, x1, y1, px, py, n, orientation):
-    """Cyrus–Beck: parameter interval [t_in, t_out] of segment (x0, y0)→(x1, y1) inside the convex polygon
-    (px, py)[:n] of the given orientation (t_in ≥ t_out: no overlap), and whether the end point lies strictly
-    inside (not on the boundary, where GEOS splits the line into two parts)."""
-    t_in, t_out = 0.0, 1.0
-    end_inside = True
+def _boundary_hits(x0, y0, x1, y1, px, py, n, hits):
+    """Parameters t ∈ [0, 1] where segment (x0, y0)→(x1, y1) meets the boundary of polygon (px, py)[:n],
+    sorted into `hits`; returns their count, or −1 if the segment runs along a boundary edge."""
+    dx, dy = x1 - x0, y1 - y0
+    count = 0
     for i in range(n):
         j = i + 1 if i + 1 < n else 0
         ex, ey = px[j] - px[i], py[j] - py[i]
-        d0 = orientation * (ex * (y0 - py[i]) - ey * (x0 - px[i]))
-        d1 = orientation * (ex * (y1 - py[i]) - ey * (x1 - px[i]))
-        if d1 <= 0.0:
-            end_inside = False
-        if d0 < 0.0 and d1 < 0.0:
-            return 1.0, 0.0, False
-        if d0 < 0.0:
-            t_in = max(t_in, d0 / (d0 - d1))
-        elif d1 < 0.0:
-            t_out = min(t_out, d0 / (d0 - d1))
-        if t_in >= t_out:
-            return 1.0, 0.0, False
-    return t_in, t_out, end_inside
+        wx, wy = px[i] - x0, py[i] - y0
+        denom = dx * ey - dy * ex
+        w_cross_d = wx * dy - wy * dx
+        if denom == 0.0:
+            if w_cross_d == 0.0:  # collinear: an overlap along the boundary is left to GEOS
+                d2 = dx * dx + dy * dy
+                ta = (wx * dx + wy * dy) / d2
+                tb = ((px[j] - x0) * dx + (py[j] - y0) * dy) / d2
+                if max(min(ta, tb), 0.0) < min(max(ta, tb), 1.0):
+                    return -1
+            continue
+        t = (wx * ey - wy * ex) / denom
+        u = w_cross_d / denom
+        if 0.0 <= t <= 1.0 and 0.0 <= u <= 1.0:
+            k = count  # insertion sort: a handful of hits per segment
+            while k > 0 and hits[k - 1] > t:
+                hits[k] = hits[k - 1]
+                k -= 1
+            hits[k] = t
+            count += 1
+    return count
+
+
+@numba.njit(cache=True, nogil=True)
+def _inside(x, y, px, py, n):
+    """Even–odd point-in-polygon test."""
+    inside = False
+    j = n - 1
+    for i in range(n):
+        if (py[i] > y) != (py[j] > y):
+            if x < (px[j] - px[i]) * (y - py[i]) / (py[j] - py[i]) + px[i]:
+                inside = not inside
+        j = i
+    return inside
+
+
+@numba.njit(cache=True, nogil=True)
+def _crossings(px, py, n, hx, hy, m):
+    """Proper crossings between the boundaries of two polygons; −1 if they touch or overlap anywhere (a
+    degenerate contact whose zones are left to GEOS)."""
+    count = 0
+    h_x0, h_x1, h_y0, h_y1 = hx.min(), hx.max(), hy.min(), hy.max()
+    for i in range(n):
+        j = i + 1 if i + 1 < n else 0
+        x0, y0, x1, y1 = px[i], py[i], px[j], py[j]
+        if min(x0, x1) > h_x1 or max(x0, x1) < h_x0 or min(y0, y1) > h_y1 or max(y0, y1) < h_y0:
+            continue
+        dx, dy = x1 - x0, y1 - y0
+        for a in range(m):
+            b = a + 1 if a + 1 < m else 0
+            ex, ey = hx[b] - hx[a], hy[b] - hy[a]
+            wx, wy = hx[a] - x0, hy[a] - y0
+            denom = dx * ey - dy * ex
+            w_cross_d = wx * dy - wy * dx
+            if denom == 0.0:
+                if w_cross_d == 0.0:
+                    return -1
+                continue
+            t = (wx * ey - wy * ex) / denom
+            u = w_cross_d / denom
+            if 0.0 < t < 1.0 and 0.0 < u < 1.0:
+                count += 1
+            elif 0.0 <= t <= 1.0 and 0.0 <= u <= 1.0:
+                return -1
+    return count
 
 
 @numba.njit(cache=True, nogil=True)
@@ -177,6 +235,7 @@ def contact_batch(
     quad_bounds,
     waterline_xy,
     node_distance,
+    min_overlap,
 ):
     """Contact geometry of many floes (bow frame) against one convex bow.
 
@@ -184,11 +243,11 @@ def contact_batch(
     hull_x, hull_y: the CCW open ring of H_u. quad_x, quad_y: (n_panels, 4) CCW footprints Q_i; quad_bounds:
     their (x0, y0, x1, y1). Separate contiguous x and y arrays keep every call to the helpers on one array
     layout (one compiled specialisation each, so the first run compiles faster). waterline_xy: the upper
-    waterline nodes (n_panels + 1); node_distance: arc length at each node.
+    waterline nodes (n_panels + 1); node_distance: arc length at each node. Zones and rows of at most
+    `min_overlap` area are not contacts.
 
-    Returns per floe (status, A_u, centre x, centre y, centre panel, zone vertex start and count into
-    zone_xy) and per row (floe, panel, A_h,i, length of the panel's waterline segment inside the floe),
-    rows ordered by floe then panel.
+    Returns per floe (status, A_u, centre xy, centre panel) and per row (floe, panel, A_h,i, length of the
+    panel's waterline segment inside the floe), rows ordered by floe then panel.
     """
     n_floes = floe_start.shape[0]
     n_panels = quad_x.shape[0]
@@ -197,9 +256,6 @@ def contact_batch(
     a_u = np.zeros(n_floes)
     centre = np.zeros((n_floes, 2))
     centre_panel = np.zeros(n_floes, dtype=np.int64)
-    zone_start = np.zeros(n_floes, dtype=np.int64)
-    zone_count = np.zeros(n_floes, dtype=np.int64)
-    zone_xy = np.empty((floe_x.shape[0] + n_floes * m, 2))
     row_floe = np.empty(n_floes * n_panels, dtype=np.int64)
     row_panel = np.empty(n_floes * n_panels, dtype=np.int64)
     row_a_h = np.empty(n_floes * n_panels)
@@ -207,17 +263,18 @@ def contact_batch(
     max_n = 0
     for i in range(n_floes):
         max_n = max(max_n, floe_count[i])
-    size = max_n + m + 8
-    zx, zy = np.empty(size), np.empty(size)
-    qx, qy = np.empty(size + 8), np.empty(size + 8)
-    tx, ty = np.empty(size + 8), np.empty(size + 8)
+    # a half-plane adds at most one vertex to a convex polygon, more to a non-convex one: generous scratch
+    # space, and a floe that would exceed it goes to GEOS
+    capacity = 4 * (max_n + m) + 16
+    zx, zy = np.empty(capacity), np.empty(capacity)
+    qx, qy = np.empty(capacity), np.empty(capacity)
+    tx, ty = np.empty(capacity), np.empty(capacity)
+    hits = np.empty(max_n + 1)
     hx, hy = hull_x, hull_y
     hull_x0, hull_x1 = hx.min(), hx.max()
     hull_y0, hull_y1 = hy.min(), hy.max()
-    seg_in = np.empty(n_panels)
-    seg_out = np.empty(n_panels)
+    seg_overlap = np.empty(n_panels)
     n_rows = 0
-    n_zone_xy = 0
     for i in range(n_floes):
         s, n = floe_start[i], floe_count[i]
         px = floe_x[s : s + n]
@@ -225,50 +282,81 @@ def contact_batch(
         if px.max() <= hull_x0 or px.min() >= hull_x1 or py.max() <= hull_y0 or py.min() >= hull_y1:
             continue  # at most touching: no area in common
         orientation = 1.0 if _signed_area(px, py, n) > 0.0 else -1.0
-        if not _is_convex(px, py, n, orientation):
+        convex = _is_convex(px, py, n, orientation)
+        # F ∩ H_u is one zone if F is convex, or if the two boundaries cross at most twice (one arc of ∂F
+        # inside H_u closes with one arc of ∂H_u inside F); anything else is left to GEOS
+        if not convex:
+            crossings = _crossings(px, py, n, hx, hy, m)
+            if crossings < 0 or crossings > 2:
+                status[i] = FALLBACK
+                continue
+        k = _clip_convex(px, py, n, hx, hy, m, zx, zy, tx, ty, capacity)
+        if k < 0:
             status[i] = FALLBACK
             continue
-        k = _clip_convex(px, py, n, hx, hy, m, zx, zy, tx, ty)
         area = abs(_signed_area(zx, zy, k)) if k >= 3 else 0.0
-        if not area > 0.0:
+        if not area > min_overlap:
             continue
-        # the waterline inside F: the longest connected part (first on a tie), in waterline order
+        # the waterline inside F, split where it meets F's boundary (as GEOS does): the longest part (first
+        # on a tie, in waterline order) and, per segment, the length inside F
         best_length, best_from, best_to = -1.0, 0.0, 0.0
         part_from, part_to, open_part = 0.0, 0.0, False
         f_x0, f_x1, f_y0, f_y1 = px.min(), px.max(), py.min(), py.max()
+        degenerate = False
         for p in range(n_panels):
+            seg_overlap[p] = 0.0
             x0, y0 = waterline_xy[p, 0], waterline_xy[p, 1]
             x1, y1 = waterline_xy[p + 1, 0], waterline_xy[p + 1, 1]
             if min(x0, x1) > f_x1 or max(x0, x1) < f_x0 or min(y0, y1) > f_y1 or max(y0, y1) < f_y0:
-                t_in, t_out, end_inside = 1.0, 0.0, False  # bounding boxes apart: no overlap
-            else:
-                t_in, t_out, end_inside = _segment_inside(x0, y0, x1, y1, px, py, n, orientation)
-            seg_in[p], seg_out[p] = t_in, t_out
-            if t_in < t_out:
-                length = node_distance[p + 1] - node_distance[p]
-                d_in, d_out = node_distance[p] + t_in * length, node_distance[p] + t_out * length
-                if open_part and t_in <= 0.0:
-                    part_to = d_out
-                else:
-                    if open_part and part_to - part_from > best_length:
-                        best_length, best_from, best_to = part_to - part_from, part_from, part_to
-                    part_from, part_to, open_part = d_in, d_out, True
-                if not end_inside:  # the part ends in this segment or on the floe's boundary at its end
+                if open_part:  # bounding boxes apart: no overlap
                     if part_to - part_from > best_length:
                         best_length, best_from, best_to = part_to - part_from, part_from, part_to
                     open_part = False
-            elif open_part:
-                if part_to - part_from > best_length:
-                    best_length, best_from, best_to = part_to - part_from, part_from, part_to
-                open_part = False
+                continue
+            n_hits = _boundary_hits(x0, y0, x1, y1, px, py, n, hits)
+            if n_hits < 0:
+                degenerate = True
+                break
+            seg_length = node_distance[p + 1] - node_distance[p]
+            for j in range(n_hits + 1):
+                a = hits[j - 1] if j > 0 else 0.0
+                b = hits[j] if j < n_hits else 1.0
+                if not b > a:
+                    continue
+                t = 0.5 * (a + b)
+                if not _inside(x0 + t * (x1 - x0), y0 + t * (y1 - y0), px, py, n):
+                    if open_part:
+                        if part_to - part_from > best_length:
+                            best_length, best_from, best_to = part_to - part_from, part_from, part_to
+                        open_part = False
+                    continue
+                seg_overlap[p] += (b - a) * seg_length
+                d_a, d_b = node_distance[p] + a * seg_length, node_distance[p] + b * seg_length
+                if open_part and j == 0:  # goes on through the node from the previous segment
+                    part_to = d_b
+                else:
+                    if open_part and part_to - part_from > best_length:
+                        best_length, best_from, best_to = part_to - part_from, part_from, part_to
+                    part_from, part_to, open_part = d_a, d_b, True
+                if j < n_hits:  # ends on F's boundary (inside this segment or exactly at its end node)
+                    if part_to - part_from > best_length:
+                        best_length, best_from, best_to = part_to - part_from, part_from, part_to
+                    open_part = False
+        if degenerate:
+            status[i] = FALLBACK
+            continue
         if open_part and part_to - part_from > best_length:
             best_length, best_from, best_to = part_to - part_from, part_from, part_to
         if best_length > 0.0:
             middle = 0.5 * (best_from + best_to)
-        else:  # a zone that does not reach the waterline (a piece already inside the hull): nearest point
+        elif convex:  # a zone clear of the waterline (a piece already inside the hull): the nearest point
             middle = _nearest_on_waterline(zx, zy, k, waterline_xy, node_distance)
+        else:  # the clipped outline of a non-convex floe may carry zero-width bridges: GEOS finds the point
+            status[i] = FALLBACK
+            continue
         status[i] = CONTACT
         a_u[i] = area
+        first_row = n_rows
         panel = np.searchsorted(node_distance, middle) - 1  # as locating the point on the waterline
         panel = min(max(panel, 0), n_panels - 1)
         length = node_distance[panel + 1] - node_distance[panel]
@@ -276,11 +364,6 @@ def contact_batch(
         centre[i, 0] = waterline_xy[panel, 0] + t * (waterline_xy[panel + 1, 0] - waterline_xy[panel, 0])
         centre[i, 1] = waterline_xy[panel, 1] + t * (waterline_xy[panel + 1, 1] - waterline_xy[panel, 1])
         centre_panel[i] = panel
-        zone_start[i], zone_count[i] = n_zone_xy, k
-        for v in range(k):
-            zone_xy[n_zone_xy + v, 0] = zx[v]
-            zone_xy[n_zone_xy + v, 1] = zy[v]
-        n_zone_xy += k
         z_x0, z_x1 = zx[:k].min(), zx[:k].max()
         z_y0, z_y1 = zy[:k].min(), zy[:k].max()
         for p in range(n_panels):
@@ -289,22 +372,23 @@ def contact_batch(
                 or quad_bounds[p, 1] > z_y1 or quad_bounds[p, 3] < z_y0
             ):
                 continue
-            kq = _clip_convex(zx, zy, k, quad_x[p], quad_y[p], 4, qx, qy, tx, ty)
+            kq = _clip_convex(zx, zy, k, quad_x[p], quad_y[p], 4, qx, qy, tx, ty, capacity)
+            if kq < 0:
+                degenerate = True
+                break
             a_h = abs(_signed_area(qx, qy, kq)) if kq >= 3 else 0.0
-            if a_h > 0.0:
+            if a_h > min_overlap:
                 row_floe[n_rows], row_panel[n_rows], row_a_h[n_rows] = i, p, a_h
-                overlap = seg_out[p] - seg_in[p]
-                seg_length = node_distance[p + 1] - node_distance[p]
-                row_overlap[n_rows] = overlap * seg_length if overlap > 0.0 else 0.0
+                row_overlap[n_rows] = seg_overlap[p]
                 n_rows += 1
+        if degenerate:  # scratch space exhausted: drop this floe's rows, GEOS takes it
+            n_rows = first_row
+            status[i] = FALLBACK
     return (
         status,
         a_u,
         centre,
         centre_panel,
-        zone_start,
-        zone_count,
-        zone_xy[:n_zone_xy],
         row_floe[:n_rows],
         row_panel[:n_rows],
         row_a_h[:n_rows],
@@ -336,6 +420,6 @@ def compile_now() -> None:
     waterline = np.array([[-0.5, -0.5], [0.5, -0.5]])
     contact_batch(
         square_x, square_y, np.array([0]), np.array([4]), square_x - 0.5, square_y - 0.5, quad_x, quad_y,
-        np.array([[-0.5, -0.5, 0.5, 0.5]]), waterline, np.array([0.0, 1.0]),
+        np.array([[-0.5, -0.5, 0.5, 0.5]]), waterline, np.array([0.0, 1.0]), 1e-12,
     )
     _is_convex(square_x, square_y, 4, 1.0)
