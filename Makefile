@@ -10,7 +10,7 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ".[dev]"
-	$(BIN)/python -c "from floebreak.mechanics import contact_kernel; contact_kernel.compile_now()"
+	$(BIN)/python -c "from floebreak.mechanics import compile_kernels; compile_kernels()"
 	touch $(STAMP)
 
 demo: $(STAMP)

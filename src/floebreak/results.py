@@ -5,7 +5,6 @@ The columns of the thesis' Tables 5–8: V̄_cusp, Ā_cusp, n_cusp, n_flip, A_cu
 
 from __future__ import annotations
 
-from collections import defaultdict
 from typing import Any
 
 import numpy as np
@@ -50,48 +49,53 @@ class ContactRecorder:
     """
 
     def __init__(self) -> None:
-        self._columns: dict[str, list] = defaultdict(list)
+        # one entry per zone; the columns are assembled once, in `table` (per-row Python work during the run
+        # was a measurable share of the stepping engine's time)
+        self._zones: list[tuple] = []
+        self._n_rows = 0
 
     def __call__(self, event: Event) -> None:
         if not isinstance(event, ContactEvaluated):
             return
         label = outcome_label(event)
-        columns = self._columns
+        failure_class = event.classification.failure_class
         for zone in event.contact.zones:
-            n = len(zone.panels)
-            columns["step"].extend([event.step] * n)
-            columns["bow_x_m"].extend([event.bow_x_m] * n)
-            columns["floe_id"].extend([event.parent_floe_id] * n)
-            columns["piece_id"].extend([event.piece_id] * n)
-            columns["zone"].extend([zone.zone] * n)
-            columns["panel"].extend(zone.panels.tolist())
-            columns["a_u_m2"].extend([zone.a_u_m2] * n)
-            columns["a_l_m2"].extend([zone.a_l_m2] * n)
-            columns["a_h_m2"].extend(zone.a_h_m2.tolist())
-            columns["a_c_m2"].extend(zone.a_c_m2.tolist())
-            columns["psi_deg"].extend(np.degrees(zone.psi_rad).tolist())
-            columns["f_c_n"].extend(zone.f_c_n.tolist())
-            columns["f_v_n"].extend(zone.f_v_n.tolist())
-            columns["f_h_n"].extend(zone.f_h_n.tolist())
-            columns["failure_class"].extend([event.classification.failure_class] * n)
-            columns["outcome"].extend([label] * n)
+            self._zones.append(
+                (event.step, event.bow_x_m, event.parent_floe_id, event.piece_id, zone, failure_class, label)
+            )
+            self._n_rows += len(zone.panels)
 
     def __len__(self) -> int:
-        return len(self._columns["step"])
+        return self._n_rows
 
     def table(self) -> dict[str, np.ndarray]:
         """The records as numpy columns (empty columns if there was no contact)."""
-        dtypes = {
-            "step": np.int64,
-            "floe_id": np.int64,
-            "piece_id": np.int64,
-            "zone": np.int64,
-            "panel": np.int64,
-            "failure_class": object,
-            "outcome": object,
-        }
+        zones = [entry[4] for entry in self._zones]
+        counts = np.array([len(zone.panels) for zone in zones], dtype=np.int64)
+
+        def repeated(index: int, dtype) -> np.ndarray:
+            return np.repeat(np.array([entry[index] for entry in self._zones], dtype=dtype), counts)
+
+        def joined(values, dtype=float) -> np.ndarray:
+            return np.concatenate(values).astype(dtype, copy=False) if values else np.zeros(0, dtype=dtype)
+
         return {
-            name: np.asarray(self._columns[name], dtype=dtypes.get(name, float)) for name in CONTACT_COLUMNS
+            "step": repeated(0, np.int64),
+            "bow_x_m": repeated(1, float),
+            "floe_id": repeated(2, np.int64),
+            "piece_id": repeated(3, np.int64),
+            "zone": np.repeat(np.array([zone.zone for zone in zones], dtype=np.int64), counts),
+            "panel": joined([zone.panels for zone in zones], np.int64),
+            "a_u_m2": np.repeat(np.array([zone.a_u_m2 for zone in zones], dtype=float), counts),
+            "a_l_m2": np.repeat(np.array([zone.a_l_m2 for zone in zones], dtype=float), counts),
+            "a_h_m2": joined([zone.a_h_m2 for zone in zones]),
+            "a_c_m2": joined([zone.a_c_m2 for zone in zones]),
+            "psi_deg": np.degrees(joined([zone.psi_rad for zone in zones])),
+            "f_c_n": joined([zone.f_c_n for zone in zones]),
+            "f_v_n": joined([zone.f_v_n for zone in zones]),
+            "f_h_n": joined([zone.f_h_n for zone in zones]),
+            "failure_class": repeated(5, object),
+            "outcome": repeated(6, object),
         }
 
 
@@ -112,11 +116,15 @@ def oriented_box_dimensions_m(polygons: np.ndarray) -> tuple[np.ndarray, np.ndar
     boxes = shapely.oriented_envelope(polygons)
     length = np.zeros(len(polygons))
     width = np.zeros(len(polygons))
-    for i, box in enumerate(boxes):
-        coords = shapely.get_coordinates(box)
-        if len(coords) >= 4:
-            sides = np.hypot(*np.diff(coords[:3], axis=0).T)
-            length[i], width[i] = sides.max(), sides.min()
+    # the first two sides of each rectangle, all boxes at once (degenerate boxes with < 4 points stay 0)
+    coords, owner = shapely.get_coordinates(boxes, return_index=True)
+    counts = np.bincount(owner, minlength=len(polygons))
+    box = counts >= 4
+    first = (np.cumsum(counts) - counts)[box]
+    side_a = np.hypot(*(coords[first + 1] - coords[first]).T)
+    side_b = np.hypot(*(coords[first + 2] - coords[first + 1]).T)
+    length[box] = np.maximum(side_a, side_b)
+    width[box] = np.minimum(side_a, side_b)
     return length, width
 
 

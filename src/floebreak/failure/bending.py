@@ -82,7 +82,8 @@ def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSetti
         zone.a_h_total_m2,
         wedge,
         settings.loading_radius_model,
-        zone.overlap_upper,
+        # the crushed-zone polygon only for the one model that reads it (building it costs a GEOS overlay)
+        zone.overlap_upper if settings.loading_radius_model == "max_distance" else None,
     )
     material = dict(
         youngs_modulus_pa=settings.youngs_modulus_pa,

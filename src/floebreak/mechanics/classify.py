@@ -11,9 +11,11 @@ the panel's outward normal (orthogonal to the bow section), its *width* w the ex
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal
 
+import numba
 import numpy as np
 import shapely
 
@@ -83,13 +85,22 @@ class Classification:
 
 def oriented_extent_m(polygon: shapely.Geometry, normal_xy: np.ndarray) -> tuple[float, float]:
     """(length along `normal_xy`, width along the perpendicular) of the polygon's oriented bounding box."""
-    coords = shapely.get_coordinates(polygon)
-    normal = np.asarray(normal_xy, dtype=float)
-    normal = normal / np.hypot(*normal)
-    tangent = np.array([-normal[1], normal[0]])
-    along_normal = coords @ normal
-    along_tangent = coords @ tangent
-    return float(along_normal.max() - along_normal.min()), float(along_tangent.max() - along_tangent.min())
+    normal_x, normal_y = float(normal_xy[0]), float(normal_xy[1])
+    norm = math.hypot(normal_x, normal_y)
+    return _extents(shapely.get_coordinates(polygon), normal_x / norm, normal_y / norm)
+
+
+@numba.njit(cache=True, nogil=True)
+def _extents(coords, normal_x, normal_y):
+    # compiled: called once per contact evaluation, where numpy's per-call overhead dominated
+    low_n = low_t = np.inf
+    high_n = high_t = -np.inf
+    for i in range(coords.shape[0]):
+        along_normal = coords[i, 0] * normal_x + coords[i, 1] * normal_y
+        along_tangent = coords[i, 1] * normal_x - coords[i, 0] * normal_y
+        low_n, high_n = min(low_n, along_normal), max(high_n, along_normal)
+        low_t, high_t = min(low_t, along_tangent), max(high_t, along_tangent)
+    return high_n - low_n, high_t - low_t
 
 
 def unbreakable_area_m2(thickness_m: float, params: ClassificationParams) -> float:

@@ -294,7 +294,7 @@ class _ConvexBow:
             quad_x=np.ascontiguousarray(quads[:, :, 0]),
             quad_y=np.ascontiguousarray(quads[:, :, 1]),
             quad_bounds=np.ascontiguousarray(shapely.bounds(footprints)),
-            waterline_xy=np.ascontiguousarray(upper_xy, dtype=float),
+            waterline_xy=np.array(upper_xy, dtype=float),  # a writable copy: one compiled signature
             node_distance_m=np.concatenate([[0.0], np.cumsum(steps)]),
         )
 

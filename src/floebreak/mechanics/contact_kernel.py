@@ -413,8 +413,7 @@ def is_convex_ring(ring: np.ndarray) -> bool:
 
 
 def compile_now() -> None:
-    """Compile (or load from numba's on-disk cache) the kernel on a tiny input: `make` calls this at set-up so
-    that the first run is not slowed by a one-off compilation of several seconds."""
+    """Compile (or load from numba's on-disk cache) the kernel on a tiny input; see `compile_kernels`."""
     square_x, square_y = np.array([0.0, 1.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0, 1.0])
     quad_x, quad_y = square_x[None, :] - 0.5, square_y[None, :] - 0.5
     waterline = np.array([[-0.5, -0.5], [0.5, -0.5]])
