@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import platform
 from importlib import metadata
 from typing import Any
@@ -9,6 +10,9 @@ from typing import Any
 _LIBRARIES = ("numpy", "scipy", "shapely", "pyarrow", "pydantic", "matplotlib")
 
 
+# Cached: each `metadata.version` call scans the installed distributions (≈ 3 ms), and a run directory asks
+# about 60 times; versions do not change while the process runs.
+@functools.cache
 def floebreak_version() -> str:
     try:
         return metadata.version("floebreak")
@@ -17,6 +21,11 @@ def floebreak_version() -> str:
 
 
 def library_versions() -> dict[str, str]:
+    return dict(_library_versions())  # a copy: callers may change theirs
+
+
+@functools.cache
+def _library_versions() -> dict[str, str]:
     versions = {"python": platform.python_version()}
     for name in _LIBRARIES:
         try:
