@@ -42,6 +42,7 @@ from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.io.atomic import atomic_directory
+from floebreak.io.figures import savefig
 from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, arrow_array, to_json, write_geoparquet
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.results import (
@@ -525,7 +526,8 @@ def _write_contacts(path: Path, contacts: Mapping[str, np.ndarray], metadata: Ma
 
 
 def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
-    figure.savefig(
+    savefig(
+        figure,
         path,
         format="png",
         dpi=150,
