@@ -27,5 +27,7 @@ def polygon_collection(polygons, **kwargs) -> PolyCollection:
     """One PolyCollection of the exteriors of all polygons (multipolygons contribute every part)."""
     parts = shapely.get_parts(np.asarray(polygons, dtype=object))
     exteriors = shapely.get_exterior_ring(parts)
-    verts = [shapely.get_coordinates(ring) for ring in exteriors]
+    coords, ring = shapely.get_coordinates(exteriors, return_index=True)  # one call, not one per ring
+    ends = np.cumsum(np.bincount(ring, minlength=len(exteriors)))
+    verts = np.split(coords, ends[:-1]) if len(exteriors) else []
     return PolyCollection(verts, **kwargs)
