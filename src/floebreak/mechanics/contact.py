@@ -199,12 +199,16 @@ def evaluate_contacts(
     )
     row_f_c, row_f_v, row_f_h = panel_forces(row_a_c, row_psi, params)
     row_force_xy = row_f_h[:, None] * geometry.panel_normals[row_panel]
+    zone_force_xy = np.stack(
+        [np.bincount(row_zone, row_force_xy[:, axis], minlength=n_zones) for axis in (0, 1)], axis=1
+    )
     bounds = np.searchsorted(row_zone, np.arange(n_zones + 1)).tolist()
+    a_u_list, a_l_list, centre_panel_list = areas.tolist(), a_l.tolist(), centre_panels.tolist()
     zones_by_floe: dict[int, list[ContactZone]] = {}
     for k, floe_index in enumerate(owner.tolist()):
         zones = zones_by_floe.setdefault(floe_index, [])
         rows = slice(bounds[k], bounds[k + 1])
-        centre_panel = int(centre_panels[k])
+        centre_panel = centre_panel_list[k]
         zones.append(
             ContactZone(
                 zone=len(zones),
@@ -212,8 +216,8 @@ def evaluate_contacts(
                 centre_xy_m=centres[k],
                 centre_panel=centre_panel,
                 centre_normal=geometry.panel_normals[centre_panel],
-                a_u_m2=float(areas[k]),
-                a_l_m2=float(a_l[k]),
+                a_u_m2=a_u_list[k],
+                a_l_m2=a_l_list[k],
                 panels=row_panel[rows],
                 a_h_m2=row_a_h[rows],
                 a_c_m2=row_a_c[rows],
@@ -221,7 +225,7 @@ def evaluate_contacts(
                 f_c_n=row_f_c[rows],
                 f_v_n=row_f_v[rows],
                 f_h_n=row_f_h[rows],
-                force_on_ice_xy_n=row_force_xy[rows].sum(axis=0),
+                force_on_ice_xy_n=zone_force_xy[k],
             )
         )
     for floe_index, zones in zones_by_floe.items():
@@ -371,15 +375,10 @@ def _zone_table(floes: np.ndarray, geometry: BowContactGeometry) -> _ZoneTable |
 def _zone_table_kernel(floes, index, bow: _ConvexBow, hull) -> tuple[_ZoneTable | None, np.ndarray]:
     """`contact_kernel.contact_batch` on floes[index]: the table, and the floes it leaves to shapely."""
     coords, which = shapely.get_coordinates(floes[index], return_index=True)
-    counts = np.bincount(which, minlength=len(index))
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    keep = np.ones(len(coords), dtype=bool)
-    keep[starts + counts - 1] = False  # drop each ring's closing vertex
     result = contact_kernel.contact_batch(
-        np.ascontiguousarray(coords[keep, 0]),
-        np.ascontiguousarray(coords[keep, 1]),
-        starts - np.arange(len(index)),
-        counts - 1,
+        coords,
+        which,
+        len(index),
         bow.hull_x,
         bow.hull_y,
         bow.quad_x,
@@ -397,7 +396,9 @@ def _zone_table_kernel(floes, index, bow: _ConvexBow, hull) -> tuple[_ZoneTable 
     zone_of_floe = np.full(len(index), -1)
     zone_of_floe[hit] = np.arange(hit.size)
     # one zone per floe: Z = F ∩ H_u itself, built by GEOS only if a failure model asks for the polygon
-    zones = np.array([_LazyOverlap(floes[j], hull) for j in index[hit]], dtype=object)
+    zones = np.fromiter(
+        (_LazyOverlap(floes[j], hull) for j in index[hit].tolist()), dtype=object, count=hit.size
+    )
     table = _ZoneTable(
         zones=zones,
         owner=index[hit],

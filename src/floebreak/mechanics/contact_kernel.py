@@ -202,32 +202,37 @@ def _project(px, py, ax, ay, bx, by):
 @numba.njit(cache=True, nogil=True)
 def _nearest_on_waterline(zx, zy, k, waterline_xy, node_distance):
     """Arc length of the waterline point nearest to the polygon (zx, zy)[:k] that it does not meet: for two
-    disjoint polylines the minimum distance is attained at a vertex of one of them."""
+    disjoint polylines the minimum distance is attained at a vertex of one of them. Segments whose bounding
+    box is already farther than the best distance found are skipped."""
     best, best_s = np.inf, 0.0
+    z_x0, z_x1, z_y0, z_y1 = zx[:k].min(), zx[:k].max(), zy[:k].min(), zy[:k].max()
     n_segments = waterline_xy.shape[0] - 1
     for p in range(n_segments):
         ax, ay = waterline_xy[p, 0], waterline_xy[p, 1]
         bx, by = waterline_xy[p + 1, 0], waterline_xy[p + 1, 1]
+        gap_x = max(min(ax, bx) - z_x1, z_x0 - max(ax, bx), 0.0)
+        gap_y = max(min(ay, by) - z_y1, z_y0 - max(ay, by), 0.0)
+        if gap_x * gap_x + gap_y * gap_y >= best:
+            continue
         length = node_distance[p + 1] - node_distance[p]
-        for v in range(k):  # polygon vertices against waterline segments
+        for v in range(k):  # polygon vertices against this waterline segment
             d2, t = _project(zx[v], zy[v], ax, ay, bx, by)
             if d2 < best:
                 best, best_s = d2, node_distance[p] + t * length
-    for p in range(n_segments + 1):  # waterline nodes against polygon edges
-        for v in range(k):
-            w = v + 1 if v + 1 < k else 0
-            d2, t = _project(waterline_xy[p, 0], waterline_xy[p, 1], zx[v], zy[v], zx[w], zy[w])
-            if d2 < best:
-                best, best_s = d2, node_distance[p]
+        for node in (p, p + 1):  # its end nodes against the polygon's edges
+            for v in range(k):
+                w = v + 1 if v + 1 < k else 0
+                d2, t = _project(waterline_xy[node, 0], waterline_xy[node, 1], zx[v], zy[v], zx[w], zy[w])
+                if d2 < best:
+                    best, best_s = d2, node_distance[node]
     return best_s
 
 
 @numba.njit(cache=True, nogil=True)
 def contact_batch(
-    floe_x,
-    floe_y,
-    floe_start,
-    floe_count,
+    floe_coords,
+    floe_index,
+    n_floes,
     hull_x,
     hull_y,
     quad_x,
@@ -239,7 +244,8 @@ def contact_batch(
 ):
     """Contact geometry of many floes (bow frame) against one convex bow.
 
-    floe_x, floe_y: all floes' open rings (no closing vertex), floe i at floe_start[i] : + floe_count[i].
+    floe_coords, floe_index: the floes' closed exterior rings and the floe of each vertex, as from
+    `shapely.get_coordinates(floes, return_index=True)` (polygons without holes); n_floes: their number.
     hull_x, hull_y: the CCW open ring of H_u. quad_x, quad_y: (n_panels, 4) CCW footprints Q_i; quad_bounds:
     their (x0, y0, x1, y1). Separate contiguous x and y arrays keep every call to the helpers on one array
     layout (one compiled specialisation each, so the first run compiles faster). waterline_xy: the upper
@@ -249,7 +255,12 @@ def contact_batch(
     Returns per floe (status, A_u, centre xy, centre panel) and per row (floe, panel, A_h,i, length of the
     panel's waterline segment inside the floe), rows ordered by floe then panel.
     """
-    n_floes = floe_start.shape[0]
+    # each floe's open ring (closing vertex dropped), copied into contiguous scratch arrays below
+    floe_start = np.zeros(n_floes, dtype=np.int64)
+    floe_count = np.zeros(n_floes, dtype=np.int64)
+    for v in range(floe_index.shape[0] - 1, -1, -1):
+        floe_start[floe_index[v]] = v
+        floe_count[floe_index[v]] += 1
     n_panels = quad_x.shape[0]
     m = hull_x.shape[0]
     status = np.zeros(n_floes, dtype=np.int8)
@@ -262,6 +273,7 @@ def contact_batch(
     row_overlap = np.empty(n_floes * n_panels)
     max_n = 0
     for i in range(n_floes):
+        floe_count[i] = max(floe_count[i] - 1, 0)
         max_n = max(max_n, floe_count[i])
     # a half-plane adds at most one vertex to a convex polygon, more to a non-convex one: generous scratch
     # space, and a floe that would exceed it goes to GEOS
@@ -270,6 +282,7 @@ def contact_batch(
     qx, qy = np.empty(capacity), np.empty(capacity)
     tx, ty = np.empty(capacity), np.empty(capacity)
     hits = np.empty(max_n + 1)
+    ring_x, ring_y = np.empty(max_n), np.empty(max_n)
     hx, hy = hull_x, hull_y
     hull_x0, hull_x1 = hx.min(), hx.max()
     hull_y0, hull_y1 = hy.min(), hy.max()
@@ -277,8 +290,12 @@ def contact_batch(
     n_rows = 0
     for i in range(n_floes):
         s, n = floe_start[i], floe_count[i]
-        px = floe_x[s : s + n]
-        py = floe_y[s : s + n]
+        if n < 3:
+            continue
+        for v in range(n):
+            ring_x[v] = floe_coords[s + v, 0]
+            ring_y[v] = floe_coords[s + v, 1]
+        px, py = ring_x[:n], ring_y[:n]
         if px.max() <= hull_x0 or px.min() >= hull_x1 or py.max() <= hull_y0 or py.min() >= hull_y1:
             continue  # at most touching: no area in common
         orientation = 1.0 if _signed_area(px, py, n) > 0.0 else -1.0
@@ -415,10 +432,11 @@ def is_convex_ring(ring: np.ndarray) -> bool:
 def compile_now() -> None:
     """Compile (or load from numba's on-disk cache) the kernel on a tiny input; see `compile_kernels`."""
     square_x, square_y = np.array([0.0, 1.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0, 1.0])
+    ring = np.stack([np.append(square_x, 0.0), np.append(square_y, 0.0)], axis=1)
     quad_x, quad_y = square_x[None, :] - 0.5, square_y[None, :] - 0.5
     waterline = np.array([[-0.5, -0.5], [0.5, -0.5]])
     contact_batch(
-        square_x, square_y, np.array([0]), np.array([4]), square_x - 0.5, square_y - 0.5, quad_x, quad_y,
+        ring, np.zeros(5, dtype=np.int64), 1, square_x - 0.5, square_y - 0.5, quad_x, quad_y,
         np.array([[-0.5, -0.5, 0.5, 0.5]]), waterline, np.array([0.0, 1.0]), 1e-12,
     )
     _is_convex(square_x, square_y, 4, 1.0)
