@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import atexit
+import gc
 import sys
 from enum import StrEnum
 from pathlib import Path
@@ -523,6 +525,10 @@ def _root() -> None:
 
 def main() -> None:
     """Entry point. A user error (InputError) prints one line naming the field and exits with code 2."""
+    # At exit, skip the interpreter's final garbage collections over every object still alive (imported
+    # modules, the run's data): ≈ 0.3 s after a 1 km run, and every output file is closed by then.
+    atexit.unregister(gc.freeze)  # registered once, however often main() runs in one process
+    atexit.register(gc.freeze)
     try:
         app()
     except InputError as error:
