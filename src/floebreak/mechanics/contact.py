@@ -144,6 +144,8 @@ class Contact:
     @property
     def dominant(self) -> ContactZone:
         """The zone with the largest crushing force; failure is evaluated there."""
+        if len(self.zones) == 1:
+            return self.zones[0]
         return max(self.zones, key=lambda z: z.crushing_force_n)
 
     @property
@@ -204,6 +206,7 @@ def evaluate_contacts(
     )
     bounds = np.searchsorted(row_zone, np.arange(n_zones + 1)).tolist()
     a_u_list, a_l_list, centre_panel_list = areas.tolist(), a_l.tolist(), centre_panels.tolist()
+    lazy, hull = table.overlap_is_floe_and_hull.tolist(), geometry.hull_upper
     zones_by_floe: dict[int, list[ContactZone]] = {}
     for k, floe_index in enumerate(owner.tolist()):
         zones = zones_by_floe.setdefault(floe_index, [])
@@ -212,7 +215,7 @@ def evaluate_contacts(
         zones.append(
             ContactZone(
                 zone=len(zones),
-                overlap=parts[k],
+                overlap=_LazyOverlap(parts[k], hull) if lazy[k] else parts[k],
                 centre_xy_m=centres[k],
                 centre_panel=centre_panel,
                 centre_normal=geometry.panel_normals[centre_panel],
@@ -323,7 +326,8 @@ class _LazyOverlap:
 class _ZoneTable:
     """Zones of a batch (one row per zone, grouped by floe) and their panel rows (sorted by zone, panel)."""
 
-    zones: np.ndarray  # Z = F ∩ H_u per zone (shapely polygons, or `_LazyOverlap` from the kernel)
+    zones: np.ndarray  # Z = F ∩ H_u per zone (shapely polygons), or F where `overlap_is_floe_and_hull`
+    overlap_is_floe_and_hull: np.ndarray  # True: the zone is all of F ∩ H_u, computed only when asked for
     owner: np.ndarray  # index of each zone's floe in the batch
     a_u_m2: np.ndarray
     centre_xy_m: np.ndarray
@@ -343,6 +347,7 @@ class _ZoneTable:
         offsets = np.cumsum([0] + [len(t.zones) for t in tables[:-1]])
         return _ZoneTable(
             zones=np.concatenate([t.zones for t in tables]),
+            overlap_is_floe_and_hull=np.concatenate([t.overlap_is_floe_and_hull for t in tables]),
             owner=np.concatenate([t.owner for t in tables]),
             a_u_m2=np.concatenate([t.a_u_m2 for t in tables]),
             centre_xy_m=np.concatenate([t.centre_xy_m for t in tables]),
@@ -363,7 +368,7 @@ def _zone_table(floes: np.ndarray, geometry: BowContactGeometry) -> _ZoneTable |
     slow = [np.flatnonzero(~simple)]
     tables = []
     if fast.size:
-        table, fallback = _zone_table_kernel(floes, fast, geometry.kernel, geometry.hull_upper)
+        table, fallback = _zone_table_kernel(floes, fast, geometry.kernel)
         tables.append(table)
         slow.append(fallback)
     slow_index = np.sort(np.concatenate(slow))
@@ -372,7 +377,7 @@ def _zone_table(floes: np.ndarray, geometry: BowContactGeometry) -> _ZoneTable |
     return _ZoneTable.concatenate(tables)
 
 
-def _zone_table_kernel(floes, index, bow: _ConvexBow, hull) -> tuple[_ZoneTable | None, np.ndarray]:
+def _zone_table_kernel(floes, index, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.ndarray]:
     """`contact_kernel.contact_batch` on floes[index]: the table, and the floes it leaves to shapely."""
     coords, which = shapely.get_coordinates(floes[index], return_index=True)
     result = contact_kernel.contact_batch(
@@ -396,11 +401,9 @@ def _zone_table_kernel(floes, index, bow: _ConvexBow, hull) -> tuple[_ZoneTable 
     zone_of_floe = np.full(len(index), -1)
     zone_of_floe[hit] = np.arange(hit.size)
     # one zone per floe: Z = F ∩ H_u itself, built by GEOS only if a failure model asks for the polygon
-    zones = np.fromiter(
-        (_LazyOverlap(floes[j], hull) for j in index[hit].tolist()), dtype=object, count=hit.size
-    )
     table = _ZoneTable(
-        zones=zones,
+        zones=floes[index[hit]],  # one zone per floe: Z = F ∩ H_u, built by GEOS only if asked for
+        overlap_is_floe_and_hull=np.ones(hit.size, dtype=bool),
         owner=index[hit],
         a_u_m2=a_u[hit],
         centre_xy_m=centre[hit],
@@ -433,6 +436,7 @@ def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTabl
     centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
     return _ZoneTable(
         zones=parts,
+        overlap_is_floe_and_hull=np.zeros(len(parts), dtype=bool),
         owner=owner,
         a_u_m2=areas,
         centre_xy_m=centres,
