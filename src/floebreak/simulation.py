@@ -336,7 +336,14 @@ def simulate(
                 if not contact.in_contact:
                     continue
                 zone = contact.dominant
-                classification = classify(polygon_bf, thickness, zone.centre_normal, model.classification)
+                classification = classify(
+                    polygon_bf,
+                    thickness,
+                    zone.centre_normal,
+                    model.classification,
+                    zone.floe_extent_m,
+                    contact.floe_area_m2,
+                )
                 region = bow_region(
                     float(zone.centre_xy_m[0]), bow_length, model.failure.shoulder_region_start
                 )

@@ -68,3 +68,17 @@ def test_bbox_rule():
     p = ClassificationParams(unbreakable_rule="bbox_lt_ell")
     assert classify(shapely.box(0, 0, 13.0, 13.0), H, np.array([1.0, 0.0]), p).failure_class == "unbreakable"
     assert classify(shapely.box(0, 0, 14.0, 3.0), H, np.array([1.0, 0.0]), p).failure_class != "unbreakable"
+
+
+def test_measured_box_and_area_are_used_as_given():
+    # a 30 m × 4 m strip: its own box makes it a cracking floe (wide along the panel, short along the normal);
+    # handed the box of a small square instead, classify must use the given numbers, not re-measure
+    strip = shapely.box(0.0, -15.0, 4.0, 15.0)
+    normal = np.array([1.0, 0.0])
+    params = ClassificationParams()
+    measured = classify(strip, 1.0, normal, params)
+    given = classify(strip, 1.0, normal, params, extent_m=(4.0, 30.0), area_m2=120.0)
+    assert given == measured
+    tiny = classify(strip, 1.0, normal, params, extent_m=(0.5, 0.5), area_m2=0.25)
+    assert tiny.failure_class == "unbreakable" != measured.failure_class
+    assert (tiny.length_m, tiny.width_m, tiny.area_m2) == (0.5, 0.5, 0.25)

@@ -13,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from floebreak.mechanics import contact, contact_kernel
+from floebreak.mechanics.classify import oriented_extent_m
 from floebreak.mechanics.contact import BowContactGeometry, ContactParams, evaluate_contacts
 from floebreak.ship.hulls import agulhas_ii
 
@@ -65,6 +66,12 @@ def _assert_same(kernel_table, shapely_table, floes, geometry):
             assert abs(panel - ref_panel) == 1
         for p in set(rows) | set(ref_rows):
             assert rows.get(p, 0.0) == pytest.approx(ref_rows.get(p, 0.0), rel=1e-9, abs=1e-10)
+    # what the kernel measures for the classification on the way: floe area and Alg. 2 box
+    for k, floe in enumerate(kernel_table.owner.tolist() if kernel_table is not None else []):
+        normal = geometry.panel_normals[kernel_table.centre_panel[k]]
+        assert kernel_table.floe_area_m2[k] == pytest.approx(shapely.area(floes[floe]), rel=1e-12)
+        expected = oriented_extent_m(floes[floe], normal)
+        np.testing.assert_allclose(kernel_table.floe_extent_m[k], expected, rtol=1e-12, atol=1e-12)
 
 
 def _convex_floe(x, y, radius, n_vertices, aspect, angle):
@@ -160,8 +167,9 @@ def test_non_convex_bow_has_no_kernel():
     assert contact_kernel.is_convex_ring(contact_kernel.ccw_ring(hull))
     assert not contact_kernel.is_convex_ring(contact_kernel.ccw_ring(dented))
     footprints, upper = np.asarray(bow.panel_footprints, dtype=object), np.asarray(bow.upper_xy_m)
-    assert contact._ConvexBow.from_bow(shapely.Polygon(hull), footprints, upper) is not None
-    assert contact._ConvexBow.from_bow(shapely.Polygon(dented), footprints, upper) is None
+    for ring, convex in ((hull, True), (dented, False)):
+        kernel = contact._ConvexBow.from_bow(shapely.Polygon(ring), footprints, upper, bow.panel_normals)
+        assert (kernel is not None) == convex
 
 
 def test_clip_and_area_of_unit_squares():

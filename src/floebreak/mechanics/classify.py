@@ -114,11 +114,20 @@ def unbreakable_area_m2(thickness_m: float, params: ClassificationParams) -> flo
 
 
 def classify(
-    polygon: shapely.Geometry, thickness_m: float, normal_xy: np.ndarray, params: ClassificationParams
+    polygon: shapely.Geometry,
+    thickness_m: float,
+    normal_xy: np.ndarray,
+    params: ClassificationParams,
+    extent_m: tuple[float, float] | None = None,
+    area_m2: float | None = None,
 ) -> Classification:
-    """Alg. 2: the failure class of a floe whose contact panel has outward normal `normal_xy`."""
-    length, width = oriented_extent_m(polygon, normal_xy)
-    area = float(shapely.area(polygon))
+    """Alg. 2: the failure class of a floe whose contact panel has outward normal `normal_xy`.
+
+    `extent_m` (= `oriented_extent_m(polygon, normal_xy)`) and `area_m2` may be passed in where the contact
+    kernel has measured them already.
+    """
+    length, width = oriented_extent_m(polygon, normal_xy) if extent_m is None else extent_m
+    area = float(shapely.area(polygon)) if area_m2 is None else area_m2
     ell = params.characteristic_length_m(thickness_m)
     a_rotate = unbreakable_area_m2(thickness_m, params)
     if params.unbreakable_rule == "bbox_lt_ell":

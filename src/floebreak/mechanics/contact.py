@@ -107,6 +107,8 @@ class ContactZone:
     f_v_n: np.ndarray
     f_h_n: np.ndarray
     force_on_ice_xy_n: np.ndarray
+    # the floe's extent along centre_normal and along the panel (thesis Alg. 2 box) if the kernel measured it
+    floe_extent_m: tuple[float, float] | None = None
 
     @property
     def overlap_upper(self) -> shapely.Geometry:
@@ -136,6 +138,7 @@ class Contact:
     """All contact zones of one floe at one bow position. Empty ``zones`` means no contact."""
 
     zones: tuple[ContactZone, ...] = field(default_factory=tuple)
+    floe_area_m2: float | None = None  # the floe's area where the kernel measured it on the way
 
     @property
     def in_contact(self) -> bool:
@@ -207,6 +210,8 @@ def evaluate_contacts(
     bounds = np.searchsorted(row_zone, np.arange(n_zones + 1)).tolist()
     a_u_list, a_l_list, centre_panel_list = areas.tolist(), a_l.tolist(), centre_panels.tolist()
     lazy, hull = table.overlap_is_floe_and_hull.tolist(), geometry.hull_upper
+    floe_area = dict(zip(owner.tolist(), table.floe_area_m2.tolist(), strict=True))
+    extents = [None if np.isnan(a) else (a, b) for a, b in table.floe_extent_m.tolist()]
     zones_by_floe: dict[int, list[ContactZone]] = {}
     for k, floe_index in enumerate(owner.tolist()):
         zones = zones_by_floe.setdefault(floe_index, [])
@@ -229,10 +234,12 @@ def evaluate_contacts(
                 f_v_n=row_f_v[rows],
                 f_h_n=row_f_h[rows],
                 force_on_ice_xy_n=zone_force_xy[k],
+                floe_extent_m=extents[k],
             )
         )
     for floe_index, zones in zones_by_floe.items():
-        contacts[floe_index] = Contact(tuple(zones))
+        area = floe_area[floe_index]
+        contacts[floe_index] = Contact(tuple(zones), None if np.isnan(area) else area)
     return contacts
 
 
@@ -270,7 +277,7 @@ class BowContactGeometry:
             panel_segments=shapely.linestrings(np.stack([upper[:-1], upper[1:]], axis=1)),
             panel_normals=np.asarray(bow.panel_normals, dtype=float),
             panel_psi_rad=np.asarray(bow.panel_psi_rad, dtype=float),
-            kernel=_ConvexBow.from_bow(hull_upper, footprints, upper),
+            kernel=_ConvexBow.from_bow(hull_upper, footprints, upper, bow.panel_normals),
         )
 
 
@@ -286,9 +293,10 @@ class _ConvexBow:
     quad_bounds: np.ndarray
     waterline_xy: np.ndarray
     node_distance_m: np.ndarray
+    panel_normals: np.ndarray
 
     @classmethod
-    def from_bow(cls, hull_upper, footprints, upper_xy) -> _ConvexBow | None:
+    def from_bow(cls, hull_upper, footprints, upper_xy, panel_normals) -> _ConvexBow | None:
         hull = contact_kernel.ccw_ring(shapely.get_coordinates(hull_upper.exterior))
         quads = [contact_kernel.ccw_ring(shapely.get_coordinates(q.exterior)) for q in footprints]
         if any(len(q) != 4 for q in quads) or not all(map(contact_kernel.is_convex_ring, [hull, *quads])):
@@ -303,6 +311,7 @@ class _ConvexBow:
             quad_bounds=np.ascontiguousarray(shapely.bounds(footprints)),
             waterline_xy=np.array(upper_xy, dtype=float),  # a writable copy: one compiled signature
             node_distance_m=np.concatenate([[0.0], np.cumsum(steps)]),
+            panel_normals=np.array(panel_normals, dtype=float),  # writable copy: one compiled signature
         )
 
 
@@ -336,6 +345,8 @@ class _ZoneTable:
     row_panel: np.ndarray
     row_a_h_m2: np.ndarray
     row_overlap_m: np.ndarray  # length of the row's upper panel segment inside the floe; NaN: not computed
+    floe_area_m2: np.ndarray  # area of each zone's floe; NaN: not computed
+    floe_extent_m: np.ndarray  # (n, 2) floe extent along the centre normal and along the panel; NaN: idem
 
     @staticmethod
     def concatenate(tables: list[_ZoneTable]) -> _ZoneTable | None:
@@ -356,6 +367,8 @@ class _ZoneTable:
             row_panel=np.concatenate([t.row_panel for t in tables]),
             row_a_h_m2=np.concatenate([t.row_a_h_m2 for t in tables]),
             row_overlap_m=np.concatenate([t.row_overlap_m for t in tables]),
+            floe_area_m2=np.concatenate([t.floe_area_m2 for t in tables]),
+            floe_extent_m=np.concatenate([t.floe_extent_m for t in tables]),
         )
 
 
@@ -391,9 +404,10 @@ def _zone_table_kernel(floes, index, bow: _ConvexBow) -> tuple[_ZoneTable | None
         bow.quad_bounds,
         bow.waterline_xy,
         bow.node_distance_m,
+        bow.panel_normals,
         MIN_OVERLAP_M2,
     )
-    status, a_u, centre, centre_panel, row_floe, row_panel, row_a_h, row_overlap = result
+    status, a_u, centre, centre_panel, floe_area, extent, row_floe, row_panel, row_a_h, row_overlap = result
     fallback = index[status == contact_kernel.FALLBACK]
     hit = np.flatnonzero(status == contact_kernel.CONTACT)
     if hit.size == 0:
@@ -412,6 +426,8 @@ def _zone_table_kernel(floes, index, bow: _ConvexBow) -> tuple[_ZoneTable | None
         row_panel=row_panel,
         row_a_h_m2=row_a_h,
         row_overlap_m=row_overlap,
+        floe_area_m2=floe_area[hit],
+        floe_extent_m=extent[hit],
     )
     return table, fallback
 
@@ -445,6 +461,8 @@ def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTabl
         row_panel=row_panel,
         row_a_h_m2=row_a_h,
         row_overlap_m=np.full(len(row_zone), np.nan),
+        floe_area_m2=np.full(len(parts), np.nan),
+        floe_extent_m=np.full((len(parts), 2), np.nan),
     )
 
 

@@ -240,6 +240,7 @@ def contact_batch(
     quad_bounds,
     waterline_xy,
     node_distance,
+    panel_normals,
     min_overlap,
 ):
     """Contact geometry of many floes (bow frame) against one convex bow.
@@ -249,11 +250,12 @@ def contact_batch(
     hull_x, hull_y: the CCW open ring of H_u. quad_x, quad_y: (n_panels, 4) CCW footprints Q_i; quad_bounds:
     their (x0, y0, x1, y1). Separate contiguous x and y arrays keep every call to the helpers on one array
     layout (one compiled specialisation each, so the first run compiles faster). waterline_xy: the upper
-    waterline nodes (n_panels + 1); node_distance: arc length at each node. Zones and rows of at most
-    `min_overlap` area are not contacts.
+    waterline nodes (n_panels + 1); node_distance: arc length at each node; panel_normals: outward unit
+    normals. Zones and rows of at most `min_overlap` area are not contacts.
 
-    Returns per floe (status, A_u, centre xy, centre panel) and per row (floe, panel, A_h,i, length of the
-    panel's waterline segment inside the floe), rows ordered by floe then panel.
+    Returns per floe (status, A_u, centre xy, centre panel, floe area, floe extent along the centre
+    panel's normal and along the panel — the classification box of thesis Alg. 2) and per row (floe, panel,
+    A_h,i, length of the panel's waterline segment inside the floe), rows ordered by floe then panel.
     """
     # each floe's open ring (closing vertex dropped), copied into contiguous scratch arrays below
     floe_start = np.zeros(n_floes, dtype=np.int64)
@@ -267,6 +269,8 @@ def contact_batch(
     a_u = np.zeros(n_floes)
     centre = np.zeros((n_floes, 2))
     centre_panel = np.zeros(n_floes, dtype=np.int64)
+    floe_area = np.zeros(n_floes)
+    extent = np.zeros((n_floes, 2))
     row_floe = np.empty(n_floes * n_panels, dtype=np.int64)
     row_panel = np.empty(n_floes * n_panels, dtype=np.int64)
     row_a_h = np.empty(n_floes * n_panels)
@@ -298,7 +302,8 @@ def contact_batch(
         px, py = ring_x[:n], ring_y[:n]
         if px.max() <= hull_x0 or px.min() >= hull_x1 or py.max() <= hull_y0 or py.min() >= hull_y1:
             continue  # at most touching: no area in common
-        orientation = 1.0 if _signed_area(px, py, n) > 0.0 else -1.0
+        signed_area = _signed_area(px, py, n)
+        orientation = 1.0 if signed_area > 0.0 else -1.0
         convex = _is_convex(px, py, n, orientation)
         # F ∩ H_u is one zone if F is convex, or if the two boundaries cross at most twice (one arc of ∂F
         # inside H_u closes with one arc of ∂H_u inside F); anything else is left to GEOS
@@ -381,6 +386,17 @@ def contact_batch(
         centre[i, 0] = waterline_xy[panel, 0] + t * (waterline_xy[panel + 1, 0] - waterline_xy[panel, 0])
         centre[i, 1] = waterline_xy[panel, 1] + t * (waterline_xy[panel + 1, 1] - waterline_xy[panel, 1])
         centre_panel[i] = panel
+        floe_area[i] = abs(signed_area)
+        norm = np.hypot(panel_normals[panel, 0], panel_normals[panel, 1])
+        normal_x, normal_y = panel_normals[panel, 0] / norm, panel_normals[panel, 1] / norm
+        low_n = low_t = np.inf
+        high_n = high_t = -np.inf
+        for v in range(n):  # as classify.oriented_extent_m
+            along_normal = px[v] * normal_x + py[v] * normal_y
+            along_tangent = py[v] * normal_x - px[v] * normal_y
+            low_n, high_n = min(low_n, along_normal), max(high_n, along_normal)
+            low_t, high_t = min(low_t, along_tangent), max(high_t, along_tangent)
+        extent[i, 0], extent[i, 1] = high_n - low_n, high_t - low_t
         z_x0, z_x1 = zx[:k].min(), zx[:k].max()
         z_y0, z_y1 = zy[:k].min(), zy[:k].max()
         for p in range(n_panels):
@@ -406,6 +422,8 @@ def contact_batch(
         a_u,
         centre,
         centre_panel,
+        floe_area,
+        extent,
         row_floe[:n_rows],
         row_panel[:n_rows],
         row_a_h[:n_rows],
@@ -437,6 +455,6 @@ def compile_now() -> None:
     waterline = np.array([[-0.5, -0.5], [0.5, -0.5]])
     contact_batch(
         ring, np.zeros(5, dtype=np.int64), 1, square_x - 0.5, square_y - 0.5, quad_x, quad_y,
-        np.array([[-0.5, -0.5, 0.5, 0.5]]), waterline, np.array([0.0, 1.0]), 1e-12,
+        np.array([[-0.5, -0.5, 0.5, 0.5]]), waterline, np.array([0.0, 1.0]), np.array([[0.0, -1.0]]), 1e-12,
     )
     _is_convex(square_x, square_y, 4, 1.0)
