@@ -18,20 +18,25 @@ from floebreak.results import ContactRecorder
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.simulation import SimulationParams, simulate
 
+REPEATS = 3
 
-def run(length_m: float, width_m: float, seed: int = 1) -> None:
+
+def run(length_m: float, width_m: float, seed: int = 1, repeats: int = REPEATS) -> None:
     obs = get_observation("2019-12-18T20:20")
     field = generate_field(obs, length_m, width_m, np.random.default_rng(seed), thickness_m=1.0)
     bow = agulhas_ii(ice_thickness_m=1.0)
-    recorder = ContactRecorder()
-    start = time.perf_counter()
-    result = simulate(field, bow, params=SimulationParams(step_m=0.25), callbacks=[recorder])
-    seconds = time.perf_counter() - start
-    evaluations = len(recorder)
+    times = []
+    for _ in range(repeats):  # the VM's run-to-run spread is ±20 %: report every run and the best
+        recorder = ContactRecorder()
+        start = time.perf_counter()
+        result = simulate(field, bow, params=SimulationParams(step_m=0.25), callbacks=[recorder])
+        times.append(time.perf_counter() - start)
+    evaluations, best = len(recorder), min(times)
     print(
         f"{length_m:>6.0f} m × {width_m:>4.0f} m: {field.n_floes:>5} floes, {result.n_steps:>5} steps, "
-        f"{evaluations:>7} contact evaluations in {seconds:6.2f} s → {evaluations / seconds:>8.0f} /s, "
-        f"{1e3 * seconds / result.n_steps:.2f} ms/step; area balance {result.area_balance_rel_error:.1e}"
+        f"{evaluations:>7} contact evaluations in {' / '.join(f'{t:.2f}' for t in times)} s → "
+        f"best {evaluations / best:>6.0f} /s, {1e3 * best / result.n_steps:.2f} ms/step; "
+        f"area balance {result.area_balance_rel_error:.1e}"
     )
 
 

@@ -174,10 +174,16 @@ class SimulationResult:
 
 
 class _Pieces:
-    """Mutable piece table of one run (internal). Initial floes are indexed by a static STRtree;
-    pieces created later live in a small dynamic set that is pruned once the hull has passed them."""
+    """Mutable piece table of one run (internal).
 
-    def __init__(self, floe_field: FloeField):
+    The bow only advances in +x, so candidates come from a sweep: initial floes sorted by their minimum x
+    enter the active set when the search box reaches them (only those whose y-range meets the box's fixed
+    y-range ever can), pieces created later enter it at birth, and pieces the hull has passed, or that left
+    the field, drop out. Each step costs O(active pieces), i.e. grows with the ice near the bow, not with the
+    field size.
+    """
+
+    def __init__(self, floe_field: FloeField, y_range: tuple[float, float]):
         n = floe_field.n_floes
         self.polygon: list[shapely.Geometry] = list(floe_field.polygons)
         self.thickness: list[float] = floe_field.thickness_m.tolist()
@@ -188,8 +194,13 @@ class _Pieces:
         self.fate: list[str] = ["remaining"] * n
         self.step: list[int] = [-1] * n
         self.bow_x: list[float] = [float("nan")] * n
-        self.tree = shapely.STRtree(floe_field.polygons)
-        self.dynamic: dict[int, tuple[float, float, float, float]] = {}
+        bounds = shapely.bounds(floe_field.polygons).reshape(-1, 4)
+        in_band = (bounds[:, 1] <= y_range[1]) & (bounds[:, 3] >= y_range[0])
+        order = np.flatnonzero(in_band)
+        order = order[np.argsort(bounds[order, 0], kind="stable")]
+        self._waiting = [(tuple(bounds[i].tolist()), int(i)) for i in order.tolist()]  # by minimum x
+        self._next_waiting = 0
+        self.active: dict[int, tuple[float, float, float, float]] = {}
 
     def add(self, polygon, thickness, parent: int, chain, crack_count: int, step: int, bow_x: float) -> int:
         pid = len(self.polygon)
@@ -202,28 +213,30 @@ class _Pieces:
         self.fate.append("remaining")
         self.step.append(step)
         self.bow_x.append(bow_x)
-        self.dynamic[pid] = tuple(shapely.bounds(polygon).tolist())
+        self.active[pid] = tuple(shapely.bounds(polygon).tolist())
         return pid
 
     def retire(self, pid: int, fate: str, step: int, bow_x: float) -> None:
         self.fate[pid] = fate
-        self.dynamic.pop(pid, None)
+        self.active.pop(pid, None)
         if fate != "broken":
             self.step[pid] = step
             self.bow_x[pid] = bow_x
 
     def candidates(self, box: tuple[float, float, float, float]) -> list[int]:
         x0, y0, x1, y1 = box
-        static = self.tree.query(shapely.box(x0, y0, x1, y1))
-        found = [int(i) for i in static if self.fate[i] == "remaining"]
-        found += [
-            pid for pid, (a, b, cc, d) in self.dynamic.items() if a <= x1 and cc >= x0 and b <= y1 and d >= y0
-        ]
-        return sorted(found)
+        waiting = self._waiting
+        while self._next_waiting < len(waiting) and waiting[self._next_waiting][0][0] <= x1:
+            bounds, pid = waiting[self._next_waiting]
+            self.active[pid] = bounds
+            self._next_waiting += 1
+        return sorted(
+            pid for pid, (a, b, cc, d) in self.active.items() if a <= x1 and cc >= x0 and b <= y1 and d >= y0
+        )
 
     def prune_behind(self, x_min: float) -> None:
-        for pid in [pid for pid, bounds in self.dynamic.items() if bounds[2] < x_min]:
-            del self.dynamic[pid]
+        for pid in [pid for pid, bounds in self.active.items() if bounds[2] < x_min]:
+            del self.active[pid]
 
 
 def _translate(geometry, dx: float):
@@ -293,7 +306,8 @@ def simulate(
             field_x_max = max(field_x_max, float(shapely.total_bounds(floe_field.polygons)[2]))
         x_end = field_x_max - hull_x0  # the aft end of the modelled hull passes the end of the field
     n_steps = int(np.floor((x_end - params.x_start_m) / params.step_m + 1e-9)) + 1
-    pieces = _Pieces(floe_field)
+    d = params.dist_bow_max_m
+    pieces = _Pieces(floe_field, (hull_y0 - d, hull_y1 + d))
     context = FailureContext(bow=bow, bow_geometry=geometry)
     bow_length = float(getattr(bow, "length_bow_m", -hull_x0))
     counters = {"contacts": 0, "breaks": 0, "cusps": 0, "flipped": 0}
@@ -304,7 +318,6 @@ def simulate(
             callback(event)
 
     emit(RunStarted(n_steps, params.x_start_m, x_end, params.step_m, floe_field.n_floes, shift))
-    d = params.dist_bow_max_m
     for step in range(n_steps):
         bow_x = params.x_start_m + step * params.step_m
         box = (bow_x + hull_x0 - d, hull_y0 - d, bow_x + hull_x1 + d, hull_y1 + d)
