@@ -7,7 +7,7 @@ from matplotlib import colormaps
 from matplotlib.patches import Patch, Rectangle
 
 from floebreak.ice.field import FloeField
-from floebreak.plotting.common import new_figure, polygon_collection
+from floebreak.plotting.common import FIELD_MARGINS_IN, new_figure, polygon_collection
 
 
 def plot_field(floe_field: FloeField, title: str | None = None, ax=None):
@@ -15,7 +15,7 @@ def plot_field(floe_field: FloeField, title: str | None = None, ax=None):
     if ax is None:
         x0, y0, x1, y1 = floe_field.domain_m
         aspect = (y1 - y0) / max(x1 - x0, 1e-9)
-        figure, ax = new_figure(10.0, float(np.clip(10.0 * aspect + 1.2, 2.5, 10.0)))
+        figure, ax = new_figure(10.0, float(np.clip(10.0 * aspect + 1.2, 2.5, 10.0)), FIELD_MARGINS_IN)
     else:
         figure = ax.figure
     classes = floe_field.diameter_class_m

@@ -10,6 +10,7 @@ from matplotlib.patches import Patch
 from floebreak.plotting.common import (
     CUSP_COLOUR,
     FLIPPED_COLOUR,
+    PATTERN_MARGINS_IN,
     UNTOUCHED_COLOUR,
     new_figure,
     polygon_collection,
@@ -33,7 +34,8 @@ def plot_breaking_pattern(
         x_range = x1 - x0 - hull_x0 + 4.0
         y_range = max(y1, hull_y1) - min(y0, hull_y0) + 4.0
         # axes ≈ 8 in wide (legend outside on the right), equal aspect; + room for title and labels
-        figure, ax = new_figure(10.0, float(np.clip(8.0 * y_range / max(x_range, 1e-9) + 1.0, 2.0, 10.0)))
+        height_in = float(np.clip(8.0 * y_range / max(x_range, 1e-9) + 1.0, 2.0, 10.0))
+        figure, ax = new_figure(10.0, height_in, PATTERN_MARGINS_IN)
     else:
         figure = ax.figure
     for fate, colour in (("remaining", UNTOUCHED_COLOUR), ("flipped", FLIPPED_COLOUR), ("cusp", CUSP_COLOUR)):

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from floebreak.plotting.common import new_figure
+from floebreak.plotting.common import SPECTRUM_MARGINS_IN, new_figure, place_axes
 from floebreak.propeller.iceclass import empirical_exceedance, weibull_exceedance
 from floebreak.propeller.interpolation import VolumeInterpolant
 
@@ -22,7 +22,8 @@ def plot_volume_loads(
 ) -> Figure:
     """Force and torque vs cusp volume for each FEM table: points, chosen interpolant (solid), the other
     method (dashed)."""
-    figure = Figure(figsize=(11.0, 4.0), constrained_layout=True)
+    figure = Figure(figsize=(11.0, 4.0))
+    place_axes(figure, 0.72, 0.5, 0.1, 0.4, columns=2, gap=0.92)  # fixed: see SPECTRUM_MARGINS_IN
     axes = figure.subplots(1, 2)
     other = "pchip" if method == "newton" else "newton"
     top = v_max_m3 or max(t.max_volume_m3 for t in tables.values()) * 1.15
@@ -45,7 +46,7 @@ def plot_volume_loads(
 
 def plot_spectrum(ds, quantity: str = "force", log: bool = False) -> Figure:
     """Probability density of |F| (quantity "force") or |Q| ("torque") per pitch, run-averaged."""
-    figure, ax = new_figure(7.5, 4.0)
+    figure, ax = new_figure(7.5, 4.0, SPECTRUM_MARGINS_IN)
     if quantity == "force":
         lower, upper, var, unit = "force_bin_lower_kn", "force_bin_upper_kn", "force_density", "kN"
     else:

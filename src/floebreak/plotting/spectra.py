@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from floebreak.plotting.common import CUSP_COLOUR, new_figure
+from floebreak.plotting.common import CUSP_COLOUR, SPECTRUM_MARGINS_IN, new_figure
 
 
 def _density_bars(ax, values, bin_width, colour, label):
@@ -29,7 +29,7 @@ def _density_bars(ax, values, bin_width, colour, label):
 
 def plot_crushing_force_spectrum(crushing_force_n, label: str = "floebreak", bin_width_kn: float = 100.0):
     """Probability density of the crushing force per contact evaluation (thesis Fig. 13), in kN."""
-    figure, ax = new_figure(7.0, 4.0)
+    figure, ax = new_figure(7.0, 4.0, SPECTRUM_MARGINS_IN)
     _density_bars(ax, np.asarray(crushing_force_n) / 1e3, bin_width_kn, "#4c72b0", label)
     ax.set_xlabel("crushing force F_c [kN]")
     ax.set_ylabel("probability density [1/kN]")
@@ -40,7 +40,7 @@ def plot_crushing_force_spectrum(crushing_force_n, label: str = "floebreak", bin
 
 def plot_cusp_volume_spectrum(volumes_m3, label: str = "cusps", bin_width_m3: float = 1.0):
     """Probability density of cusp volumes (thesis Fig. 17 style)."""
-    figure, ax = new_figure(7.0, 4.0)
+    figure, ax = new_figure(7.0, 4.0, SPECTRUM_MARGINS_IN)
     _density_bars(ax, volumes_m3, bin_width_m3, CUSP_COLOUR, f"{label} (n = {len(volumes_m3)})")
     ax.set_xlabel("cusp volume V [m³]")
     ax.set_ylabel("probability density [1/m³]")
