@@ -52,3 +52,8 @@ def test_writing_a_geoparquet_file_does_not_import_pandas(tmp_path):
         [sys.executable, "-c", code, str(tmp_path / "t.parquet")], capture_output=True, text=True, check=True
     )
     assert out.stdout.strip() == "False"
+
+
+def test_big_endian_numbers_are_left_to_pa_array():
+    with pytest.raises(pa.ArrowNotImplementedError):  # as pa.array: "Byte-swapped arrays not supported"
+        arrow_array(np.arange(4.0).astype(">f8"))

@@ -12,7 +12,7 @@ from floebreak.io.atomic import atomic_path
 def savefig(figure, target, *, dpi: float, **kwargs: Any) -> None:
     """``figure.savefig(target, dpi=dpi, **kwargs)`` with one draw instead of two, same pixels.
 
-    With a layout engine (our figures use constrained layout) ``savefig`` draws the whole figure once
+    With a layout engine (such as constrained layout) ``savefig`` draws the whole figure once
     without output to run the layout, then again for the file. Here the engine runs once at the output
     dpi, the figure is saved without it (one draw), and the engine is put back.
     """

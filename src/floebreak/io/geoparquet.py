@@ -60,7 +60,8 @@ def arrow_array(values: Any, binary: bool = False) -> pa.Array:
     """
     if isinstance(values, pa.Array):
         return values
-    if type(values) is np.ndarray and values.ndim == 1 and values.dtype.kind in "biuf":
+    numeric = type(values) is np.ndarray and values.dtype.kind in "biuf" and values.dtype.isnative
+    if numeric and values.ndim == 1:
         if values.dtype.kind == "b":  # Arrow booleans are bits, least significant first
             buffer = pa.py_buffer(np.packbits(values, bitorder="little"))
             return pa.Array.from_buffers(pa.bool_(), len(values), [None, buffer], null_count=0)
