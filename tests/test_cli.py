@@ -132,6 +132,8 @@ def test_demo_runs_the_reference_scenario(tmp_path):
         "figures",
         "report.html",
     }
+    html = (out / "report.html").read_text()
+    assert "<code>demo</code>" in html and ".tmp" not in html  # the final name, not the temporary one
     summary = json.loads((out / "summary.json").read_text())
     resolved = tomllib.loads((out / "scenario.resolved.toml").read_text())
     assert resolved["field"]["length_m"] == 400.0 and resolved["ice"]["thickness_m"] == 1.0

@@ -233,7 +233,8 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
             from floebreak.io.atomic import atomic_directory
 
             with atomic_directory(out, overwrite=overwrite, field="out") as temp:
-                result.write(temp, overwrite=True)  # replaces the empty temporary directory
+                # replaces the empty temporary directory; the report names the final directory
+                result.write(temp, overwrite=True, directory_name=out.name)
                 added = then(temp, out.name)
     except InputError:
         raise

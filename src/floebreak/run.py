@@ -384,10 +384,21 @@ class Result:
 
     # --- writing ----------------------------------------------------------------------------------
     def write(
-        self, out: str | os.PathLike[str], overwrite: bool = False, report: bool = True, figures: bool = True
+        self,
+        out: str | os.PathLike[str],
+        overwrite: bool = False,
+        report: bool = True,
+        figures: bool = True,
+        directory_name: str | None = None,
     ) -> Path:
-        """Write the run directory `out` atomically; refuses an existing `out` unless `overwrite`."""
-        return write_run_directory(self, out, overwrite=overwrite, report=report, figures=figures)
+        """Write the run directory `out` atomically; refuses an existing `out` unless `overwrite`.
+
+        `directory_name`: the name the report shows (default `out`'s), for a caller that writes into a
+        temporary directory of its own and renames it afterwards.
+        """
+        return write_run_directory(
+            self, out, overwrite=overwrite, report=report, figures=figures, directory_name=directory_name
+        )
 
 
 def run(
@@ -556,6 +567,7 @@ def write_run_directory(
     overwrite: bool = False,
     report: bool = True,
     figures: bool = True,
+    directory_name: str | None = None,
 ) -> Path:
     """Write the run directory (see the module docstring) atomically and return its path.
 
@@ -592,7 +604,7 @@ def write_run_directory(
         if report:
             from floebreak.report import write_report
 
-            write_report(temp, directory_name=out.name)
+            write_report(temp, directory_name=directory_name or out.name)
         _normal_permissions(temp)
     return out
 
