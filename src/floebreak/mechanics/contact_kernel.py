@@ -69,12 +69,22 @@ def _clip_convex(px, py, n, cx, cy, m, out_x, out_y, tmp_x, tmp_y, capacity):
     for i in range(n):
         out_x[i] = px[i]
         out_y[i] = py[i]
+    # the subject's bounding box holds every clipped polygon too: a half-plane that holds its four corners
+    # cuts nothing (most hull edges for a floe near the bow) and is skipped after four tests
+    x0, x1, y0, y1 = px[:n].min(), px[:n].max(), py[:n].min(), py[:n].max()
     for e in range(m):
         if k == 0:
             return 0
         ax, ay = cx[e], cy[e]
         f = e + 1 if e + 1 < m else 0
         ex, ey = cx[f] - ax, cy[f] - ay
+        if (
+            ex * (y0 - ay) - ey * (x0 - ax) >= 0.0
+            and ex * (y0 - ay) - ey * (x1 - ax) >= 0.0
+            and ex * (y1 - ay) - ey * (x0 - ax) >= 0.0
+            and ex * (y1 - ay) - ey * (x1 - ax) >= 0.0
+        ):
+            continue
         outside = False
         for i in range(k):
             if ex * (out_y[i] - ay) - ey * (out_x[i] - ax) < 0.0:
