@@ -167,8 +167,10 @@ def test_non_convex_bow_has_no_kernel():
     assert contact_kernel.is_convex_ring(contact_kernel.ccw_ring(hull))
     assert not contact_kernel.is_convex_ring(contact_kernel.ccw_ring(dented))
     footprints, upper = np.asarray(bow.panel_footprints, dtype=object), np.asarray(bow.upper_xy_m)
+    distance = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(upper, axis=0).T))])
     for ring, convex in ((hull, True), (dented, False)):
-        kernel = contact._ConvexBow.from_bow(shapely.Polygon(ring), footprints, upper, bow.panel_normals)
+        polygon = shapely.Polygon(ring)
+        kernel = contact._ConvexBow.from_bow(polygon, footprints, upper, distance, bow.panel_normals)
         assert (kernel is not None) == convex
 
 

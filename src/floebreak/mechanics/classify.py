@@ -87,17 +87,19 @@ def oriented_extent_m(polygon: shapely.Geometry, normal_xy: np.ndarray) -> tuple
     """(length along `normal_xy`, width along the perpendicular) of the polygon's oriented bounding box."""
     normal_x, normal_y = float(normal_xy[0]), float(normal_xy[1])
     norm = math.hypot(normal_x, normal_y)
-    return _extents(shapely.get_coordinates(polygon), normal_x / norm, normal_y / norm)
+    xs, ys = np.ascontiguousarray(shapely.get_coordinates(polygon).T)
+    return box_extents(xs, ys, len(xs), normal_x / norm, normal_y / norm)
 
 
 @numba.njit(cache=True, nogil=True)
-def _extents(coords, normal_x, normal_y):
-    # compiled: called once per contact evaluation, where numpy's per-call overhead dominated
+def box_extents(xs, ys, n, normal_x, normal_y):
+    """`oriented_extent_m` on the points (xs, ys)[:n] and a unit normal; compiled: it runs once per contact
+    evaluation (also inside the contact kernel), where numpy's per-call overhead dominated."""
     low_n = low_t = np.inf
     high_n = high_t = -np.inf
-    for i in range(coords.shape[0]):
-        along_normal = coords[i, 0] * normal_x + coords[i, 1] * normal_y
-        along_tangent = coords[i, 1] * normal_x - coords[i, 0] * normal_y
+    for i in range(n):
+        along_normal = xs[i] * normal_x + ys[i] * normal_y
+        along_tangent = ys[i] * normal_x - xs[i] * normal_y
         low_n, high_n = min(low_n, along_normal), max(high_n, along_normal)
         low_t, high_t = min(low_t, along_tangent), max(high_t, along_tangent)
     return high_n - low_n, high_t - low_t

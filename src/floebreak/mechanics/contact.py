@@ -267,17 +267,18 @@ class BowContactGeometry:
         hull_upper = shapely.Polygon(bow.hull_upper.exterior.coords)
         shapely.prepare(hull_upper)
         steps = np.hypot(*np.diff(upper, axis=0).T)
+        node_distance = np.concatenate([[0.0], np.cumsum(steps)])
         footprints = np.asarray(bow.panel_footprints, dtype=object)
         return cls(
             hull_upper=hull_upper,
             waterline=shapely.LineString(upper),
-            node_distance_m=np.concatenate([[0.0], np.cumsum(steps)]),
+            node_distance_m=node_distance,
             footprints=footprints,
             footprint_tree=shapely.STRtree(footprints),
             panel_segments=shapely.linestrings(np.stack([upper[:-1], upper[1:]], axis=1)),
             panel_normals=np.asarray(bow.panel_normals, dtype=float),
             panel_psi_rad=np.asarray(bow.panel_psi_rad, dtype=float),
-            kernel=_ConvexBow.from_bow(hull_upper, footprints, upper, bow.panel_normals),
+            kernel=_ConvexBow.from_bow(hull_upper, footprints, upper, node_distance, bow.panel_normals),
         )
 
 
@@ -296,12 +297,11 @@ class _ConvexBow:
     panel_normals: np.ndarray
 
     @classmethod
-    def from_bow(cls, hull_upper, footprints, upper_xy, panel_normals) -> _ConvexBow | None:
+    def from_bow(cls, hull_upper, footprints, upper_xy, node_distance_m, panel_normals) -> _ConvexBow | None:
         hull = contact_kernel.ccw_ring(shapely.get_coordinates(hull_upper.exterior))
         quads = [contact_kernel.ccw_ring(shapely.get_coordinates(q.exterior)) for q in footprints]
         if any(len(q) != 4 for q in quads) or not all(map(contact_kernel.is_convex_ring, [hull, *quads])):
             return None
-        steps = np.hypot(*np.diff(upper_xy, axis=0).T)
         quads = np.stack(quads)
         return cls(
             hull_x=np.ascontiguousarray(hull[:, 0]),
@@ -310,7 +310,7 @@ class _ConvexBow:
             quad_y=np.ascontiguousarray(quads[:, :, 1]),
             quad_bounds=np.ascontiguousarray(shapely.bounds(footprints)),
             waterline_xy=np.array(upper_xy, dtype=float),  # a writable copy: one compiled signature
-            node_distance_m=np.concatenate([[0.0], np.cumsum(steps)]),
+            node_distance_m=node_distance_m,
             panel_normals=np.array(panel_normals, dtype=float),  # writable copy: one compiled signature
         )
 

@@ -28,6 +28,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from floebreak.mechanics.classify import box_extents
+
 NO_CONTACT, CONTACT, FALLBACK = 0, 1, 2
 
 _CONVEX_TOLERANCE = 1e-9  # relative turn (cross product over edge lengths) still counted as straight
@@ -123,6 +125,18 @@ def _clip_convex(px, py, n, cx, cy, m, out_x, out_y, tmp_x, tmp_y, capacity):
 
 
 @numba.njit(cache=True, nogil=True)
+def _line_parameters(x0, y0, dx, dy, ax, ay, ex, ey):
+    """Where the lines of segments (x0, y0) + t (dx, dy) and (ax, ay) + u (ex, ey) meet: (t, u, kind), kind
+    0 = crossing lines (t, u valid), 1 = parallel, 2 = collinear."""
+    wx, wy = ax - x0, ay - y0
+    denom = dx * ey - dy * ex
+    w_cross_d = wx * dy - wy * dx
+    if denom == 0.0:
+        return 0.0, 0.0, 2 if w_cross_d == 0.0 else 1
+    return (wx * ey - wy * ex) / denom, w_cross_d / denom, 0
+
+
+@numba.njit(cache=True, nogil=True)
 def _boundary_hits(x0, y0, x1, y1, px, py, n, hits):
     """Parameters t ∈ [0, 1] where segment (x0, y0)→(x1, y1) meets the boundary of polygon (px, py)[:n],
     sorted into `hits`; returns their count, or −1 if the segment runs along a boundary edge."""
@@ -130,21 +144,14 @@ def _boundary_hits(x0, y0, x1, y1, px, py, n, hits):
     count = 0
     for i in range(n):
         j = i + 1 if i + 1 < n else 0
-        ex, ey = px[j] - px[i], py[j] - py[i]
-        wx, wy = px[i] - x0, py[i] - y0
-        denom = dx * ey - dy * ex
-        w_cross_d = wx * dy - wy * dx
-        if denom == 0.0:
-            if w_cross_d == 0.0:  # collinear: an overlap along the boundary is left to GEOS
-                d2 = dx * dx + dy * dy
-                ta = (wx * dx + wy * dy) / d2
-                tb = ((px[j] - x0) * dx + (py[j] - y0) * dy) / d2
-                if max(min(ta, tb), 0.0) < min(max(ta, tb), 1.0):
-                    return -1
-            continue
-        t = (wx * ey - wy * ex) / denom
-        u = w_cross_d / denom
-        if 0.0 <= t <= 1.0 and 0.0 <= u <= 1.0:
+        t, u, kind = _line_parameters(x0, y0, dx, dy, px[i], py[i], px[j] - px[i], py[j] - py[i])
+        if kind == 2:  # collinear: an overlap along the boundary is left to GEOS
+            d2 = dx * dx + dy * dy
+            ta = ((px[i] - x0) * dx + (py[i] - y0) * dy) / d2
+            tb = ((px[j] - x0) * dx + (py[j] - y0) * dy) / d2
+            if max(min(ta, tb), 0.0) < min(max(ta, tb), 1.0):
+                return -1
+        elif kind == 0 and 0.0 <= t <= 1.0 and 0.0 <= u <= 1.0:
             k = count  # insertion sort: a handful of hits per segment
             while k > 0 and hits[k - 1] > t:
                 hits[k] = hits[k - 1]
@@ -181,16 +188,11 @@ def _crossings(px, py, n, hx, hy, m):
         dx, dy = x1 - x0, y1 - y0
         for a in range(m):
             b = a + 1 if a + 1 < m else 0
-            ex, ey = hx[b] - hx[a], hy[b] - hy[a]
-            wx, wy = hx[a] - x0, hy[a] - y0
-            denom = dx * ey - dy * ex
-            w_cross_d = wx * dy - wy * dx
-            if denom == 0.0:
-                if w_cross_d == 0.0:
-                    return -1
+            t, u, kind = _line_parameters(x0, y0, dx, dy, hx[a], hy[a], hx[b] - hx[a], hy[b] - hy[a])
+            if kind == 2:
+                return -1
+            if kind == 1:
                 continue
-            t = (wx * ey - wy * ex) / denom
-            u = w_cross_d / denom
             if 0.0 < t < 1.0 and 0.0 < u < 1.0:
                 count += 1
             elif 0.0 <= t <= 1.0 and 0.0 <= u <= 1.0:
@@ -399,14 +401,7 @@ def contact_batch(
         floe_area[i] = abs(signed_area)
         norm = np.hypot(panel_normals[panel, 0], panel_normals[panel, 1])
         normal_x, normal_y = panel_normals[panel, 0] / norm, panel_normals[panel, 1] / norm
-        low_n = low_t = np.inf
-        high_n = high_t = -np.inf
-        for v in range(n):  # as classify.oriented_extent_m
-            along_normal = px[v] * normal_x + py[v] * normal_y
-            along_tangent = py[v] * normal_x - px[v] * normal_y
-            low_n, high_n = min(low_n, along_normal), max(high_n, along_normal)
-            low_t, high_t = min(low_t, along_tangent), max(high_t, along_tangent)
-        extent[i, 0], extent[i, 1] = high_n - low_n, high_t - low_t
+        extent[i, 0], extent[i, 1] = box_extents(px, py, n, normal_x, normal_y)
         z_x0, z_x1 = zx[:k].min(), zx[:k].max()
         z_y0, z_y1 = zy[:k].min(), zy[:k].max()
         for p in range(n_panels):
