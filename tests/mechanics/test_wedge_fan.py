@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import itertools
 import math
 
 import numpy as np
@@ -10,59 +9,11 @@ import pytest
 import shapely
 
 from floebreak.mechanics.wedge_fan import (
-    _contiguous_block,
     disk_polygon,
     intact_fan,
     loading_radius_m,
     wedge_fan,
 )
-
-
-def block_by_definition(kept: np.ndarray) -> list[int]:
-    """The rule of physics-notes §2.5 step 3, written out as a loop: the circular runs of kept rays (listed
-    from the first unkept ray on), the run nearest to the normal (ray i lies (i + ½) steps from it), the
-    longer one on a tie, the first listed on a full tie; its rays in circular order."""
-    n = len(kept)
-    if not any(kept):
-        return []
-    if all(kept):
-        return list(range(n))
-    start = next(i for i in range(n) if not kept[i])
-    runs, current = [], []
-    for index in [(start + j) % n for j in range(n)]:
-        if kept[index]:
-            current.append(index)
-        elif current:
-            runs.append(current)
-            current = []
-    if current:
-        runs.append(current)
-    return min(runs, key=lambda run: (min(min(i + 0.5, n - i - 0.5) for i in run), -len(run)))
-
-
-def test_contiguous_block_follows_the_rule_for_every_small_pattern():
-    for n in range(1, 13):
-        for bits in itertools.product([False, True], repeat=n):
-            kept = np.array(bits)
-            assert _contiguous_block(kept).tolist() == block_by_definition(kept), bits
-
-
-def test_contiguous_block_follows_the_rule_for_random_72_ray_patterns():
-    rng = np.random.default_rng(5)
-    for _ in range(2000):
-        kept = rng.random(72) < rng.random()
-        assert _contiguous_block(kept).tolist() == block_by_definition(kept)
-
-
-def test_contiguous_block_examples():
-    kept = np.zeros(12, dtype=bool)
-    kept[[10, 11, 0, 1, 2]] = True  # the run through ray 0 wraps round
-    kept[[5, 6, 7, 8]] = True  # a longer run further away is not taken
-    assert _contiguous_block(kept).tolist() == [10, 11, 0, 1, 2]
-    kept = np.zeros(12, dtype=bool)
-    kept[[2, 3]] = True  # distance 2 from ray 0
-    kept[[8, 9, 10]] = True  # distance 2 as well (ray 10), and longer: taken
-    assert _contiguous_block(kept).tolist() == [8, 9, 10]
 
 
 def test_half_plane_floe_gives_a_half_fan_centred_on_the_normal():

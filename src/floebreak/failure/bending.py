@@ -74,9 +74,10 @@ def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSetti
     """Evaluate Eq. 11 (F_v > P) at the failure zone of `inp` (shared by bending and local cracking)."""
     zone = inp.zone
     wedge = np.radians(settings.wedge_angle_deg)
+    geometry = ctx.bow_geometry
     fan = wedge_fan(
         inp.polygon,
-        ctx.bow_geometry.hull_upper,
+        geometry.hull_rings if geometry.hull_rings is not None else geometry.hull_upper,
         zone.centre_xy_m,
         zone.centre_normal,
         zone.a_h_total_m2,

@@ -18,6 +18,7 @@ Alg. 5). Floe length b: the floe's extent along the crack direction. Size L: b b
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import ClassVar, Literal
 
@@ -37,7 +38,7 @@ from floebreak.failure.base import (
 )
 from floebreak.failure.bending import BendingSettings, bending_check
 from floebreak.ice.material import characteristic_length_scalar_m
-from floebreak.mechanics import fracture
+from floebreak.mechanics import fracture, polygon_kernel
 
 CrackCriterion = Literal["point_load", "line_load", "tensile_stress", "flexural_stress"]
 PointLoadCapacity = Literal["bending_P", "tensile_Pt"]
@@ -132,16 +133,21 @@ def split_by_line(polygon, point_xy_m: np.ndarray, direction: np.ndarray) -> tup
 
 def indentation_depth_m(polygon, origin_xy_m: np.ndarray, direction: np.ndarray) -> float:
     """How deep the bow has pushed into the floe along the crack line: the length of the crack line behind O
-    (towards −direction) that still lies inside the floe."""
-    x0, y0, x1, y1 = shapely.bounds(polygon)
-    reach = 2.0 * np.hypot(x1 - x0, y1 - y0) + 1.0
-    ray = shapely.linestrings([origin_xy_m, origin_xy_m - reach * direction])
-    inside = shapely.intersection(ray, polygon)
-    # only the (first) line part connected to O counts; a single line is its own part
-    parts = shapely.get_parts(inside) if shapely.get_type_id(inside) >= 4 else np.array([inside])
-    lengths = shapely.length(parts)
-    connected = (lengths > 0.0) & (shapely.distance(parts, shapely.points(origin_xy_m)) < 1e-6)
-    return float(lengths[connected][0]) if connected.any() else 0.0
+    (towards −direction) that still lies inside the floe (the part connected to O; compiled:
+    `polygon_kernel.inside_length_from`)."""
+    x0, y0, x1, y1 = shapely.bounds(polygon).tolist()
+    reach = 2.0 * math.hypot(x1 - x0, y1 - y0) + 1.0
+    return polygon_kernel.inside_length_from(
+        *polygon_kernel.ring_arrays(polygon),
+        float(origin_xy_m[0]),
+        float(origin_xy_m[1]),
+        -reach * float(direction[0]),
+        -reach * float(direction[1]),
+        _CONNECTED_M,
+    )
+
+
+_CONNECTED_M = 1e-6  # a line part within this distance of O starts at O
 
 
 def extent_along_m(polygon, direction: np.ndarray) -> float:

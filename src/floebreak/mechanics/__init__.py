@@ -10,7 +10,8 @@ def compile_kernels() -> None:
     import numpy as np
     import shapely
 
-    from floebreak.mechanics import classify, contact_kernel
+    from floebreak.mechanics import classify, contact_kernel, polygon_kernel
 
     contact_kernel.compile_now()
+    polygon_kernel.compile_now()
     classify.oriented_extent_m(shapely.box(0.0, 0.0, 1.0, 1.0), np.array([1.0, 0.0]))

@@ -25,7 +25,7 @@ import shapely
 
 from floebreak import constants as c
 from floebreak.errors import require_range
-from floebreak.mechanics import contact_kernel
+from floebreak.mechanics import contact_kernel, polygon_kernel
 
 # Overlaps of at most a square micrometre are rounding, not contact: GEOS and the compiled kernel round
 # differently (the kernel's clipped outline of a non-convex floe leaves ~1e-15 m² on zero-width bridges).
@@ -259,6 +259,7 @@ class BowContactGeometry:
     panel_normals: np.ndarray
     panel_psi_rad: np.ndarray
     kernel: _ConvexBow | None = None  # arrays for the compiled kernel; None: a non-convex bow, shapely only
+    hull_rings: tuple | None = None  # `polygon_kernel.ring_arrays(hull_upper)` for the failure modes' probes
 
     @classmethod
     def from_bow(cls, bow) -> BowContactGeometry:
@@ -279,6 +280,7 @@ class BowContactGeometry:
             panel_normals=np.asarray(bow.panel_normals, dtype=float),
             panel_psi_rad=np.asarray(bow.panel_psi_rad, dtype=float),
             kernel=_ConvexBow.from_bow(hull_upper, footprints, upper, node_distance, bow.panel_normals),
+            hull_rings=polygon_kernel.ring_arrays(hull_upper),
         )
 
 

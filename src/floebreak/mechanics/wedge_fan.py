@@ -24,6 +24,8 @@ from typing import Literal
 import numpy as np
 import shapely
 
+from floebreak.mechanics import polygon_kernel
+
 LoadingRadiusModel = Literal["sector_area", "max_distance", "sector_area_clipped"]
 
 RAY_PROBE_OFFSET_M = 0.05  # ε: probe just beyond the loaded arc
@@ -52,40 +54,12 @@ class WedgeFan:
         return np.stack([np.cos(angles), np.sin(angles)], axis=1)
 
 
-def _contiguous_block(kept: np.ndarray) -> np.ndarray:
-    """Indices of the circular run of True values nearest to the normal, which lies between the last index
-    and index 0 (ray k at (k + ½) φ from it).
-
-    Runs are taken in circular order from the first False index; the chosen run is the one nearest to the
-    normal (distance of ray k: min(k + ½, n − k − ½) steps), the longer one on a tie, the first one on a full
-    tie. Its indices are returned in circular order.
-    """
-    n = kept.size
-    if not kept.any():
-        return np.zeros(0, dtype=int)
-    if kept.all():
-        return np.arange(n)
-    if kept[0]:  # the usual case: the run through index 0 (distance ½, the least; a run through the last
-        # index is the same run), which wraps round from its last False index
-        first_false = int(np.argmin(kept))
-        last_false = n - 1 - int(np.argmin(kept[::-1]))
-        return np.concatenate([np.arange(last_false + 1, n), np.arange(first_false)])
-    # rotate so that the sequence starts with a False value: every run then starts and ends inside it
-    start = int(np.argmin(kept))
-    order = (np.arange(n) + start) % n
-    rotated = np.concatenate([kept[order], [False]])
-    steps = np.diff(rotated.astype(np.int8))
-    run_starts = np.flatnonzero(steps == 1) + 1
-    run_ends = np.flatnonzero(steps == -1) + 1
-    distance = np.where(rotated[:-1], np.minimum(order + 0.5, n - order - 0.5), n)  # to n̂; n off the runs
-    run_distance = np.minimum.reduceat(distance, run_starts)
-    best = np.lexsort((run_starts - run_ends, run_distance))[0]  # stable: the first on a full tie
-    return order[run_starts[best] : run_ends[best]]
+Rings = tuple[np.ndarray, np.ndarray, np.ndarray]  # `polygon_kernel.ring_arrays` of a polygon
 
 
 def intact_fan(
     floe: shapely.Geometry,
-    hull_upper: shapely.Geometry,
+    hull_upper: shapely.Geometry | Rings,
     origin_xy_m: np.ndarray,
     normal_xy: np.ndarray,
     probe_radius_m: float,
@@ -93,25 +67,24 @@ def intact_fan(
 ) -> tuple[float, float]:
     """(Θ, centre angle) of the intact ice fan seen from `origin_xy_m` (physics-notes §2.5 step 3).
 
-    Rays at (k + ½) × the wedge angle from the bow normal; Θ = 0 when no ray meets intact ice.
+    Rays at (k + ½) × the wedge angle from the bow normal; Θ = 0 when no ray meets intact ice. The block of
+    rays is the circular run of probes in intact ice nearest to the normal (the longer run on a tie), its
+    centre the direction of the mean of its rays' unit vectors. `hull_upper` as a polygon or as its
+    `ring_arrays` (prepared once per bow by the caller). Compiled: `polygon_kernel.intact_fan`.
     """
     n_rays = round(2.0 * np.pi / wedge_angle_rad)
-    step = 2.0 * np.pi / n_rays
-    normal_angle = float(np.arctan2(normal_xy[1], normal_xy[0]))
-    angles = normal_angle + (np.arange(n_rays) + 0.5) * step
-    reach = probe_radius_m + RAY_PROBE_OFFSET_M
-    x = origin_xy_m[0] + reach * np.cos(angles)
-    y = origin_xy_m[1] + reach * np.sin(angles)
-    kept = shapely.contains_xy(floe, x, y) & ~shapely.contains_xy(hull_upper, x, y)
-    block = _contiguous_block(kept)
-    if block.size == 0:
-        return 0.0, normal_angle
-    opening = block.size * step
-    if block.size == n_rays:
-        return opening, normal_angle
-    # centre of the block on the circle: average the unit vectors of its rays
-    centre = float(np.arctan2(np.sin(angles[block]).sum(), np.cos(angles[block]).sum()))
-    return opening, centre
+    hull = hull_upper if isinstance(hull_upper, tuple) else polygon_kernel.ring_arrays(hull_upper)
+    normal_angle = math.atan2(normal_xy[1], normal_xy[0])
+    n_block, centre = polygon_kernel.intact_fan(
+        *polygon_kernel.ring_arrays(floe),
+        *hull,
+        float(origin_xy_m[0]),
+        float(origin_xy_m[1]),
+        normal_angle,
+        probe_radius_m + RAY_PROBE_OFFSET_M,
+        n_rays,
+    )
+    return n_block * (2.0 * np.pi / n_rays), float(centre)
 
 
 def loading_radius_m(
@@ -140,7 +113,7 @@ def loading_radius_m(
 
 def wedge_fan(
     floe: shapely.Geometry,
-    hull_upper: shapely.Geometry,
+    hull_upper: shapely.Geometry | Rings,
     origin_xy_m: np.ndarray,
     normal_xy: np.ndarray,
     crushed_area_m2: float,
