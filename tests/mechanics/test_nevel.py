@@ -379,6 +379,97 @@ def test_other_bad_inputs_raise():
 
 
 # --------------------------------------------------------------------------------------------------
+# numpy PCHIP (no scipy.interpolate at start-up) against scipy's PchipInterpolator
+# --------------------------------------------------------------------------------------------------
+
+
+def _table_functions():
+    table = nevel.load_table()
+    rho = table["rho"]
+    return np.cbrt(rho), {
+        "S": table["stress_factor_S"],
+        "xi_sigma - rho": table["xi_sigma"] - rho,
+        "m_max": table["m_max"],
+        "xi_M - rho": table["xi_M"] - rho,
+    }
+
+
+def test_pchip_equals_scipy_on_the_shipped_table_and_between():
+    from scipy.interpolate import PchipInterpolator
+
+    t, functions = _table_functions()
+    rng = np.random.default_rng(3)
+    points = np.concatenate(
+        [t, (t[:-1] + t[1:]) / 2.0, np.linspace(t[0], t[-1], 20_001), rng.uniform(t[0], t[-1], 2_000)]
+    )
+    for name, y in functions.items():
+        ours, reference = nevel.Pchip.fit(t, y), PchipInterpolator(t, y)
+        np.testing.assert_array_equal(ours.x, reference.x, err_msg=name)
+        np.testing.assert_allclose(ours.c, reference.c, rtol=1e-14, atol=0.0, err_msg=name)
+        np.testing.assert_allclose(ours(points), reference(points), rtol=1e-14, atol=0.0, err_msg=name)
+        np.testing.assert_allclose(ours(t), y, rtol=1e-13, atol=1e-15)  # interpolates the table
+
+
+def test_pchip_equals_scipy_on_random_data_with_flat_parts_and_sign_changes():
+    from scipy.interpolate import PchipInterpolator
+
+    rng = np.random.default_rng(5)
+    for _ in range(300):
+        n = int(rng.integers(3, 25))
+        x = np.cumsum(rng.uniform(0.01, 3.0, n)) - 5.0
+        kind = rng.integers(4)
+        if kind == 0:
+            y = rng.normal(size=n)  # sign changes of the slope everywhere
+        elif kind == 1:
+            y = np.round(rng.normal(size=n))  # flat segments (zero slopes)
+        elif kind == 2:
+            y = np.cumsum(rng.uniform(0.0, 1.0, n)) * 1e4  # monotone
+        else:
+            y = np.exp(-rng.uniform(0.0, 3.0) * x)  # smooth, like the table
+        ours, reference = nevel.Pchip.fit(x, y), PchipInterpolator(x, y)
+        points = np.linspace(x[0] - 1.0, x[-1] + 1.0, 501)  # extrapolation with the end pieces included
+        np.testing.assert_allclose(ours.c, reference.c, rtol=1e-14, atol=1e-300)
+        np.testing.assert_allclose(ours(points), reference(points), rtol=1e-14, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("y", "end_slope"),
+    [
+        ((0.0, 1.0, 3.0, 4.0), 0.5),  # three-point estimate ((2h0 + h1) m0 − h0 m1)/(h0 + h1) = (3 − 2)/2
+        ((0.0, 0.1, 2.0, 3.0), 0.0),  # estimate (0.3 − 1.9)/2 < 0 against an increasing first segment
+        ((0.0, 1.0, -9.0, -8.0), 3.0),  # slopes change sign, estimate 6.5 > 3 m0: limited to 3 m0
+    ],
+)
+def test_pchip_end_slopes_by_hand(y, end_slope):
+    pchip = nevel.Pchip.fit([0.0, 1.0, 2.0, 3.0], y)
+    assert pchip.c[2, 0] == end_slope  # derivative at x0
+    assert pchip(0.0) == y[0] and pchip(3.0) == pytest.approx(y[-1], rel=1e-14, abs=1e-14)
+
+
+def test_pchip_refuses_bad_input():
+    too_short = ([0.0, 1.0], [0.0, 1.0])
+    not_increasing = ([0.0, 1.0, 1.0], [0.0, 1.0, 2.0])
+    not_finite = ([0.0, 1.0, 2.0], [0.0, np.nan, 1.0])
+    for x, y in (too_short, not_increasing, not_finite):
+        with pytest.raises(ValueError, match=r"Pchip\.fit"):
+            nevel.Pchip.fit(x, y)
+
+
+def test_start_up_does_not_import_scipy_interpolate_or_integrate():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, floebreak.cli\n"
+        "from floebreak.mechanics import nevel\n"
+        "nevel.stress_factor(0.3), nevel.max_stress_distance([0.1, 0.3])\n"  # scalar and array paths
+        "print(sorted(m for m in ('scipy.interpolate', 'scipy.integrate') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
+
+
+# --------------------------------------------------------------------------------------------------
 # Scalar fast path (the bending check's hot path) against scipy's PCHIP and the array functions
 # --------------------------------------------------------------------------------------------------
 
