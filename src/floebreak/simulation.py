@@ -234,9 +234,20 @@ class _Pieces:
             pid for pid, (a, b, cc, d) in self.active.items() if a <= x1 and cc >= x0 and b <= y1 and d >= y0
         )
 
+    def overlapping(self, pids: list[int], box: tuple[float, float, float, float]) -> list[int]:
+        """The pieces among `pids` whose bounding box overlaps `box` with positive area (same order)."""
+        x0, y0, x1, y1 = box
+        active = self.active
+        return [pid for pid in pids if _overlaps(active[pid], x0, y0, x1, y1)]
+
     def prune_behind(self, x_min: float) -> None:
         for pid in [pid for pid, bounds in self.active.items() if bounds[2] < x_min]:
             del self.active[pid]
+
+
+def _overlaps(bounds: tuple[float, float, float, float], x0: float, y0: float, x1: float, y1: float) -> bool:
+    a, b, cc, d = bounds
+    return a < x1 and cc > x0 and b < y1 and d > y0
 
 
 def _translate(geometry, dx: float):
@@ -322,16 +333,17 @@ def simulate(
         bow_x = params.x_start_m + step * params.step_m
         box = (bow_x + hull_x0 - d, hull_y0 - d, bow_x + hull_x1 + d, hull_y1 + d)
         candidates = pieces.candidates(box)
-        if candidates:
-            polygons_bf = _translate(np.array([pieces.polygon[i] for i in candidates], dtype=object), -bow_x)
-            # no exact distance filter: a candidate that does not touch the hull has no contact, and the
-            # prepared-hull `intersects` test inside the contact evaluation rejects it more cheaply
-            queue = deque(zip(candidates, polygons_bf, strict=True))
+        # only pieces whose box overlaps the hull's box can share area with it: the others have no contact
+        # (neither path counts an overlap of zero area), so they are neither translated nor evaluated
+        touching = pieces.overlapping(candidates, (bow_x + hull_x0, hull_y0, bow_x + hull_x1, hull_y1))
+        if touching:
+            polygons_bf = _translate(np.array([pieces.polygon[i] for i in touching], dtype=object), -bow_x)
+            queue = deque(zip(touching, polygons_bf, strict=True))
             # contact is evaluated in batches (vectorised GEOS calls): the floes queued at the start of the
             # step, then, whenever the queue reaches pieces not evaluated yet, all pieces queued by then. A
             # piece's contact depends only on its own polygon and the bow position: batching changes nothing.
             batch: deque[Contact] = deque()
-            evaluations = 0
+            evaluations = len(candidates) - len(touching)  # the guard below counts every candidate
             while queue:
                 if not batch:
                     batch.extend(

@@ -17,6 +17,7 @@ Eqs. 9/10 taken literally (errata 9, 10).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -64,24 +65,26 @@ def panel_forces(
 
     Thesis Eqs. 7–10 / Alg. 3; sign convention per ``params.force_signs`` (physics-notes §2.3, erratum 9).
     The vertical force on the ice is downward-positive and clamped at 0 (a panel with tan ψ ≤ μ cannot
-    push the ice down).
+    push the ice down). Compiled: `contact_kernel.panel_forces`, which the contact evaluation uses too.
     """
-    f_c = params.contact_coefficient * params.crushing_strength_pa * np.asarray(contact_area_m2, dtype=float)
-    psi = np.asarray(psi_rad, dtype=float)
-    mu = params.friction_coefficient
-    s, co = np.sin(psi), np.cos(psi)
-    if params.force_signs == "consistent":
-        f_v = f_c * (s - mu * co)
-        f_h = f_c * (co + mu * s)
-    elif params.force_signs == "thesis_alg3":
-        f_v = f_c * (s - mu * co)
-        f_h = f_c * (co - mu * s)
-    elif params.force_signs == "thesis_eq9_10":  # ψ taken as if measured from the horizontal
-        f_v = f_c * (co - mu * s)
-        f_h = f_c * (s + mu * co)
-    else:
-        raise ValueError(f"unknown force_signs {params.force_signs!r}")
-    return f_c, np.maximum(f_v, 0.0), f_h
+    area, psi = np.broadcast_arrays(
+        np.asarray(contact_area_m2, dtype=float), np.asarray(psi_rad, dtype=float)
+    )
+    f_c, f_v, f_h = contact_kernel.panel_forces(
+        np.ascontiguousarray(area.ravel()),
+        np.sin(psi.ravel()),
+        np.cos(psi.ravel()),
+        params.contact_coefficient * params.crushing_strength_pa,
+        params.friction_coefficient,
+        _code("contact.force_signs", params.force_signs, contact_kernel.FORCE_SIGNS),
+    )
+    return f_c.reshape(area.shape), f_v.reshape(area.shape), f_h.reshape(area.shape)
+
+
+def _code(key: str, value: str, choices: tuple[str, ...]) -> int:
+    if value not in choices:
+        raise ValueError(f"unknown {key} {value!r} (allowed: {', '.join(choices)})")
+    return choices.index(value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -196,27 +199,38 @@ def evaluate_contacts(
         # thesis Eq. 6 literally: one ψ (at the zone centre) for the whole horizontal area A_h = A_u − A_l
         row_zone, row_panel, row_a_h = np.arange(n_zones), centre_panels, areas - a_l
         row_overlap = np.full(n_zones, np.nan)
-    # every row (zone × panel) of the batch at once
-    row_psi = geometry.panel_psi_rad[row_panel]
     row_floe = owner[row_zone]
-    row_a_c = _contact_area(
-        row_a_h, row_psi, row_panel, floes[row_floe], thickness[row_floe], row_overlap, geometry, params
+    near_vertical = _code("contact.near_vertical", params.near_vertical, contact_kernel.NEAR_VERTICAL)
+    sin_psi_min = math.sin(math.radians(params.psi_min_deg))
+    if near_vertical == 0:
+        row_overlap = _fill_overlaps(row_overlap, row_panel, floes[row_floe], geometry, sin_psi_min)
+    row_a_c, row_f_c, row_f_v, row_f_h, zone_force_xy = contact_kernel.zone_forces(
+        row_zone,
+        row_panel,
+        row_a_h,
+        row_overlap,
+        thickness[row_floe],
+        n_zones,
+        geometry.panel_sin,
+        geometry.panel_cos,
+        geometry.panel_normals,
+        params.contact_coefficient * params.crushing_strength_pa,
+        params.friction_coefficient,
+        sin_psi_min,
+        near_vertical,
+        _code("contact.force_signs", params.force_signs, contact_kernel.FORCE_SIGNS),
     )
-    row_f_c, row_f_v, row_f_h = panel_forces(row_a_c, row_psi, params)
-    row_force_xy = row_f_h[:, None] * geometry.panel_normals[row_panel]
-    zone_force_xy = np.stack(
-        [np.bincount(row_zone, row_force_xy[:, axis], minlength=n_zones) for axis in (0, 1)], axis=1
-    )
+    row_psi = geometry.panel_psi_rad[row_panel]
     bounds = np.searchsorted(row_zone, np.arange(n_zones + 1)).tolist()
     a_u_list, a_l_list, centre_panel_list = areas.tolist(), a_l.tolist(), centre_panels.tolist()
     lazy, hull = table.overlap_is_floe_and_hull.tolist(), geometry.hull_upper
-    floe_area = dict(zip(owner.tolist(), table.floe_area_m2.tolist(), strict=True))
-    extents = [None if np.isnan(a) else (a, b) for a, b in table.floe_extent_m.tolist()]
+    floe_area_list, extent_list = table.floe_area_m2.tolist(), table.floe_extent_m.tolist()
     zones_by_floe: dict[int, list[ContactZone]] = {}
     for k, floe_index in enumerate(owner.tolist()):
         zones = zones_by_floe.setdefault(floe_index, [])
         rows = slice(bounds[k], bounds[k + 1])
         centre_panel = centre_panel_list[k]
+        extent = extent_list[k]
         zones.append(
             ContactZone(
                 zone=len(zones),
@@ -234,13 +248,24 @@ def evaluate_contacts(
                 f_v_n=row_f_v[rows],
                 f_h_n=row_f_h[rows],
                 force_on_ice_xy_n=zone_force_xy[k],
-                floe_extent_m=extents[k],
+                floe_extent_m=None if extent[0] != extent[0] else (extent[0], extent[1]),  # NaN: not measured
             )
         )
-    for floe_index, zones in zones_by_floe.items():
-        area = floe_area[floe_index]
-        contacts[floe_index] = Contact(tuple(zones), None if np.isnan(area) else area)
+        area = floe_area_list[k]
+        contacts[floe_index] = Contact(tuple(zones), None if area != area else area)
     return contacts
+
+
+def _fill_overlaps(overlap_m, panels, floes, geometry: BowContactGeometry, sin_psi_min: float) -> np.ndarray:
+    """The length of each near-vertical row's upper panel segment inside its floe (the vertical-face
+    contact area of physics-notes §2.2), measured by GEOS where the kernel did not (NaN)."""
+    missing = np.isnan(overlap_m) & (geometry.panel_sin[panels] < sin_psi_min)
+    if not missing.any():
+        return overlap_m
+    overlap_m = overlap_m.copy()
+    rows = np.flatnonzero(missing)
+    overlap_m[rows] = shapely.length(shapely.intersection(geometry.panel_segments[panels[rows]], floes[rows]))
+    return overlap_m
 
 
 # --- internals --------------------------------------------------------------------------------------
@@ -258,6 +283,8 @@ class BowContactGeometry:
     panel_segments: np.ndarray  # upper panel segments as LineStrings
     panel_normals: np.ndarray
     panel_psi_rad: np.ndarray
+    panel_sin: np.ndarray  # sin ψ_i, cos ψ_i per panel, for the force kernel
+    panel_cos: np.ndarray
     kernel: _ConvexBow | None = None  # arrays for the compiled kernel; None: a non-convex bow, shapely only
     hull_rings: tuple | None = None  # `polygon_kernel.ring_arrays(hull_upper)` for the failure modes' probes
 
@@ -277,8 +304,10 @@ class BowContactGeometry:
             footprints=footprints,
             footprint_tree=shapely.STRtree(footprints),
             panel_segments=shapely.linestrings(np.stack([upper[:-1], upper[1:]], axis=1)),
-            panel_normals=np.asarray(bow.panel_normals, dtype=float),
+            panel_normals=np.array(bow.panel_normals, dtype=float),  # writable: one compiled signature
             panel_psi_rad=np.asarray(bow.panel_psi_rad, dtype=float),
+            panel_sin=np.sin(np.asarray(bow.panel_psi_rad, dtype=float)),
+            panel_cos=np.cos(np.asarray(bow.panel_psi_rad, dtype=float)),
             kernel=_ConvexBow.from_bow(hull_upper, footprints, upper, node_distance, bow.panel_normals),
             hull_rings=polygon_kernel.ring_arrays(hull_upper),
         )
@@ -525,30 +554,3 @@ def _zone_centres(
 
 
 _ON_BOUNDARY_M = 1e-6  # a waterline part of F lies on the boundary of its zone up to rounding
-
-
-def _contact_area(
-    a_h, psi, panels, floes, thickness_m, overlap_m, geometry: BowContactGeometry, params: ContactParams
-):
-    """A_c = A_h / sin ψ (thesis Eq. 6) with the near-vertical guard of physics-notes §2.2, per row
-    (`floes` and `thickness_m` are those of each row's floe; `overlap_m` the length of the row's panel
-    segment inside the floe where already known, else NaN)."""
-    sin_psi = np.sin(psi)
-    sin_min = np.sin(np.radians(params.psi_min_deg))
-    steep = sin_psi < sin_min
-    with np.errstate(divide="ignore"):
-        a_c = np.where(a_h > 0.0, a_h / np.maximum(sin_psi, 1e-12), 0.0)
-    if params.near_vertical == "none" or not steep.any():
-        return a_c
-    if params.near_vertical == "cap":  # 1/sin ψ limited to 1/sin ψ_min
-        a_c[steep] = a_h[steep] / sin_min
-    else:  # "vertical_face": contact area = thickness × length of the panel overlapping the floe
-        overlap_length = np.asarray(overlap_m, dtype=float)[steep]
-        unknown = np.isnan(overlap_length)
-        if unknown.any():
-            rows = np.flatnonzero(steep)[unknown]
-            overlap_length[unknown] = shapely.length(
-                shapely.intersection(geometry.panel_segments[panels[rows]], floes[rows])
-            )
-        a_c[steep] = thickness_m[steep] * overlap_length
-    return a_c

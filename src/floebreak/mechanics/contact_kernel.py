@@ -436,6 +436,63 @@ def contact_batch(
     )
 
 
+FORCE_SIGNS = ("consistent", "thesis_alg3", "thesis_eq9_10")  # codes 0, 1, 2 of `force_signs` below
+NEAR_VERTICAL = ("vertical_face", "cap", "none")  # codes 0, 1, 2 of `near_vertical` below
+
+
+@numba.njit(cache=True, nogil=True)
+def _vertical_horizontal(f_c, sin_psi, cos_psi, mu, force_signs):
+    """(F_v before clamping, F_h) for crushing force F_c on a panel at ψ from the vertical (Eqs. 8–10)."""
+    if force_signs == 0:  # consistent (physics-notes §2.3)
+        return f_c * (sin_psi - mu * cos_psi), f_c * (cos_psi + mu * sin_psi)
+    if force_signs == 1:  # thesis Alg. 3: friction sign of F_h (erratum 9)
+        return f_c * (sin_psi - mu * cos_psi), f_c * (cos_psi - mu * sin_psi)
+    return f_c * (cos_psi - mu * sin_psi), f_c * (sin_psi + mu * cos_psi)  # Eqs. 9/10 literally (erratum 10)
+
+
+@numba.njit(cache=True, nogil=True)
+def panel_forces(contact_area, sin_psi, cos_psi, crushing_pa, mu, force_signs):
+    """F_c = k_c σ_c A_c (Eq. 7; `crushing_pa` = k_c σ_c), F_v (clamped at 0) and F_h per row."""
+    n = contact_area.shape[0]
+    f_c, f_v, f_h = np.empty(n), np.empty(n), np.empty(n)
+    for r in range(n):
+        f_c[r] = crushing_pa * contact_area[r]
+        vertical, f_h[r] = _vertical_horizontal(f_c[r], sin_psi[r], cos_psi[r], mu, force_signs)
+        f_v[r] = max(vertical, 0.0)
+    return f_c, f_v, f_h
+
+
+@numba.njit(cache=True, nogil=True)
+def zone_forces(
+    row_zone, row_panel, row_a_h, row_overlap, row_thickness, n_zones, panel_sin, panel_cos, panel_normals,
+    crushing_pa, mu, sin_psi_min, near_vertical, force_signs,
+):
+    """Contact area and forces of every row (zone × panel) and the horizontal force vector of every zone.
+
+    A_c = A_h / sin ψ (Eq. 6) with the near-vertical guard of physics-notes §2.2 for sin ψ < sin ψ_min:
+    `near_vertical` 0 = thickness × length of the panel inside the floe (`row_overlap`), 1 = 1/sin ψ capped
+    at 1/sin ψ_min, 2 = no guard. Returns (A_c, F_c, F_v, F_h, zone force xy on the ice).
+    """
+    n = row_a_h.shape[0]
+    a_c = np.empty(n)
+    sin_psi, cos_psi = np.empty(n), np.empty(n)
+    for r in range(n):
+        s = panel_sin[row_panel[r]]
+        sin_psi[r], cos_psi[r] = s, panel_cos[row_panel[r]]
+        a_c[r] = row_a_h[r] / max(s, 1e-12) if row_a_h[r] > 0.0 else 0.0
+        if s < sin_psi_min:
+            if near_vertical == 1:
+                a_c[r] = row_a_h[r] / sin_psi_min
+            elif near_vertical == 0:
+                a_c[r] = row_thickness[r] * row_overlap[r]
+    f_c, f_v, f_h = panel_forces(a_c, sin_psi, cos_psi, crushing_pa, mu, force_signs)
+    zone_xy = np.zeros((n_zones, 2))
+    for r in range(n):
+        zone_xy[row_zone[r], 0] += f_h[r] * panel_normals[row_panel[r], 0]
+        zone_xy[row_zone[r], 1] += f_h[r] * panel_normals[row_panel[r], 1]
+    return a_c, f_c, f_v, f_h, zone_xy
+
+
 def ccw_ring(coords: np.ndarray) -> np.ndarray:
     """Open ring (closing vertex dropped) in counter-clockwise order."""
     ring = np.asarray(coords, dtype=float)
@@ -463,3 +520,5 @@ def compile_now() -> None:
         np.array([[-0.5, -0.5, 0.5, 0.5]]), waterline, np.array([0.0, 1.0]), np.array([[0.0, -1.0]]), 1e-12,
     )
     _is_convex(square_x, square_y, 4, 1.0)
+    one, index = np.ones(1), np.zeros(1, dtype=np.int64)
+    zone_forces(index, index, one, one, one, 1, one, one, np.array([[0.0, -1.0]]), 1.0, 0.1, 0.1, 0, 0)

@@ -23,14 +23,24 @@ from floebreak.mechanics.contact_kernel import _line_parameters
 def ring_arrays(geometry: shapely.Geometry) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(x, y, offsets): the vertices of every closed ring of a polygon or multipolygon, and where each ring
     starts (offsets[-1] = number of vertices)."""
-    if shapely.get_type_id(geometry) == 3 and shapely.get_num_interior_rings(geometry) == 0:
-        xy = shapely.get_coordinates(geometry)
-        offsets = np.array([0, len(xy)], dtype=np.int64)
-    else:
-        rings = shapely.get_rings(shapely.get_parts(geometry))
-        xy, ring = shapely.get_coordinates(rings, return_index=True)
-        offsets = np.searchsorted(ring, np.arange(len(rings) + 1)).astype(np.int64)
-    return np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), offsets
+    xy = shapely.get_coordinates(geometry)
+    return np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), _ring_offsets(xy)
+
+
+@numba.njit(cache=True, nogil=True)
+def _ring_offsets(xy):
+    """Ring starts in a list of closed rings: a ring ends at the first vertex equal to its start (valid
+    polygons' rings do not touch themselves)."""
+    offsets = [0]
+    start = 0
+    n = xy.shape[0]
+    while start < n:
+        end = start + 1
+        while end < n and not (xy[end, 0] == xy[start, 0] and xy[end, 1] == xy[start, 1]):
+            end += 1
+        start = end + 1
+        offsets.append(min(start, n))
+    return np.array(offsets, dtype=np.int64)
 
 
 @numba.njit(cache=True, nogil=True)
