@@ -93,7 +93,7 @@ def _convex_floe(x, y, radius, n_vertices, aspect, angle):
 )
 def test_kernel_matches_shapely_on_convex_floes(geometry, x, y, radius, n_vertices, aspect, angle):
     floes = np.array([_convex_floe(x, y, radius, n_vertices, aspect, angle)], dtype=object)
-    fast, fallback = contact._zone_table_kernel(floes, np.arange(1), geometry.kernel)
+    fast, fallback = contact._zone_table_kernel(floes, geometry.kernel)
     assert fallback.size == 0  # convex floe, convex bow: the kernel decides alone
     _assert_same(fast, contact._zone_table_shapely(floes, np.arange(1), geometry), floes, geometry)
 
@@ -108,7 +108,7 @@ def test_kernel_matches_shapely_on_a_batch(geometry):
         dtype=object,
     )
     index = np.arange(len(floes))
-    fast, fallback = contact._zone_table_kernel(floes, index, geometry.kernel)
+    fast, fallback = contact._zone_table_kernel(floes, geometry.kernel)
     assert fallback.size == 0
     assert fast is not None and len(fast.zones) > 20  # the batch really has floes in contact
     _assert_same(fast, contact._zone_table_shapely(floes, index, geometry), floes, geometry)
@@ -119,7 +119,7 @@ def test_floe_inside_the_hull_takes_the_nearest_waterline_point(geometry):
     floes = np.array([shapely.Point(-30.0, 0.0).buffer(1.0)], dtype=object)
     assert shapely.contains(geometry.hull_upper, floes[0])
     assert not shapely.intersects(geometry.waterline, floes[0])
-    fast, fallback = contact._zone_table_kernel(floes, np.arange(1), geometry.kernel)
+    fast, fallback = contact._zone_table_kernel(floes, geometry.kernel)
     assert fallback.size == 0
     _assert_same(fast, contact._zone_table_shapely(floes, np.arange(1), geometry), floes, geometry)
 
@@ -131,7 +131,7 @@ def test_floe_with_two_zones_goes_to_shapely(geometry):
     expected = shapely.get_parts(shapely.intersection(u_shape, geometry.hull_upper))
     assert len(expected) == 2
     floes = np.array([u_shape], dtype=object)
-    _, fallback = contact._zone_table_kernel(floes, np.arange(1), geometry.kernel)
+    _, fallback = contact._zone_table_kernel(floes, geometry.kernel)
     assert fallback.tolist() == [0]
     (result,) = evaluate_contacts(floes, [1.0], geometry, ContactParams())
     assert sorted(z.a_u_m2 for z in result.zones) == pytest.approx(sorted(shapely.area(expected)), rel=1e-12)
@@ -151,7 +151,7 @@ def _star_floe(x, y, radii, angle):
 )
 def test_kernel_matches_shapely_on_non_convex_floes(geometry, x, y, radii, angle):
     floes = np.array([_star_floe(x, y, np.array(radii), angle)], dtype=object)
-    fast, fallback = contact._zone_table_kernel(floes, np.arange(1), geometry.kernel)
+    fast, fallback = contact._zone_table_kernel(floes, geometry.kernel)
     if fallback.size == 0:  # the kernel decided alone (one zone): it must agree with GEOS
         _assert_same(fast, contact._zone_table_shapely(floes, np.arange(1), geometry), floes, geometry)
     else:  # handed over only when F ∩ H_u may have several zones or the boundaries touch

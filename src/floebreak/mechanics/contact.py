@@ -187,59 +187,76 @@ def evaluate_contacts(
     floes = np.asarray(floes_bow_frame, dtype=object).reshape(-1)
     thickness = np.asarray(thickness_m, dtype=float).reshape(-1)
     contacts = [Contact()] * len(floes)
-    table = _zone_table(floes, geometry)
-    if table is None:
+    if len(floes) == 0:
         return contacts
-    parts, owner, areas = table.zones, table.owner, table.a_u_m2
-    row_zone, row_panel, row_a_h = table.row_zone, table.row_panel, table.row_a_h_m2
-    centres, centre_panels, row_overlap = table.centre_xy_m, table.centre_panel, table.row_overlap_m
-    n_zones = len(parts)
-    a_l = np.maximum(areas - np.bincount(row_zone, row_a_h, minlength=n_zones), 0.0)  # Σ A_h,i = A_u − A_l
-    if params.area_model == "single_psi":
-        # thesis Eq. 6 literally: one ψ (at the zone centre) for the whole horizontal area A_h = A_u − A_l
-        row_zone, row_panel, row_a_h = np.arange(n_zones), centre_panels, areas - a_l
-        row_overlap = np.full(n_zones, np.nan)
-    row_floe = owner[row_zone]
+    if geometry.kernel is None:
+        tables = [_zone_table_shapely(floes, np.arange(len(floes)), geometry)]
+    else:
+        table, fallback = _zone_table_kernel(floes, geometry.kernel)
+        tables = [table, _zone_table_shapely(floes, fallback, geometry) if fallback.size else None]
+    for table in tables:
+        if table is not None:
+            _add_contacts(contacts, table, floes, thickness, geometry, params)
+    return contacts
+
+
+def _add_contacts(contacts, table: _ZoneTable, floes, thickness, geometry, params: ContactParams) -> None:
+    """Areas and forces of the table's zones (one compiled call), set as the contacts of their floes."""
+    single_psi = params.area_model == "single_psi"
     near_vertical = _code("contact.near_vertical", params.near_vertical, contact_kernel.NEAR_VERTICAL)
     sin_psi_min = math.sin(math.radians(params.psi_min_deg))
+    # the length of a near-vertical row's panel inside its floe, where the kernel has not measured it
+    if single_psi:  # one row per zone, at the centre panel
+        overlap, panels, floe_of_row = np.full(len(table.zones), np.nan), table.centre_panel, table.owner
+    else:
+        overlap, panels, floe_of_row = table.row_overlap_m, table.row_panel, table.owner[table.row_zone]
     if near_vertical == 0:
-        row_overlap = _fill_overlaps(row_overlap, row_panel, floes[row_floe], geometry, sin_psi_min)
-    row_a_c, row_f_c, row_f_v, row_f_h, zone_force_xy = contact_kernel.zone_forces(
-        row_zone,
-        row_panel,
-        row_a_h,
-        row_overlap,
-        thickness[row_floe],
-        n_zones,
-        geometry.panel_sin,
-        geometry.panel_cos,
-        geometry.panel_normals,
-        params.contact_coefficient * params.crushing_strength_pa,
-        params.friction_coefficient,
-        sin_psi_min,
-        near_vertical,
-        _code("contact.force_signs", params.force_signs, contact_kernel.FORCE_SIGNS),
+        missing = np.isnan(overlap) & (geometry.panel_sin[panels] < sin_psi_min)
+        if missing.any():
+            rows = np.flatnonzero(missing)
+            overlap = overlap.copy()
+            overlap[rows] = shapely.length(
+                shapely.intersection(geometry.panel_segments[panels[rows]], floes[floe_of_row[rows]])
+            )
+    a_l, _, row_panel, row_a_h, row_a_c, row_f_c, row_f_v, row_f_h, zone_force_xy, start = (
+        contact_kernel.zone_forces(
+            table.row_zone,
+            table.row_panel,
+            table.row_a_h_m2,
+            overlap,
+            thickness[table.owner],
+            table.a_u_m2,
+            table.centre_panel,
+            single_psi,
+            geometry.panel_sin,
+            geometry.panel_cos,
+            geometry.panel_normals,
+            params.contact_coefficient * params.crushing_strength_pa,
+            params.friction_coefficient,
+            sin_psi_min,
+            near_vertical,
+            _code("contact.force_signs", params.force_signs, contact_kernel.FORCE_SIGNS),
+        )
     )
     row_psi = geometry.panel_psi_rad[row_panel]
-    bounds = np.searchsorted(row_zone, np.arange(n_zones + 1)).tolist()
-    a_u_list, a_l_list, centre_panel_list = areas.tolist(), a_l.tolist(), centre_panels.tolist()
-    lazy, hull = table.overlap_is_floe_and_hull.tolist(), geometry.hull_upper
-    floe_area_list, extent_list = table.floe_area_m2.tolist(), table.floe_extent_m.tolist()
-    zones_by_floe: dict[int, list[ContactZone]] = {}
-    for k, floe_index in enumerate(owner.tolist()):
-        zones = zones_by_floe.setdefault(floe_index, [])
-        rows = slice(bounds[k], bounds[k + 1])
-        centre_panel = centre_panel_list[k]
-        extent = extent_list[k]
+    parts, hull, lazy = table.zones, geometry.hull_upper, table.overlap_is_floe_and_hull
+    start, a_u, a_l = start.tolist(), table.a_u_m2.tolist(), a_l.tolist()
+    centres, centre_panels = table.centre_xy_m, table.centre_panel.tolist()
+    floe_areas, extents = table.floe_area_m2.tolist(), table.floe_extent_m.tolist()
+    zones_of_floe: dict[int, list[ContactZone]] = {}
+    for k, floe_index in enumerate(table.owner.tolist()):
+        zones = zones_of_floe.setdefault(floe_index, [])
+        rows = slice(start[k], start[k + 1])
+        extent, area = extents[k], floe_areas[k]
         zones.append(
             ContactZone(
                 zone=len(zones),
-                overlap=_LazyOverlap(parts[k], hull) if lazy[k] else parts[k],
+                overlap=_LazyOverlap(parts[k], hull) if lazy else parts[k],
                 centre_xy_m=centres[k],
-                centre_panel=centre_panel,
-                centre_normal=geometry.panel_normals[centre_panel],
-                a_u_m2=a_u_list[k],
-                a_l_m2=a_l_list[k],
+                centre_panel=centre_panels[k],
+                centre_normal=geometry.panel_normals[centre_panels[k]],
+                a_u_m2=a_u[k],
+                a_l_m2=a_l[k],
                 panels=row_panel[rows],
                 a_h_m2=row_a_h[rows],
                 a_c_m2=row_a_c[rows],
@@ -251,21 +268,7 @@ def evaluate_contacts(
                 floe_extent_m=None if extent[0] != extent[0] else (extent[0], extent[1]),  # NaN: not measured
             )
         )
-        area = floe_area_list[k]
         contacts[floe_index] = Contact(tuple(zones), None if area != area else area)
-    return contacts
-
-
-def _fill_overlaps(overlap_m, panels, floes, geometry: BowContactGeometry, sin_psi_min: float) -> np.ndarray:
-    """The length of each near-vertical row's upper panel segment inside its floe (the vertical-face
-    contact area of physics-notes §2.2), measured by GEOS where the kernel did not (NaN)."""
-    missing = np.isnan(overlap_m) & (geometry.panel_sin[panels] < sin_psi_min)
-    if not missing.any():
-        return overlap_m
-    overlap_m = overlap_m.copy()
-    rows = np.flatnonzero(missing)
-    overlap_m[rows] = shapely.length(shapely.intersection(geometry.panel_segments[panels[rows]], floes[rows]))
-    return overlap_m
 
 
 # --- internals --------------------------------------------------------------------------------------
@@ -367,7 +370,7 @@ class _ZoneTable:
     """Zones of a batch (one row per zone, grouped by floe) and their panel rows (sorted by zone, panel)."""
 
     zones: np.ndarray  # Z = F ∩ H_u per zone (shapely polygons), or F where `overlap_is_floe_and_hull`
-    overlap_is_floe_and_hull: np.ndarray  # True: the zone is all of F ∩ H_u, computed only when asked for
+    overlap_is_floe_and_hull: bool  # True: each zone is all of F ∩ H_u, computed only when asked for
     owner: np.ndarray  # index of each zone's floe in the batch
     a_u_m2: np.ndarray
     centre_xy_m: np.ndarray
@@ -379,86 +382,49 @@ class _ZoneTable:
     floe_area_m2: np.ndarray  # area of each zone's floe; NaN: not computed
     floe_extent_m: np.ndarray  # (n, 2) floe extent along the centre normal and along the panel; NaN: idem
 
-    @staticmethod
-    def concatenate(tables: list[_ZoneTable]) -> _ZoneTable | None:
-        tables = [t for t in tables if t is not None and len(t.zones)]
-        if not tables:
-            return None
-        if len(tables) == 1:
-            return tables[0]
-        offsets = np.cumsum([0] + [len(t.zones) for t in tables[:-1]])
-        return _ZoneTable(
-            zones=np.concatenate([t.zones for t in tables]),
-            overlap_is_floe_and_hull=np.concatenate([t.overlap_is_floe_and_hull for t in tables]),
-            owner=np.concatenate([t.owner for t in tables]),
-            a_u_m2=np.concatenate([t.a_u_m2 for t in tables]),
-            centre_xy_m=np.concatenate([t.centre_xy_m for t in tables]),
-            centre_panel=np.concatenate([t.centre_panel for t in tables]),
-            row_zone=np.concatenate([t.row_zone + o for t, o in zip(tables, offsets, strict=True)]),
-            row_panel=np.concatenate([t.row_panel for t in tables]),
-            row_a_h_m2=np.concatenate([t.row_a_h_m2 for t in tables]),
-            row_overlap_m=np.concatenate([t.row_overlap_m for t in tables]),
-            floe_area_m2=np.concatenate([t.floe_area_m2 for t in tables]),
-            floe_extent_m=np.concatenate([t.floe_extent_m for t in tables]),
-        )
 
-
-def _zone_table(floes: np.ndarray, geometry: BowContactGeometry) -> _ZoneTable | None:
-    """Zones and panel rows of all floes: the compiled kernel where it applies, shapely for the rest."""
-    if geometry.kernel is None or len(floes) == 0:
-        return _zone_table_shapely(floes, np.arange(len(floes)), geometry)
+def _zone_table_kernel(floes, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.ndarray]:
+    """`contact_kernel.contact_batch` on the floes that are polygons without holes: the table, and the floes
+    left to shapely (the others, and those the kernel hands over), in batch order."""
     simple = (shapely.get_type_id(floes) == 3) & (shapely.get_num_interior_rings(floes) == 0)
-    fast = np.flatnonzero(simple)
-    slow = [np.flatnonzero(~simple)]
-    tables = []
-    if fast.size:
-        table, fallback = _zone_table_kernel(floes, fast, geometry.kernel)
-        tables.append(table)
-        slow.append(fallback)
-    slow_index = np.sort(np.concatenate(slow))
-    if slow_index.size:
-        tables.append(_zone_table_shapely(floes, slow_index, geometry))
-    return _ZoneTable.concatenate(tables)
-
-
-def _zone_table_kernel(floes, index, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.ndarray]:
-    """`contact_kernel.contact_batch` on floes[index]: the table, and the floes it leaves to shapely."""
-    coords, which = shapely.get_coordinates(floes[index], return_index=True)
-    result = contact_kernel.contact_batch(
-        coords,
-        which,
-        len(index),
-        bow.hull_x,
-        bow.hull_y,
-        bow.quad_x,
-        bow.quad_y,
-        bow.quad_bounds,
-        bow.waterline_xy,
-        bow.node_distance_m,
-        bow.panel_normals,
-        MIN_OVERLAP_M2,
+    if simple.all():
+        coords, which = shapely.get_coordinates(floes, return_index=True)
+    else:
+        fast = np.flatnonzero(simple)
+        coords, which = shapely.get_coordinates(floes[fast], return_index=True)
+        which = fast[which]
+    status, owner, a_u, centre, centre_panel, floe_area, extent, row_zone, row_panel, row_a_h, row_overlap = (
+        contact_kernel.contact_batch(
+            coords,
+            which,
+            len(floes),
+            bow.hull_x,
+            bow.hull_y,
+            bow.quad_x,
+            bow.quad_y,
+            bow.quad_bounds,
+            bow.waterline_xy,
+            bow.node_distance_m,
+            bow.panel_normals,
+            MIN_OVERLAP_M2,
+        )
     )
-    status, a_u, centre, centre_panel, floe_area, extent, row_floe, row_panel, row_a_h, row_overlap = result
-    fallback = index[status == contact_kernel.FALLBACK]
-    hit = np.flatnonzero(status == contact_kernel.CONTACT)
-    if hit.size == 0:
+    fallback = np.flatnonzero((status == contact_kernel.FALLBACK) | ~simple)
+    if owner.size == 0:
         return None, fallback
-    zone_of_floe = np.full(len(index), -1)
-    zone_of_floe[hit] = np.arange(hit.size)
-    # one zone per floe: Z = F ∩ H_u itself, built by GEOS only if a failure model asks for the polygon
     table = _ZoneTable(
-        zones=floes[index[hit]],  # one zone per floe: Z = F ∩ H_u, built by GEOS only if asked for
-        overlap_is_floe_and_hull=np.ones(hit.size, dtype=bool),
-        owner=index[hit],
-        a_u_m2=a_u[hit],
-        centre_xy_m=centre[hit],
-        centre_panel=centre_panel[hit],
-        row_zone=zone_of_floe[row_floe],
+        zones=floes[owner],  # one zone per floe: Z = F ∩ H_u, built by GEOS only if asked for
+        overlap_is_floe_and_hull=True,
+        owner=owner,
+        a_u_m2=a_u,
+        centre_xy_m=centre,
+        centre_panel=centre_panel,
+        row_zone=row_zone,
         row_panel=row_panel,
         row_a_h_m2=row_a_h,
         row_overlap_m=row_overlap,
-        floe_area_m2=floe_area[hit],
-        floe_extent_m=extent[hit],
+        floe_area_m2=floe_area,
+        floe_extent_m=extent,
     )
     return table, fallback
 
@@ -483,7 +449,7 @@ def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTabl
     centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
     return _ZoneTable(
         zones=parts,
-        overlap_is_floe_and_hull=np.zeros(len(parts), dtype=bool),
+        overlap_is_floe_and_hull=False,
         owner=owner,
         a_u_m2=areas,
         centre_xy_m=centres,

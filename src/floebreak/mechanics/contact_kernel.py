@@ -265,9 +265,10 @@ def contact_batch(
     waterline nodes (n_panels + 1); node_distance: arc length at each node; panel_normals: outward unit
     normals. Zones and rows of at most `min_overlap` area are not contacts.
 
-    Returns per floe (status, A_u, centre xy, centre panel, floe area, floe extent along the centre
-    panel's normal and along the panel — the classification box of thesis Alg. 2) and per row (floe, panel,
-    A_h,i, length of the panel's waterline segment inside the floe), rows ordered by floe then panel.
+    Returns the status of every floe; per zone (one per floe with status CONTACT, in floe order): the floe,
+    A_u, centre xy, centre panel, floe area, floe extent along the centre panel's normal and along the
+    panel (the classification box of thesis Alg. 2); per row (zone, panel, A_h,i, length of the panel's
+    waterline segment inside the floe), rows ordered by zone then panel.
     """
     # each floe's open ring (closing vertex dropped), copied into contiguous scratch arrays below
     floe_start = np.zeros(n_floes, dtype=np.int64)
@@ -422,14 +423,21 @@ def contact_batch(
         if degenerate:  # scratch space exhausted: drop this floe's rows, GEOS takes it
             n_rows = first_row
             status[i] = FALLBACK
+    zone_of_floe = np.full(n_floes, -1, dtype=np.int64)
+    owner = np.flatnonzero(status == CONTACT)
+    zone_of_floe[owner] = np.arange(owner.shape[0])
+    row_zone = np.empty(n_rows, dtype=np.int64)
+    for r in range(n_rows):
+        row_zone[r] = zone_of_floe[row_floe[r]]
     return (
         status,
-        a_u,
-        centre,
-        centre_panel,
-        floe_area,
-        extent,
-        row_floe[:n_rows],
+        owner,
+        a_u[owner],
+        centre[owner],
+        centre_panel[owner],
+        floe_area[owner],
+        extent[owner],
+        row_zone,
         row_panel[:n_rows],
         row_a_h[:n_rows],
         row_overlap[:n_rows],
@@ -464,15 +472,31 @@ def panel_forces(contact_area, sin_psi, cos_psi, crushing_pa, mu, force_signs):
 
 @numba.njit(cache=True, nogil=True)
 def zone_forces(
-    row_zone, row_panel, row_a_h, row_overlap, row_thickness, n_zones, panel_sin, panel_cos, panel_normals,
-    crushing_pa, mu, sin_psi_min, near_vertical, force_signs,
+    row_zone, row_panel, row_a_h, overlap, thickness, a_u, centre_panel, single_psi, panel_sin, panel_cos,
+    panel_normals, crushing_pa, mu, sin_psi_min, near_vertical, force_signs,
 ):
-    """Contact area and forces of every row (zone × panel) and the horizontal force vector of every zone.
+    """A_l, contact areas and forces of every zone and row (thesis Eqs. 6–10, Alg. 3).
 
-    A_c = A_h / sin ψ (Eq. 6) with the near-vertical guard of physics-notes §2.2 for sin ψ < sin ψ_min:
-    `near_vertical` 0 = thickness × length of the panel inside the floe (`row_overlap`), 1 = 1/sin ψ capped
-    at 1/sin ψ_min, 2 = no guard. Returns (A_c, F_c, F_v, F_h, zone force xy on the ice).
+    Input rows (zone × panel, sorted by zone) carry A_h,i; A_l = max(A_u − Σ A_h,i, 0). `single_psi`: thesis
+    Eq. 6 literally — one row per zone at its centre panel with A_h = A_u − A_l. A_c = A_h / sin ψ with the
+    near-vertical guard of physics-notes §2.2 for sin ψ < sin ψ_min: `near_vertical` 0 = thickness × length
+    of the panel inside the floe (`overlap`, per input row, or per zone for `single_psi`), 1 = 1/sin ψ capped
+    at 1/sin ψ_min, 2 = no guard. `thickness` per zone.
+
+    Returns (A_l per zone, rows' zone, panel, A_h, A_c, F_c, F_v, F_h, the zone force xy on the ice, the
+    first row of each zone and the end).
     """
+    n_zones = a_u.shape[0]
+    a_l = a_u.copy()
+    sums = np.zeros(n_zones)
+    for r in range(row_a_h.shape[0]):
+        sums[row_zone[r]] += row_a_h[r]
+    for z in range(n_zones):
+        a_l[z] = max(a_u[z] - sums[z], 0.0)  # Σ A_h,i = A_u − A_l
+    if single_psi:
+        row_zone = np.arange(n_zones)
+        row_panel = centre_panel
+        row_a_h = a_u - a_l
     n = row_a_h.shape[0]
     a_c = np.empty(n)
     sin_psi, cos_psi = np.empty(n), np.empty(n)
@@ -484,13 +508,17 @@ def zone_forces(
             if near_vertical == 1:
                 a_c[r] = row_a_h[r] / sin_psi_min
             elif near_vertical == 0:
-                a_c[r] = row_thickness[r] * row_overlap[r]
+                a_c[r] = thickness[row_zone[r]] * overlap[r]
     f_c, f_v, f_h = panel_forces(a_c, sin_psi, cos_psi, crushing_pa, mu, force_signs)
     zone_xy = np.zeros((n_zones, 2))
+    zone_start = np.zeros(n_zones + 1, dtype=np.int64)
     for r in range(n):
         zone_xy[row_zone[r], 0] += f_h[r] * panel_normals[row_panel[r], 0]
         zone_xy[row_zone[r], 1] += f_h[r] * panel_normals[row_panel[r], 1]
-    return a_c, f_c, f_v, f_h, zone_xy
+        zone_start[row_zone[r] + 1] = r + 1
+    for z in range(n_zones):  # zones without rows start where the previous one ended
+        zone_start[z + 1] = max(zone_start[z + 1], zone_start[z])
+    return a_l, row_zone, row_panel, row_a_h, a_c, f_c, f_v, f_h, zone_xy, zone_start
 
 
 def ccw_ring(coords: np.ndarray) -> np.ndarray:
@@ -521,4 +549,8 @@ def compile_now() -> None:
     )
     _is_convex(square_x, square_y, 4, 1.0)
     one, index = np.ones(1), np.zeros(1, dtype=np.int64)
-    zone_forces(index, index, one, one, one, 1, one, one, np.array([[0.0, -1.0]]), 1.0, 0.1, 0.1, 0, 0)
+    for single_psi in (False, True):
+        zone_forces(
+            index, index, one, one, one, one, index, single_psi, one, one, np.array([[0.0, -1.0]]), 1.0, 0.1,
+            0.1, 0, 0,
+        )
