@@ -185,3 +185,72 @@ def test_clip_and_area_of_unit_squares():
         k = contact_kernel._clip_convex(*subject, 4, clip_x, clip_y, len(clip), *buf, 16)
         got = abs(contact_kernel._signed_area(buf[0], buf[1], k)) if k >= 3 else 0.0
         assert got == pytest.approx(area, abs=1e-15)
+
+
+def _zones_by_area(table):
+    """[(A_u, centre, centre panel, {panel: A_h})] of a zone table, ordered by A_u."""
+    out = []
+    for k in range(len(table.zones)):
+        rows = table.row_zone == k
+        panels = dict(zip(table.row_panel[rows].tolist(), table.row_a_h_m2[rows].tolist(), strict=True))
+        out.append((table.a_u_m2[k], table.centre_xy_m[k], int(table.centre_panel[k]), panels))
+    return sorted(out, key=lambda zone: zone[0])
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    x=st.floats(-30.0, 0.0),
+    width=st.floats(0.5, 4.0),
+    gap=st.floats(0.5, 10.0),
+    reach=st.floats(3.0, 30.0),
+    y=st.floats(-3.0, 3.0),
+)
+def test_zones_found_by_geos_get_the_same_rows_and_centres_compiled(geometry, x, width, gap, reach, y):
+    # a U-shaped floe whose two arms reach into the hull on both sides of the stem: two zones, which GEOS
+    # separates; their panel rows and centres come from the compiled code and must equal GEOS's
+    top, bottom = y + gap / 2.0, y - gap / 2.0
+    u_shape = shapely.Polygon(
+        [
+            (x - reach, top + width),
+            (x + 8.0, top + width),
+            (x + 8.0, bottom - width),
+            (x - reach, bottom - width),
+            (x - reach, bottom),
+            (x + 8.0 - width, bottom),
+            (x + 8.0 - width, top),
+            (x - reach, top),
+        ]
+    )
+    floes = np.array([u_shape], dtype=object)
+    reference = contact._zone_table_shapely(floes, np.arange(1), geometry)
+    compiled = contact._zone_table_zones_by_geos(floes, np.arange(1), geometry)
+    if reference is None:
+        assert compiled is None
+        return
+    assert compiled.row_overlap_m.size == compiled.row_zone.size
+    for (a_u, centre, panel, rows), (ref_a_u, ref_centre, ref_panel, ref_rows) in zip(
+        _zones_by_area(compiled), _zones_by_area(reference), strict=True
+    ):
+        assert a_u == ref_a_u  # the same GEOS zones
+        np.testing.assert_allclose(centre, ref_centre, atol=1e-7)
+        if panel != ref_panel:  # only a centre on a node may go to either panel
+            nodes = shapely.get_coordinates(geometry.waterline)
+            assert np.hypot(*(nodes - centre).T).min() < 1e-7
+        for p in set(rows) | set(ref_rows):
+            assert rows.get(p, 0.0) == pytest.approx(ref_rows.get(p, 0.0), rel=1e-9, abs=1e-10)
+
+
+def test_zones_found_by_geos_on_a_two_zone_floe(geometry):
+    u_shape = shapely.Polygon([(-12, 3), (3, 3), (3, -8), (-12, -8), (-12, -4), (1, -4), (1, 2), (-12, 2)])
+    floes = np.array([u_shape], dtype=object)
+    compiled = contact._zone_table_zones_by_geos(floes, np.arange(1), geometry)
+    reference = contact._zone_table_shapely(floes, np.arange(1), geometry)
+    assert len(compiled.zones) == len(reference.zones) == 2
+    for got, expected in zip(_zones_by_area(compiled), _zones_by_area(reference), strict=True):
+        np.testing.assert_allclose(got[1], expected[1], atol=1e-9)
+        assert got[2] == expected[2]
+        assert got[3].keys() == expected[3].keys()
+    # the near-vertical guard's length of each panel inside the floe: GEOS's length of segment ∩ F
+    rows = compiled.row_panel
+    lengths = shapely.length(shapely.intersection(geometry.panel_segments[rows], u_shape))
+    np.testing.assert_allclose(compiled.row_overlap_m, lengths, rtol=1e-9, atol=1e-12)

@@ -193,7 +193,7 @@ def evaluate_contacts(
         tables = [_zone_table_shapely(floes, np.arange(len(floes)), geometry)]
     else:
         table, fallback = _zone_table_kernel(floes, geometry.kernel)
-        tables = [table, _zone_table_shapely(floes, fallback, geometry) if fallback.size else None]
+        tables = [table, _zone_table_zones_by_geos(floes, fallback, geometry) if fallback.size else None]
     for table in tables:
         if table is not None:
             _add_contacts(contacts, table, floes, thickness, geometry, params)
@@ -429,8 +429,8 @@ def _zone_table_kernel(floes, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.nd
     return table, fallback
 
 
-def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTable | None:
-    """GEOS overlays for floes[index] (any polygon, any bow): connected parts of F ∩ H_u are the zones."""
+def _geos_zones(floes, index, geometry: BowContactGeometry):
+    """(zones, their floe, A_u): the connected parts of F ∩ H_u of floes[index] with area, by GEOS."""
     if len(index) == 0:
         return None
     index = index[shapely.intersects(geometry.hull_upper, floes[index])]
@@ -445,8 +445,24 @@ def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTabl
         parts, owner, areas = parts[keep], index[owner[keep]], areas[keep]
     if parts.size == 0:
         return None
+    return parts, owner, areas
+
+
+def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTable | None:
+    """GEOS overlays for floes[index] (any polygon, any bow): connected parts of F ∩ H_u are the zones."""
+    zones = _geos_zones(floes, index, geometry)
+    if zones is None:
+        return None
+    parts, owner, areas = zones
     row_zone, row_panel, row_a_h = _panel_areas(parts, geometry)
     centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
+    return _table_of_zones(parts, owner, areas, centres, centre_panels, row_zone, row_panel, row_a_h)
+
+
+def _table_of_zones(
+    parts, owner, areas, centres, centre_panels, row_zone, row_panel, row_a_h, row_overlap=None
+) -> _ZoneTable:
+    """A table of zones found by GEOS (the floe's area and box are not measured on this path)."""
     return _ZoneTable(
         zones=parts,
         overlap_is_floe_and_hull=False,
@@ -457,10 +473,58 @@ def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTabl
         row_zone=row_zone,
         row_panel=row_panel,
         row_a_h_m2=row_a_h,
-        row_overlap_m=np.full(len(row_zone), np.nan),
+        row_overlap_m=np.full(len(row_zone), np.nan) if row_overlap is None else row_overlap,
         floe_area_m2=np.full(len(parts), np.nan),
         floe_extent_m=np.full((len(parts), 2), np.nan),
     )
+
+
+def _zone_table_zones_by_geos(floes, index, geometry: BowContactGeometry) -> _ZoneTable | None:
+    """The floes the kernel hands over (several zones each, against a convex bow): the zones F ∩ H_u by GEOS,
+    their panel rows and centres by `contact_kernel.zone_rows` (same definitions as `_zone_table_shapely`,
+    which takes over for floes or zones with holes and for degenerate cases)."""
+    zones = _geos_zones(floes, index, geometry)
+    if zones is None:
+        return None
+    parts, owner, areas = zones
+    floe_ids, zone_floe = np.unique(owner, return_inverse=True)
+    own_floes = floes[floe_ids]
+    simple = (
+        (shapely.get_num_interior_rings(parts) == 0).all()
+        and (shapely.get_type_id(own_floes) == 3).all()
+        and (shapely.get_num_interior_rings(own_floes) == 0).all()
+    )
+    if simple:
+        zone_coords, zone_index = shapely.get_coordinates(parts, return_index=True)
+        floe_coords, floe_index = shapely.get_coordinates(own_floes, return_index=True)
+        bow = geometry.kernel
+        result = contact_kernel.zone_rows(
+            zone_coords,
+            zone_index,
+            len(parts),
+            zone_floe.reshape(-1),
+            floe_coords,
+            floe_index,
+            len(floe_ids),
+            bow.quad_x,
+            bow.quad_y,
+            bow.quad_bounds,
+            bow.waterline_xy,
+            bow.node_distance_m,
+            MIN_OVERLAP_M2,
+            _ON_BOUNDARY_M,
+        )
+        ok, row_zone, row_panel, row_a_h, row_overlap, centres, centre_panels, found = result
+        if ok:
+            if not found.all():  # a zone clear of the waterline: the nearest waterline point (GEOS)
+                missing = np.flatnonzero(~found)
+                centres[missing], centre_panels[missing] = _nearest_waterline_points(parts[missing], geometry)
+            return _table_of_zones(
+                parts, owner, areas, centres, centre_panels, row_zone, row_panel, row_a_h, row_overlap
+            )
+    row_zone, row_panel, row_a_h = _panel_areas(parts, geometry)
+    centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
+    return _table_of_zones(parts, owner, areas, centres, centre_panels, row_zone, row_panel, row_a_h)
 
 
 def _panel_areas(
@@ -514,9 +578,19 @@ def _zone_centres(
     if (~has_line).any():
         nearest = shapely.shortest_line(zones[~has_line], geometry.waterline)
         centres[~has_line] = shapely.get_point(nearest, 1)
-    distance = shapely.line_locate_point(geometry.waterline, centres)
-    panels = np.clip(np.searchsorted(geometry.node_distance_m, distance) - 1, 0, len(geometry.footprints) - 1)
-    return shapely.get_coordinates(centres), panels
+    return shapely.get_coordinates(centres), _panel_at(centres, geometry)
+
+
+def _nearest_waterline_points(zones, geometry: BowContactGeometry) -> tuple[np.ndarray, np.ndarray]:
+    """The waterline point nearest to each zone (a zone clear of the waterline) and its panel."""
+    points = shapely.get_point(shapely.shortest_line(zones, geometry.waterline), 1)
+    return shapely.get_coordinates(points), _panel_at(points, geometry)
+
+
+def _panel_at(points, geometry: BowContactGeometry) -> np.ndarray:
+    """The panel of each waterline point (by its arc length along the waterline)."""
+    distance = shapely.line_locate_point(geometry.waterline, points)
+    return np.clip(np.searchsorted(geometry.node_distance_m, distance) - 1, 0, len(geometry.footprints) - 1)
 
 
 _ON_BOUNDARY_M = 1e-6  # a waterline part of F lies on the boundary of its zone up to rounding

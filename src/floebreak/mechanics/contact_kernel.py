@@ -241,6 +241,117 @@ def _nearest_on_waterline(zx, zy, k, waterline_xy, node_distance):
 
 
 @numba.njit(cache=True, nogil=True)
+def _ring_layout(floe_index, n_floes):
+    """Start and length of each floe's open ring (closing vertex dropped) in a vertex list grouped by floe,
+    and the longest ring's length."""
+    floe_start = np.zeros(n_floes, dtype=np.int64)
+    floe_count = np.zeros(n_floes, dtype=np.int64)
+    for v in range(floe_index.shape[0] - 1, -1, -1):
+        floe_start[floe_index[v]] = v
+        floe_count[floe_index[v]] += 1
+    max_n = 0
+    for i in range(n_floes):
+        floe_count[i] = max(floe_count[i] - 1, 0)
+        max_n = max(max_n, floe_count[i])
+    return floe_start, floe_count, max_n
+
+
+@numba.njit(cache=True, nogil=True)
+def _waterline_parts(px, py, n, waterline_xy, node_distance, hits, seg_overlap, part_from, part_to):
+    """The upper waterline inside polygon (px, py)[:n], split where it meets the polygon's boundary (as GEOS
+    splits waterline ∩ F): the parts as arc-length intervals in waterline order (`part_from`, `part_to`), and
+    per waterline segment the length inside (`seg_overlap`). Returns the number of parts, or −1 if the
+    waterline runs along the boundary somewhere."""
+    n_panels = waterline_xy.shape[0] - 1
+    n_parts = 0
+    start, end, open_part = 0.0, 0.0, False
+    f_x0, f_x1, f_y0, f_y1 = px[:n].min(), px[:n].max(), py[:n].min(), py[:n].max()
+    for p in range(n_panels):
+        seg_overlap[p] = 0.0
+        x0, y0 = waterline_xy[p, 0], waterline_xy[p, 1]
+        x1, y1 = waterline_xy[p + 1, 0], waterline_xy[p + 1, 1]
+        if min(x0, x1) > f_x1 or max(x0, x1) < f_x0 or min(y0, y1) > f_y1 or max(y0, y1) < f_y0:
+            if open_part:  # bounding boxes apart: no overlap
+                part_from[n_parts], part_to[n_parts] = start, end
+                n_parts += 1
+                open_part = False
+            continue
+        n_hits = _boundary_hits(x0, y0, x1, y1, px, py, n, hits)
+        if n_hits < 0:
+            return -1
+        seg_length = node_distance[p + 1] - node_distance[p]
+        for j in range(n_hits + 1):
+            a = hits[j - 1] if j > 0 else 0.0
+            b = hits[j] if j < n_hits else 1.0
+            if not b > a:
+                continue
+            t = 0.5 * (a + b)
+            if not _inside(x0 + t * (x1 - x0), y0 + t * (y1 - y0), px, py, n):
+                if open_part:
+                    part_from[n_parts], part_to[n_parts] = start, end
+                    n_parts += 1
+                    open_part = False
+                continue
+            seg_overlap[p] += (b - a) * seg_length
+            d_a, d_b = node_distance[p] + a * seg_length, node_distance[p] + b * seg_length
+            if open_part and j == 0:  # goes on through the node from the previous segment
+                end = d_b
+            else:
+                if open_part:
+                    part_from[n_parts], part_to[n_parts] = start, end
+                    n_parts += 1
+                start, end, open_part = d_a, d_b, True
+            if j < n_hits:  # ends on F's boundary (inside this segment or exactly at its end node)
+                part_from[n_parts], part_to[n_parts] = start, end
+                n_parts += 1
+                open_part = False
+    if open_part:
+        part_from[n_parts], part_to[n_parts] = start, end
+        n_parts += 1
+    return n_parts
+
+
+@numba.njit(cache=True, nogil=True)
+def _waterline_point(distance, waterline_xy, node_distance):
+    """(x, y, panel) of the upper waterline at arc length `distance` (the panel as locating the point on the
+    waterline gives it)."""
+    n_panels = waterline_xy.shape[0] - 1
+    panel = np.searchsorted(node_distance, distance) - 1
+    panel = min(max(panel, 0), n_panels - 1)
+    length = node_distance[panel + 1] - node_distance[panel]
+    t = (distance - node_distance[panel]) / length if length > 0.0 else 0.0
+    x = waterline_xy[panel, 0] + t * (waterline_xy[panel + 1, 0] - waterline_xy[panel, 0])
+    y = waterline_xy[panel, 1] + t * (waterline_xy[panel + 1, 1] - waterline_xy[panel, 1])
+    return x, y, panel
+
+
+@numba.njit(cache=True, nogil=True)
+def _panel_rows(zx, zy, k, zone, quad_x, quad_y, quad_bounds, min_overlap, scratch, rows, n_rows):
+    """Append the rows (zone, panel, A_h,i = area(Z ∩ Q_i) > min_overlap) of zone polygon (zx, zy)[:k] to
+    `rows` (row_zone, row_panel, row_a_h) from index n_rows; the new row count, or −1 if the scratch space
+    (qx, qy, tx, ty, capacity) ran out. Z may be non-convex: the clipped outline's signed area is exact."""
+    qx, qy, tx, ty = scratch
+    capacity = qx.shape[0]
+    row_zone, row_panel, row_a_h = rows
+    z_x0, z_x1 = zx[:k].min(), zx[:k].max()
+    z_y0, z_y1 = zy[:k].min(), zy[:k].max()
+    for p in range(quad_x.shape[0]):
+        if (
+            quad_bounds[p, 0] > z_x1 or quad_bounds[p, 2] < z_x0
+            or quad_bounds[p, 1] > z_y1 or quad_bounds[p, 3] < z_y0
+        ):
+            continue
+        kq = _clip_convex(zx, zy, k, quad_x[p], quad_y[p], 4, qx, qy, tx, ty, capacity)
+        if kq < 0:
+            return -1
+        a_h = abs(_signed_area(qx, qy, kq)) if kq >= 3 else 0.0
+        if a_h > min_overlap:
+            row_zone[n_rows], row_panel[n_rows], row_a_h[n_rows] = zone, p, a_h
+            n_rows += 1
+    return n_rows
+
+
+@numba.njit(cache=True, nogil=True)
 def contact_batch(
     floe_coords,
     floe_index,
@@ -271,11 +382,7 @@ def contact_batch(
     waterline segment inside the floe), rows ordered by zone then panel.
     """
     # each floe's open ring (closing vertex dropped), copied into contiguous scratch arrays below
-    floe_start = np.zeros(n_floes, dtype=np.int64)
-    floe_count = np.zeros(n_floes, dtype=np.int64)
-    for v in range(floe_index.shape[0] - 1, -1, -1):
-        floe_start[floe_index[v]] = v
-        floe_count[floe_index[v]] += 1
+    floe_start, floe_count, max_n = _ring_layout(floe_index, n_floes)
     n_panels = quad_x.shape[0]
     m = hull_x.shape[0]
     status = np.zeros(n_floes, dtype=np.int8)
@@ -288,10 +395,6 @@ def contact_batch(
     row_panel = np.empty(n_floes * n_panels, dtype=np.int64)
     row_a_h = np.empty(n_floes * n_panels)
     row_overlap = np.empty(n_floes * n_panels)
-    max_n = 0
-    for i in range(n_floes):
-        floe_count[i] = max(floe_count[i] - 1, 0)
-        max_n = max(max_n, floe_count[i])
     # a half-plane adds at most one vertex to a convex polygon, more to a non-convex one: generous scratch
     # space, and a floe that would exceed it goes to GEOS
     capacity = 4 * (max_n + m) + 16
@@ -304,6 +407,9 @@ def contact_batch(
     hull_x0, hull_x1 = hx.min(), hx.max()
     hull_y0, hull_y1 = hy.min(), hy.max()
     seg_overlap = np.empty(n_panels)
+    part_from, part_to = np.empty(n_panels * (max_n + 2)), np.empty(n_panels * (max_n + 2))
+    scratch = (qx, qy, tx, ty)
+    rows = (row_floe, row_panel, row_a_h)
     n_rows = 0
     for i in range(n_floes):
         s, n = floe_start[i], floe_count[i]
@@ -334,54 +440,16 @@ def contact_batch(
             continue
         # the waterline inside F, split where it meets F's boundary (as GEOS does): the longest part (first
         # on a tie, in waterline order) and, per segment, the length inside F
-        best_length, best_from, best_to = -1.0, 0.0, 0.0
-        part_from, part_to, open_part = 0.0, 0.0, False
-        f_x0, f_x1, f_y0, f_y1 = px.min(), px.max(), py.min(), py.max()
-        degenerate = False
-        for p in range(n_panels):
-            seg_overlap[p] = 0.0
-            x0, y0 = waterline_xy[p, 0], waterline_xy[p, 1]
-            x1, y1 = waterline_xy[p + 1, 0], waterline_xy[p + 1, 1]
-            if min(x0, x1) > f_x1 or max(x0, x1) < f_x0 or min(y0, y1) > f_y1 or max(y0, y1) < f_y0:
-                if open_part:  # bounding boxes apart: no overlap
-                    if part_to - part_from > best_length:
-                        best_length, best_from, best_to = part_to - part_from, part_from, part_to
-                    open_part = False
-                continue
-            n_hits = _boundary_hits(x0, y0, x1, y1, px, py, n, hits)
-            if n_hits < 0:
-                degenerate = True
-                break
-            seg_length = node_distance[p + 1] - node_distance[p]
-            for j in range(n_hits + 1):
-                a = hits[j - 1] if j > 0 else 0.0
-                b = hits[j] if j < n_hits else 1.0
-                if not b > a:
-                    continue
-                t = 0.5 * (a + b)
-                if not _inside(x0 + t * (x1 - x0), y0 + t * (y1 - y0), px, py, n):
-                    if open_part:
-                        if part_to - part_from > best_length:
-                            best_length, best_from, best_to = part_to - part_from, part_from, part_to
-                        open_part = False
-                    continue
-                seg_overlap[p] += (b - a) * seg_length
-                d_a, d_b = node_distance[p] + a * seg_length, node_distance[p] + b * seg_length
-                if open_part and j == 0:  # goes on through the node from the previous segment
-                    part_to = d_b
-                else:
-                    if open_part and part_to - part_from > best_length:
-                        best_length, best_from, best_to = part_to - part_from, part_from, part_to
-                    part_from, part_to, open_part = d_a, d_b, True
-                if j < n_hits:  # ends on F's boundary (inside this segment or exactly at its end node)
-                    if part_to - part_from > best_length:
-                        best_length, best_from, best_to = part_to - part_from, part_from, part_to
-                    open_part = False
-        if degenerate:
+        n_parts = _waterline_parts(
+            px, py, n, waterline_xy, node_distance, hits, seg_overlap, part_from, part_to
+        )
+        if n_parts < 0:
             status[i] = FALLBACK
             continue
-        if open_part and part_to - part_from > best_length:
-            best_length, best_from, best_to = part_to - part_from, part_from, part_to
+        best_length, best_from, best_to = -1.0, 0.0, 0.0
+        for q in range(n_parts):
+            if part_to[q] - part_from[q] > best_length:
+                best_length, best_from, best_to = part_to[q] - part_from[q], part_from[q], part_to[q]
         if best_length > 0.0:
             middle = 0.5 * (best_from + best_to)
         elif convex:  # a zone clear of the waterline (a piece already inside the hull): the nearest point
@@ -391,38 +459,20 @@ def contact_batch(
             continue
         status[i] = CONTACT
         a_u[i] = area
-        first_row = n_rows
-        panel = np.searchsorted(node_distance, middle) - 1  # as locating the point on the waterline
-        panel = min(max(panel, 0), n_panels - 1)
-        length = node_distance[panel + 1] - node_distance[panel]
-        t = (middle - node_distance[panel]) / length if length > 0.0 else 0.0
-        centre[i, 0] = waterline_xy[panel, 0] + t * (waterline_xy[panel + 1, 0] - waterline_xy[panel, 0])
-        centre[i, 1] = waterline_xy[panel, 1] + t * (waterline_xy[panel + 1, 1] - waterline_xy[panel, 1])
+        centre[i, 0], centre[i, 1], panel = _waterline_point(middle, waterline_xy, node_distance)
         centre_panel[i] = panel
         floe_area[i] = abs(signed_area)
         norm = np.hypot(panel_normals[panel, 0], panel_normals[panel, 1])
         normal_x, normal_y = panel_normals[panel, 0] / norm, panel_normals[panel, 1] / norm
         extent[i, 0], extent[i, 1] = box_extents(px, py, n, normal_x, normal_y)
-        z_x0, z_x1 = zx[:k].min(), zx[:k].max()
-        z_y0, z_y1 = zy[:k].min(), zy[:k].max()
-        for p in range(n_panels):
-            if (
-                quad_bounds[p, 0] > z_x1 or quad_bounds[p, 2] < z_x0
-                or quad_bounds[p, 1] > z_y1 or quad_bounds[p, 3] < z_y0
-            ):
-                continue
-            kq = _clip_convex(zx, zy, k, quad_x[p], quad_y[p], 4, qx, qy, tx, ty, capacity)
-            if kq < 0:
-                degenerate = True
-                break
-            a_h = abs(_signed_area(qx, qy, kq)) if kq >= 3 else 0.0
-            if a_h > min_overlap:
-                row_floe[n_rows], row_panel[n_rows], row_a_h[n_rows] = i, p, a_h
-                row_overlap[n_rows] = seg_overlap[p]
-                n_rows += 1
-        if degenerate:  # scratch space exhausted: drop this floe's rows, GEOS takes it
+        first_row = n_rows
+        n_rows = _panel_rows(zx, zy, k, i, quad_x, quad_y, quad_bounds, min_overlap, scratch, rows, n_rows)
+        if n_rows < 0:  # scratch space exhausted: drop this floe's rows, GEOS takes it
             n_rows = first_row
             status[i] = FALLBACK
+            continue
+        for r in range(first_row, n_rows):
+            row_overlap[r] = seg_overlap[row_panel[r]]
     zone_of_floe = np.full(n_floes, -1, dtype=np.int64)
     owner = np.flatnonzero(status == CONTACT)
     zone_of_floe[owner] = np.arange(owner.shape[0])
@@ -441,6 +491,93 @@ def contact_batch(
         row_panel[:n_rows],
         row_a_h[:n_rows],
         row_overlap[:n_rows],
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def zone_rows(
+    zone_coords, zone_index, n_zones, zone_floe, floe_coords, floe_index, n_floes, quad_x, quad_y,
+    quad_bounds, waterline_xy, node_distance, min_overlap, on_boundary,
+):
+    """Panel rows and centres of zones found by GEOS (the connected parts of F ∩ H_u of floes with several).
+
+    zone_coords, zone_index: the zones' closed exterior rings and the zone of each vertex (polygons without
+    holes); zone_floe: each zone's floe; floe_coords, floe_index: the floes' closed exterior rings. Rows:
+    (zone, panel, A_h,i = area(Z ∩ Q_i) > min_overlap, length of the panel's waterline segment inside the
+    floe), ordered by zone then panel. Centre ("midBow", thesis Alg. 5): the middle of the longest part of
+    waterline ∩ F on the zone's boundary (its middle within `on_boundary` of the boundary; every part if the
+    floe has one zone); `centre_found` False where no part bounds the zone (the caller finds the nearest
+    waterline point). Returns (ok, rows…, centre, centre_panel, centre_found); ok False: a degenerate case
+    (the waterline along a floe edge, scratch space exhausted) — GEOS evaluates everything.
+    """
+    n_panels = quad_x.shape[0]
+    floe_start, floe_count, max_floe_n = _ring_layout(floe_index, n_floes)
+    zone_start, zone_count, max_zone_n = _ring_layout(zone_index, n_zones)
+    zones_of_floe = np.zeros(n_floes, dtype=np.int64)
+    for z in range(n_zones):
+        zones_of_floe[zone_floe[z]] += 1
+    hits = np.empty(max_floe_n + 1)
+    seg_overlap = np.zeros((n_floes, n_panels))
+    capacity_parts = n_panels * (max_floe_n + 2)
+    part_from, part_to = np.empty((n_floes, capacity_parts)), np.empty((n_floes, capacity_parts))
+    n_parts = np.zeros(n_floes, dtype=np.int64)
+    row_zone = np.empty(n_zones * n_panels, dtype=np.int64)
+    row_panel = np.empty(n_zones * n_panels, dtype=np.int64)
+    row_a_h = np.empty(n_zones * n_panels)
+    row_overlap = np.empty(n_zones * n_panels)
+    centre = np.zeros((n_zones, 2))
+    centre_panel = np.zeros(n_zones, dtype=np.int64)
+    centre_found = np.zeros(n_zones, dtype=np.bool_)
+    ok = True
+    for f in range(n_floes):
+        s, n = floe_start[f], floe_count[f]
+        px, py = floe_coords[s : s + n, 0].copy(), floe_coords[s : s + n, 1].copy()
+        count = _waterline_parts(
+            px, py, n, waterline_xy, node_distance, hits, seg_overlap[f], part_from[f], part_to[f]
+        )
+        if count < 0:
+            ok = False
+        n_parts[f] = max(count, 0)
+    capacity = 4 * (max_zone_n + 4) + 16
+    scratch = (np.empty(capacity), np.empty(capacity), np.empty(capacity), np.empty(capacity))
+    rows = (row_zone, row_panel, row_a_h)
+    limit = on_boundary * on_boundary
+    n_rows = 0
+    for z in range(n_zones if ok else 0):
+        s, k = zone_start[z], zone_count[z]
+        zx, zy = zone_coords[s : s + k, 0].copy(), zone_coords[s : s + k, 1].copy()
+        f = zone_floe[z]
+        first_row = n_rows
+        n_rows = _panel_rows(zx, zy, k, z, quad_x, quad_y, quad_bounds, min_overlap, scratch, rows, n_rows)
+        if n_rows < 0:
+            ok, n_rows = False, 0
+            break
+        for r in range(first_row, n_rows):
+            row_overlap[r] = seg_overlap[f, row_panel[r]]
+        best_length, best_from, best_to = -1.0, 0.0, 0.0
+        for q in range(n_parts[f]):
+            length = part_to[f, q] - part_from[f, q]
+            if not length > best_length:
+                continue
+            if zones_of_floe[f] > 1:  # several zones: the part must lie on this zone's boundary
+                middle = 0.5 * (part_from[f, q] + part_to[f, q])
+                mx, my, _ = _waterline_point(middle, waterline_xy, node_distance)
+                nearest = np.inf
+                for v in range(k):
+                    w = v + 1 if v + 1 < k else 0
+                    d2, _ = _project(mx, my, zx[v], zy[v], zx[w], zy[w])
+                    nearest = min(nearest, d2)
+                if nearest > limit:
+                    continue
+            best_length, best_from, best_to = length, part_from[f, q], part_to[f, q]
+        if best_length > 0.0:
+            centre[z, 0], centre[z, 1], centre_panel[z] = _waterline_point(
+                0.5 * (best_from + best_to), waterline_xy, node_distance
+            )
+            centre_found[z] = True
+    return (
+        ok, row_zone[:n_rows], row_panel[:n_rows], row_a_h[:n_rows], row_overlap[:n_rows], centre,
+        centre_panel, centre_found,
     )
 
 
