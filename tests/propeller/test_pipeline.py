@@ -197,3 +197,33 @@ def test_load_spectra_weights_runs_equally_and_ranges_above():
         "p95": {"intervals_knm": [(10.0, 20.0)], "envelope_knm": (10.0, 20.0)},
     }
     assert torque_ranges_above(ds, 0.01)["p0"]["envelope_knm"] == (0.0, 20.0)
+
+
+def test_spectra_netcdf_has_the_bytes_of_xarray_to_netcdf(tmp_path):
+    # the writer bypasses to_netcdf (which imports dask.distributed); the file must be what it writes
+    from floebreak.propeller.pipeline import _write_netcdf
+
+    out = propeller_analysis(_cusps(), tmp_path / "prop", force_bin_kn=50.0, torque_bin_knm=50.0)
+    with xr.open_dataset(out / "spectra.nc", engine="h5netcdf") as stored:
+        ds = stored.load()
+    assert _write_netcdf(ds, tmp_path / "ours.nc") == "h5netcdf"
+    ds.to_netcdf(tmp_path / "xarray.nc", engine="h5netcdf")
+    assert (tmp_path / "ours.nc").read_bytes() == (tmp_path / "xarray.nc").read_bytes()
+    assert (tmp_path / "ours.nc").read_bytes() == (out / "spectra.nc").read_bytes()
+
+
+def test_propeller_analysis_does_not_import_dask_distributed(tmp_path):
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, numpy as np\n"
+        "from floebreak.propeller.pipeline import propeller_analysis\n"
+        "n = 6\n"
+        "cusps = {'volume_m3': np.linspace(1, 9, n), 'bbox_length_m': np.linspace(2, 10, n),\n"
+        "         'bbox_width_m': np.ones(n), 'thickness_m': np.ones(n), 'area_m2': np.linspace(1, 9, n)}\n"
+        f"propeller_analysis(cusps, {str(tmp_path / 'prop')!r})\n"
+        "print('distributed' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
