@@ -54,6 +54,22 @@ def test_writing_a_geoparquet_file_does_not_import_pandas(tmp_path):
     assert out.stdout.strip() == "False"
 
 
+def test_reading_a_geoparquet_file_does_not_import_the_dataset_layer(tmp_path):
+    code = (
+        "import sys, numpy as np, shapely\n"
+        "from floebreak.io.geoparquet import read_geoparquet, write_geoparquet\n"
+        "write_geoparquet(sys.argv[1], np.array([shapely.box(0, 0, 1, 2)]),"
+        " {'area_m2': np.full(1, 2.0), 'fate': ['cusp']}, {'seed': 1})\n"
+        "geometry, columns, meta = read_geoparquet(sys.argv[1])\n"
+        "assert geometry[0].area == 2.0 and columns['fate'].tolist() == ['cusp'] and meta['seed'] == 1\n"
+        "print('pyarrow.dataset' in sys.modules)\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code, str(tmp_path / "t.parquet")], capture_output=True, text=True, check=True
+    )
+    assert out.stdout.strip() == "False"
+
+
 def test_big_endian_numbers_are_left_to_pa_array():
     with pytest.raises(pa.ArrowNotImplementedError):  # as pa.array: "Byte-swapped arrays not supported"
         arrow_array(np.arange(4.0).astype(">f8"))

@@ -136,7 +136,7 @@ def read_geoparquet(
     if not path.is_file():
         raise InputError(field, f"{str(path)!r} does not exist or is not a file", allowed="a GeoParquet file")
     try:
-        table = pq.read_table(path)
+        table = pq.ParquetFile(path).read()  # one file: no dataset layer (pyarrow.dataset, ≈ 0.1 s to import)
         schema_metadata = table.schema.metadata or {}
         geo = json.loads(schema_metadata[GEO_METADATA_KEY])
         geometry_column = geo["primary_column"]

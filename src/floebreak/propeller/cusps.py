@@ -56,7 +56,7 @@ def load_cusps(run_or_study_dir: str | os.PathLike[str]) -> pa.Table:
     tables = []
     for path, run_id in zip(files, names, strict=True):
         try:
-            table = pq.read_table(path)
+            table = pq.ParquetFile(path).read()  # one file: no dataset layer (pyarrow.dataset)
         except (OSError, pa.ArrowInvalid) as error:
             raise InputError(field, f"cannot read {str(path)!r}: {error}", value=str(path)) from None
         missing = [c for c in REQUIRED_COLUMNS if c not in table.column_names]
