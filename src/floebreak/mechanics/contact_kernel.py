@@ -141,9 +141,15 @@ def _boundary_hits(x0, y0, x1, y1, px, py, n, hits):
     """Parameters t ∈ [0, 1] where segment (x0, y0)→(x1, y1) meets the boundary of polygon (px, py)[:n],
     sorted into `hits`; returns their count, or −1 if the segment runs along a boundary edge."""
     dx, dy = x1 - x0, y1 - y0
+    s_x0, s_x1, s_y0, s_y1 = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
     count = 0
     for i in range(n):
         j = i + 1 if i + 1 < n else 0
+        if (
+            min(px[i], px[j]) > s_x1 or max(px[i], px[j]) < s_x0
+            or min(py[i], py[j]) > s_y1 or max(py[i], py[j]) < s_y0
+        ):
+            continue  # boxes apart: no hit, no overlap
         t, u, kind = _line_parameters(x0, y0, dx, dy, px[i], py[i], px[j] - px[i], py[j] - py[i])
         if kind == 2:  # collinear: an overlap along the boundary is left to GEOS
             d2 = dx * dx + dy * dy
@@ -186,8 +192,14 @@ def _crossings(px, py, n, hx, hy, m):
         if min(x0, x1) > h_x1 or max(x0, x1) < h_x0 or min(y0, y1) > h_y1 or max(y0, y1) < h_y0:
             continue
         dx, dy = x1 - x0, y1 - y0
+        e_x0, e_x1, e_y0, e_y1 = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
         for a in range(m):
             b = a + 1 if a + 1 < m else 0
+            if (
+                min(hx[a], hx[b]) > e_x1 or max(hx[a], hx[b]) < e_x0
+                or min(hy[a], hy[b]) > e_y1 or max(hy[a], hy[b]) < e_y0
+            ):
+                continue  # the two edges' boxes are apart: they cannot meet
             t, u, kind = _line_parameters(x0, y0, dx, dy, hx[a], hy[a], hx[b] - hx[a], hy[b] - hy[a])
             if kind == 2:
                 return -1
