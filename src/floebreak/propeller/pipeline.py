@@ -187,9 +187,12 @@ def _write_netcdf(ds, path: Path) -> str:
     if engine != "h5netcdf" or any(v.chunks is not None for v in ds.variables.values()):
         ds.to_netcdf(path, engine=engine)
         return engine
-    from xarray.backends import H5NetCDFStore
-    from xarray.backends.locks import HDF5_LOCK
-
+    try:  # xarray internals: if a future xarray moves them, fall back to the public call
+        from xarray.backends import H5NetCDFStore
+        from xarray.backends.locks import HDF5_LOCK
+    except ImportError:
+        ds.to_netcdf(path, engine=engine)
+        return engine
     store = H5NetCDFStore.open(os.fspath(path), mode="w", lock=HDF5_LOCK)  # a str path, as to_netcdf
     try:
         ds.dump_to_store(store)  # numpy variables are written as they are stored
