@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from floebreak.mechanics import contact, contact_kernel
@@ -198,6 +198,7 @@ def _zones(table):
 
 
 @settings(max_examples=80, deadline=None)
+@example(x=-8.0, width=2.40625, gap=1.0, reach=3.0, y=0.0)  # a tie: one zone, mirror-symmetric
 @given(
     x=st.floats(-30.0, 0.0),
     width=st.floats(0.5, 4.0),
@@ -228,11 +229,23 @@ def test_zones_found_by_geos_get_the_same_rows_and_centres_compiled(geometry, x,
         assert compiled is None
         return
     assert compiled.row_overlap_m.size == compiled.row_zone.size
-    for (a_u, centre, panel, rows), (ref_a_u, ref_centre, ref_panel, ref_rows) in zip(
-        _zones(compiled), _zones(reference), strict=True
+    for k, ((a_u, centre, panel, rows), (ref_a_u, ref_centre, ref_panel, ref_rows)) in enumerate(
+        zip(_zones(compiled), _zones(reference), strict=True)
     ):
         assert a_u == ref_a_u  # the same GEOS zones, in the same order
-        np.testing.assert_allclose(centre, ref_centre, atol=1e-7)
+        if not np.allclose(centre, ref_centre, atol=1e-7):
+            # an exact tie (a mirror-symmetric floe): both must be the middle of a longest part of
+            # waterline ∩ F on the zone's boundary; which of the equal parts comes first is an
+            # implementation detail
+            parts = shapely.get_parts(shapely.intersection(geometry.waterline, u_shape))
+            parts = parts[(shapely.get_type_id(parts) == 1) & (shapely.length(parts) > 0.0)]
+            parts = parts[shapely.dwithin(parts, reference.zones[k], 1e-6)]
+            lengths = shapely.length(parts)
+            middles = shapely.get_coordinates(shapely.line_interpolate_point(parts, 0.5, normalized=True))
+            for point in (centre, ref_centre):
+                on_middle = np.abs(middles - point).max(axis=1) < 1e-7
+                assert on_middle.any() and lengths[on_middle].max() >= lengths.max() - 1e-9
+            continue
         if panel != ref_panel:  # only a centre on a node may go to either panel
             nodes = shapely.get_coordinates(geometry.waterline)
             assert np.hypot(*(nodes - centre).T).min() < 1e-7
