@@ -454,9 +454,14 @@ def _zone_table_shapely(floes, index, geometry: BowContactGeometry) -> _ZoneTabl
     if zones is None:
         return None
     parts, owner, areas = zones
+    return _table_of_zones(parts, owner, areas, *_geos_rows_and_centres(parts, owner, floes, geometry))
+
+
+def _geos_rows_and_centres(parts, owner, floes, geometry: BowContactGeometry):
+    """(centres, centre panels, row zone, row panel, row A_h) of GEOS zones, all by GEOS overlays."""
     row_zone, row_panel, row_a_h = _panel_areas(parts, geometry)
     centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
-    return _table_of_zones(parts, owner, areas, centres, centre_panels, row_zone, row_panel, row_a_h)
+    return centres, centre_panels, row_zone, row_panel, row_a_h
 
 
 def _table_of_zones(
@@ -522,9 +527,7 @@ def _zone_table_zones_by_geos(floes, index, geometry: BowContactGeometry) -> _Zo
             return _table_of_zones(
                 parts, owner, areas, centres, centre_panels, row_zone, row_panel, row_a_h, row_overlap
             )
-    row_zone, row_panel, row_a_h = _panel_areas(parts, geometry)
-    centres, centre_panels = _zone_centres(parts, owner, floes, geometry)
-    return _table_of_zones(parts, owner, areas, centres, centre_panels, row_zone, row_panel, row_a_h)
+    return _table_of_zones(parts, owner, areas, *_geos_rows_and_centres(parts, owner, floes, geometry))
 
 
 def _panel_areas(

@@ -18,9 +18,12 @@ faster:
   point nearest to it.
 
 Anything else — more than one possible zone, boundaries that touch or run along each other, a non-convex
-zone clear of the waterline, a floe with holes, a non-convex user bow — is reported as "fallback" and
-evaluated with shapely, so results never depend on the kernel's limits. Tests compare both paths on random
-convex and non-convex floes (tests/mechanics/test_contact_kernel.py).
+zone clear of the waterline, a floe with holes, a non-convex user bow — is reported as "fallback". GEOS then
+separates the zones, and `zone_rows` (below) gives their panel rows and centres with the same helpers
+(GEOS throughout for holes and degenerate cases), so results never depend on the kernel's limits. Tests
+compare both paths on random convex, non-convex and two-zone floes (tests/mechanics/test_contact_kernel.py).
+
+Forces (`zone_forces`, `panel_forces`): A_l, contact areas and the Eq. 7–10 forces of all zones of a batch.
 """
 
 from __future__ import annotations
