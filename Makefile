@@ -31,7 +31,7 @@ validate: $(STAMP)
 	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m validation
 
 bench: $(STAMP)
-	@for script in benchmarks/*.py; do echo "== $$script"; OMP_NUM_THREADS=1 $(BIN)/python $$script || exit 1; done
+	@for script in $(filter-out benchmarks/compare.py,$(wildcard benchmarks/*.py)); do echo "== $$script"; OMP_NUM_THREADS=1 $(BIN)/python $$script || exit 1; done
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache

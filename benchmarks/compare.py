@@ -1,0 +1,100 @@
+"""Same-phase comparison of the breaking run with another commit.
+
+The development VM's speed drifts by up to ≈ 40 % over minutes, so a figure measured today cannot be set
+against one from another day. This script checks the other commit out into a temporary git worktree and
+alternates the two versions round by round, each round a child process per version (the default profile on
+the reference field, `simulate` alone, best of `--runs`), so both see the same phase of the machine.
+
+Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]`
+(REV: any git revision, e.g. a commit or `HEAD~3`). The other commit's kernels are compiled once in its
+worktree first (≈ 10 s, not timed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+CHILD = """
+import gc, sys, time
+import numpy as np
+from floebreak.ice.generation import generate_field
+from floebreak.ice.observations import get_observation
+from floebreak.mechanics import compile_kernels
+from floebreak.profiles import build_model
+from floebreak.ship.hulls import agulhas_ii
+from floebreak.simulation import SimulationParams, simulate
+compile_kernels()
+gc.freeze()
+length_m, width_m, runs = float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
+field = generate_field(
+    get_observation("2019-12-18T20:20"), length_m, width_m, np.random.default_rng(1), thickness_m=1.0
+)
+model, bow = build_model("default"), agulhas_ii(ice_thickness_m=1.0)
+best = float("inf")
+for _ in range(runs):
+    start = time.perf_counter()
+    result = simulate(field, bow, model, SimulationParams(step_m=0.25))
+    best = min(best, time.perf_counter() - start)
+print(best, result.n_breaks)
+"""
+
+
+def _run(src: Path, args: argparse.Namespace) -> tuple[float, int]:
+    env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
+    out = subprocess.run(
+        [sys.executable, "-c", CHILD, str(args.length_m), str(args.width_m), str(args.runs)],
+        env=env,
+        cwd=src.parent,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.split()
+    return float(out[0]), int(out[1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("rev", help="the git revision to compare with")
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--runs", type=int, default=5, help="runs per child process (best is kept)")
+    parser.add_argument("--length-m", type=float, default=400.0)
+    parser.add_argument("--width-m", type=float, default=50.0)
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory(prefix="floebreak-compare-") as tmp:
+        other = Path(tmp) / "worktree"
+        worktree = ["git", "worktree", "add", "--detach", "-q", str(other), args.rev]
+        subprocess.run(worktree, cwd=ROOT, check=True)
+        try:
+            sides = {args.rev: other / "src", "working tree": ROOT / "src"}
+            subprocess.run(  # compile the other commit's kernels before timing
+                [sys.executable, "-c", "from floebreak.mechanics import compile_kernels; compile_kernels()"],
+                env={**os.environ, "PYTHONPATH": str(sides[args.rev])},
+                cwd=other,
+                check=True,
+            )
+            best: dict[str, list[float]] = {name: [] for name in sides}
+            for round_ in range(1, args.rounds + 1):
+                for name, src in sides.items():
+                    seconds, breaks = _run(src, args)
+                    best[name].append(seconds)
+                    print(f"round {round_}: {name:>14}  {seconds:.3f} s  ({breaks} breaks)", flush=True)
+            medians = {name: statistics.median(values) for name, values in best.items()}
+            print(
+                f"{args.length_m:.0f} m × {args.width_m:.0f} m, median of the rounds' best: "
+                + ", ".join(f"{name} {value:.3f} s" for name, value in medians.items())
+                + f"; ratio {medians[args.rev] / medians['working tree']:.2f}"
+            )
+        finally:
+            subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT, check=True)
+
+
+if __name__ == "__main__":
+    main()
