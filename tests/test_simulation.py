@@ -45,6 +45,33 @@ def test_same_field_same_result():
     np.testing.assert_array_equal(ca["f_c_n"], cb["f_c_n"])
 
 
+def test_pieces_out_of_contact_are_skipped_until_they_can_touch_the_hull(monkeypatch):
+    """Skipping pieces that cannot touch the hull yet changes nothing: the run without the skip (every
+    piece in the hull's box evaluated every step) gives the same pieces and contact records."""
+    import floebreak.simulation as simulation
+
+    field = small_field(4)
+    evaluated = []
+    evaluate = simulation.evaluate_contacts
+
+    def counting(floes, *args):
+        evaluated.append(len(floes))
+        return evaluate(floes, *args)
+
+    monkeypatch.setattr(simulation, "evaluate_contacts", counting)
+    skipping, skipping_contacts = run(field)
+    n_skipping = sum(evaluated)
+    evaluated.clear()
+    monkeypatch.setattr(simulation, "advance_to_contact", lambda *args: 0.0)  # never quiet
+    every, every_contacts = run(field)
+    assert n_skipping < 0.75 * sum(evaluated)  # 1 797 of 2 649 floe evaluations here: the skip happens
+    assert list(skipping.fate) == list(every.fate)
+    assert shapely.equals_exact(skipping.polygon, every.polygon, tolerance=0.0).all()
+    assert skipping_contacts.keys() == every_contacts.keys()
+    for column, values in every_contacts.items():
+        np.testing.assert_array_equal(skipping_contacts[column], values, err_msg=column)
+
+
 def mirrored(field: FloeField) -> FloeField:
     polygons = shapely.transform(field.polygons, lambda xy: xy * np.array([1.0, -1.0]))
     return FloeField(polygons, field.thickness_m, field.diameter_class_m, field.floe_id, field.domain_m)

@@ -37,8 +37,14 @@ from floebreak.mechanics.contact import (
     ContactParams,
     evaluate_contacts,
 )
+from floebreak.mechanics.polygon_kernel import advance_to_contact, ring_arrays
 
 AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overlay (exact up to rounding)
+# A piece found out of contact is not evaluated again until the bow has advanced to where its outline could
+# first touch the hull (`polygon_kernel.advance_to_contact`), less this margin [m] against rounding; pieces
+# closer than the clearance [m] are evaluated every step.
+QUIET_MARGIN_M = 1e-6
+QUIET_CLEARANCE_M = 1e-9
 
 
 class AreaBalanceError(RuntimeError):
@@ -194,6 +200,7 @@ class _Pieces:
         self.fate: list[str] = ["remaining"] * n
         self.step: list[int] = [-1] * n
         self.bow_x: list[float] = [float("nan")] * n
+        self.quiet_until: list[float] = [-np.inf] * n  # bow x [m] before which a piece cannot touch the hull
         bounds = shapely.bounds(floe_field.polygons).reshape(-1, 4)
         in_band = (bounds[:, 1] <= y_range[1]) & (bounds[:, 3] >= y_range[0])
         order = np.flatnonzero(in_band)
@@ -213,6 +220,7 @@ class _Pieces:
         self.fate.append("remaining")
         self.step.append(step)
         self.bow_x.append(bow_x)
+        self.quiet_until.append(-np.inf)
         self.active[pid] = tuple(shapely.bounds(polygon).tolist())
         return pid
 
@@ -234,11 +242,12 @@ class _Pieces:
             pid for pid, (a, b, cc, d) in self.active.items() if a <= x1 and cc >= x0 and b <= y1 and d >= y0
         )
 
-    def overlapping(self, pids: list[int], box: tuple[float, float, float, float]) -> list[int]:
-        """The pieces among `pids` whose bounding box overlaps `box` with positive area (same order)."""
+    def due(self, pids: list[int], box: tuple[float, float, float, float], bow_x: float) -> list[int]:
+        """The pieces among `pids` whose bounding box overlaps `box` with positive area and that may touch
+        the hull at `bow_x` (same order)."""
         x0, y0, x1, y1 = box
-        active = self.active
-        return [pid for pid in pids if _overlaps(active[pid], x0, y0, x1, y1)]
+        active, quiet_until = self.active, self.quiet_until
+        return [pid for pid in pids if quiet_until[pid] <= bow_x and _overlaps(active[pid], x0, y0, x1, y1)]
 
     def prune_behind(self, x_min: float) -> None:
         for pid in [pid for pid, bounds in self.active.items() if bounds[2] < x_min]:
@@ -320,6 +329,7 @@ def simulate(
     d = params.dist_bow_max_m
     pieces = _Pieces(floe_field, (hull_y0 - d, hull_y1 + d))
     context = FailureContext(bow=bow, bow_geometry=geometry)
+    hull_rings = geometry.hull_rings
     bow_length = float(getattr(bow, "length_bow_m", -hull_x0))
     counters = {"contacts": 0, "breaks": 0, "cusps": 0, "flipped": 0}
     breaks_by_mode: dict[str, int] = {}
@@ -333,9 +343,10 @@ def simulate(
         bow_x = params.x_start_m + step * params.step_m
         box = (bow_x + hull_x0 - d, hull_y0 - d, bow_x + hull_x1 + d, hull_y1 + d)
         candidates = pieces.candidates(box)
-        # only pieces whose box overlaps the hull's box can share area with it: the others have no contact
+        # only pieces whose box overlaps the hull's box can share area with it, and a piece found out of
+        # contact cannot touch the hull before the bow reaches its `quiet_until`: the others have no contact
         # (neither path counts an overlap of zero area), so they are neither translated nor evaluated
-        touching = pieces.overlapping(candidates, (bow_x + hull_x0, hull_y0, bow_x + hull_x1, hull_y1))
+        touching = pieces.due(candidates, (bow_x + hull_x0, hull_y0, bow_x + hull_x1, hull_y1), bow_x)
         if touching:
             polygons_bf = _translate(np.array([pieces.polygon[i] for i in touching], dtype=object), -bow_x)
             queue = deque(zip(touching, polygons_bf, strict=True))
@@ -359,6 +370,12 @@ def simulate(
                 evaluations += 1
                 thickness = pieces.thickness[pid]
                 if not contact.in_contact:
+                    if hull_rings is not None:
+                        pieces.quiet_until[pid] = (
+                            bow_x
+                            + advance_to_contact(*ring_arrays(polygon_bf), *hull_rings, QUIET_CLEARANCE_M)
+                            - QUIET_MARGIN_M
+                        )
                     continue
                 zone = contact.dominant
                 classification = classify(

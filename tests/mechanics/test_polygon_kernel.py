@@ -164,3 +164,70 @@ def test_inside_length_hand_cases():
     # a ray through a hole stops at the hole's edge
     holed = polygon_kernel.ring_arrays(shapely.box(0.0, 0.0, 4.0, 4.0).difference(shapely.box(3, 1, 3.5, 3)))
     assert polygon_kernel.inside_length_from(*holed, 1.0, 2.0, 10.0, 0.0, 1e-6) == pytest.approx(2.0)
+
+
+def swept_by(hull: shapely.Polygon, shift_m: float) -> shapely.Geometry:
+    """The region the hull covers while it moves by `shift_m` in +x: the hull at both ends and the
+    quadrilateral each of its edges sweeps (exact for any polygon)."""
+    ring = np.asarray(hull.exterior.coords)
+    quads = [
+        shapely.Polygon([a, b, (b[0] + shift_m, b[1]), (a[0] + shift_m, a[1])])
+        for a, b in itertools.pairwise(ring)
+        if a[1] != b[1]
+    ]
+    return shapely.union_all([hull, shapely.affinity.translate(hull, shift_m), *quads])
+
+
+def test_advance_to_contact_hand_cases():
+    hull = polygon_kernel.ring_arrays(shapely.box(0.0, 0.0, 1.0, 1.0))
+
+    def advance(polygon, clearance=1e-9):
+        return polygon_kernel.advance_to_contact(*polygon_kernel.ring_arrays(polygon), *hull, clearance)
+
+    assert advance(shapely.box(3.0, 0.2, 4.0, 0.8)) == pytest.approx(2.0)  # ahead: the faces meet after 2 m
+    assert advance(shapely.box(3.0, 0.5, 4.0, 3.0)) == pytest.approx(2.0)  # reaching into the path
+    assert advance(shapely.box(3.0, 2.0, 4.0, 3.0)) == math.inf  # beside the path
+    assert advance(shapely.box(-5.0, 0.0, -4.0, 1.0)) == math.inf  # behind the hull
+    assert advance(shapely.box(0.5, 0.5, 2.0, 2.0)) == 0.0  # overlapping
+    assert advance(shapely.box(1.0, 0.0, 2.0, 1.0)) == 0.0  # touching
+    assert advance(shapely.box(0.2, 0.2, 0.4, 0.4)) == 0.0  # inside the hull
+    assert advance(shapely.box(-5.0, -5.0, 5.0, 5.0)) == 0.0  # around the hull
+    assert advance(shapely.box(1.0 + 1e-10, 0.0, 2.0, 1.0)) == 0.0  # within the clearance
+    assert advance(shapely.box(1.0 + 1e-6, 0.0, 2.0, 1.0)) == pytest.approx(1e-6)
+    # a triangle whose tip points at the hull: the tip (a vertex) meets the hull's face
+    assert advance(shapely.Polygon([(2.5, 0.5), (4.0, -1.0), (4.0, 2.0)])) == pytest.approx(1.5)
+    # the hull's corner (1, 1) meets a slanted face, which is at x = 3.5 at the corner's height
+    assert advance(shapely.Polygon([(2.5, 2.0), (5.5, -1.0), (5.5, 2.0)])) == pytest.approx(2.5)
+    # the hull inside a floe's hole moves to the hole's edge
+    holed = shapely.box(-10.0, -10.0, 10.0, 10.0).difference(shapely.box(-2.0, -2.0, 3.0, 3.0))
+    assert advance(holed) == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize("notch", [False, True], ids=["convex hull", "non-convex hull"])
+def test_advance_to_contact_agrees_with_the_swept_hull_on_random_floes(notch):
+    """0 ⇔ within the clearance now; else the hull's sweep up to just before t misses the floe and the hull
+    touches it at t; inf ⇔ a long sweep misses it."""
+    rng = np.random.default_rng(17)
+    outline = [(0.0, 0.0), (-20.0, 8.0), (-60.0, 10.0), (-60.0, -10.0), (-20.0, -8.0)]
+    if notch:
+        outline[2:2] = [(-30.0, 9.0), (-35.0, 3.0), (-40.0, 9.5)]
+    hull = shapely.Polygon(outline)
+    hull_rings = polygon_kernel.ring_arrays(hull)
+    outcomes = {"now": 0, "later": 0, "never": 0}
+    for _ in range(300):
+        floe = random_floe(rng)
+        floe = shapely.affinity.translate(floe, rng.uniform(-70.0, 60.0), rng.uniform(-25.0, 25.0))
+        travel = polygon_kernel.advance_to_contact(*polygon_kernel.ring_arrays(floe), *hull_rings, 1e-9)
+        if travel == 0.0:
+            outcomes["now"] += 1
+            assert shapely.distance(hull, floe) <= 1e-9
+            continue
+        assert shapely.distance(hull, floe) > 1e-9
+        if travel == math.inf:
+            outcomes["never"] += 1
+            assert not swept_by(hull, 1e4).intersects(floe)
+            continue
+        outcomes["later"] += 1
+        assert not swept_by(hull, travel - 1e-7).intersects(floe)
+        assert shapely.distance(shapely.affinity.translate(hull, travel), floe) < 1e-9
+    assert min(outcomes.values()) >= 30, outcomes  # every case is exercised

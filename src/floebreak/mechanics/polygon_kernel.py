@@ -183,8 +183,102 @@ def inside_length_from(xs, ys, offsets, ox, oy, ex, ey, connect_tolerance):
     return total * length_e
 
 
+@numba.njit(cache=True, nogil=True)
+def _segment_gap(ax, ay, bx, by, cx, cy, dx, dy):
+    """Distance between closed segments ab and cd (0 if they cross or touch)."""
+    d1 = (dx - cx) * (ay - cy) - (dy - cy) * (ax - cx)
+    d2 = (dx - cx) * (by - cy) - (dy - cy) * (bx - cx)
+    d3 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    d4 = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax)
+    if ((d1 > 0.0 and d2 < 0.0) or (d1 < 0.0 and d2 > 0.0)) and (
+        (d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)
+    ):
+        return 0.0  # a proper crossing
+    return min(
+        min(_point_segment_distance(ax, ay, cx, cy, dx, dy), _point_segment_distance(bx, by, cx, cy, dx, dy)),
+        min(_point_segment_distance(cx, cy, ax, ay, bx, by), _point_segment_distance(dx, dy, ax, ay, bx, by)),
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _point_segment_distance(px, py, ax, ay, bx, by):
+    ex, ey = bx - ax, by - ay
+    length2 = ex * ex + ey * ey
+    u = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((px - ax) * ex + (py - ay) * ey) / length2))
+    qx, qy = ax + u * ex - px, ay + u * ey - py
+    return np.sqrt(qx * qx + qy * qy)
+
+
+@numba.njit(cache=True, nogil=True)
+def _edge_x_at(y, ax, ay, bx, by, leftmost):
+    """x of edge ab at height y (y within its range); a horizontal edge gives its left or right end."""
+    if ay == by:
+        return min(ax, bx) if leftmost else max(ax, bx)
+    return ax + (y - ay) * (bx - ax) / (by - ay)
+
+
+@numba.njit(cache=True, nogil=True)
+def advance_to_contact(xs, ys, offsets, hull_x, hull_y, hull_offsets, clearance):
+    """How far the hull can move in +x before it touches the polygon: the smallest t > 0 at which a vertex of
+    one lies on an edge of the other (the first contact of two translating polygons is such an event).
+
+    0 if they are not apart by more than `clearance` now (touching, overlapping, one inside the other); inf
+    if the hull, moving in +x, never meets the polygon.
+    """
+    n, m = offsets[-1], hull_offsets[-1]
+    p_x0, p_x1, p_y0, p_y1 = xs[:n].min(), xs[:n].max(), ys[:n].min(), ys[:n].max()
+    h_x0, h_x1, h_y0, h_y1 = hull_x[:m].min(), hull_x[:m].max(), hull_y[:m].min(), hull_y[:m].max()
+    if p_y0 > h_y1 + clearance or p_y1 < h_y0 - clearance or p_x1 < h_x0 - clearance:
+        return np.inf  # beside the hull's path, or behind it
+    if p_x0 <= h_x1 + clearance:  # the boxes meet: are the outlines apart by more than `clearance`?
+        for r in range(len(offsets) - 1):
+            for i in range(offsets[r], offsets[r + 1] - 1):
+                ax, ay, bx, by = xs[i], ys[i], xs[i + 1], ys[i + 1]
+                for s in range(len(hull_offsets) - 1):
+                    for j in range(hull_offsets[s], hull_offsets[s + 1] - 1):
+                        cx, cy, dx, dy = hull_x[j], hull_y[j], hull_x[j + 1], hull_y[j + 1]
+                        if (
+                            min(ax, bx) > max(cx, dx) + clearance
+                            or max(ax, bx) < min(cx, dx) - clearance
+                            or min(ay, by) > max(cy, dy) + clearance
+                            or max(ay, by) < min(cy, dy) - clearance
+                        ):
+                            continue
+                        if _segment_gap(ax, ay, bx, by, cx, cy, dx, dy) <= clearance:
+                            return 0.0
+        if _inside_rings(hull_x[0], hull_y[0], xs, ys, offsets) or _inside_rings(
+            xs[0], ys[0], hull_x, hull_y, hull_offsets
+        ):
+            return 0.0
+    travel = np.inf
+    for s in range(len(hull_offsets) - 1):  # hull vertices moving onto the polygon's edges
+        for j in range(hull_offsets[s], hull_offsets[s + 1] - 1):
+            vx, vy = hull_x[j], hull_y[j]
+            for r in range(len(offsets) - 1):
+                for i in range(offsets[r], offsets[r + 1] - 1):
+                    ay, by = ys[i], ys[i + 1]
+                    if vy < min(ay, by) or vy > max(ay, by):
+                        continue
+                    t = _edge_x_at(vy, xs[i], ay, xs[i + 1], by, True) - vx
+                    if 0.0 < t < travel:
+                        travel = t
+    for r in range(len(offsets) - 1):  # the hull's edges moving onto the polygon's vertices
+        for i in range(offsets[r], offsets[r + 1] - 1):
+            wx, wy = xs[i], ys[i]
+            for s in range(len(hull_offsets) - 1):
+                for j in range(hull_offsets[s], hull_offsets[s + 1] - 1):
+                    cy, dy = hull_y[j], hull_y[j + 1]
+                    if wy < min(cy, dy) or wy > max(cy, dy):
+                        continue
+                    t = wx - _edge_x_at(wy, hull_x[j], cy, hull_x[j + 1], dy, False)
+                    if 0.0 < t < travel:
+                        travel = t
+    return travel
+
+
 def compile_now() -> None:
     """Compile (or load from numba's on-disk cache) the kernels on a tiny input; see `compile_kernels`."""
     xs, ys, offsets = ring_arrays(shapely.box(0.0, 0.0, 1.0, 1.0))
     intact_fan(xs, ys, offsets, xs - 2.0, ys, offsets, 0.5, 0.5, 0.0, 0.2, 72)
     inside_length_from(xs, ys, offsets, 0.5, 0.5, -2.0, 0.0, 1e-6)
+    advance_to_contact(xs, ys, offsets, xs - 2.0, ys, offsets, 1e-9)
