@@ -533,6 +533,10 @@ def main() -> None:
     # Likewise for the imported modules' objects during the command: each full collection would walk them
     # again (≈ 0.1 s in the simulation and 0.1 s in writing the run directory of a 1 km run).
     gc.freeze()
+    # A run allocates many short-lived objects and creates few reference cycles: collecting the youngest
+    # generation every 50 000 allocations instead of 700 cuts the collector's time in a 1 km run from
+    # 0.22–0.26 s (310 collections) to 0.11–0.13 s (3), for ≈ 4 MB more peak memory.
+    gc.set_threshold(50_000, 20, 10)
     try:
         app()
     except InputError as error:
