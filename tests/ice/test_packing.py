@@ -1,9 +1,12 @@
-"""Circle placement (floebreak.ice.packing): the dense corner-insertion fallback against known packings."""
+"""Circle placement (floebreak.ice.packing): the dense corner-insertion fallback against known packings; the
+relaxation energy against its array form and finite differences."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from floebreak.ice import packing
 from floebreak.ice.packing import corner_circles
 
 
@@ -54,3 +57,75 @@ def test_corner_insertion_is_random_given_the_generator():
     c = corner_circles(radii, domain, np.random.default_rng(2))
     assert np.array_equal(a.centers_m, b.centers_m)
     assert not np.allclose(a.centers_m, c.centers_m)
+
+
+def energy_by_array_expressions(flat, radii, pairs, gap, clustering, middle):
+    """The energy and gradient of `packing._energy` as numpy array expressions (its form before the pair
+    terms were compiled): the compiled version must give the same bits, or every generated field changes."""
+    n = len(radii)
+    xy = flat.reshape(n, 2)
+    i, j = pairs[:, 0], pairs[:, 1]
+    delta = xy[i] - xy[j]
+    dist = np.sqrt(np.einsum("ij,ij->i", delta, delta))
+    coincident = dist < 1e-9
+    if np.any(coincident):
+        inward = middle - xy[i[coincident]] + 1e-3
+        delta[coincident] = 1e-9 * inward / np.hypot(*inward.T)[:, None]
+        dist[coincident] = 1e-9
+    surface_gap = dist - radii[i] - radii[j]
+    overlap = np.maximum(0.0, gap - surface_gap)
+    energy = float(np.dot(overlap, overlap))
+    coef = -2.0 * overlap / dist
+    if clustering > 0.0 and len(pairs):
+        nearest = np.full(n, np.inf)
+        order = np.argsort(surface_gap)[::-1]
+        nearest[i[order]] = surface_gap[order]
+        nearest[j[order]] = np.minimum(nearest[j[order]], surface_gap[order])
+        nearest[i[order]] = np.minimum(nearest[i[order]], surface_gap[order])
+        reachable = (surface_gap > 0.0) & (surface_gap < packing.CLUSTERING_REACH)
+        pull_i = (surface_gap == nearest[i]) & reachable
+        pull_j = (surface_gap == nearest[j]) & reachable
+        weight = clustering / n
+        energy += weight * float(np.sum(np.where(pull_i, surface_gap, 0.0) ** 2))
+        energy += weight * float(np.sum(np.where(pull_j, surface_gap, 0.0) ** 2))
+        coef = coef + 2.0 * weight * surface_gap * (pull_i.astype(float) + pull_j.astype(float)) / dist
+    force = coef[:, None] * delta
+    grad = np.empty_like(xy)
+    for axis in (0, 1):
+        grad[:, axis] = np.bincount(i, force[:, axis], n) - np.bincount(j, force[:, axis], n)
+    return energy, grad.ravel()
+
+
+@pytest.mark.parametrize("clustering", [0.0, 0.05])
+def test_compiled_energy_gives_the_bits_of_the_array_expressions(clustering):
+    rng = np.random.default_rng(8)
+    for n in (2, 30, 400):
+        radii = rng.uniform(0.2, 2.0, n)
+        xy = rng.uniform(0.0, 2.0 * np.sqrt(n), (n, 2))
+        xy[1] = xy[0]  # two circles on the same spot (the coincident branch)
+        pairs = np.array([(a, b) for a in range(n) for b in range(a + 1, n)])
+        middle = np.array([np.sqrt(n), np.sqrt(n)])
+        expected = energy_by_array_expressions(xy.ravel(), radii, pairs, 0.01, clustering, middle)
+        energy, grad = packing._energy(xy.ravel(), radii, pairs, 0.01, clustering, middle)
+        assert energy == expected[0]
+        np.testing.assert_array_equal(grad, expected[1])
+
+
+def test_energy_gradient_matches_finite_differences():
+    rng = np.random.default_rng(9)
+    n = 12
+    radii = rng.uniform(0.5, 1.5, n)
+    xy = rng.uniform(0.0, 6.0, 2 * n)
+    pairs = np.array([(a, b) for a in range(n) for b in range(a + 1, n)])
+    middle = np.array([3.0, 3.0])
+    _, grad = packing._energy(xy, radii, pairs, 0.01, 0.0, middle)
+    step = 1e-6
+    for k in range(2 * n):
+        up, down = xy.copy(), xy.copy()
+        up[k] += step
+        down[k] -= step
+        numeric = (
+            packing._energy(up, radii, pairs, 0.01, 0.0, middle)[0]
+            - packing._energy(down, radii, pairs, 0.01, 0.0, middle)[0]
+        ) / (2 * step)
+        assert grad[k] == pytest.approx(numeric, rel=1e-5, abs=1e-7)

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 from scipy.optimize import Bounds, minimize
 from scipy.spatial import cKDTree
@@ -138,19 +139,9 @@ def _energy(
     n = len(radii)
     xy = flat.reshape(n, 2)
     pairs = candidates(xy) if isinstance(candidates, _VerletList) else candidates
-    i, j = pairs[:, 0], pairs[:, 1]
-    delta = xy[i] - xy[j]
-    dist = np.sqrt(np.einsum("ij,ij->i", delta, delta))
-    coincident = dist < 1e-9  # two circles projected onto the same corner: move i towards the middle
-    if np.any(coincident):
-        inward = middle - xy[i[coincident]] + 1e-3
-        delta[coincident] = 1e-9 * inward / np.hypot(*inward.T)[:, None]
-        dist[coincident] = 1e-9
-    surface_gap = dist - radii[i] - radii[j]
-    overlap = np.maximum(0.0, gap - surface_gap)
+    i, j = np.ascontiguousarray(pairs[:, 0]), np.ascontiguousarray(pairs[:, 1])
+    delta, dist, surface_gap, overlap, coef = _pair_terms(xy, radii, i, j, gap, middle)
     energy = float(np.dot(overlap, overlap))
-    # dE/dd = −2·overlap for each pair
-    coef = -2.0 * overlap / dist
     if clustering > 0.0 and len(pairs):
         # nearest-neighbour gap per circle among listed pairs
         nearest = np.full(n, np.inf)
@@ -165,11 +156,49 @@ def _energy(
         energy += weight * float(np.sum(np.where(pull_i, surface_gap, 0.0) ** 2))
         energy += weight * float(np.sum(np.where(pull_j, surface_gap, 0.0) ** 2))
         coef = coef + 2.0 * weight * surface_gap * (pull_i.astype(float) + pull_j.astype(float)) / dist
-    force = coef[:, None] * delta
-    grad = np.empty_like(xy)
-    for axis in (0, 1):  # bincount is much faster than np.add.at
-        grad[:, axis] = np.bincount(i, force[:, axis], n) - np.bincount(j, force[:, axis], n)
-    return energy, grad.ravel()
+    return energy, _gradient(i, j, coef, delta, n).ravel()
+
+
+@numba.njit(cache=True, nogil=True)
+def _pair_terms(xy, radii, i, j, gap, middle):
+    """Per pair: centre offset x_i − x_j, distance, surface gap, overlap max(0, gap − surface gap) and
+    dE/dd / d = −2·overlap / d. Compiled, with numpy's operation order, so that the energy's L-BFGS-B path
+    (and every generated field) is the same as with the array expressions it replaces."""
+    m = len(i)
+    delta, dist = np.empty((m, 2)), np.empty(m)
+    surface_gap, overlap, coef = np.empty(m), np.empty(m), np.empty(m)
+    for k in range(m):
+        a, b = i[k], j[k]
+        dx, dy = xy[a, 0] - xy[b, 0], xy[a, 1] - xy[b, 1]
+        d = np.sqrt(dx * dx + dy * dy)
+        if d < 1e-9:  # two circles projected onto the same corner: move i towards the middle
+            ix, iy = middle[0] - xy[a, 0] + 1e-3, middle[1] - xy[a, 1] + 1e-3
+            length = np.hypot(ix, iy)
+            dx, dy, d = 1e-9 * ix / length, 1e-9 * iy / length, 1e-9
+        delta[k, 0], delta[k, 1], dist[k] = dx, dy, d
+        surface_gap[k] = d - radii[a] - radii[b]
+        overlap[k] = max(0.0, gap - surface_gap[k])
+        coef[k] = -2.0 * overlap[k] / d
+    return delta, dist, surface_gap, overlap, coef
+
+
+@numba.njit(cache=True, nogil=True)
+def _gradient(i, j, coef, delta, n):
+    """Σ over pairs of coef · (x_i − x_j) into circle i, minus the same into circle j, summed pair by pair
+    in order (as `np.bincount` sums)."""
+    into_i, into_j = np.zeros((n, 2)), np.zeros((n, 2))
+    for k in range(len(i)):
+        for axis in range(2):
+            force = coef[k] * delta[k, axis]
+            into_i[i[k], axis] += force
+            into_j[j[k], axis] += force
+    return into_i - into_j
+
+
+def compile_now() -> None:
+    """Compile (or load from numba's on-disk cache) the energy kernels; see `mechanics.compile_kernels`."""
+    xy, radii, pairs = np.array([0.0, 0.0, 1.5, 0.0]), np.array([1.0, 1.0]), np.array([[0, 1]])
+    _energy(xy, radii, pairs, 0.01, 0.05, np.zeros(2))
 
 
 def _box_bounds(radii: np.ndarray, domain: tuple[float, float, float, float]) -> Bounds:
