@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -57,6 +58,19 @@ class ContactParams:
             "contact.psi_min_deg", self.psi_min_deg, low=0.0, high=45.0, high_inclusive=False, unit="deg"
         )
 
+    # the compiled kernels' inputs derived from the settings, once per parameter set rather than per batch
+    @cached_property
+    def near_vertical_code(self) -> int:
+        return _code("contact.near_vertical", self.near_vertical, contact_kernel.NEAR_VERTICAL)
+
+    @cached_property
+    def force_signs_code(self) -> int:
+        return _code("contact.force_signs", self.force_signs, contact_kernel.FORCE_SIGNS)
+
+    @cached_property
+    def sin_psi_min(self) -> float:
+        return math.sin(math.radians(self.psi_min_deg))
+
 
 def panel_forces(
     contact_area_m2: np.ndarray, psi_rad: np.ndarray, params: ContactParams
@@ -76,7 +90,7 @@ def panel_forces(
         np.cos(psi.ravel()),
         params.contact_coefficient * params.crushing_strength_pa,
         params.friction_coefficient,
-        _code("contact.force_signs", params.force_signs, contact_kernel.FORCE_SIGNS),
+        params.force_signs_code,
     )
     return f_c.reshape(area.shape), f_v.reshape(area.shape), f_h.reshape(area.shape)
 
@@ -203,14 +217,13 @@ def evaluate_contacts(
 def _add_contacts(contacts, table: _ZoneTable, floes, thickness, geometry, params: ContactParams) -> None:
     """Areas and forces of the table's zones (one compiled call), set as the contacts of their floes."""
     single_psi = params.area_model == "single_psi"
-    near_vertical = _code("contact.near_vertical", params.near_vertical, contact_kernel.NEAR_VERTICAL)
-    sin_psi_min = math.sin(math.radians(params.psi_min_deg))
+    near_vertical, sin_psi_min = params.near_vertical_code, params.sin_psi_min
     # the length of a near-vertical row's panel inside its floe, where the kernel has not measured it
     if single_psi:  # one row per zone, at the centre panel
         overlap, panels, floe_of_row = np.full(len(table.zones), np.nan), table.centre_panel, table.owner
     else:
         overlap, panels, floe_of_row = table.row_overlap_m, table.row_panel, table.owner[table.row_zone]
-    if near_vertical == 0:
+    if near_vertical == 0 and (single_psi or not table.rows_measured):
         missing = np.isnan(overlap) & (geometry.panel_sin[panels] < sin_psi_min)
         if missing.any():
             rows = np.flatnonzero(missing)
@@ -235,7 +248,7 @@ def _add_contacts(contacts, table: _ZoneTable, floes, thickness, geometry, param
             params.friction_coefficient,
             sin_psi_min,
             near_vertical,
-            _code("contact.force_signs", params.force_signs, contact_kernel.FORCE_SIGNS),
+            params.force_signs_code,
         )
     )
     row_psi = geometry.panel_psi_rad[row_panel]
@@ -381,13 +394,15 @@ class _ZoneTable:
     row_overlap_m: np.ndarray  # length of the row's upper panel segment inside the floe; NaN: not computed
     floe_area_m2: np.ndarray  # area of each zone's floe; NaN: not computed
     floe_extent_m: np.ndarray  # (n, 2) floe extent along the centre normal and along the panel; NaN: idem
+    rows_measured: bool = False  # every row's `row_overlap_m` is measured (no NaN): the kernel's tables
 
 
 def _zone_table_kernel(floes, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.ndarray]:
     """`contact_kernel.contact_batch` on the floes that are polygons without holes: the table, and the floes
     left to shapely (the others, and those the kernel hands over), in batch order."""
     simple = (shapely.get_type_id(floes) == 3) & (shapely.get_num_interior_rings(floes) == 0)
-    if simple.all():
+    all_simple = bool(simple.all())
+    if all_simple:
         coords, which = shapely.get_coordinates(floes, return_index=True)
     else:
         fast = np.flatnonzero(simple)
@@ -409,7 +424,8 @@ def _zone_table_kernel(floes, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.nd
             MIN_OVERLAP_M2,
         )
     )
-    fallback = np.flatnonzero((status == contact_kernel.FALLBACK) | ~simple)
+    handed_over = status == contact_kernel.FALLBACK
+    fallback = np.flatnonzero(handed_over if all_simple else handed_over | ~simple)
     if owner.size == 0:
         return None, fallback
     table = _ZoneTable(
@@ -425,6 +441,7 @@ def _zone_table_kernel(floes, bow: _ConvexBow) -> tuple[_ZoneTable | None, np.nd
         row_overlap_m=row_overlap,
         floe_area_m2=floe_area,
         floe_extent_m=extent,
+        rows_measured=True,
     )
     return table, fallback
 
@@ -481,6 +498,7 @@ def _table_of_zones(
         row_overlap_m=np.full(len(row_zone), np.nan) if row_overlap is None else row_overlap,
         floe_area_m2=np.full(len(parts), np.nan),
         floe_extent_m=np.full((len(parts), 2), np.nan),
+        rows_measured=row_overlap is not None,  # `zone_rows` measures every row
     )
 
 
