@@ -3,6 +3,8 @@ relaxation energy against its array form and finite differences."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -129,3 +131,18 @@ def test_energy_gradient_matches_finite_differences():
             - packing._energy(down, radii, pairs, 0.01, 0.0, middle)[0]
         ) / (2 * step)
         assert grad[k] == pytest.approx(numeric, rel=1e-5, abs=1e-7)
+
+
+def test_a_failed_dense_packing_marks_the_circles_it_could_not_place():
+    """Four large circles fill most of the box; forty middle ones (distinct radii, so no corner fallback)
+    cannot fit beside them, so the ten small ones are never tried: the packing names the placed circles, and
+    the never-tried ones have no centre (NaN, not stale memory)."""
+    radii = np.r_[np.full(4, 1.0), np.linspace(0.40, 0.45, 40), np.linspace(0.10, 0.12, 10)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # scaling the centres must not meet uninitialised values
+        result = packing.relax_circles(radii, (0.0, 0.0, 4.2, 4.2), np.random.default_rng(1))
+    assert not result.overlap_free
+    assert result.placed is not None
+    assert result.placed[:4].all() and not result.placed[4:].any()
+    assert np.isfinite(result.centers_m[:44]).all()  # the placed group and the one that did not fit
+    assert np.isnan(result.centers_m[44:]).all()

@@ -326,7 +326,7 @@ def _free_space_centers(
 def _relax_hierarchical(r, scale, domain, groups, rng, clustering, gap, max_polish_rounds) -> Packing:
     """Dense targets: relax the largest size group first, then add each smaller group into the voids."""
     active = np.empty(0, dtype=np.int64)
-    xy = np.empty((len(r), 2))
+    xy = np.full((len(r), 2), np.nan)  # groups not placed yet have no centres (see `Packing.placed`)
     iterations, overlap = 0, np.inf
     for k, group in enumerate(groups):
         if k == 0:
