@@ -250,27 +250,27 @@ def advance_to_contact(xs, ys, offsets, hull_x, hull_y, hull_offsets, clearance)
             xs[0], ys[0], hull_x, hull_y, hull_offsets
         ):
             return 0.0
+    # the hull's vertices moving onto the polygon's edges, and the polygon's vertices met by the hull's edges
+    return min(
+        _x_ray_travel(hull_x, hull_y, hull_offsets, xs, ys, offsets, 1.0),
+        _x_ray_travel(xs, ys, offsets, hull_x, hull_y, hull_offsets, -1.0),
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _x_ray_travel(vx, vy, v_offsets, ex, ey, e_offsets, direction):
+    """The smallest t > 0 at which a vertex of the first rings, moved by t along x (`direction` +1 or −1),
+    lies on an edge of the second rings; inf if none does."""
     travel = np.inf
-    for s in range(len(hull_offsets) - 1):  # hull vertices moving onto the polygon's edges
-        for j in range(hull_offsets[s], hull_offsets[s + 1] - 1):
-            vx, vy = hull_x[j], hull_y[j]
-            for r in range(len(offsets) - 1):
-                for i in range(offsets[r], offsets[r + 1] - 1):
-                    ay, by = ys[i], ys[i + 1]
-                    if vy < min(ay, by) or vy > max(ay, by):
+    for s in range(len(v_offsets) - 1):
+        for j in range(v_offsets[s], v_offsets[s + 1] - 1):
+            x, y = vx[j], vy[j]
+            for r in range(len(e_offsets) - 1):
+                for i in range(e_offsets[r], e_offsets[r + 1] - 1):
+                    ay, by = ey[i], ey[i + 1]
+                    if y < min(ay, by) or y > max(ay, by):
                         continue
-                    t = _edge_x_at(vy, xs[i], ay, xs[i + 1], by, True) - vx
-                    if 0.0 < t < travel:
-                        travel = t
-    for r in range(len(offsets) - 1):  # the hull's edges moving onto the polygon's vertices
-        for i in range(offsets[r], offsets[r + 1] - 1):
-            wx, wy = xs[i], ys[i]
-            for s in range(len(hull_offsets) - 1):
-                for j in range(hull_offsets[s], hull_offsets[s + 1] - 1):
-                    cy, dy = hull_y[j], hull_y[j + 1]
-                    if wy < min(cy, dy) or wy > max(cy, dy):
-                        continue
-                    t = wx - _edge_x_at(wy, hull_x[j], cy, hull_x[j + 1], dy, False)
+                    t = direction * (_edge_x_at(y, ex[i], ay, ex[i + 1], by, direction > 0.0) - x)
                     if 0.0 < t < travel:
                         travel = t
     return travel
