@@ -61,12 +61,9 @@ def test_corner_insertion_is_random_given_the_generator():
     assert not np.allclose(a.centers_m, c.centers_m)
 
 
-def energy_by_array_expressions(flat, radii, pairs, gap, clustering, middle):
-    """The energy and gradient of `packing._energy` as numpy array expressions (its form before the pair
-    terms were compiled): the compiled version must give the same bits, or every generated field changes."""
-    n = len(radii)
-    xy = flat.reshape(n, 2)
-    i, j = pairs[:, 0], pairs[:, 1]
+def pair_terms_by_array_expressions(xy, radii, i, j, gap, middle):
+    """`packing._pair_terms` as the numpy array expressions `_energy` used before they were compiled: the
+    compiled terms must give the same bits, or every generated field changes."""
     delta = xy[i] - xy[j]
     dist = np.sqrt(np.einsum("ij,ij->i", delta, delta))
     coincident = dist < 1e-9
@@ -76,41 +73,27 @@ def energy_by_array_expressions(flat, radii, pairs, gap, clustering, middle):
         dist[coincident] = 1e-9
     surface_gap = dist - radii[i] - radii[j]
     overlap = np.maximum(0.0, gap - surface_gap)
-    energy = float(np.dot(overlap, overlap))
-    coef = -2.0 * overlap / dist
-    if clustering > 0.0 and len(pairs):
-        nearest = np.full(n, np.inf)
-        order = np.argsort(surface_gap)[::-1]
-        nearest[i[order]] = surface_gap[order]
-        nearest[j[order]] = np.minimum(nearest[j[order]], surface_gap[order])
-        nearest[i[order]] = np.minimum(nearest[i[order]], surface_gap[order])
-        reachable = (surface_gap > 0.0) & (surface_gap < packing.CLUSTERING_REACH)
-        pull_i = (surface_gap == nearest[i]) & reachable
-        pull_j = (surface_gap == nearest[j]) & reachable
-        weight = clustering / n
-        energy += weight * float(np.sum(np.where(pull_i, surface_gap, 0.0) ** 2))
-        energy += weight * float(np.sum(np.where(pull_j, surface_gap, 0.0) ** 2))
-        coef = coef + 2.0 * weight * surface_gap * (pull_i.astype(float) + pull_j.astype(float)) / dist
-    force = coef[:, None] * delta
-    grad = np.empty_like(xy)
-    for axis in (0, 1):
-        grad[:, axis] = np.bincount(i, force[:, axis], n) - np.bincount(j, force[:, axis], n)
-    return energy, grad.ravel()
+    return delta, dist, surface_gap, overlap, -2.0 * overlap / dist
 
 
-@pytest.mark.parametrize("clustering", [0.0, 0.05])
-def test_compiled_energy_gives_the_bits_of_the_array_expressions(clustering):
+def test_compiled_pair_terms_and_gradient_give_the_bits_of_the_array_expressions():
     rng = np.random.default_rng(8)
     for n in (2, 30, 400):
         radii = rng.uniform(0.2, 2.0, n)
         xy = rng.uniform(0.0, 2.0 * np.sqrt(n), (n, 2))
         xy[1] = xy[0]  # two circles on the same spot (the coincident branch)
-        pairs = np.array([(a, b) for a in range(n) for b in range(a + 1, n)])
+        i, j = np.triu_indices(n, 1)
         middle = np.array([np.sqrt(n), np.sqrt(n)])
-        expected = energy_by_array_expressions(xy.ravel(), radii, pairs, 0.01, clustering, middle)
-        energy, grad = packing._energy(xy.ravel(), radii, pairs, 0.01, clustering, middle)
-        assert energy == expected[0]
-        np.testing.assert_array_equal(grad, expected[1])
+        expected = pair_terms_by_array_expressions(xy, radii, i, j, 0.01, middle)
+        for got, want in zip(packing._pair_terms(xy, radii, i, j, 0.01, middle), expected, strict=True):
+            np.testing.assert_array_equal(got, want)
+        # the gradient as np.bincount sums it, for any per-pair coefficient (clustering changes it)
+        coef = rng.normal(size=len(i))
+        force = coef[:, None] * expected[0]
+        want = np.stack(
+            [np.bincount(i, force[:, a], n) - np.bincount(j, force[:, a], n) for a in (0, 1)], axis=1
+        )
+        np.testing.assert_array_equal(packing._gradient(i, j, coef, expected[0], n), want)
 
 
 def test_energy_gradient_matches_finite_differences():
