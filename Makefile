@@ -4,12 +4,13 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.floebreak-installed
 
-.PHONY: demo test lint bench test-slow validate clean
+.PHONY: demo test lint bench test-slow validate clean bytecode
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	$(MAKE) --no-print-directory bytecode
 	$(BIN)/python -c "from floebreak.mechanics import compile_kernels; compile_kernels()"
 	touch $(STAMP)
 
@@ -30,7 +31,13 @@ test-slow: $(STAMP)
 validate: $(STAMP)
 	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m validation
 
-bench: $(STAMP)
+# An editable install leaves src/ uncompiled, and where PYTHONDONTWRITEBYTECODE is set Python then compiles
+# every floebreak module at each start (≈ 0.15 s per `floebreak` run). `pip install .` compiles at install;
+# this does the same for src/ (only files changed since the last call are recompiled).
+bytecode:
+	$(BIN)/python -m compileall -q src
+
+bench: $(STAMP) bytecode
 	@for script in $(filter-out benchmarks/compare.py,$(wildcard benchmarks/*.py)); do echo "== $$script"; OMP_NUM_THREADS=1 $(BIN)/python $$script || exit 1; done
 
 clean:
