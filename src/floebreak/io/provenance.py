@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import platform
+import sys
 from importlib import metadata
 from typing import Any
 
@@ -28,6 +29,12 @@ def library_versions() -> dict[str, str]:
 def _library_versions() -> dict[str, str]:
     versions = {"python": platform.python_version()}
     for name in _LIBRARIES:
+        # an imported library's own `__version__` (the same string as its distribution's) costs nothing;
+        # `metadata.version` parses the installed METADATA file (≈ 6 ms per library)
+        version = getattr(sys.modules.get(name), "__version__", None)
+        if isinstance(version, str):
+            versions[name] = version
+            continue
         try:
             versions[name] = metadata.version(name)
         except metadata.PackageNotFoundError:
