@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import shutil
 import sys
 from pathlib import Path
@@ -138,6 +139,35 @@ def test_mp4_without_ffmpeg_is_a_clear_error(run_dir, tmp_path, monkeypatch, cap
     code, _, err = cli(monkeypatch, capsys, "animate", str(run_dir), "--out", str(tmp_path / "a.mp4"))
     assert code == 2 and "ffmpeg" in err
     assert _listing(run_dir) == before and list(tmp_path.iterdir()) == []
+
+
+@pytest.fixture
+def ffmpeg_on_path(tmp_path_factory, monkeypatch):
+    """An ffmpeg executable on PATH: the static binary of the `imageio-ffmpeg` wheel (a dev dependency),
+    linked as ``ffmpeg`` in a folder of its own."""
+    imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
+    folder = tmp_path_factory.mktemp("ffmpeg-bin")
+    (folder / "ffmpeg").symlink_to(imageio_ffmpeg.get_ffmpeg_exe())
+    monkeypatch.setenv("PATH", f"{folder}{os.pathsep}{os.environ.get('PATH', '')}")
+    return imageio_ffmpeg
+
+
+def test_animate_writes_an_mp4_with_ffmpeg(run_dir, tmp_path, monkeypatch, capsys, ffmpeg_on_path):
+    n_steps = json.loads((run_dir / "summary.json").read_text())["n_steps"]
+    every, fps = 40, 5
+    out = tmp_path / "transit.mp4"
+    code, stdout, err = cli(
+        monkeypatch, capsys, "animate", str(run_dir), "--out", str(out), "--every", str(every),
+        "--fps", str(fps),
+    )  # fmt: skip
+    assert code == 0, err
+    expected = math.ceil(n_steps / every) + (1 if (n_steps - 1) % every else 0)
+    assert f"{expected} frames" in stdout
+    assert out.read_bytes()[4:8] == b"ftyp"  # an ISO base media (MP4) file
+    frames, seconds = ffmpeg_on_path.count_frames_and_secs(str(out))  # decoded by ffmpeg itself
+    assert frames == expected
+    assert seconds == pytest.approx(expected / fps, abs=1.0 / fps)
+    assert [p.name for p in tmp_path.iterdir()] == ["transit.mp4"]  # no temporary leftovers
 
 
 def test_a_failure_while_drawing_leaves_no_file(run_dir, tmp_path, monkeypatch):
