@@ -21,12 +21,32 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 def run(*args: str, cwd=None) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [sys.executable, "-c", "from floebreak.cli import main; main()", *args],
+        [sys.executable, "-c", "from _floebreak_entry import main; main()", *args],  # the console command
         capture_output=True,
         text=True,
         cwd=cwd,
         timeout=300,
     )
+
+
+def test_console_command_is_the_cli_imported_with_the_collector_paused(monkeypatch):
+    import gc
+    from importlib.metadata import entry_points
+
+    import _floebreak_entry
+    import floebreak.cli
+
+    (command,) = entry_points(group="console_scripts", name="floebreak")
+    assert command.load() is _floebreak_entry.main
+    seen = []
+    monkeypatch.setattr(floebreak.cli, "main", lambda: seen.append((gc.isenabled(), gc.get_freeze_count())))
+    try:
+        _floebreak_entry.main()
+    finally:
+        gc.unfreeze()
+    ((enabled, frozen),) = seen
+    assert enabled and gc.isenabled()  # the collector is back on when the command runs
+    assert frozen > 100_000  # the imported objects are out of the collector's reach
 
 
 def test_observations_lists_table1():
