@@ -40,6 +40,7 @@ def test_console_command_is_the_cli_imported_with_the_collector_paused(monkeypat
     assert command.load() is _floebreak_entry.main
     seen = []
     monkeypatch.setattr(floebreak.cli, "main", lambda: seen.append((gc.isenabled(), gc.get_freeze_count())))
+    gc.unfreeze()  # in-process CLI runs of other tests (`cli.main` freezes too) may have frozen objects
     try:
         _floebreak_entry.main()
     finally:
