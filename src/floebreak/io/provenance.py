@@ -1,4 +1,9 @@
-"""Provenance that travels with every output file: package and library versions, parameters, seed."""
+"""Provenance that travels with every output file: package and library versions, parameters, seed.
+
+`libraries["blas"]` names the BLAS kernels in use (OpenBLAS picks them for the CPU when it loads): scipy's
+L-BFGS-B, which packs the generated floe fields, rounds differently with different kernels, so the same
+scenario and seed can give a different field on another machine (docs/model.md §4, "Reproducibility").
+"""
 
 from __future__ import annotations
 
@@ -6,7 +11,10 @@ import functools
 import platform
 import sys
 from importlib import metadata
+from pathlib import Path
 from typing import Any
+
+import threadpoolctl
 
 _LIBRARIES = ("numpy", "scipy", "shapely", "pyarrow", "pydantic", "matplotlib")
 
@@ -22,7 +30,11 @@ def floebreak_version() -> str:
 
 
 def library_versions() -> dict[str, str]:
-    return dict(_library_versions())  # a copy: callers may change theirs
+    """Versions of Python and the libraries results depend on, and the BLAS kernels loaded (`blas`)."""
+    # a copy: callers may change theirs. BLAS libraries load with numpy and scipy.linalg, so the kernels
+    # are looked up again (≈ 5 ms) only when one of those was imported since the last call
+    loaded = tuple(name in sys.modules for name in ("numpy", "scipy.linalg"))
+    return {**_library_versions(), "blas": _blas_kernels(loaded)}
 
 
 @functools.cache
@@ -40,6 +52,19 @@ def _library_versions() -> dict[str, str]:
         except metadata.PackageNotFoundError:
             versions[name] = "not installed"
     return versions
+
+
+@functools.cache
+def _blas_kernels(loaded: tuple[bool, ...]) -> str:
+    """'openblas 0.3.30 SkylakeX (numpy.libs); …' for each BLAS library loaded, or 'none loaded'."""
+    del loaded  # only the cache key
+    kernels = [
+        f"{info.get('internal_api', '?')} {info.get('version', '?')} {info.get('architecture', '?')}"
+        f" ({Path(info.get('filepath', '?')).parent.name})"  # the owning package's folder, not a path
+        for info in threadpoolctl.threadpool_info()
+        if info.get("user_api") == "blas"
+    ]
+    return "; ".join(sorted(kernels)) or "none loaded"
 
 
 def provenance(**extra: Any) -> dict[str, Any]:
