@@ -29,6 +29,7 @@ import numpy as np
 
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
+from floebreak.io.provenance import library_versions
 from floebreak.profiles import build_model, field_switches
 from floebreak.propeller.cusps import REQUIRED_COLUMNS, box_dimensions
 from floebreak.propeller.fem import shipped_fem_tables
@@ -91,6 +92,15 @@ def cell(rows: list[dict], key: str, fmt: str) -> str:
     return f"{fmt.format(mean)} ± {fmt.format(spread)}"
 
 
+def blas_note() -> str:
+    """The BLAS kernels the fields were generated with: another machine's kernels give other fields."""
+    return (
+        f"Fields generated with the BLAS kernels `{library_versions()['blas']}`; on a CPU where OpenBLAS "
+        "picks other kernels the same seeds give other fields, and the numbers move within their spread "
+        "(docs/model.md §4, Reproducibility)."
+    )
+
+
 def table5_section() -> list[str]:
     results = {profile: run_profile(profile) for profile in ("default", "thesis")}
     header = "| source | " + " | ".join(label for _, label, _ in COLUMNS) + " |"
@@ -102,6 +112,8 @@ def table5_section() -> list[str]:
         f"Agulhas II bow, x_step = 0.25 m, {len(SEEDS)} random fields (seeds {', '.join(map(str, SEEDS))}),",
         f"**field {LENGTH_M:g} m × {WIDTH_M:g} m (assumed: the thesis does not give its field size)**.",
         "Our numbers are mean ± standard deviation over the fields; the thesis gives means only.",
+        "",
+        blas_note(),
         "",
         header,
         "|" + "---|" * (len(COLUMNS) + 1),
@@ -312,6 +324,8 @@ def propeller_section(profiles: tuple[str, ...]) -> list[str]:
         "- **The measurement** (context only): port-side shaft torque including water and drive-train "
         "effects, whereas the simulation gives the peak torque per cusp at the propeller with every cusp "
         "reaching it (thesis §6.2). No measured series ships with floebreak.",
+        "",
+        blas_note(),
     ]
     return lines
 
