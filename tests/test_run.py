@@ -257,6 +257,21 @@ def test_field_file_source(small_run, tmp_path):
         assert again.summary[key] == base.summary[key]
 
 
+def test_run_directory_reruns_on_its_own_field(small_run):
+    # the documented way to repeat a run exactly on another machine (docs/model.md §4, Reproducibility):
+    # its resolved scenario with the field source replaced by its field.parquet
+    base, out = small_run
+    again = floebreak.run(out / "scenario.resolved.toml", overrides=['field.file="field.parquet"'])
+    assert again.scenario.field.source == "file" and again.scenario.field.length_m is None
+    for table in ("cusps", "flipped", "contacts"):
+        for column, values in getattr(base, table).items():
+            other = getattr(again, table)[column]
+            if column == "geometry":
+                assert shapely.equals_exact(values, other, tolerance=0.0).all(), table
+            else:
+                assert np.array_equal(np.asarray(values), np.asarray(other)), (table, column)
+
+
 @pytest.mark.parametrize(
     ("setup", "field"),
     [

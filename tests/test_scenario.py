@@ -92,6 +92,35 @@ def test_overrides_are_validated_like_the_file():
         Scenario.reference(["ice.thickness_m=-0.8"])
 
 
+def test_a_field_source_override_replaces_the_files_source(tmp_path):
+    # the reference scenario generates its field (observation, length, width); `--set field.file=...` runs
+    # a given field instead: the observation and the generation-only keys go, the rest stays
+    s = Scenario.from_toml_text(REFERENCE_TOML, base_dir=tmp_path, overrides=['field.file="f.parquet"'])
+    assert s.field.source == "file" and s.field.file == tmp_path / "f.parquet"
+    assert (s.field.observation, s.field.length_m, s.field.width_m) == (None, None, None)
+    assert s.ice.thickness_m == 1.0 and s.failure.crack_criterion == "tensile_stress"
+    # and back: a file scenario given an observation generates again
+    from_file = "[field]\nfile = 'f.parquet'\n"
+    s = Scenario.from_toml_text(
+        from_file, overrides=["field.observation=2019-12-30T07:10", "field.length_m=90"]
+    )
+    assert (s.field.source, s.field.file, s.field.length_m) == ("observation", None, 90.0)
+    # a user observation replaces the named one
+    s = Scenario.reference(
+        ["field.diameter_classes_m=[5.0]", "field.percentages=[100.0]", "field.concentration=0.5"]
+    )
+    assert (s.field.source, s.field.observation, s.field.length_m) == ("user_observation", None, 400.0)
+
+
+def test_two_field_sources_in_overrides_still_conflict():
+    with pytest.raises(InputError, match="only one field source"):
+        Scenario.reference(['field.file="f.parquet"', "field.observation=2019-12-30T07:10"])
+    # a generation key next to a given field is still refused
+    with pytest.raises(InputError, match="only for generated fields") as info:
+        Scenario.reference(['field.file="f.parquet"', "field.length_m=100"])
+    assert info.value.field == "field.length_m"
+
+
 @pytest.mark.parametrize(
     ("expression", "field"),
     [

@@ -269,15 +269,19 @@ def build_model_for(scenario: Scenario) -> Model:
     )
 
 
-def as_scenario(scenario: Scenario | Mapping[str, Any] | str | os.PathLike[str] | None) -> Scenario:
-    """A Scenario from a Scenario, a dict, a TOML file path, or None (the reference scenario)."""
+def as_scenario(
+    scenario: Scenario | Mapping[str, Any] | str | os.PathLike[str] | None, overrides: Iterable[str] = ()
+) -> Scenario:
+    """A Scenario from a Scenario, a dict, a TOML file path, or None (the reference scenario), with
+    ``"a.b=value"`` overrides applied (relative paths in a file's overrides are relative to the file)."""
+    overrides = list(overrides)
     if scenario is None:
-        return Scenario.reference()
+        return Scenario.reference(overrides)
     if isinstance(scenario, Scenario):
-        return scenario
+        return Scenario.from_dict(scenario.to_dict(), overrides=overrides) if overrides else scenario
     if isinstance(scenario, Mapping):
-        return Scenario.from_dict(scenario)
-    return Scenario.from_toml(scenario)
+        return Scenario.from_dict(scenario, overrides=overrides)
+    return Scenario.from_toml(scenario, overrides=overrides)
 
 
 # --- the result -----------------------------------------------------------------------------------------
@@ -413,10 +417,7 @@ def run(
     are written; call ``result.write(out)`` for a run directory.
     """
     started = time.perf_counter()
-    scenario = as_scenario(scenario)
-    if overrides:
-        scenario = Scenario.from_dict(scenario.to_dict(), overrides=overrides)
-    scenario = scenario.resolved()
+    scenario = as_scenario(scenario, overrides).resolved()
     rng = np.random.default_rng(scenario.seed)
     floe_field = build_field(scenario, rng)
     bow = build_bow(scenario, floe_field)

@@ -3,7 +3,10 @@
 Validated with pydantic v2; every section forbids unknown keys, numbers are strict (a string is not a number),
 and every validation error becomes an `InputError` naming the dotted key (``ice.thickness_m``) and the allowed
 values or range. Command-line overrides ``--set ice.thickness_m=0.8`` parse the value with `tomllib`
-(``0.8`` → float, ``"x"``/``x`` → string, ``[0.75, 1.25]`` → list) and are validated like the file.
+(``0.8`` → float, ``"x"``/``x`` → string, ``[0.75, 1.25]`` → list) and are validated like the file. An
+override that names a field source (``--set 'field.file="field.parquet"'``) replaces the file's source and
+the keys only that source takes, so a run directory's ``scenario.resolved.toml`` reruns on its own
+``field.parquet`` (relative paths are relative to the scenario file, as in the file itself).
 
 `Scenario.resolved()` fills in every profile-dependent default (field-generation switches, the observation's
 mean thickness, the hull), so ``scenario.resolved.toml`` in a run directory reproduces the run on its own.
@@ -447,11 +450,44 @@ def parse_override(expression: str) -> tuple[list[str], Any]:
     return key.split("."), value
 
 
+# The field's sources (`FieldSection`: exactly one) and the keys each source alone takes: an override that
+# gives a source replaces the scenario's, with the keys the new source does not take.
+_FIELD_SOURCES = {
+    "observation": ("observation",),
+    "diameter_classes_m": ("diameter_classes_m", "percentages"),
+    "percentages": ("diameter_classes_m", "percentages"),
+    "file": ("file",),
+    "floes": ("floes",),
+}
+_GENERATED_ONLY = ("length_m", "width_m", "concentration", "floe_area_factor")
+
+
+def _replace_field_source(result: dict[str, Any], source: str) -> None:
+    field = result.get("field")
+    if not isinstance(field, dict):
+        return
+    keep = _FIELD_SOURCES[source]
+    for key in {k for keys in _FIELD_SOURCES.values() for k in keys} - set(keep):
+        field.pop(key, None)
+    if source in ("file", "floes"):  # a given field: generation settings no longer apply
+        for key in _GENERATED_ONLY:
+            field.pop(key, None)
+
+
 def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:
-    """A deep copy of `data` with each ``a.b=value`` override set."""
+    """A deep copy of `data` with each ``a.b=value`` override set.
+
+    An override of a field source (``field.file``, ``field.floes``, ``field.observation``,
+    ``field.diameter_classes_m``/``percentages``) first removes `data`'s other source and the keys only it
+    takes (a file's field has no ``length_m``); two overrides naming different sources still conflict.
+    """
     result = json.loads(json.dumps(data, default=str)) if data else {}
-    for expression in overrides:
-        path, value = parse_override(expression)
+    overrides = list(overrides)
+    parsed = [parse_override(expression) for expression in overrides]
+    for path, _ in parsed:
+        if len(path) == 2 and path[0] == "field" and path[1] in _FIELD_SOURCES:
+            _replace_field_source(result, path[1])
+    for expression, (path, value) in zip(overrides, parsed, strict=True):
         node = result
         for i, part in enumerate(path[:-1]):
             child = node.setdefault(part, {})
