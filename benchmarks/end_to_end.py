@@ -105,7 +105,7 @@ CASES = {
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=1, help="runs per case (the fastest is shown)")
+    parser.add_argument("--repeat", type=int, default=1, help="runs per case (every run is listed)")
     options = parser.parse_args()
     _compile_bytecode()
     try:
@@ -114,8 +114,9 @@ def main() -> None:
     except OSError:
         pass
     header = (
-        "| case | floes | steps | cusps | wall s | CPU s | engine s | peak MB | goal ≤ 5 s, ≤ 500 MB |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| case | floes | steps | cusps | wall s (best) | every run, wall s | CPU s | engine s | peak MB "
+        "| goal ≤ 5 s, ≤ 500 MB |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     )
     rows = []
     for name, args in CASES.items():
@@ -123,15 +124,18 @@ def main() -> None:
         best = min(runs, key=lambda r: r["wall_s"])
         peak = max(r["peak_mb"] for r in runs)
         s = best["summary"]
+        walls = [r["wall_s"] for r in runs]
         if name.startswith("run 1 km"):
-            met = best["wall_s"] <= GOAL_SECONDS and peak <= GOAL_MB
-            goal = f"{'met' if met else 'not met'} (time {'✓' if best['wall_s'] <= GOAL_SECONDS else '✗'}, "
+            in_time = sum(w <= GOAL_SECONDS for w in walls)  # judged on every run, not only the best
+            met = in_time == len(walls) and peak <= GOAL_MB
+            goal = f"{'met' if met else 'not met'} (≤ {GOAL_SECONDS:g} s in {in_time} of {len(walls)} runs, "
             goal += f"memory {'✓' if peak <= GOAL_MB else '✗'})"
         else:
             goal = "–"
         rows.append(
             f"| {name} | {s['n_floes_initial']} | {s['n_steps']} | {s['n_cusps']} | {best['wall_s']:.1f} | "
-            f"{best['cpu_s']:.1f} | {s['wall_time_s']:.1f} | {peak:.0f} | {goal} |"
+            f"{' / '.join(f'{w:.1f}' for w in walls)} | {best['cpu_s']:.1f} | {s['wall_time_s']:.1f} | "
+            f"{peak:.0f} | {goal} |"
         )
         print(rows[-1], flush=True)
     print()
