@@ -332,7 +332,7 @@ def test_unwritable_output_directory(tmp_path, monkeypatch, capsys):
 
 
 def test_internal_error_exit_1_saves_the_scenario(tmp_path, monkeypatch, capsys):
-    run_module = importlib.import_module("floebreak.run")
+    run_module = importlib.import_module("floebreak.api")
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("a bug")

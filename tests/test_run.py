@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import subprocess
 import sys
 from pathlib import Path
 
@@ -13,10 +14,9 @@ import pytest
 import shapely
 
 import floebreak
+from floebreak import api as run_module
 from floebreak.errors import InputError
 from floebreak.io.field_files import load_field, save_field
-
-run_module = importlib.import_module("floebreak.run")  # `floebreak.run` is the function
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SMALL = ["field.length_m=60.0"]  # a short reference field (the full one is the CLI demo test)
@@ -337,5 +337,26 @@ def test_failed_write_leaves_nothing(small_run, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_run_module_is_reachable():
-    assert sys.modules["floebreak.run"] is run_module and floebreak.run is run_module.run
+def test_public_names_are_the_api_modules():
+    # imported on first use (PEP 562); `floebreak.run` stays the function whatever else was imported
+    importlib.import_module("floebreak.cli")
+    assert floebreak.run is run_module.run and floebreak.Result is run_module.Result
+    assert floebreak.generate_field is importlib.import_module("floebreak.ice.generation").generate_field
+    assert {"run", "Result", "Scenario", "InputError"} <= set(dir(floebreak)) and set(
+        floebreak.__all__
+    ) <= set(dir(floebreak))
+    with pytest.raises(AttributeError, match="no_such_name"):
+        floebreak.no_such_name  # noqa: B018
+
+
+def test_importing_the_package_and_its_command_line_leaves_the_engine_unloaded():
+    # `floebreak --help`, `schema`, `observations`, `report` must not pay for the engine's libraries
+    # (numba, scipy.optimize, pyarrow: ≈ 0.5 s and 220 MB); a fresh interpreter tells what one import loads
+    code = (
+        "import sys, floebreak, floebreak.cli, floebreak.scenario\n"
+        "heavy = ('numba', 'scipy.optimize', 'pyarrow', 'matplotlib', 'floebreak.api',\n"
+        "         'floebreak.simulation')\n"
+        "print(','.join(name for name in heavy if name in sys.modules))"
+    )
+    loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert loaded.stdout.strip() == ""

@@ -200,6 +200,22 @@ def _save_failed_scenario(out: Path, scenario, error: BaseException) -> Path | N
     return path
 
 
+def _import_engine():
+    """`floebreak.api` and the engine's libraries (numba, scipy.optimize, shapely, pyarrow), imported with the
+    garbage collector paused and their objects then frozen, as `_floebreak_entry` does for the command line:
+    about a million objects that live as long as the process, which the collector would otherwise walk
+    again and again while they are created."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        from floebreak import api
+    finally:
+        gc.freeze()
+        if enabled:
+            gc.enable()
+    return api
+
+
 def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then=None):
     """Run a (validated) scenario with a progress bar, write the run directory, print the summary.
 
@@ -208,9 +224,8 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     """
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from floebreak.run import check_output_directory
-    from floebreak.run import run as run_scenario
-
+    api = _import_engine()
+    check_output_directory, run_scenario = api.check_output_directory, api.run
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
     try:

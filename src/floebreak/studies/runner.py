@@ -57,7 +57,7 @@ def is_complete(run_dir: Path, expected_hash: str) -> bool:
 
 def execute_run(task: dict[str, Any]) -> dict[str, Any]:
     """Run one scenario into its run directory; return its small summary (runs in a worker process)."""
-    from floebreak.run import run, write_run_directory
+    from floebreak.api import run, write_run_directory
 
     result = run(task["scenario"])
     write_run_directory(result, task["run_dir"], overwrite=True, report=False)
