@@ -112,6 +112,24 @@ def test_a_field_source_override_replaces_the_files_source(tmp_path):
     assert (s.field.source, s.field.observation, s.field.length_m) == ("user_observation", None, 400.0)
 
 
+def test_overrides_switch_between_other_alternatives(tmp_path):
+    # the reference scenario fixes h = 1 m and the Agulhas II hull; a range or a bow file replaces them
+    s = Scenario.reference(["ice.thickness_range_m=[0.75, 1.25]"])
+    assert (s.ice.thickness_m, s.ice.thickness_range_m) == (None, (0.75, 1.25))
+    s = Scenario.from_toml_text(REFERENCE_TOML, base_dir=tmp_path, overrides=['ship.file="bow.csv"'])
+    assert (s.ship.hull, s.ship.file, s.ship.hull_parameters) == (None, tmp_path / "bow.csv", {})
+    ranged = "[ice]\nthickness_range_m = [0.5, 0.7]\n[ship]\nfile = 'bow.csv'\n"
+    s = Scenario.from_toml_text(ranged, overrides=["ice.thickness_m=0.9", "ship.hull=polarstern"])
+    assert (s.ice.thickness_m, s.ice.thickness_range_m, s.ship.hull, s.ship.file) == (
+        0.9,
+        None,
+        "polarstern",
+        None,
+    )
+    with pytest.raises(InputError, match="not both"):  # both alternatives as overrides: still refused
+        Scenario.reference(["ice.thickness_m=0.9", "ice.thickness_range_m=[0.5, 0.7]"])
+
+
 def test_two_field_sources_in_overrides_still_conflict():
     with pytest.raises(InputError, match="only one field source"):
         Scenario.reference(['field.file="f.parquet"', "field.observation=2019-12-30T07:10"])

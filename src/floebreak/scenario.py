@@ -6,7 +6,8 @@ values or range. Command-line overrides ``--set ice.thickness_m=0.8`` parse the 
 (``0.8`` → float, ``"x"``/``x`` → string, ``[0.75, 1.25]`` → list) and are validated like the file. An
 override that names a field source (``--set 'field.file="field.parquet"'``) replaces the file's source and
 the keys only that source takes, so a run directory's ``scenario.resolved.toml`` reruns on its own
-``field.parquet`` (relative paths are relative to the scenario file, as in the file itself).
+``field.parquet`` (relative paths are relative to the scenario file, as in the file itself); likewise
+``ice.thickness_m``/``thickness_range_m`` and ``ship.hull``/``file``.
 
 `Scenario.resolved()` fills in every profile-dependent default (field-generation switches, the observation's
 mean thickness, the hull), so ``scenario.resolved.toml`` in a run directory reproduces the run on its own.
@@ -450,43 +451,41 @@ def parse_override(expression: str) -> tuple[list[str], Any]:
     return key.split("."), value
 
 
-# The field's sources (`FieldSection`: exactly one) and the keys each source alone takes: an override that
-# gives a source replaces the scenario's, with the keys the new source does not take.
-_FIELD_SOURCES = {
-    "observation": ("observation",),
-    "diameter_classes_m": ("diameter_classes_m", "percentages"),
-    "percentages": ("diameter_classes_m", "percentages"),
-    "file": ("file",),
-    "floes": ("floes",),
-}
+# Keys that exclude each other (the validators refuse both): an override of one replaces the scenario's
+# other, with the keys only that one takes, so `--set` can switch a run to another source — e.g. a run
+# directory's resolved scenario onto its own field.parquet, or a fixed thickness to a random one.
 _GENERATED_ONLY = ("length_m", "width_m", "concentration", "floe_area_factor")
-
-
-def _replace_field_source(result: dict[str, Any], source: str) -> None:
-    field = result.get("field")
-    if not isinstance(field, dict):
-        return
-    keep = _FIELD_SOURCES[source]
-    for key in {k for keys in _FIELD_SOURCES.values() for k in keys} - set(keep):
-        field.pop(key, None)
-    if source in ("file", "floes"):  # a given field: generation settings no longer apply
-        for key in _GENERATED_ONLY:
-            field.pop(key, None)
+_REPLACES: dict[tuple[str, str], tuple[str, ...]] = {
+    ("field", "observation"): ("diameter_classes_m", "percentages", "file", "floes"),
+    ("field", "diameter_classes_m"): ("observation", "file", "floes"),
+    ("field", "percentages"): ("observation", "file", "floes"),
+    ("field", "file"): ("observation", "diameter_classes_m", "percentages", "floes", *_GENERATED_ONLY),
+    ("field", "floes"): ("observation", "diameter_classes_m", "percentages", "file", *_GENERATED_ONLY),
+    ("ice", "thickness_m"): ("thickness_range_m",),
+    ("ice", "thickness_range_m"): ("thickness_m",),
+    ("ship", "hull"): ("file",),
+    ("ship", "file"): ("hull", "hull_parameters"),
+}
 
 
 def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[str, Any]:
     """A deep copy of `data` with each ``a.b=value`` override set.
 
-    An override of a field source (``field.file``, ``field.floes``, ``field.observation``,
-    ``field.diameter_classes_m``/``percentages``) first removes `data`'s other source and the keys only it
-    takes (a file's field has no ``length_m``); two overrides naming different sources still conflict.
+    An override of one of two keys that exclude each other (a field source: ``field.file``, ``field.floes``,
+    ``field.observation``, ``field.diameter_classes_m``/``percentages``; ``ice.thickness_m`` or
+    ``ice.thickness_range_m``; ``ship.hull`` or ``ship.file``) first removes from `data` the other and the
+    keys only it takes (a file's field has no ``length_m``); two overrides that exclude each other still
+    conflict.
     """
     result = json.loads(json.dumps(data, default=str)) if data else {}
     overrides = list(overrides)
     parsed = [parse_override(expression) for expression in overrides]
     for path, _ in parsed:
-        if len(path) == 2 and path[0] == "field" and path[1] in _FIELD_SOURCES:
-            _replace_field_source(result, path[1])
+        replaced = _REPLACES.get(tuple(path)) if len(path) == 2 else None
+        section = result.get(path[0]) if replaced else None
+        if isinstance(section, dict):
+            for key in replaced:
+                section.pop(key, None)
     for expression, (path, value) in zip(overrides, parsed, strict=True):
         node = result
         for i, part in enumerate(path[:-1]):
