@@ -16,7 +16,7 @@ from typing import Any
 
 import threadpoolctl
 
-_LIBRARIES = ("numpy", "scipy", "shapely", "pyarrow", "pydantic", "matplotlib")
+_LIBRARIES = ("numpy", "scipy", "shapely", "numba", "pyarrow", "pydantic", "matplotlib")
 
 
 # Cached: each `metadata.version` call scans the installed distributions (≈ 3 ms), and a run directory asks
