@@ -247,6 +247,23 @@ def test_thickness_override_reaches_field_and_bow():
     assert bow.z_upper_m - bow.z_lower_m == pytest.approx(0.8)
 
 
+def test_a_field_built_beforehand_gives_the_same_run():
+    # a study builds each common field once and hands it to its runs (floebreak.studies.runner)
+    scenario = floebreak.Scenario.reference([*SMALL, "seed=3"]).resolved()
+    built = run_module.build_field(scenario, np.random.default_rng(scenario.seed))
+    given, alone = floebreak.run(scenario, floe_field=built), floebreak.run(scenario)
+    for column in ("area_m2", "bow_x_m", "step", "failure_chain"):
+        assert list(given.cusps[column]) == list(alone.cusps[column]), column
+    assert shapely.equals_exact(given.cusps["geometry"], alone.cusps["geometry"], tolerance=0.0).all()
+    assert len(given.contacts["step"]) == len(alone.contacts["step"])
+    assert run_module.field_key(scenario) == run_module.field_key(
+        floebreak.Scenario.reference([*SMALL, "seed=3", "ice.fracture_toughness_pa_sqrt_m=230e3"]).resolved()
+    )  # toughness does not enter the field
+    assert run_module.field_key(scenario) != run_module.field_key(
+        floebreak.Scenario.reference(SMALL).resolved()
+    )
+
+
 def test_field_file_source(small_run, tmp_path):
     base, _ = small_run
     save_field(base.field, tmp_path / "f.parquet")

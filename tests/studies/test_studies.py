@@ -104,6 +104,43 @@ def test_run_resume_failure_and_aggregate(tmp_path):
     assert a.to_pylist() == b.to_pylist()
 
 
+@pytest.mark.parametrize("common_fields", [True, False])
+def test_common_fields_are_generated_once_by_the_study(tmp_path, monkeypatch, common_fields):
+    # two design points × two fields: with common fields, two fields are generated, in the study's process,
+    # saved in the study directory, and every run of a field reads that one — whichever worker runs it (a
+    # worker on another CPU would generate another field from the same seed, docs/model.md §4)
+    from floebreak.ice import generation
+
+    seeds = []
+    original = generation.generate_field
+
+    def counting(*args, **kwargs):
+        seeds.append(kwargs["seed"])
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(generation, "generate_field", counting)
+    spec = small_study(common_fields=common_fields)
+    runs, members = expand(spec)
+    assert run_study(spec, runs, members, tmp_path).failed == 0
+    fields = sorted((tmp_path / "fields").glob("field-*.parquet"))
+    if not common_fields:  # independent fields: each run generates its own, nothing is shared
+        assert len(seeds) == 4 and fields == []
+        return
+    assert len(seeds) == 2 and len(fields) == 2
+
+    def geometry(run):
+        return (
+            pq.read_table(tmp_path / "runs" / run.run_name / "field.parquet").column("geometry").to_pylist()
+        )
+
+    by_field = {}
+    for run in runs:
+        by_field.setdefault(run.field_index, []).append(geometry(run))
+    assert len(by_field) == 2
+    for index, geometries in by_field.items():
+        assert len(geometries) == 2 and geometries[0] == geometries[1], index  # same field at both points
+
+
 def test_failing_run_is_recorded_and_the_study_goes_on(tmp_path):
     base = small_base()
     spec = StudySpec(

@@ -3,10 +3,16 @@
 Layout of a study directory::
 
     study.json                 the study spec and the list of runs (index, group, point, field, seed)
+    fields/field-<key>.parquet the common fields (``common_fields``), each generated once, here
     runs/run-00000/ …          one complete run directory per run (written atomically by the run pipeline)
     failed/run-00007.json      status, error and scenario of a failed run (removed when it later succeeds)
     study_runs.parquet         one row per run: parameters + summary (see `aggregate`)
     tables/, figures/          aggregated tables and figures
+
+Common fields are generated once, in the process that runs the study, before any run starts, and every run
+of that field reads them: the design points then see the same fields even when the runs go to workers whose
+CPUs make OpenBLAS pick other kernels, with which the packing would generate other fields from the same
+seed (docs/model.md §4, Reproducibility), and a run's result does not depend on where it ran.
 
 Resume: a run is complete when ``runs/<name>/summary.json`` exists with the scenario hash of the run;
 since run directories appear only by an atomic rename, a study killed at any moment (even SIGKILL)
@@ -58,10 +64,38 @@ def is_complete(run_dir: Path, expected_hash: str) -> bool:
 def execute_run(task: dict[str, Any]) -> dict[str, Any]:
     """Run one scenario into its run directory; return its small summary (runs in a worker process)."""
     from floebreak.api import run, write_run_directory
+    from floebreak.io.field_files import load_field
 
-    result = run(task["scenario"])
+    field_file = task.get("field_file")
+    floe_field = load_field(field_file) if field_file else None
+    result = run(task["scenario"], floe_field=floe_field)
     write_run_directory(result, task["run_dir"], overwrite=True, report=False)
     return {key: value for key, value in result.summary.items() if not isinstance(value, dict | list)}
+
+
+def common_field_file(scenario: dict[str, Any], fields_dir: Path) -> str | None:
+    """The saved common field of a run's scenario, generated here on first request; None when its field is
+    not generated (file, inline floes) or cannot be (the run then fails in its worker and is recorded)."""
+    import numpy as np
+
+    from floebreak.api import build_field, field_key
+    from floebreak.errors import InputError
+    from floebreak.io.field_files import save_field
+    from floebreak.scenario import Scenario
+
+    resolved = Scenario.from_dict(scenario).resolved()
+    key = field_key(resolved)
+    if key is None:
+        return None
+    path = fields_dir / f"field-{key[:20]}.parquet"
+    if not path.exists():
+        try:
+            floe_field = build_field(resolved, np.random.default_rng(resolved.seed))
+        except InputError:
+            return None
+        fields_dir.mkdir(exist_ok=True)
+        save_field(floe_field, path)  # atomic: a study killed here leaves no half file
+    return str(path)
 
 
 def _atomic_write_text(path: Path, text: str) -> None:
@@ -115,7 +149,10 @@ def run_study(
             state.skipped += 1
             state.done += 1
             continue
-        todo.append({"index": spec_run.index, "scenario": spec_run.scenario, "run_dir": str(run_dir)})
+        task = {"index": spec_run.index, "scenario": spec_run.scenario, "run_dir": str(run_dir)}
+        if spec.common_fields:
+            task["field_file"] = common_field_file(spec_run.scenario, out_dir / "fields")
+        todo.append(task)
     if progress:
         progress(state)
     for task, _summary, error in executor.run(execute_run, todo):
