@@ -110,6 +110,10 @@ def test_a_field_source_override_replaces_the_files_source(tmp_path):
         ["field.diameter_classes_m=[5.0]", "field.percentages=[100.0]", "field.concentration=0.5"]
     )
     assert (s.field.source, s.field.observation, s.field.length_m) == ("user_observation", None, 400.0)
+    # and back to a named observation: the user observation's concentration goes with it
+    user = "[field]\ndiameter_classes_m = [5.0]\npercentages = [100.0]\nconcentration = 0.5\n"
+    s = Scenario.from_toml_text(user, overrides=["field.observation=2019-12-30T07:10"])
+    assert (s.field.source, s.field.concentration, s.field.diameter_classes_m) == ("observation", None, None)
 
 
 def test_overrides_switch_between_other_alternatives(tmp_path):

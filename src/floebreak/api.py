@@ -18,7 +18,8 @@ directory atomically (temporary sibling, renamed when complete; a failed run lea
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
 The only randomness is ``numpy.random.default_rng(seed)``, used for the field only, so the same scenario and
-seed give identical Parquet contents. ``wall_time_s`` covers field generation and simulation, not writing.
+seed give identical Parquet contents. ``wall_time_s`` covers field generation (unless a field built beforehand
+is given) and simulation, not writing.
 """
 
 from __future__ import annotations

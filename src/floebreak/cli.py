@@ -203,7 +203,7 @@ def _save_failed_scenario(out: Path, scenario, error: BaseException) -> Path | N
 def _import_engine():
     """`floebreak.api` and the engine's libraries (numba, scipy.optimize, shapely, pyarrow), imported with the
     garbage collector paused and their objects then frozen, as `_floebreak_entry` does for the command line:
-    about a million objects that live as long as the process, which the collector would otherwise walk
+    ≈ 100 000 tracked objects that live as long as the process, which the collector would otherwise walk
     again and again while they are created."""
     enabled = gc.isenabled()
     gc.disable()

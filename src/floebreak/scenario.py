@@ -484,6 +484,8 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[s
         replaced = _REPLACES.get(tuple(path)) if len(path) == 2 else None
         section = result.get(path[0]) if replaced else None
         if isinstance(section, dict):
+            if tuple(path) == ("field", "observation") and "diameter_classes_m" in section:
+                section.pop("concentration", None)  # the user observation's, not a change of the named one
             for key in replaced:
                 section.pop(key, None)
     for expression, (path, value) in zip(overrides, parsed, strict=True):

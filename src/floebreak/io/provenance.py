@@ -14,8 +14,6 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-import threadpoolctl
-
 _LIBRARIES = ("numpy", "scipy", "shapely", "numba", "pyarrow", "pydantic", "matplotlib")
 
 
@@ -57,6 +55,8 @@ def _library_versions() -> dict[str, str]:
 @functools.cache
 def _blas_kernels(loaded: tuple[bool, ...]) -> str:
     """'openblas 0.3.30 SkylakeX (numpy.libs); …' for each BLAS library loaded, or 'none loaded'."""
+    import threadpoolctl  # here, not at the top: `import floebreak` stays light
+
     del loaded  # only the cache key
     kernels = [
         f"{info.get('internal_api', '?')} {info.get('version', '?')} {info.get('architecture', '?')}"

@@ -79,7 +79,6 @@ def common_field_file(scenario: dict[str, Any], fields_dir: Path) -> str | None:
     import numpy as np
 
     from floebreak.api import build_field, field_key
-    from floebreak.errors import InputError
     from floebreak.io.field_files import save_field
     from floebreak.scenario import Scenario
 
@@ -91,11 +90,11 @@ def common_field_file(scenario: dict[str, Any], fields_dir: Path) -> str | None:
     if not path.exists():
         try:
             floe_field = build_field(resolved, np.random.default_rng(resolved.seed))
-        except InputError:
+        except Exception:  # the run meets the same error in its worker, which records it as the run's
             return None
         fields_dir.mkdir(exist_ok=True)
         save_field(floe_field, path)  # atomic: a study killed here leaves no half file
-    return str(path)
+    return str(path.resolve())  # absolute: a worker's working directory may be another
 
 
 def _atomic_write_text(path: Path, text: str) -> None:
