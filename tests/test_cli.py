@@ -50,6 +50,19 @@ def test_console_command_is_the_cli_imported_with_the_collector_paused(monkeypat
     assert frozen > 100_000  # the imported objects are out of the collector's reach
 
 
+def test_version_names_what_results_depend_on():
+    from importlib.metadata import version
+
+    result = run("--version")
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0] == f"floebreak {version('floebreak')}"
+    entries = dict(line.strip().split(" ", 1) for line in lines[1:])
+    for name in ("numpy", "scipy", "shapely", "numba"):
+        assert entries[name] == version(name), name
+    assert entries["blas"] != "none loaded"  # e.g. "openblas 0.3.30 SkylakeX (scipy.libs); …"
+
+
 def test_observations_lists_table1():
     result = run("observations")
     assert result.returncode == 0

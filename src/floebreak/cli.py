@@ -559,8 +559,33 @@ def propeller(
     console.print(f"propeller spectra written to {written}")
 
 
+def _print_version(value: bool) -> None:
+    """`--version`: floebreak's version and what results depend on (libraries, BLAS kernels), for reports."""
+    if not value:
+        return
+    import numpy  # noqa: F401  (loads numpy's BLAS)
+    import scipy.linalg  # noqa: F401  (loads scipy's BLAS, which the field packing uses)
+
+    from floebreak.io.provenance import floebreak_version, library_versions
+
+    console.print(f"floebreak {floebreak_version()}", highlight=False)
+    for name, version in library_versions().items():
+        console.print(f"  {name} {version}", highlight=False, soft_wrap=True)
+    raise typer.Exit()
+
+
 @app.callback()
-def _root() -> None:
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version",
+            callback=_print_version,
+            is_eager=True,
+            help="Print floebreak's version, the library versions and BLAS kernels results depend on.",
+        ),
+    ] = False,
+) -> None:
     """floebreak: ship bow breaking sea-ice floes, and the cusps' propeller–ice loads."""
 
 
