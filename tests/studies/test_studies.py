@@ -121,7 +121,8 @@ def test_common_fields_are_generated_once_by_the_study(tmp_path, monkeypatch, co
     monkeypatch.setattr(generation, "generate_field", counting)
     spec = small_study(common_fields=common_fields)
     runs, members = expand(spec)
-    assert run_study(spec, runs, members, tmp_path).failed == 0
+    state = run_study(spec, runs, members, tmp_path)
+    assert state.failed == 0 and state.fields == (2 if common_fields else 0)
     fields = sorted((tmp_path / "fields").glob("field-*.parquet"))
     if not common_fields:  # independent fields: each run generates its own, nothing is shared
         assert len(seeds) == 4 and fields == []

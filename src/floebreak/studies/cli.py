@@ -74,7 +74,10 @@ def study(
             task = bar.add_task("runs", total=len(runs), info="")
 
             def progress(state) -> None:
-                bar.update(task, completed=state.done, info=f"failed {state.failed}, resumed {state.skipped}")
+                info = f"failed {state.failed}, resumed {state.skipped}"
+                if state.fields:
+                    info = f"common fields {state.fields}, {info}"
+                bar.update(task, completed=state.done, info=info)
 
             state = run_study(study_spec, runs, members, out, executor, progress)
     finally:

@@ -39,6 +39,7 @@ class StudyProgress:
     """Counters handed to the progress callback after every finished run."""
 
     total: int
+    fields: int = 0  # common fields ready (generated now or by an earlier, resumed start)
     done: int = 0
     skipped: int = 0
     failed: int = 0
@@ -141,7 +142,7 @@ def run_study(
     }
     _atomic_write_text(out_dir / "study.json", json.dumps(study_doc, indent=2) + "\n")
     state = StudyProgress(total=len(runs))
-    todo = []
+    todo, fields_ready = [], set()
     for spec_run in runs:
         run_dir = runs_dir / spec_run.run_name
         if is_complete(run_dir, scenario_hash(spec_run.scenario)):
@@ -151,6 +152,11 @@ def run_study(
         task = {"index": spec_run.index, "scenario": spec_run.scenario, "run_dir": str(run_dir)}
         if spec.common_fields:
             task["field_file"] = common_field_file(spec_run.scenario, out_dir / "fields")
+            if task["field_file"] and task["field_file"] not in fields_ready:
+                fields_ready.add(task["field_file"])
+                state.fields = len(fields_ready)
+                if progress:  # generating the fields comes first and may take a while
+                    progress(state)
         todo.append(task)
     if progress:
         progress(state)
