@@ -239,6 +239,28 @@ def test_each_example_runs(example, overrides):
         assert result.scenario.ice.thickness_m == pytest.approx(0.84)  # obs mean, thesis Table 1
 
 
+def test_a_run_whose_pieces_degenerate_in_translation_completes():
+    # found by a random sweep of scenarios: thin ice, long steps and the thesis profile's literal wedge make a
+    # piece that the bow-frame translation left self-intersecting; GEOS then raised TopologyException (an
+    # internal error for the user). Every piece must come out a valid polygon, the ice area conserved.
+    overrides = [
+        "seed=908717",
+        "profile=thesis",
+        "field.observation=2020-01-02T15:20",
+        "field.length_m=96.6",
+        "field.width_m=77.6",
+        "field.generator=voronoi",
+        "ice.thickness_m=0.114",
+        "ice.fracture_toughness_pa_sqrt_m=440862.0",
+        "ship.step_m=3.0",
+        "failure.size_effect_law=BZ2",
+        "failure.stress_mode=strength",
+    ]
+    result = floebreak.run(overrides=overrides)
+    assert result.summary["area_balance_rel_error"] <= 1e-9
+    assert shapely.is_valid(np.asarray(result.pieces["geometry"], dtype=object)).all()
+
+
 def test_thickness_override_reaches_field_and_bow():
     result = floebreak.run(overrides=[*SMALL, "ice.thickness_m=0.8"])
     assert np.all(result.field.thickness_m == 0.8)

@@ -159,3 +159,35 @@ def test_breaking_is_port_starboard_symmetric_for_a_mirrored_floe(position, diam
         assert port.mask(fate).sum() == starboard.mask(fate).sum(), fate
         tolerance = 1e-9 * field.ice_area_m2
         assert starboard.area_m2(fate) == pytest.approx(port.area_m2(fate), abs=tolerance), fate
+
+
+# A piece of a run (thesis profile, h = 0.114 m, 3 m steps) as the translation into the bow frame left it: a
+# thin crescent between two bending arcs whose ends cross within rounding, i.e. self-intersecting. GEOS
+# overlays on it raised TopologyException (and on other cuts returned areas larger than the piece).
+CRESCENT = [
+    (-27.391676006071506, -10.274689083952332), (-27.693707862746678, -10.361409634478571),
+    (-28.002148591013892, -10.421476376326428), (-28.314650770689433, -10.454432165321151),
+    (-28.62883607149199, -10.460026188009243), (-28.94231335357219, -10.43821587050028),
+    (-29.097505109551406, -10.413691536490107), (-29.095362937547392, -10.400135717409551),
+    (-28.916691814182435, -10.428370402169232), (-28.603214532102243, -10.450180719678196),
+    (-28.28902923129968, -10.444586696990106), (-27.976527051624146, -10.411630907995383),
+    (-27.668086323356924, -10.351564166147524), (-27.366054466681746, -10.264843615621285),
+    (-27.098351665789487, -10.161974720500515),
+]  # fmt: skip
+
+
+def test_translated_pieces_are_valid_polygons_of_the_same_area():
+    from floebreak.simulation import _translate_pieces
+
+    crescent = shapely.Polygon(CRESCENT)
+    assert not shapely.is_valid(crescent)  # the input is what a run produced
+    square = shapely.box(0.0, 0.0, 1.0, 1.0)
+    moved = _translate_pieces(np.array([crescent, square], dtype=object), 0.0)
+    assert shapely.is_valid(moved).all() and shapely.get_type_id(moved).tolist() == [3, 3]
+    # what is dropped is the self-intersection's sliver: the area stays to rounding (shoelace of the input)
+    x, y = (np.array(CRESCENT) - CRESCENT[0]).T  # about a vertex: no cancellation in the products
+    shoelace = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    assert moved[0].area == pytest.approx(shoelace, rel=1e-12, abs=1e-14)
+    assert shapely.equals_exact(moved[1], square, tolerance=0.0)  # a valid piece is only moved
+    shifted = _translate_pieces(np.array([crescent], dtype=object), 5.0, check=np.array([False]))
+    assert not shapely.is_valid(shifted[0])  # pieces not flagged for the check are not looked at
