@@ -191,3 +191,31 @@ def test_translated_pieces_are_valid_polygons_of_the_same_area():
     assert shapely.equals_exact(moved[1], square, tolerance=0.0)  # a valid piece is only moved
     shifted = _translate_pieces(np.array([crescent], dtype=object), 5.0, check=np.array([False]))
     assert not shapely.is_valid(shifted[0])  # pieces not flagged for the check are not looked at
+
+
+@pytest.mark.parametrize("generated", [True, False])
+def test_floes_no_generator_made_are_checked_like_broken_pieces(monkeypatch, generated):
+    # broken pieces may be nearly degenerate, and so may floes from a user's file or inline floes: those are
+    # checked after every translation into the bow frame; a generator's floes (64-gons, cells) are not
+    from floebreak import simulation
+
+    field = small_field(1, length=60.0)
+    if not generated:
+        field = FloeField(
+            field.polygons, field.thickness_m, field.diameter_class_m, field.floe_id, field.domain_m
+        )
+    flags = []
+    original = simulation._translate_pieces
+
+    def recording(polygons, dx, check=None):
+        if dx < 0.0:  # field → bow frame (the bow is ahead of x = 0 after the first steps)
+            flags.append(np.ones(len(polygons), bool) if check is None else np.asarray(check, bool))
+        return original(polygons, dx, check)
+
+    monkeypatch.setattr(simulation, "_translate_pieces", recording)
+    from floebreak.profiles import build_model
+
+    result = simulate(field, BOW, build_model("default"), SimulationParams(step_m=0.5))
+    flags = np.concatenate(flags)
+    assert result.n_breaks > 0 and flags.any()  # broken pieces are checked either way
+    assert flags.all() != generated  # and every floe too when no generator made them

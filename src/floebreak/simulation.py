@@ -31,6 +31,7 @@ from floebreak.failure import (
 )
 from floebreak.failure.base import polygon_parts
 from floebreak.ice.field import FloeField
+from floebreak.ice.generation import GENERATORS
 from floebreak.mechanics.classify import Classification, ClassificationParams, classify
 from floebreak.mechanics.contact import (
     BowContactGeometry,
@@ -361,6 +362,10 @@ def simulate(
         for callback in callbacks:
             callback(event)
 
+    # broken pieces may be nearly degenerate, and so may floes that no generator of ours made (a file, inline
+    # floes): those are checked after every translation (`_translate_pieces`); generated floes are not
+    n_floes = floe_field.n_floes
+    check_floes = floe_field.metadata.get("generator") not in GENERATORS
     emit(RunStarted(n_steps, params.x_start_m, x_end, params.step_m, floe_field.n_floes, shift))
     for step in range(n_steps):
         bow_x = params.x_start_m + step * params.step_m
@@ -372,7 +377,7 @@ def simulate(
         touching = pieces.due(candidates, (bow_x + hull_x0, hull_y0, bow_x + hull_x1, hull_y1), bow_x)
         if touching:
             in_field = np.array([pieces.polygon[i] for i in touching], dtype=object)
-            polygons_bf = _translate_pieces(in_field, -bow_x, np.array(touching) >= floe_field.n_floes)
+            polygons_bf = _translate_pieces(in_field, -bow_x, (np.array(touching) >= n_floes) | check_floes)
             queue = deque(zip(touching, polygons_bf, strict=True))
             # contact is evaluated in batches (vectorised GEOS calls): the floes queued at the start of the
             # step, then, whenever the queue reaches pieces not evaluated yet, all pieces queued by then. A
