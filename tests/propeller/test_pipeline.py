@@ -199,6 +199,33 @@ def test_load_spectra_weights_runs_equally_and_ranges_above():
     assert torque_ranges_above(ds, 0.01)["p0"]["envelope_knm"] == (0.0, 20.0)
 
 
+def test_far_loads_widen_the_bins_instead_of_making_millions():
+    """An extrapolated quartic gave |Q| ≈ 5·10⁶ kN·m for thick ice: 10 kN·m bins would be 5·10⁵ bins (it
+    took minutes and 0.9 GB). The bins widen by 1-2-5 steps until 2 000 cover the loads: 5·10⁶ / 2 000 =
+    2 500 kN·m → 5 000 kN·m bins; loads within 20 000 kN·m keep the 10 kN·m bins."""
+    from floebreak.propeller.spectra import MAX_BINS, fitting_width
+
+    assert MAX_BINS == 2_000
+    assert [fitting_width(np.array([top]), 10.0) for top in (5.0, 20_000.0, 20_001.0, 45_000.0, 5e6)] == [
+        10.0,
+        10.0,
+        20.0,
+        50.0,
+        5_000.0,
+    ]
+    tables = shipped_fem_tables()
+    torque = np.array([-5e3, -15e3, -5e9])  # N·m
+    loads = {"run_id": np.array(["a", "a", "a"], dtype=object)}
+    for pitch in tables:
+        loads[f"force_n_p{pitch:g}"] = -torque / 10.0
+        loads[f"torque_nm_p{pitch:g}"] = torque
+    ds = load_spectra(loads, tables, 10.0, 10.0)
+    assert ds.sizes["bin"] <= MAX_BINS
+    assert ds.attrs["torque_bin_width_knm"] == 5_000.0 and ds.attrs["force_bin_width_kn"] == 500.0
+    # densities stay per kN·m: the two small loads share the first bin, 2/3 of the runs' loads
+    assert ds["torque_density"].sel(pitch=0.0).values[0] == pytest.approx(2 / 3 / 5_000.0)
+
+
 def test_spectra_netcdf_has_the_bytes_of_xarray_to_netcdf(tmp_path):
     # the writer bypasses to_netcdf (which imports dask.distributed); the file must be what it writes
     from floebreak.propeller.pipeline import _write_netcdf

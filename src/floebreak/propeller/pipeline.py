@@ -39,6 +39,7 @@ from floebreak.propeller.spectra import (
     bin_edges,
     density,
     envelope,
+    fitting_width,
     ranges_above,
     spectra_dataset,
 )
@@ -307,7 +308,7 @@ def propeller_analysis(
     measured = None
     if series is not None:
         q_meas_knm = series.torque_nm / 1e3
-        m_edges = bin_edges(q_meas_knm, torque_bin_knm)
+        m_edges = bin_edges(q_meas_knm, fitting_width(q_meas_knm, torque_bin_knm))
         m_dens = density(q_meas_knm, m_edges)
         m_intervals = ranges_above(m_edges, m_dens, DENSITY_THRESHOLD_PER_KNM)
         measured = {
@@ -345,8 +346,8 @@ def propeller_analysis(
             "volume_basis": volume_basis,
             "volume_class_edges_m3": edges_m3,
             "cusp_speed_m_s": cusp_speed_m_s,
-            "force_bin_kn": force_bin_kn,
-            "torque_bin_knm": torque_bin_knm,
+            "force_bin_kn": ds.attrs["force_bin_width_kn"],  # as used: wider for far loads (`fitting_width`)
+            "torque_bin_knm": ds.attrs["torque_bin_width_knm"],
             "density_threshold_per_knm": DENSITY_THRESHOLD_PER_KNM,
             "polar_class": polar_class,
             "weibull": weibull,

@@ -15,6 +15,26 @@ import math
 import numpy as np
 
 DENSITY_THRESHOLD_PER_KNM = 1e-3  # "probability density above 0.1 %" per kN·m (thesis §6.2)
+MAX_BINS = 2_000  # more would mean loads far beyond the FEM table (e.g. `beyond="extrapolate"`)
+
+
+def fitting_width(values, width: float) -> float:
+    """`width`, or, when the finite |values| need more than `MAX_BINS` bins of it, the smallest 2-, 5- or
+    10-fold multiple (then 20, 50, 100, …) that covers them in `MAX_BINS` bins.
+
+    The quartic FEM interpolant extrapolated to thick ice gives torques of 10⁶ kN·m and more: 10 kN·m bins
+    would then take minutes and gigabytes for a histogram that says nothing per bin. The widths used are
+    recorded in the spectra's attributes.
+    """
+    values = np.abs(np.asarray(values, dtype=float))
+    values = values[np.isfinite(values)]
+    top = float(values.max()) if values.size else 0.0
+    decade = 1.0
+    while True:
+        for mantissa in (1.0, 2.0, 5.0):
+            if top / (width * mantissa * decade) <= MAX_BINS:
+                return width * mantissa * decade
+        decade *= 10.0
 
 
 def bin_edges(values, width: float, start: float | None = None) -> np.ndarray:
@@ -88,6 +108,7 @@ def spectra_dataset(
     runs = sorted({r for p in pitches for r in force_kn[p]})
     all_f = np.concatenate([np.ravel(v) for p in pitches for v in force_kn[p].values()] + [np.zeros(0)])
     all_q = np.concatenate([np.ravel(v) for p in pitches for v in torque_knm[p].values()] + [np.zeros(0)])
+    force_bin_kn, torque_bin_knm = fitting_width(all_f, force_bin_kn), fitting_width(all_q, torque_bin_knm)
     f_edges = bin_edges(all_f, force_bin_kn, start=0.0)
     q_edges = bin_edges(all_q, torque_bin_knm, start=0.0)
     n = max(f_edges.size, q_edges.size) - 1
