@@ -321,6 +321,10 @@ def test_run_directory_reruns_on_its_own_field(small_run):
         ("overlapping_floes", "field.floes[1]"),
         ("small_field", "field.length_m"),
         ("hull_parameter", "ship.hull_parameters.beam_x"),
+        ("panel_count", "ship.hull_parameters.n_panels_per_side"),
+        # a bow these parameters make fails a check of its own node arrays: the parameters as a whole are
+        # named (before, a key the user never wrote: ship.hull_parameters.lower_xy_m[0])
+        ("crossing_waterline", "ship.hull_parameters"),
     ],
 )
 def test_bad_inputs_found_while_building(tmp_path, setup, field):
@@ -342,6 +346,17 @@ def test_bad_inputs_found_while_building(tmp_path, setup, field):
         },
         "small_field": {"field": {"length_m": 20.0, "width_m": 20.0}},
         "hull_parameter": {"ship": {"hull_parameters": {"beam_x": 3.0}}},
+        "panel_count": {"ship": {"hull_parameters": {"n_panels_per_side": 1}}},
+        "crossing_waterline": {
+            "ice": {"thickness_m": 2.12},
+            "ship": {
+                "hull_parameters": {
+                    "beam_m": 11.7,
+                    "waterline_entrance_half_angle_deg": 86.1,
+                    "stem_angle_deg": 63.1,
+                }
+            },
+        },
     }[setup]
     with pytest.raises(InputError) as info:
         floebreak.run(data)

@@ -247,10 +247,12 @@ def build_bow(scenario: Scenario, floe_field: FloeField | None = None):
             **ship.hull_parameters,
         )
     except InputError as error:
+        # a parameter the user gave is named; a check of the bow they make (e.g. a waterline crossing
+        # itself, reported on the bow's own node arrays) names the parameters as a whole
         key = error.field.rsplit(".", 1)[-1]
-        raise _prefixed(
-            f"ship.hull_parameters.{key}" if ship.hull_parameters else "ship.hull", error
-        ) from None
+        given = ship.hull_parameters
+        where = "ship.hull_parameters" if given else "ship.hull"
+        raise _prefixed(f"{where}.{key}" if key in given else where, error) from None
 
 
 def build_model_for(scenario: Scenario) -> Model:

@@ -1,6 +1,7 @@
 """The batched contact evaluation gives the same contacts as evaluating floe by floe (issue 3 performance)."""
 
 import numpy as np
+import pytest
 import shapely
 
 from floebreak.mechanics.contact import BowContactGeometry, ContactParams, evaluate_contact, evaluate_contacts
@@ -54,3 +55,29 @@ def test_batch_zone_areas_match_independent_overlays():
         assert abs(sum(z.a_u_m2 for z in contact.zones) - expected) <= 1e-9 * max(expected, 1.0)
         for zone in contact.zones:
             assert abs(zone.a_h_total_m2 - (zone.a_u_m2 - zone.a_l_m2)) <= 1e-9 * max(zone.a_u_m2, 1.0)
+
+
+def test_a_blunt_bow_whose_footprints_are_bow_ties_is_evaluated_by_geos():
+    # found by a random sweep of hull parameters: at an entrance half-angle of 88.5° the lower waterline
+    # crosses the upper one's projection, and two panels' plan-view footprints are bow-ties, i.e. two
+    # triangles (a MultiPolygon); preparing the compiled kernel's convex quads then raised AttributeError
+    from floebreak.ship.hulls import parametric_bow
+
+    bow = parametric_bow(
+        "blunt",
+        beam_m=23.9,
+        waterline_entrance_half_angle_deg=88.5,
+        stem_angle_deg=85.3,
+        shape_exponent=1.95,
+        midbody_length_m=1.8,
+        ice_thickness_m=0.83,
+    )
+    assert (shapely.get_type_id(bow.panel_footprints) == 6).any()
+    geometry = BowContactGeometry.from_bow(bow)
+    assert geometry.kernel is None  # the GEOS path, which takes any footprint
+    floe = shapely.Point(-1.0, 0.0).buffer(5.0)  # across the stem
+    (contact,) = evaluate_contacts(np.array([floe]), np.array([0.83]), geometry, ContactParams())
+    assert contact.in_contact
+    # the zone's A_u is the floe's overlap with the hull, as GEOS measures it directly
+    expected = shapely.intersection(floe, bow.hull_upper).area
+    assert sum(z.a_u_m2 for z in contact.zones) == pytest.approx(expected, rel=1e-9)

@@ -332,7 +332,7 @@ class BowContactGeometry:
 @dataclass(frozen=True, eq=False)
 class _ConvexBow:
     """The bow as plain arrays for `contact_kernel.contact_batch` (only built when H_u and every footprint
-    are convex: the kernel's clipping needs convex clip polygons)."""
+    are convex single polygons: the kernel's clipping needs convex clip polygons)."""
 
     hull_x: np.ndarray
     hull_y: np.ndarray
@@ -345,6 +345,9 @@ class _ConvexBow:
 
     @classmethod
     def from_bow(cls, hull_upper, footprints, upper_xy, node_distance_m, panel_normals) -> _ConvexBow | None:
+        single = (shapely.get_type_id(footprints) == 3) & ~shapely.is_empty(footprints)
+        if not single.all():  # a blunt bow's footprint can be a bow-tie's two triangles (or nothing)
+            return None
         hull = contact_kernel.ccw_ring(shapely.get_coordinates(hull_upper.exterior))
         quads = [contact_kernel.ccw_ring(shapely.get_coordinates(q.exterior)) for q in footprints]
         if any(len(q) != 4 for q in quads) or not all(map(contact_kernel.is_convex_ring, [hull, *quads])):
