@@ -5,6 +5,7 @@ from __future__ import annotations
 import atexit
 import gc
 import sys
+from contextlib import contextmanager, nullcontext
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
@@ -200,19 +201,27 @@ def _save_failed_scenario(out: Path, scenario, error: BaseException) -> Path | N
     return path
 
 
-def _import_engine():
-    """`floebreak.api` and the engine's libraries (numba, scipy.optimize, shapely, pyarrow), imported with the
-    garbage collector paused and their objects then frozen, as `_floebreak_entry` does for the command line:
-    ≈ 100 000 tracked objects that live as long as the process, which the collector would otherwise walk
-    again and again while they are created."""
+@contextmanager
+def _collector_paused():
+    """The garbage collector off while the block runs, then everything alive frozen out of its reach: for
+    imports and kernel loading, whose objects live as long as the process and which the collector would
+    otherwise walk again and again while they are created (`_floebreak_entry` does the same for the
+    command line's own import; it lies outside the package, so it cannot use this)."""
     enabled = gc.isenabled()
     gc.disable()
     try:
-        from floebreak import api
+        yield
     finally:
         gc.freeze()
         if enabled:
             gc.enable()
+
+
+def _import_engine():
+    """`floebreak.api` and the engine's libraries (numba, scipy.optimize, shapely, pyarrow: ≈ 100 000
+    tracked objects), imported with the collector paused."""
+    with _collector_paused():
+        from floebreak import api
     return api
 
 
@@ -220,21 +229,13 @@ def _prepare_kernels(quiet: bool) -> None:
     """Load the numba kernels before the progress bar starts: ≈ 0.2 s from numba's on-disk cache, but a
     machine's first run compiles them (≈ 10–20 s), which would otherwise look like a run stuck at 0 %."""
     import time
-    from contextlib import nullcontext
 
     from floebreak.mechanics import compile_kernels
 
     message = "loading the compiled kernels (a machine's first run compiles them once, ≈ 10–20 s)"
     started = time.perf_counter()
-    with nullcontext() if quiet else err_console.status(message):
-        enabled = gc.isenabled()
-        gc.disable()  # numba's typing registries live as long as the process: as in `_import_engine`
-        try:
-            compile_kernels()
-        finally:
-            gc.freeze()
-            if enabled:
-                gc.enable()
+    with nullcontext() if quiet else err_console.status(message), _collector_paused():
+        compile_kernels()  # numba's typing registries live as long as the process
     seconds = time.perf_counter() - started
     if seconds > 3.0 and not quiet:
         err_console.print(f"compiled the numba kernels in {seconds:.0f} s (cached for later runs)")
