@@ -22,7 +22,8 @@ def test_reference_example_is_the_issue_scenario():
     assert (s.field.length_m, s.field.width_m, s.field.generator) == (400.0, 50.0, "circles")
     assert s.ice.thickness_m == 1.0 and s.ice.fracture_toughness_pa_sqrt_m == 145.7e3
     assert (s.ship.hull, s.ship.step_m) == ("agulhas_ii", 0.25)
-    assert (s.failure.crack_criterion, s.failure.size_effect_law) == ("tensile_stress", "BZ")
+    # the flat keys of the issue's TOML stand for the cracking mode's table
+    assert s.failure.mode_tables() == {"cracking": {"criterion": "tensile_stress", "size_effect_law": "BZ"}}
 
 
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.name)
@@ -98,7 +99,7 @@ def test_a_field_source_override_replaces_the_files_source(tmp_path):
     s = Scenario.from_toml_text(REFERENCE_TOML, base_dir=tmp_path, overrides=['field.file="f.parquet"'])
     assert s.field.source == "file" and s.field.file == tmp_path / "f.parquet"
     assert (s.field.observation, s.field.length_m, s.field.width_m) == (None, None, None)
-    assert s.ice.thickness_m == 1.0 and s.failure.crack_criterion == "tensile_stress"
+    assert s.ice.thickness_m == 1.0 and s.failure.mode_tables()["cracking"]["criterion"] == "tensile_stress"
     # and back: a file scenario given an observation generates again
     from_file = "[field]\nfile = 'f.parquet'\n"
     s = Scenario.from_toml_text(

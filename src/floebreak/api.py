@@ -256,11 +256,17 @@ def build_bow(scenario: Scenario, floe_field: FloeField | None = None):
 
 
 def build_model_for(scenario: Scenario) -> Model:
-    """The physics `Model`: the scenario's profile with the [ice] and [failure] values applied."""
+    """The physics `Model`: the scenario's profile with the [ice] values, the mode tables
+    ``[failure.<mode>]`` and the dispatch keys of [failure] applied (modes from the failure registry)."""
+    from floebreak.failure import get_mode, mode_names
     from floebreak.profiles import build_model
 
     ice, failure = scenario.ice, scenario.failure
-    material = {"youngs_modulus_pa": ice.youngs_modulus_pa, "poisson_ratio": ice.poisson_ratio}
+    tables = failure.mode_tables()
+    modes = {}
+    for name in mode_names():
+        spec = get_mode(name)
+        modes[name] = {**{key: getattr(ice, key) for key in spec.material}, **tables.get(name, {})}
     return build_model(
         scenario.profile,
         contact={
@@ -268,20 +274,10 @@ def build_model_for(scenario: Scenario) -> Model:
             "contact_coefficient": ice.contact_coefficient,
             "friction_coefficient": ice.friction_coefficient,
         },
-        classification=material,
-        bending={
-            "flexural_strength_pa": ice.flexural_strength_pa,
-            "wedge_angle_deg": failure.wedge_angle_deg,
-            **material,
-        },
-        cracking={
-            "criterion": failure.crack_criterion,
-            "fracture_toughness_pa_sqrt_m": ice.fracture_toughness_pa_sqrt_m,
-            "size_effect_law": failure.size_effect_law,
-            "stress_mode": failure.stress_mode,
-            "next_crack_angle_deg": failure.next_crack_angle_deg,
-        },
+        classification={"youngs_modulus_pa": ice.youngs_modulus_pa, "poisson_ratio": ice.poisson_ratio},
+        modes=modes,
         failure={
+            "policy": failure.policy,
             "shoulder_region_start": failure.shoulder_region_start,
             "flip_uncracked_at_shoulder": failure.flip_uncracked_at_shoulder,
         },

@@ -6,21 +6,14 @@ switch names its erratum (physics-notes §5); `docs/model.md` §9 lists them wit
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
 from floebreak import constants as c
 from floebreak.errors import InputError
-from floebreak.failure import (
-    Bending,
-    BendingSettings,
-    Cracking,
-    CrackingSettings,
-    DirectRotation,
-    FailureModel,
-    LocalCracking,
-)
+from floebreak.failure import FailureModel, check_policy, complete_policy, get_mode, mode_names
 from floebreak.mechanics.classify import ClassificationParams
 from floebreak.mechanics.contact import ContactParams
 from floebreak.simulation import Model
@@ -37,17 +30,12 @@ class FieldSwitches:
     thickness_sum_from_zero: bool = False
 
 
-# thesis-literal switches, erratum by erratum (physics-notes §5)
+# thesis-literal switches of contact and field generation, erratum by erratum (physics-notes §5); each
+# failure mode's own are in its module (its registration's `thesis`)
 THESIS_SWITCHES: MappingProxyType[str, Any] = MappingProxyType(
     {
         "contact.area_model": "single_psi",  # Eq. 6 with one ψ per zone (notes §2.2)
         "contact.force_signs": "thesis_alg3",  # erratum 9: Alg. 3 friction sign of F_h
-        "bending.capacity_model": "thesis_per_wedge",  # erratum 13: F_v against one 5° wedge
-        "bending.breaking_length_mode": "max_moment",  # erratum 11: max-moment distance
-        "bending.loading_radius_model": "sector_area_clipped",  # notes §1.7: r clipped to the Erceg table
-        "cracking.bz2_mode": "thesis",  # erratum 15
-        "cracking.tada_labels": "thesis_alg7",  # erratum 16, as run (Alg. 7: swapped, exponent 3)
-        "cracking.line_load_divide_by_thickness": False,  # erratum 17
         "field.floe_area_factor": 0.5,  # erratum 1
         "field.thickness_summands": c.THICKNESS_SUMMANDS_THESIS,  # erratum 6
         "field.thickness_sum_from_zero": True,  # erratum 6
@@ -60,37 +48,61 @@ def _split(switches: dict[str, Any], prefix: str) -> dict[str, Any]:
 
 
 def profile_switches(profile: str) -> dict[str, Any]:
+    """Every switch of `profile` as ``section.key`` (``<mode>.<setting>`` for failure modes)."""
     if profile not in PROFILES:
         raise InputError("profile", f"unknown profile {profile!r}", allowed=", ".join(PROFILES))
-    return dict(THESIS_SWITCHES) if profile == "thesis" else {}
+    if profile == "default":
+        return {}
+    modes = {f"{name}.{k}": v for name in mode_names() for k, v in get_mode(name).thesis.items()}
+    return {**THESIS_SWITCHES, **modes}
+
+
+def build_failure_model(
+    profile: str,
+    modes: Mapping[str, Mapping[str, Any]] | None = None,
+    policy: Mapping[str, Mapping[str, Sequence[str]]] | None = None,
+    flip_uncracked_at_shoulder: bool = True,
+    shoulder_region_start: float = 0.5,
+) -> FailureModel:
+    """The registered modes with `profile`'s settings and `modes`' overrides (mode → setting → value,
+    applied last), and `policy` (failure class → region → modes) completed with the default."""
+    profile_switches(profile)  # an unknown profile → InputError
+    modes = dict(modes or {})
+    for name in modes:
+        get_mode(name)  # an unknown mode → InputError listing the registered ones
+    specs = [get_mode(name) for name in mode_names()]
+    settings = {
+        spec.name: spec.make_settings(
+            {**(spec.thesis if profile == "thesis" else {}), **modes.get(spec.name, {})}
+        )
+        for spec in specs
+    }
+    full_policy = complete_policy(policy, flip_uncracked_at_shoulder)
+    check_policy(full_policy, mode_names())
+    used = {name for regions in full_policy.values() for names in regions.values() for name in names}
+    instances = {spec.name: spec.create(settings) for spec in specs if spec.name in used}
+    return FailureModel(instances, full_policy, shoulder_region_start)
 
 
 def build_model(
     profile: str = "default",
     *,
-    contact: dict[str, Any] | None = None,
-    classification: dict[str, Any] | None = None,
-    bending: dict[str, Any] | None = None,
-    cracking: dict[str, Any] | None = None,
-    failure: dict[str, Any] | None = None,
+    contact: Mapping[str, Any] | None = None,
+    classification: Mapping[str, Any] | None = None,
+    modes: Mapping[str, Mapping[str, Any]] | None = None,
+    failure: Mapping[str, Any] | None = None,
 ) -> Model:
-    """The `Model` of `profile`, with explicit overrides (plain dicts of dataclass fields) applied last."""
+    """The `Model` of `profile`, with explicit overrides (plain dicts of dataclass fields) applied last.
+
+    `modes` maps a registered mode's name to its settings (``{"cracking": {"criterion": "line_load"}}``);
+    `failure` holds the dispatch: ``policy``, ``flip_uncracked_at_shoulder``, ``shoulder_region_start``
+    (`build_failure_model`).
+    """
     switches = profile_switches(profile)
-    bending_settings = BendingSettings(**{**_split(switches, "bending"), **(bending or {})})
-    cracking_settings = CrackingSettings(
-        **{**_split(switches, "cracking"), **(cracking or {}), "bending": bending_settings}
-    )
-    failure_model = FailureModel(
-        bending=Bending(bending_settings),
-        cracking=Cracking(cracking_settings),
-        local_cracking=LocalCracking(bending_settings),
-        rotation=DirectRotation(),
-        **(failure or {}),
-    )
     return Model(
         contact=ContactParams(**{**_split(switches, "contact"), **(contact or {})}),
         classification=ClassificationParams(**(classification or {})),
-        failure=failure_model,
+        failure=build_failure_model(profile, modes, **(failure or {})),
     )
 
 

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import shapely
 
+from floebreak.failure import Fate
 from floebreak.simulation import ContactEvaluated, Event, SimulationResult
 
 CONTACT_COLUMNS = (
@@ -37,8 +38,8 @@ def outcome_label(event: ContactEvaluated) -> str:
     outcome = event.outcome
     if not outcome.failed:
         return "no_failure"
-    if outcome.mode == "rotation":
-        return str(outcome.pieces[0].fate) if outcome.pieces else "rotation"
+    if len(outcome.pieces) == 1 and outcome.pieces[0].fate != Fate.FLOE:
+        return str(outcome.pieces[0].fate)  # the piece leaves the field whole (e.g. direct rotation)
     return outcome.mode
 
 

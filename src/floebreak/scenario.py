@@ -16,11 +16,18 @@ Physical parameters cite thesis / physics-notes sections in their descriptions; 
 
 from __future__ import annotations
 
+import ast
+import dataclasses
 import datetime as _dt
+import functools
 import hashlib
+import inspect
+import itertools
 import json
 import re
+import textwrap
 import tomllib
+import typing
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -33,6 +40,7 @@ from pydantic import (
     Strict,
     ValidationError,
     ValidationInfo,
+    create_model,
     field_validator,
     model_validator,
 )
@@ -75,12 +83,11 @@ Int = Annotated[int, Strict()]
 Bool = Annotated[bool, Strict()]
 
 HULL_NAMES = ("agulhas_ii", "polarstern")
-PROFILE_NAMES = ("default", "thesis")
 
 
-def _cross(key: str, message: str) -> PydanticCustomError:
+def _cross(key: str, message: str, allowed: str | None = None) -> PydanticCustomError:
     """A cross-field error; `key` (relative to the section) becomes the reported field."""
-    return PydanticCustomError("floebreak_cross", message, {"key": key})
+    return PydanticCustomError("floebreak_cross", message, {"key": key, "allowed": allowed})
 
 
 class _Section(BaseModel):
@@ -287,30 +294,171 @@ class ShipSection(_Section):
         return self
 
 
-class FailureSection(_Section):
-    """Failure-mode switches (thesis §4, physics-notes §3–4)."""
+# The flat [failure] keys of earlier versions and the mode table key each stands for (issue 17): a scenario
+# file and `--set` may still use them; the scenario stores and writes the table form.
+FLAT_FAILURE_KEYS: dict[str, tuple[str, str]] = {
+    "crack_criterion": ("cracking", "criterion"),
+    "size_effect_law": ("cracking", "size_effect_law"),
+    "stress_mode": ("cracking", "stress_mode"),
+    "next_crack_angle_deg": ("cracking", "next_crack_angle_deg"),
+    "wedge_angle_deg": ("bending", "wedge_angle_deg"),
+}
 
-    crack_criterion: Literal["point_load", "line_load", "tensile_stress", "flexural_stress"] = Field(
-        "tensile_stress", description="global/local cracking criterion (thesis §4.2)"
-    )
-    size_effect_law: Literal["BZ", "BZ1", "BZ2"] = Field(
-        "BZ", description="size-effect law of the fracture toughness (thesis §4.2.1)"
-    )
-    stress_mode: Literal["thesis", "strength", "sif"] = Field(
-        "thesis", description="stress criteria form (physics-notes §4.4)"
-    )
-    wedge_angle_deg: Float = Field(
-        c.WEDGE_ANGLE_DEG, gt=0.0, le=60.0, description="bending wedge angle φ [deg] (thesis §4.1.2)"
-    )
-    next_crack_angle_deg: Float = Field(
-        c.NEXT_CRACK_ANGLE_DEG, ge=0.0, le=90.0, description="α_nextcrack [deg] (thesis §4.2.3)"
+PolicyModes = list[str]
+
+
+class FailureSection(_Section):
+    """Failure modes and their dispatch (thesis §3.2, §4; physics-notes §3–4; docs/model.md §10).
+
+    Besides the keys below, one table ``[failure.<mode>]`` per registered failure mode that has settings
+    (``floebreak.failure.mode_names()``; e.g. ``[failure.cracking] criterion = "line_load"``), validated
+    against the mode's settings dataclass; the flat keys of `FLAT_FAILURE_KEYS` stand for table keys.
+    """
+
+    model_config = ConfigDict(extra="allow", frozen=True, validate_default=True)
+
+    policy: dict[str, PolicyModes | dict[str, PolicyModes]] | None = Field(
+        None,
+        description="modes tried in order per failure class (unbreakable, bending, cracking), as a list or "
+        "per bow region {stem = [...], shoulder = [...]}; classes and regions left out keep the default",
     )
     shoulder_region_start: Float = Field(
         0.5, ge=0.0, le=1.0, description="fraction of stem→shoulder length where the shoulder begins [-]"
     )
     flip_uncracked_at_shoulder: Bool = Field(
-        True, description="an uncracked cracking-class floe at the shoulder is rotated (flipped)"
+        True,
+        description="the default policy rotates (flips) a floe in which no crack starts at the shoulder",
     )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _mode_tables(cls, data: Any) -> Any:
+        if not isinstance(data, Mapping) or all(key in cls.model_fields for key in data):
+            return data
+        own = {key: value for key, value in data.items() if key in cls.model_fields}
+        return {**own, **_validated_mode_tables(data, tuple(cls.model_fields))}
+
+    @field_validator("policy")
+    @classmethod
+    def _known_modes(cls, value: dict | None) -> dict | None:
+        return None if value is None else _normalised_policy(value)
+
+    def mode_tables(self) -> dict[str, dict[str, Any]]:
+        """The given mode tables, mode name → {setting: value} (flat keys translated)."""
+        return {name: dict(table) for name, table in (self.model_extra or {}).items()}
+
+
+def _validated_mode_tables(data: Mapping[str, Any], own_keys: tuple[str, ...]) -> dict[str, dict[str, Any]]:
+    """The mode tables of a raw [failure] section, with the flat keys moved into them, each validated."""
+    from floebreak.failure import get_mode, mode_names
+
+    with_settings = [name for name in mode_names() if get_mode(name).settings is not None]
+    tables: dict[str, dict[str, Any]] = {}
+    for key, value in data.items():
+        if key in own_keys or key in FLAT_FAILURE_KEYS:
+            continue
+        if key not in with_settings:
+            allowed = ", ".join([*own_keys, *with_settings, *FLAT_FAILURE_KEYS])
+            raise _cross(
+                key, "unknown key (neither a dispatch key nor a failure mode with settings)", allowed
+            )
+        if not isinstance(value, Mapping):
+            raise _cross(key, f"must be a table of {key}'s settings", ", ".join(get_mode(key).table_keys()))
+        tables[key] = dict(value)
+    origin: dict[tuple[str, str], str] = {}  # (mode, setting) → the flat key it was given as
+    for flat, (mode, setting) in FLAT_FAILURE_KEYS.items():
+        if flat in data:
+            if setting in tables.get(mode, {}):
+                raise _cross(flat, f"give either {flat} or {mode}.{setting}, not both")
+            tables.setdefault(mode, {})[setting] = data[flat]
+            origin[(mode, setting)] = flat
+    return {mode: _validated_table(get_mode(mode), table, origin) for mode, table in tables.items()}
+
+
+def _validated_table(
+    spec: Any, table: dict[str, Any], origin: Mapping[tuple[str, str], str]
+) -> dict[str, Any]:
+    """`table` checked against the mode's settings: the keys and types (a pydantic model built from the
+    settings dataclass), then the dataclass's own range checks; errors name the scenario key."""
+
+    def key_of(setting: str) -> str:
+        return origin.get((spec.name, setting), f"{spec.name}.{setting}")
+
+    try:
+        values = _table_model(spec).model_validate(table).model_dump(exclude_unset=True)
+    except ValidationError as error:
+        first = error.errors(include_url=False)[0]
+        setting = str(first["loc"][0]) if first["loc"] else ""
+        if first["type"] == "extra_forbidden":
+            message = f"is read from ice.{setting}" if setting in spec.material else "unknown key"
+            raise _cross(key_of(setting), message, ", ".join(spec.table_keys())) from None
+        raise _cross(key_of(setting), f"{first['msg']} (got {first.get('input')!r})") from None
+    try:
+        spec.make_settings(values)
+    except InputError as error:
+        setting = error.field.rsplit(".", 1)[-1]
+        message = str(error).removeprefix(f"{error.field}: ")
+        raise _cross(key_of(setting) if setting in values else spec.name, message) from None
+    return values
+
+
+@functools.lru_cache(maxsize=64)
+def _table_model(spec: Any) -> type[BaseModel]:
+    """A pydantic model of the scenario table ``[failure.<mode>]``: the settings dataclass's fields (minus
+    the [ice] material) with their types, defaults and docstrings, strict and closed."""
+    hints = typing.get_type_hints(spec.settings)
+    docs = attribute_docstrings(spec.settings)
+    fields: dict[str, Any] = {}
+    for item in dataclasses.fields(spec.settings):
+        if item.name in spec.table_keys():
+            default = item.default if item.default is not dataclasses.MISSING else item.default_factory()
+            fields[item.name] = (hints[item.name], Field(default, description=docs.get(item.name)))
+    config = ConfigDict(extra="forbid", strict=True, frozen=True)
+    return create_model(f"failure.{spec.name}", __config__=config, **fields)
+
+
+def attribute_docstrings(cls: type) -> dict[str, str]:
+    """Field name → the string literal right below the field in the class body (PEP 257 attribute
+    docstrings); empty where the source is not available."""
+    try:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(cls)))
+    except (OSError, TypeError, SyntaxError):
+        return {}
+    body = tree.body[0].body if tree.body and isinstance(tree.body[0], ast.ClassDef) else []
+    docs = {}
+    for node, after in itertools.pairwise(body):
+        if (
+            isinstance(node, ast.AnnAssign)
+            and isinstance(node.target, ast.Name)
+            and isinstance(after, ast.Expr)
+            and isinstance(after.value, ast.Constant)
+            and isinstance(after.value.value, str)
+        ):
+            docs[node.target.id] = inspect.cleandoc(after.value.value)
+    return docs
+
+
+def _normalised_policy(policy: Mapping[str, Any]) -> dict[str, dict[str, list[str]]]:
+    """``[failure.policy]`` as failure class → bow region → modes (a class's list applies to both regions);
+    unknown classes, regions and modes, and empty lists, are refused naming the key."""
+    from floebreak.failure import BOW_REGIONS, FAILURE_CLASSES, mode_names
+
+    result: dict[str, dict[str, list[str]]] = {}
+    for failure_class, value in policy.items():
+        if failure_class not in FAILURE_CLASSES:
+            raise _cross(failure_class, "unknown failure class", ", ".join(FAILURE_CLASSES))
+        regions = value if isinstance(value, dict) else dict.fromkeys(BOW_REGIONS, value)
+        for region, modes in regions.items():
+            key = f"{failure_class}.{region}" if isinstance(value, dict) else failure_class
+            if region not in BOW_REGIONS:
+                raise _cross(key, "unknown bow region", ", ".join(BOW_REGIONS))
+            if not modes:
+                raise _cross(key, "names no mode", "one or more of " + ", ".join(mode_names()))
+            for mode in modes:
+                if mode not in mode_names():
+                    raise _cross(key, f"unknown failure mode {mode!r}", ", ".join(mode_names()))
+        result[failure_class] = {region: list(modes) for region, modes in regions.items()}
+    return result
 
 
 class Scenario(_Section):
@@ -475,7 +623,8 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[s
     ``field.observation``, ``field.diameter_classes_m``/``percentages``; ``ice.thickness_m`` or
     ``ice.thickness_range_m``; ``ship.hull`` or ``ship.file``) first removes from `data` the other and the
     keys only it takes (a file's field has no ``length_m``); two overrides that exclude each other still
-    conflict.
+    conflict. Likewise an override of a flat failure key or of its mode table key (`FLAT_FAILURE_KEYS`)
+    replaces the other spelling.
     """
     result = json.loads(json.dumps(data, default=str)) if data else {}
     overrides = list(overrides)
@@ -488,6 +637,8 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[s
                 section.pop("concentration", None)  # the user observation's, not a change of the named one
             for key in replaced:
                 section.pop(key, None)
+    for path, _ in parsed:
+        _drop_other_spelling(result, path)
     for expression, (path, value) in zip(overrides, parsed, strict=True):
         node = result
         for i, part in enumerate(path[:-1]):
@@ -502,6 +653,23 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict[s
             node = child
         node[path[-1]] = value
     return result
+
+
+def _drop_other_spelling(data: dict[str, Any], path: list[str]) -> None:
+    """Before an override of a flat failure key (``failure.crack_criterion``) or of the table key it stands
+    for (``failure.cracking.criterion``), remove the other spelling from `data` (giving both is an error)."""
+    section = data.get("failure")
+    if not isinstance(section, dict) or path[0] != "failure":
+        return
+    if len(path) == 2 and path[1] in FLAT_FAILURE_KEYS:
+        mode, setting = FLAT_FAILURE_KEYS[path[1]]
+        table = section.get(mode)
+        if isinstance(table, dict):
+            table.pop(setting, None)
+    elif len(path) == 3:
+        for flat, target in FLAT_FAILURE_KEYS.items():
+            if target == (path[1], path[2]):
+                section.pop(flat, None)
 
 
 # --- pydantic errors → InputError -------------------------------------------------------------------
@@ -552,6 +720,7 @@ def input_error_from_validation(error: ValidationError, model: type[BaseModel] =
     ctx = first.get("ctx") or {}
     if kind == "floebreak_cross":
         loc = (*loc, ctx["key"])
+        allowed = ctx.get("allowed")
     elif kind == "extra_forbidden":
         holder = _model_at(model, loc)
         if holder is not None:

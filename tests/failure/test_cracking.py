@@ -15,10 +15,16 @@ import pytest
 import shapely
 
 from floebreak.failure import Cracking, CrackingSettings, Fate
-from floebreak.failure.cracking import indentation_depth_m
+from floebreak.failure.cracking import crack_direction, indentation_depth_m
 
 WIDTH_M = 9.0  # along the panel: w > l → cracking class (thesis Eq. 4)
 LENGTH_M = 6.0  # along the panel normal
+
+
+def criterion_check(cracking: Cracking, inp, context):
+    """The crack criterion's driving and resistance at this contact (`fracture.CrackCheck`)."""
+    direction = crack_direction(inp, math.radians(cracking.settings.next_crack_angle_deg))
+    return cracking.criterion_check(inp, context, direction)
 
 
 def kappa(tip_angle_deg: float = 64.54) -> float:
@@ -116,8 +122,9 @@ def test_point_load_tensile_capacity(make_input, context, kit, thickness_m, must
     settings = CrackingSettings(criterion="point_load", point_load_capacity="tensile_Pt")
     outcome = Cracking(settings).evaluate(inp, context)
     assert outcome.failed is must_fail
-    assert outcome.diagnostics["resistance"] == pytest.approx(p_t, rel=1e-9)
-    assert outcome.diagnostics["driving"] == pytest.approx(f_h, rel=1e-9)
+    check = criterion_check(Cracking(settings), inp, context)
+    assert check.resistance == pytest.approx(p_t, rel=1e-9)
+    assert check.driving == pytest.approx(f_h, rel=1e-9)
 
 
 @pytest.mark.parametrize(("penetration_m", "must_fail"), [(0.005, False), (0.05, True)])
@@ -133,9 +140,9 @@ def test_point_load_bending_capacity(make_input, context, kit, penetration_m, mu
     high = kit.capacity_bracket_n(1.0, math.radians(185.0), rho_high)[1]
     assert (f_h > 1.3 * high) if must_fail else (f_h < low / 1.3)
     inp = make_input(kit.midbody_box(WIDTH_M, LENGTH_M, penetration_m))
-    outcome = Cracking(CrackingSettings(criterion="point_load")).evaluate(inp, context)
-    assert outcome.failed is must_fail
-    assert low <= outcome.diagnostics["resistance"] <= high
+    cracking = Cracking(CrackingSettings(criterion="point_load"))
+    assert cracking.evaluate(inp, context).failed is must_fail
+    assert low <= criterion_check(cracking, inp, context).resistance <= high
 
 
 @pytest.mark.parametrize(("penetration_m", "must_fail"), [(0.003, False), (0.02, True)])
@@ -151,8 +158,9 @@ def test_line_load_with_crack_length_ell_over_5(make_input, context, kit, penetr
     settings = CrackingSettings(criterion="line_load", crack_length="ell_over_5")
     outcome = Cracking(settings).evaluate(inp, context)
     assert outcome.failed is must_fail
-    assert outcome.diagnostics["driving"] == pytest.approx(k_i, rel=1e-9)
-    assert outcome.diagnostics["resistance"] == kit.k_ic_pa_sqrt_m
+    check = criterion_check(Cracking(settings), inp, context)
+    assert check.driving == pytest.approx(k_i, rel=1e-9)
+    assert check.resistance == kit.k_ic_pa_sqrt_m
 
 
 def test_indentation_depth_is_the_penetration(make_input, context, kit):
@@ -163,8 +171,8 @@ def test_indentation_depth_is_the_penetration(make_input, context, kit):
     assert indentation_depth_m(floe, inp.zone.centre_xy_m, np.array([0.0, 1.0])) == pytest.approx(p, rel=1e-9)
     f_h = kit.panel0_forces_per_area()[1] * WIDTH_M * p
     expected = 0.878 * kappa() * f_h * math.sqrt(math.pi / p)
-    outcome = Cracking(CrackingSettings(criterion="line_load")).evaluate(inp, context)
-    assert outcome.diagnostics["driving"] == pytest.approx(expected, rel=1e-9)
+    cracking = Cracking(CrackingSettings(criterion="line_load"))
+    assert criterion_check(cracking, inp, context).driving == pytest.approx(expected, rel=1e-9)
 
 
 def test_indentation_depth_counts_only_the_part_connected_to_o():
@@ -210,7 +218,8 @@ def test_stress_criteria_are_load_independent_thresholds_on_a(
         inp = make_input(kit.midbody_box(WIDTH_M, b, p), h)
         outcome = Cracking(settings).evaluate(inp, context)
         assert outcome.failed is must_fail
-        assert outcome.diagnostics["driving"] == pytest.approx(k_i, rel=1e-9)
+        check = criterion_check(Cracking(settings), inp, context)
+        assert check.driving == pytest.approx(k_i, rel=1e-9)
 
 
 @pytest.mark.parametrize(("penetration_m", "must_fail"), [(0.015, False), (0.06, True)])
@@ -225,5 +234,6 @@ def test_stress_criterion_strength_mode_follows_the_load(make_input, context, ki
     settings = CrackingSettings(criterion="tensile_stress", stress_mode="strength")
     outcome = Cracking(settings).evaluate(inp, context)
     assert outcome.failed is must_fail
-    assert outcome.diagnostics["driving"] == pytest.approx(applied, rel=1e-9)
-    assert outcome.diagnostics["resistance"] == pytest.approx(strength, rel=1e-9)
+    check = criterion_check(Cracking(settings), inp, context)
+    assert check.driving == pytest.approx(applied, rel=1e-9)
+    assert check.resistance == pytest.approx(strength, rel=1e-9)

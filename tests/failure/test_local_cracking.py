@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import shapely
 
-from floebreak.failure import Fate, LocalCracking
+from floebreak.failure import Fate, LocalCracking, Status
 from floebreak.failure.bending import BendingSettings, bending_check
 from floebreak.failure.local_cracking import frontmost_contact_point, local_crack_line
 from floebreak.ice.field import circle_polygons
@@ -83,7 +83,7 @@ def test_cut_runs_from_the_bow_contact_to_the_floe_boundary(
     floe = circle_against_panel(bow, panel, radius_m, penetration_m)
     inp = make_input(floe)
     outcome = LocalCracking().evaluate(inp, context)
-    assert outcome.failed, outcome.reason
+    assert outcome.failed, outcome.status
     assert len(outcome.pieces) == 2
     assert all(piece.fate == Fate.FLOE for piece in outcome.pieces)
     a, b = (piece.polygon for piece in outcome.pieces)
@@ -108,5 +108,5 @@ def test_no_local_cracking_below_the_bending_capacity(context, make_input, kit):
     """Same criterion as bending (thesis §4.3.1, Eq. 11): F_v = 0.12 MN < P_f ≈ 0.3 MN → no failure."""
     inp = make_input(kit.midbody_box(8.0, 20.0, 0.02))
     outcome = LocalCracking().evaluate(inp, context)
-    assert not outcome.failed
+    assert outcome.status is Status.INTACT  # the floe holds: the policy tries no other mode
     assert outcome.pieces == ()

@@ -1,33 +1,43 @@
-"""Failure modes behind one interface (`base.FailureMode`), a registry, and the dispatch policy.
+"""Failure modes behind one interface (`base.FailureMode`), their registry, and the dispatch policy.
 
-Adding a mode: write one module with a frozen dataclass that has ``name`` and ``evaluate``, and add it to
-`MODES` below.
+Adding a mode: one module (or a test file, or a notebook) with a frozen dataclass that has ``name`` and
+``evaluate``, its settings dataclass, and a call to `register_mode` (see `registry`); a scenario then
+names it in ``[failure.policy]`` and sets it in ``[failure.<name>]``. The built-in modes register
+themselves when this package is imported.
 """
 
 from __future__ import annotations
 
-from types import MappingProxyType
-
-from floebreak.failure.base import FailureContext, FailureInput, FailureMode, Fate, NewPiece, Outcome
+from floebreak.failure.base import FailureContext, FailureInput, FailureMode, Fate, NewPiece, Outcome, Status
 from floebreak.failure.bending import Bending, BendingSettings
 from floebreak.failure.cracking import Cracking, CrackingSettings
-from floebreak.failure.dispatch import FailureModel, bow_region, resolve_failure
+from floebreak.failure.dispatch import (
+    BOW_REGIONS,
+    FAILURE_CLASSES,
+    FailureModel,
+    bow_region,
+    check_policy,
+    complete_policy,
+    default_policy,
+    resolve_failure,
+)
 from floebreak.failure.local_cracking import LocalCracking
 from floebreak.failure.none import NoFailure
+from floebreak.failure.registry import (
+    DISPATCH_KEYS,
+    ModeSpec,
+    get_mode,
+    mode_names,
+    register_mode,
+    registered_mode,
+    unregister_mode,
+)
 from floebreak.failure.rotation import DirectRotation
 
-MODES: MappingProxyType[str, type] = MappingProxyType(
-    {
-        NoFailure.name: NoFailure,
-        DirectRotation.name: DirectRotation,
-        Bending.name: Bending,
-        Cracking.name: Cracking,
-        LocalCracking.name: LocalCracking,
-    }
-)
-
 __all__ = [
-    "MODES",
+    "BOW_REGIONS",
+    "DISPATCH_KEYS",
+    "FAILURE_CLASSES",
     "Bending",
     "BendingSettings",
     "Cracking",
@@ -39,9 +49,19 @@ __all__ = [
     "FailureModel",
     "Fate",
     "LocalCracking",
+    "ModeSpec",
     "NewPiece",
     "NoFailure",
     "Outcome",
+    "Status",
     "bow_region",
+    "check_policy",
+    "complete_policy",
+    "default_policy",
+    "get_mode",
+    "mode_names",
+    "register_mode",
+    "registered_mode",
     "resolve_failure",
+    "unregister_mode",
 ]

@@ -4,17 +4,17 @@ A failure mode is a small frozen dataclass holding its own settings, with one me
 
     evaluate(inp: FailureInput, ctx: FailureContext) -> Outcome
 
-Given the floe (bow frame), its classification and its contact with the bow, it returns an `Outcome`:
-either "no failure" (with a reason) or the new pieces, each with its fate — back into the field as a
-floe (and re-classified), a cusp (passes under the hull to the propeller) or flipped (stays beside the
-hull). Modes never raise for physical situations; they return status values, and the engine decides.
-Modes work in the bow frame and never see the bow position, files or the clock.
+Given the floe (bow frame), its classification and its contact with the bow, it returns an `Outcome` with a
+`Status`: the floe failed (new pieces, each with its fate — back into the field as a floe (and
+re-classified), a cusp (passes under the hull to the propeller) or flipped (stays beside the hull)), it
+stays intact, or the mode passes it on to the next mode of the dispatch policy (`failure.dispatch`). Modes
+never raise for physical situations; they return status values, and the engine decides. Modes work in the
+bow frame and never see the bow position, files or the clock.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any, ClassVar, Literal, Protocol
 
@@ -48,11 +48,10 @@ class FailureInput:
 
 @dataclass(frozen=True, eq=False)
 class FailureContext:
-    """The bow, prepared for geometry queries, plus run-wide settings modes may need."""
+    """The bow, prepared for geometry queries."""
 
     bow: Any  # floebreak.ship.bow.Bow
     bow_geometry: BowContactGeometry
-    settings: Mapping[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,15 +61,25 @@ class NewPiece:
     crack_count: int = 0
 
 
+class Status(StrEnum):
+    """What a mode did with a floe; the dispatch policy (`failure.dispatch`) reads it."""
+
+    FAILED = "failed"  # the floe broke or left whole: `Outcome.pieces` replace it; the policy stops
+    INTACT = "intact"  # the floe withstands this mode (e.g. F_v ≤ P_f in bending); the policy stops
+    PASS_ON = "pass_on"  # this mode does not break the floe here: the policy's next mode is tried
+
+
 @dataclass(frozen=True, eq=False)
 class Outcome:
-    """What a mode did. ``failed`` False means nothing changed; ``reason`` says why (for the records)."""
+    """What a mode did: its status and, if the floe failed, the pieces that replace it."""
 
     mode: str
-    failed: bool
+    status: Status
     pieces: tuple[NewPiece, ...] = ()
-    reason: str = ""
-    diagnostics: Mapping[str, float] = field(default_factory=dict)
+
+    @property
+    def failed(self) -> bool:
+        return self.status is Status.FAILED
 
 
 class FailureMode(Protocol):
@@ -79,8 +88,19 @@ class FailureMode(Protocol):
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome: ...
 
 
-def no_failure(mode: str, reason: str, **diagnostics: float) -> Outcome:
-    return Outcome(mode=mode, failed=False, reason=reason, diagnostics=diagnostics)
+def intact(mode: str) -> Outcome:
+    """The floe withstands `mode`: nothing changes and no further mode is tried."""
+    return Outcome(mode, Status.INTACT)
+
+
+def pass_on(mode: str) -> Outcome:
+    """`mode` does not break the floe here: the dispatch policy tries its next mode."""
+    return Outcome(mode, Status.PASS_ON)
+
+
+def failed(mode: str, pieces) -> Outcome:
+    """The floe failed in `mode` and is replaced by `pieces` (`NewPiece`s)."""
+    return Outcome(mode, Status.FAILED, tuple(pieces))
 
 
 MIN_PIECE_AREA_M2 = 1e-6  # split parts at or below this are slivers of the cut, merged into a neighbour

@@ -5,7 +5,7 @@ r = √(2 A_h/Θ); Nevel's narrow-wedge capacity P_f(h, r, Θ) = σ_f Θ h² / (
 F_v > P_f. The bending line is the arc of breaking points B_k = O + ξ_σ(r/ℓ) ℓ U_k (maximum-stress distance
 by default; maximum-moment distance as the thesis' wording), extended along the arc to the floe boundary:
 the floe is split into the part within that radius of O and the rest. If the whole floe lies within the
-radius, it cannot bend; it is pushed under as a whole (a cusp).
+radius, it cannot bend: the mode passes it on to the dispatch policy's next mode (cracking).
 """
 
 from __future__ import annotations
@@ -24,9 +24,12 @@ from floebreak.failure.base import (
     Fate,
     NewPiece,
     Outcome,
-    no_failure,
+    failed,
+    intact,
+    pass_on,
     split_parts,
 )
+from floebreak.failure.registry import register_mode
 from floebreak.ice.material import characteristic_length_scalar_m
 from floebreak.mechanics import nevel
 from floebreak.mechanics.wedge_fan import LoadingRadiusModel, WedgeFan, disk_polygon, wedge_fan
@@ -37,17 +40,26 @@ BreakingLengthMode = Literal["max_stress", "max_moment"]
 
 @dataclass(frozen=True)
 class BendingSettings:
-    """Parameters of the bending model (SI; angles in degrees)."""
+    """Parameters of the bending model (SI; angles in degrees); scenario table ``[failure.bending]``."""
 
     wedge_angle_deg: float = c.WEDGE_ANGLE_DEG
+    """bending wedge angle φ [deg] (thesis §4.1.2), in (0, 60]"""
     flexural_strength_pa: float = c.FLEXURAL_STRENGTH_PA
+    """σ_f [Pa] (from [ice])"""
     capacity_model: CapacityModel = "nevel_narrow"
+    """P_f: Nevel's narrow wedge over the fan Θ, Kashtelyan, or the thesis' per-wedge F_v (erratum 13)"""
     kashtelyan_coefficient: float = 3.0
+    """coefficient of the Kashtelyan capacity [-]"""
     breaking_length_mode: BreakingLengthMode = "max_stress"
+    """bending line distance: maximum stress (notes §1) or maximum moment (thesis wording, erratum 11)"""
     loading_radius_model: LoadingRadiusModel = "sector_area"
+    """loading radius r of the wedge fan (notes §1.7)"""
     youngs_modulus_pa: float = c.YOUNGS_MODULUS_PA
+    """E [Pa] (from [ice])"""
     poisson_ratio: float = c.POISSON_RATIO
+    """ν [-] (from [ice])"""
     foundation_modulus_n_m3: float = c.FOUNDATION_MODULUS_N_M3
+    """k = ρ_w g of the elastic foundation [N/m³]"""
 
     def __post_init__(self) -> None:
         require_range("failure.wedge_angle_deg", self.wedge_angle_deg, low=0.0, high=60.0, unit="deg")
@@ -109,9 +121,6 @@ def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSetti
     return BendingCheck(fan, ell, capacity, zone.vertical_force_n, radius)
 
 
-WITHIN_BREAKING_RADIUS = "floe within the breaking radius: no bending line crosses it"
-
-
 def split_by_radius(polygon, check: BendingCheck) -> tuple[list, list]:
     """(parts within the bending line, parts beyond it): F ∩ disk(O, R) and F − disk(O, R)."""
     fan = check.fan
@@ -122,23 +131,9 @@ def split_by_radius(polygon, check: BendingCheck) -> tuple[list, list]:
     return near, far
 
 
-def diagnostics(check: BendingCheck) -> dict[str, float]:
-    return {
-        "fan_opening_deg": float(np.degrees(check.fan.opening_rad)),
-        "loading_radius_m": check.fan.loading_radius_m,
-        "capacity_n": check.capacity_n,
-        "vertical_force_n": check.vertical_force_n,
-        "breaking_radius_m": check.breaking_radius_m,
-    }
-
-
 def bending_gate(mode: str, check: BendingCheck) -> Outcome | None:
-    """ "No failure" when there is no intact-ice fan or F_v ≤ P_f (shared by bending and local cracking)."""
-    if check.fan.opening_rad == 0.0:
-        return no_failure(mode, "no intact ice fan at the contact")
-    if not check.fails:
-        return no_failure(mode, "F_v <= P_f", **diagnostics(check))
-    return None
+    """Intact when there is no intact-ice fan or F_v ≤ P_f (shared by bending and local cracking)."""
+    return None if check.fails else intact(mode)
 
 
 @dataclass(frozen=True)
@@ -151,10 +146,23 @@ class Bending:
         if (held := bending_gate(self.name, check)) is not None:
             return held
         near, far = split_by_radius(inp.polygon, check)
-        if not near:
-            return no_failure(self.name, "bending line misses the floe", **diagnostics(check))
+        if not near:  # the bending line misses the floe
+            return intact(self.name)
         if not far:
-            # no bending line crosses the floe: it cannot fail in bending here (cracking is tried next)
-            return no_failure(self.name, WITHIN_BREAKING_RADIUS, **diagnostics(check))
-        pieces = tuple(NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far])
-        return Outcome(self.name, True, pieces, reason="F_v > P_f", diagnostics=diagnostics(check))
+            # no bending line crosses the floe (it lies within the breaking radius): it cannot fail in
+            # bending here, and the policy's next mode (cracking) is tried
+            return pass_on(self.name)
+        return failed(self.name, (NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far]))
+
+
+# thesis-literal switches (physics-notes §5)
+register_mode(
+    Bending,
+    settings=BendingSettings,
+    material=("flexural_strength_pa", "youngs_modulus_pa", "poisson_ratio"),
+    thesis={
+        "capacity_model": "thesis_per_wedge",  # erratum 13: F_v against one 5° wedge
+        "breaking_length_mode": "max_moment",  # erratum 11: max-moment distance
+        "loading_radius_model": "sector_area_clipped",  # notes §1.7: r clipped to the Erceg table
+    },
+)

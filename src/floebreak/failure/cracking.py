@@ -19,7 +19,7 @@ Alg. 5). Floe length b: the floe's extent along the crack direction. Size L: b b
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -33,10 +33,12 @@ from floebreak.failure.base import (
     Fate,
     NewPiece,
     Outcome,
-    no_failure,
+    failed,
+    pass_on,
     split_parts,
 )
 from floebreak.failure.bending import BendingSettings, bending_check
+from floebreak.failure.registry import register_mode
 from floebreak.ice.material import characteristic_length_scalar_m
 from floebreak.mechanics import fracture, polygon_kernel
 
@@ -51,21 +53,36 @@ MIN_CRACK_LENGTH_M = 1e-3  # a → 0 makes K_I singular (line load) or zero (str
 
 @dataclass(frozen=True)
 class CrackingSettings:
+    """Parameters of global cracking (SI; angles in degrees); scenario table ``[failure.cracking]``."""
+
     criterion: CrackCriterion = "tensile_stress"
+    """crack criterion (thesis §4.2, Alg. 7; docs/model.md §7)"""
     fracture_toughness_pa_sqrt_m: float = c.FRACTURE_TOUGHNESS_PA_SQRT_M
+    """K_Ic [Pa·√m] (from [ice])"""
     size_effect_law: fracture.SizeEffectLaw = "BZ"
+    """size-effect law of the fracture toughness (thesis §4.2.1)"""
     bz2_mode: fracture.BZ2Mode = "generalised"
+    """BZ2 law: generalised, or the thesis' F = 4.66 without exponent (erratum 15)"""
     size_source: SizeSource = "b"
+    """size L of the size-effect law: floe length b along the crack, equivalent diameter, or thickness"""
     tada_labels: fracture.TadaLabels = "correct"
+    """Tada factors: correct, or tension/bending swapped as run in the thesis (erratum 16)"""
     crack_length: CrackLengthDefinition = "indentation"
+    """crack length a: indentation depth along the crack line, or ℓ/5 (Alg. 5)"""
     point_load_capacity: PointLoadCapacity = "bending_P"
+    """capacity of the point-load criterion: Nevel bending P, or P_t = σ_t h b (thesis §4.2.1)"""
     total_porosity_ppt: float = c.TOTAL_POROSITY_PPT
+    """total porosity for σ_t of P_t [‰]"""
     tip_angle_deg: float = c.BOW_TIP_ANGLE_DEG
-    wedge_friction: float = 0.0  # κ with μ = 0 is the thesis' 1/(2 tan(α/2))
+    """bow tip angle α of the wedge-splitting fraction κ [deg]"""
+    wedge_friction: float = 0.0
+    """friction μ of the wedge-splitting fraction; κ with μ = 0 is the thesis' 1/(2 tan(α/2)) [-]"""
     line_load_divide_by_thickness: bool = True
-    stress_mode: fracture.StressMode = "thesis"  # physics-notes §4.4: thesis K_I(σ_n^t) form; or strength/sif
+    """line load F_h/h in K_I (erratum 17; the thesis omits /h)"""
+    stress_mode: fracture.StressMode = "thesis"
+    """stress criteria form: the thesis' K_I(σ_n^t), or strength / sif (physics-notes §4.4)"""
     next_crack_angle_deg: float = c.NEXT_CRACK_ANGLE_DEG
-    bending: BendingSettings = field(default_factory=BendingSettings)
+    """α_nextcrack [deg]: rotation of a later crack in a cracked floe's piece (thesis §4.2.3), in [0, 90]"""
 
     def __post_init__(self) -> None:
         require_range(
@@ -159,13 +176,14 @@ def extent_along_m(polygon, direction: np.ndarray) -> float:
 class Cracking:
     name: ClassVar[str] = "cracking"
     settings: CrackingSettings = CrackingSettings()
+    bending: BendingSettings = BendingSettings()  # ℓ's material and the point-load capacity P
 
     def criterion_check(self, inp: FailureInput, ctx: FailureContext, direction: np.ndarray):
         """The crack criterion at this contact (a `fracture.CrackCheck`)."""
         s = self.settings
         h = inp.thickness_m
         b = extent_along_m(inp.polygon, direction)
-        bending = s.bending
+        bending = self.bending
         ell = characteristic_length_scalar_m(
             h, "eq1", bending.youngs_modulus_pa, bending.poisson_ratio, bending.foundation_modulus_n_m3
         )
@@ -213,16 +231,25 @@ class Cracking:
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
         direction = crack_direction(inp, np.radians(self.settings.next_crack_angle_deg))
-        check = self.criterion_check(inp, ctx, direction)
-        info = {"driving": float(check.driving), "resistance": float(check.resistance)}
-        if not check.fails:
-            return no_failure(self.name, f"{check.quantity}: driving < resistance", **info)
+        # no crack starts (driving < resistance, or the crack line does not split the floe): passed on — at
+        # the shoulder the default policy then rotates the floe by its position (thesis §4.4)
+        if not self.criterion_check(inp, ctx, direction).fails:
+            return pass_on(self.name)
         left, right = split_by_line(inp.polygon, inp.zone.centre_xy_m, direction)
         if not left or not right:
-            return no_failure(
-                self.name, "no initial crack point: the crack line does not split the floe", **info
-            )
-        pieces = tuple(NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*left, *right])
-        return Outcome(
-            self.name, True, pieces, reason=f"{check.quantity}: driving ≥ resistance", diagnostics=info
-        )
+            return pass_on(self.name)
+        return failed(self.name, (NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*left, *right]))
+
+
+# thesis-literal switches (physics-notes §5); bending's settings give ℓ's material and P
+register_mode(
+    Cracking,
+    settings=CrackingSettings,
+    material=("fracture_toughness_pa_sqrt_m",),
+    thesis={
+        "bz2_mode": "thesis",  # erratum 15
+        "tada_labels": "thesis_alg7",  # erratum 16, as run (Alg. 7: swapped, exponent 3)
+        "line_load_divide_by_thickness": False,  # erratum 17
+    },
+    create=lambda settings: Cracking(settings["cracking"], settings["bending"]),
+)

@@ -1,13 +1,17 @@
-"""Which failure mode handles a classified floe (thesis §3.2, Alg. 2, §4.3, §4.4).
+"""Which failure mode handles a classified floe: the dispatch policy (thesis §3.2, Alg. 2, §4.3, §4.4).
 
-- "unbreakable" → direct rotation (a cusp);
-- "bending" → bending at the stem region; local cracking at the bow side and shoulder (the thesis'
-  breaking patterns show local cracking on bent floes near the bow side and shoulder, §4.3, Figs. 15–16);
-- a floe of the "bending" class that lies wholly within the breaking radius (no bending line crosses
-  it) cannot bend there: it is treated like the "cracking" class below (it is not pushed under whole —
-  cusps are the unbreakable pieces, thesis §3.2);
-- "cracking" → global cracking; if no crack starts while the contact lies in the shoulder region, the
-  floe is rotated aside by its position → flipped (thesis §4.4, second case).
+A policy names, per failure class (Alg. 2) and bow region, the modes to try in order: a mode that returns
+`Status.FAILED` or `Status.INTACT` ends the list, one that returns `Status.PASS_ON` hands the floe to the
+next; a floe that every mode passed on stays intact. The default policy (the thesis gives no rule; a
+documented choice, docs/model.md §10):
+
+- "unbreakable" → `rotation` (a cusp);
+- "bending" → `bending` at the stem region, `local_cracking` at the shoulder region (the thesis' breaking
+  patterns show local cracking on bent floes near the bow side and shoulder, §4.3, Figs. 15–16); a floe that
+  lies wholly within the breaking radius (no bending line crosses it) is passed on to `cracking` (it is not
+  pushed under whole — cusps are the unbreakable pieces, thesis §3.2);
+- "cracking" → `cracking`; at the shoulder, a floe in which no crack starts is passed on to `rotation`:
+  rotated aside by its position → flipped (thesis §4.4, second case; `flip_uncracked_at_shoulder`).
 
 The stem/shoulder boundary is a fraction of the stem-to-shoulder length (`shoulder_region_start`); the
 thesis gives no number, so it is a documented parameter.
@@ -15,30 +19,92 @@ thesis gives no number, so it is a documented parameter.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import get_args
 
-from floebreak.errors import require_range
-from floebreak.failure.base import BowRegion, FailureContext, FailureInput, FailureMode, Outcome
-from floebreak.failure.bending import WITHIN_BREAKING_RADIUS
+from floebreak.errors import InputError, require_range
+from floebreak.failure.base import BowRegion, FailureContext, FailureInput, FailureMode, Outcome, Status
 from floebreak.failure.none import NoFailure
 from floebreak.failure.rotation import DirectRotation
+from floebreak.mechanics.classify import FailureClass
+
+FAILURE_CLASSES: tuple[str, ...] = get_args(FailureClass)
+BOW_REGIONS: tuple[str, ...] = get_args(BowRegion)
+
+# policy: failure class → bow region → mode names, tried in order
+Policy = Mapping[str, Mapping[str, Sequence[str]]]
 
 
-@dataclass(frozen=True)
+def default_policy(flip_uncracked_at_shoulder: bool = True) -> dict[str, dict[str, tuple[str, ...]]]:
+    """The default policy of the module docstring (without the shoulder's rotation if not flipping)."""
+    flip = ("rotation",) if flip_uncracked_at_shoulder else ()
+    return {
+        "unbreakable": {"stem": ("rotation",), "shoulder": ("rotation",)},
+        "bending": {"stem": ("bending", "cracking"), "shoulder": ("local_cracking", "cracking", *flip)},
+        "cracking": {"stem": ("cracking",), "shoulder": ("cracking", *flip)},
+    }
+
+
+def complete_policy(given: Policy | None, flip_uncracked_at_shoulder: bool = True) -> Policy:
+    """`given` (classes → regions → modes) with the default for every class and region it leaves out."""
+    policy = default_policy(flip_uncracked_at_shoulder)
+    for failure_class, regions in (given or {}).items():
+        stated = {region: tuple(modes) for region, modes in regions.items()}
+        policy[failure_class] = {**policy.get(failure_class, {}), **stated}
+    return policy
+
+
+# without a profile (`Model()`): unbreakable floes rotate, nothing breaks (tests, rotation-only runs)
+_NO_BREAKING = complete_policy(
+    {
+        "bending": {"stem": ("none",), "shoulder": ("none",)},
+        "cracking": {"stem": ("none",), "shoulder": ("none", "rotation")},
+    }
+)
+
+
+@dataclass(frozen=True, eq=False)
 class FailureModel:
-    """The failure modes of a run and the dispatch settings."""
+    """The failure modes of a run (by name) and the dispatch policy that names them."""
 
-    bending: FailureMode = NoFailure()
-    cracking: FailureMode = NoFailure()
-    local_cracking: FailureMode = NoFailure()
-    rotation: FailureMode = DirectRotation()
+    modes: Mapping[str, FailureMode] = field(
+        default_factory=lambda: {"rotation": DirectRotation(), "none": NoFailure()}
+    )
+    policy: Policy = field(default_factory=lambda: _NO_BREAKING)
     shoulder_region_start: float = 0.5  # fraction of the stem→shoulder length where the "shoulder" begins
-    flip_uncracked_at_shoulder: bool = True
 
     def __post_init__(self) -> None:
         require_range(
             "failure.shoulder_region_start", self.shoulder_region_start, low=0.0, high=1.0, low_inclusive=True
         )
+        check_policy(self.policy, tuple(self.modes))
+
+
+def check_policy(policy: Policy, modes: Sequence[str]) -> None:
+    """InputError naming ``failure.policy.<class>.<region>`` unless `policy` names one or more of `modes`
+    for every failure class and bow region."""
+    for failure_class, regions in policy.items():
+        if failure_class not in FAILURE_CLASSES:
+            raise InputError(
+                f"failure.policy.{failure_class}", "unknown failure class", allowed=", ".join(FAILURE_CLASSES)
+            )
+        for region in regions:
+            if region not in BOW_REGIONS:
+                key = f"failure.policy.{failure_class}.{region}"
+                raise InputError(key, "unknown bow region", allowed=", ".join(BOW_REGIONS))
+    for failure_class in FAILURE_CLASSES:
+        regions = policy.get(failure_class)
+        if regions is None:
+            raise InputError(f"failure.policy.{failure_class}", "missing", allowed=", ".join(FAILURE_CLASSES))
+        for region in BOW_REGIONS:
+            key = f"failure.policy.{failure_class}.{region}"
+            names = regions.get(region)
+            if not names:
+                raise InputError(key, "no mode given", allowed="one or more of " + ", ".join(modes))
+            for name in names:
+                if name not in modes:
+                    raise InputError(key, f"unknown mode {name!r}", allowed=", ".join(modes))
 
 
 def bow_region(centre_x_m: float, bow_length_m: float, shoulder_region_start: float) -> BowRegion:
@@ -48,17 +114,10 @@ def bow_region(centre_x_m: float, bow_length_m: float, shoulder_region_start: fl
 
 
 def resolve_failure(model: FailureModel, inp: FailureInput, ctx: FailureContext) -> Outcome:
-    """Apply the dispatch policy above and return the outcome of the chosen mode."""
-    failure_class = inp.classification.failure_class
-    if failure_class == "unbreakable":
-        return model.rotation.evaluate(inp, ctx)
-    if failure_class == "bending":
-        local = inp.region == "shoulder" and not isinstance(model.local_cracking, NoFailure)
-        bent = (model.local_cracking if local else model.bending).evaluate(inp, ctx)
-        if bent.failed or bent.reason != WITHIN_BREAKING_RADIUS:
-            return bent
-    outcome = model.cracking.evaluate(inp, ctx)
-    if not outcome.failed and inp.region == "shoulder" and model.flip_uncracked_at_shoulder:
-        flipped = model.rotation.evaluate(inp, ctx)
-        return replace(flipped, reason=f"no crack at the shoulder ({outcome.reason}); rotated by position")
+    """Try the policy's modes for the floe's class and region in order; the first outcome that is not
+    `Status.PASS_ON` decides (or the last mode's, if every mode passed the floe on)."""
+    for name in model.policy[inp.classification.failure_class][inp.region]:
+        outcome = model.modes[name].evaluate(inp, ctx)
+        if outcome.status is not Status.PASS_ON:
+            return outcome
     return outcome

@@ -9,8 +9,8 @@ Criterion: the bending criterion F_v > P_f (thesis §4.3.1). Line (thesis §4.3.
 - C_bend: the rest of the arc towards the stern, continued until it meets the floe boundary (where the arc
   lies outside the floe the floe edge bounds the piece: "the floe edge line is used").
 The separated piece is the part of the floe enclosed by this line on the stern side of the crack line.
-Which floes get local cracking instead of bending is decided in `failure.dispatch` (bent floes at the bow
-side and shoulder).
+Which floes get local cracking instead of bending is decided by the dispatch policy (`failure.dispatch`:
+by default bending-class floes whose contact lies in the shoulder region).
 """
 
 from __future__ import annotations
@@ -29,16 +29,13 @@ from floebreak.failure.base import (
     Fate,
     NewPiece,
     Outcome,
-    no_failure,
+    failed,
+    intact,
+    pass_on,
     split_parts,
 )
-from floebreak.failure.bending import (
-    WITHIN_BREAKING_RADIUS,
-    BendingSettings,
-    bending_check,
-    bending_gate,
-    diagnostics,
-)
+from floebreak.failure.bending import BendingSettings, bending_check, bending_gate
+from floebreak.failure.registry import register_mode
 
 CRACK_POINTS = 30  # thesis Alg. 6 (intended linspace with 30 points)
 BEZIER_POINTS = 30
@@ -147,11 +144,12 @@ class LocalCracking:
         near, far = split_parts(
             shapely.intersection(inp.polygon, line.cutter), shapely.difference(inp.polygon, line.cutter)
         )
-        if not near:
-            return no_failure(self.name, "local cracking line misses the floe", **diagnostics(check))
-        if not far:  # no line crosses the floe: no local cracking here (cracking is tried next)
-            return no_failure(self.name, WITHIN_BREAKING_RADIUS, **diagnostics(check))
-        pieces = tuple(NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*near, *far])
-        return Outcome(
-            self.name, True, pieces, reason="F_v > P_f (local cracking)", diagnostics=diagnostics(check)
-        )
+        if not near:  # the local cracking line misses the floe
+            return intact(self.name)
+        if not far:  # no line crosses the floe: no local cracking here (the policy's next mode is tried)
+            return pass_on(self.name)
+        return failed(self.name, (NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*near, *far]))
+
+
+# no settings of its own: it shares bending's ([failure.bending], and bending's thesis values)
+register_mode(LocalCracking, create=lambda settings: LocalCracking(settings["bending"]))

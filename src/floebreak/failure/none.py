@@ -1,11 +1,16 @@
-"""The explicit "off" mode: the floe never fails this way (instead of `if enabled:` checks elsewhere)."""
+"""The explicit "off" mode: the floe never fails this way (instead of `if enabled:` checks elsewhere).
+
+It passes the floe on, so the dispatch policy's next mode decides (a policy of ``["none"]`` alone leaves the
+floe intact).
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import ClassVar
 
-from floebreak.failure.base import FailureContext, FailureInput, Outcome, no_failure
+from floebreak.failure.base import FailureContext, FailureInput, Outcome, pass_on
+from floebreak.failure.registry import register_mode
 
 
 @dataclass(frozen=True)
@@ -13,4 +18,7 @@ class NoFailure:
     name: ClassVar[str] = "none"
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
-        return no_failure(self.name, "mode disabled")
+        return pass_on(self.name)
+
+
+register_mode(NoFailure)

@@ -12,7 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from floebreak.failure.base import FailureContext, FailureInput, Fate, NewPiece, Outcome
+from floebreak.failure.base import FailureContext, FailureInput, Fate, NewPiece, Outcome, failed
+from floebreak.failure.registry import register_mode
 
 
 @dataclass(frozen=True)
@@ -21,10 +22,8 @@ class DirectRotation:
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
         unbreakable = inp.classification.failure_class == "unbreakable"
-        fate = Fate.CUSP if unbreakable else Fate.FLIPPED
-        return Outcome(
-            mode=self.name,
-            failed=True,
-            pieces=(NewPiece(inp.polygon, fate, inp.crack_count),),
-            reason="unbreakable by size" if unbreakable else "rotated by position",
-        )
+        fate = Fate.CUSP if unbreakable else Fate.FLIPPED  # unbreakable by size, else rotated by position
+        return failed(self.name, (NewPiece(inp.polygon, fate, inp.crack_count),))
+
+
+register_mode(DirectRotation)

@@ -309,20 +309,6 @@ def _tada_factor(eps, loading: Loading, labels: TadaLabels):
     return _tan_ratio_sqrt(0.5 * np.pi * eps) * g
 
 
-def edge_crack_sif_pa_sqrt_m(
-    stress_pa: float,
-    crack_length_m: float,
-    strip_width_m: float,
-    loading: Loading,
-    *,
-    labels: TadaLabels = "correct",
-) -> float:
-    """K_I = σ √(πa) F(a/b) [Pa√m] for an edge crack a in a strip of width b (thesis Eq. 19, §4.3)."""
-    sigma = require_range("stress_pa", stress_pa, low=0.0, low_inclusive=True, unit="Pa")
-    a, b = _crack_geometry(crack_length_m, strip_width_m)
-    return sigma * math.sqrt(math.pi * a) * float(tada_geometry_factor(a / b, loading, labels=labels))
-
-
 def _crack_geometry(crack_length_m: float, strip_width_m: float) -> tuple[float, float]:
     a = require_range("crack_length_m", crack_length_m, low=0.0, unit="m")
     b = require_range("strip_width_m", strip_width_m, low=0.0, unit="m")
