@@ -1,8 +1,10 @@
 """floebreak: a ship's bow breaking sea-ice floes, and the cusps' propeller–ice loads.
 
-Public API (see the README and docs/): ``floebreak.run(scenario) -> Result`` runs a `Scenario` (a TOML
-file, a dict or None for the reference scenario) without touching files; ``Result.write(out)`` writes a run
-directory. ``floebreak.run`` and ``Result`` live in `floebreak.api`.
+The public API (docs/api.md): ``floebreak.run(scenario) -> Result`` runs a `Scenario` (a TOML file, a dict
+or None for the reference scenario) without touching files, and ``Result.write(out)`` writes a run
+directory; `generate_field`, `FloeField`, `Bow`/`get_hull`, `build_model` (profiles) and `simulate` are the
+engine's parts for scripts; `register_mode` adds a failure mode; `propeller_analysis` and `run_study` are
+the propeller and study entry points. Everything else is internal and may change.
 
 The names below are imported on first use (PEP 562): ``import floebreak`` and the command line's light
 commands (``floebreak --help``, ``schema``, ``observations``, ``report``) then do not load the engine's
@@ -19,44 +21,92 @@ from floebreak.io.provenance import floebreak_version
 if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` imports them on first use
     from floebreak.api import Result, run
     from floebreak.errors import InputError
+    from floebreak.failure import mode_names, register_mode, registered_mode, unregister_mode
     from floebreak.ice.field import FloeField
     from floebreak.ice.generation import generate_field
     from floebreak.ice.observations import Observation, get_observation, thesis_observations
+    from floebreak.profiles import PROFILES, build_model
+    from floebreak.propeller.pipeline import propeller_analysis
     from floebreak.scenario import Scenario
+    from floebreak.ship.bow import Bow
+    from floebreak.ship.hulls import get_hull
+    from floebreak.simulation import Model, SimulationParams, SimulationResult, simulate
+    from floebreak.studies.aggregate import aggregate as aggregate_study
+    from floebreak.studies.design import expand as expand_study
+    from floebreak.studies.design import load_study, thesis_study
+    from floebreak.studies.runner import run_study
 
 __version__ = floebreak_version()
 
+# public name → the module that defines it ("module:name" where the public name differs)
 _LAZY = {
+    "aggregate_study": "floebreak.studies.aggregate:aggregate",
+    "expand_study": "floebreak.studies.design:expand",
+    "Bow": "floebreak.ship.bow",
     "FloeField": "floebreak.ice.field",
     "InputError": "floebreak.errors",
+    "Model": "floebreak.simulation",
     "Observation": "floebreak.ice.observations",
+    "PROFILES": "floebreak.profiles",
     "Result": "floebreak.api",
     "Scenario": "floebreak.scenario",
+    "SimulationParams": "floebreak.simulation",
+    "SimulationResult": "floebreak.simulation",
+    "build_model": "floebreak.profiles",
     "generate_field": "floebreak.ice.generation",
+    "get_hull": "floebreak.ship.hulls",
     "get_observation": "floebreak.ice.observations",
+    "load_study": "floebreak.studies.design",
+    "mode_names": "floebreak.failure",
+    "propeller_analysis": "floebreak.propeller.pipeline",
+    "register_mode": "floebreak.failure",
+    "registered_mode": "floebreak.failure",
     "run": "floebreak.api",
+    "run_study": "floebreak.studies.runner",
+    "simulate": "floebreak.simulation",
     "thesis_observations": "floebreak.ice.observations",
+    "thesis_study": "floebreak.studies.design",
+    "unregister_mode": "floebreak.failure",
 }
 
 __all__ = [
+    "PROFILES",
+    "Bow",
     "FloeField",
     "InputError",
+    "Model",
     "Observation",
     "Result",
     "Scenario",
+    "SimulationParams",
+    "SimulationResult",
     "__version__",
+    "aggregate_study",
+    "build_model",
+    "expand_study",
     "generate_field",
+    "get_hull",
     "get_observation",
+    "load_study",
+    "mode_names",
+    "propeller_analysis",
+    "register_mode",
+    "registered_mode",
     "run",
+    "run_study",
+    "simulate",
     "thesis_observations",
+    "thesis_study",
+    "unregister_mode",
 ]
 
 
 def __getattr__(name: str):
-    module = _LAZY.get(name)
-    if module is None:
+    target = _LAZY.get(name)
+    if target is None:
         raise AttributeError(f"module 'floebreak' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
+    module, _, attribute = target.partition(":")
+    value = getattr(importlib.import_module(module), attribute or name)
     globals()[name] = value  # later look-ups skip this function
     return value
 

@@ -6,7 +6,7 @@ switch names its erratum (physics-notes §5); `docs/model.md` §9 lists them wit
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
@@ -14,6 +14,7 @@ from typing import Any
 from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.failure import FailureModel, check_policy, complete_policy, get_mode, mode_names
+from floebreak.failure.dispatch import StatedPolicy
 from floebreak.mechanics.classify import ClassificationParams
 from floebreak.mechanics.contact import ContactParams
 from floebreak.simulation import Model
@@ -60,7 +61,7 @@ def profile_switches(profile: str) -> dict[str, Any]:
 def build_failure_model(
     profile: str,
     modes: Mapping[str, Mapping[str, Any]] | None = None,
-    policy: Mapping[str, Mapping[str, Sequence[str]]] | None = None,
+    policy: StatedPolicy | None = None,
     flip_uncracked_at_shoulder: bool = True,
     shoulder_region_start: float = 0.5,
 ) -> FailureModel:

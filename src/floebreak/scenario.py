@@ -562,8 +562,22 @@ class Scenario(_Section):
 
 
 def json_schema() -> dict[str, Any]:
-    """The JSON schema of a scenario file (units in the descriptions)."""
-    return Scenario.model_json_schema()
+    """The JSON schema of a scenario file (units in the descriptions), with the table of every registered
+    failure mode that has settings and the flat failure keys."""
+    from floebreak.failure import get_mode, mode_names
+
+    schema = Scenario.model_json_schema()
+    failure = schema["$defs"]["FailureSection"]
+    failure["additionalProperties"] = False  # the mode tables below are the only other keys
+    for name in mode_names():
+        spec = get_mode(name)
+        if spec.settings is not None:
+            table = _table_model(spec).model_json_schema()
+            table["description"] = f"settings of the failure mode {name!r} ({spec.settings.__name__})"
+            failure["properties"][name] = table
+    for flat, (mode, setting) in FLAT_FAILURE_KEYS.items():
+        failure["properties"][flat] = {"description": f"the same as {mode}.{setting} (the earlier spelling)"}
+    return schema
 
 
 # --- overrides ----------------------------------------------------------------------------------------

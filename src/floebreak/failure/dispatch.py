@@ -34,6 +34,8 @@ BOW_REGIONS: tuple[str, ...] = get_args(BowRegion)
 
 # policy: failure class → bow region → mode names, tried in order
 Policy = Mapping[str, Mapping[str, Sequence[str]]]
+# as stated (a scenario's [failure.policy]): a class's regions, or one list for both
+StatedPolicy = Mapping[str, Mapping[str, Sequence[str]] | Sequence[str]]
 
 
 def default_policy(flip_uncracked_at_shoulder: bool = True) -> dict[str, dict[str, tuple[str, ...]]]:
@@ -46,10 +48,13 @@ def default_policy(flip_uncracked_at_shoulder: bool = True) -> dict[str, dict[st
     }
 
 
-def complete_policy(given: Policy | None, flip_uncracked_at_shoulder: bool = True) -> Policy:
-    """`given` (classes → regions → modes) with the default for every class and region it leaves out."""
+def complete_policy(given: StatedPolicy | None, flip_uncracked_at_shoulder: bool = True) -> Policy:
+    """`given` (class → region → modes, or class → modes for both regions) with the default for every
+    class and region it leaves out."""
     policy = default_policy(flip_uncracked_at_shoulder)
     for failure_class, regions in (given or {}).items():
+        if not isinstance(regions, Mapping):  # one list for both regions
+            regions = dict.fromkeys(BOW_REGIONS, regions)
         stated = {region: tuple(modes) for region, modes in regions.items()}
         policy[failure_class] = {**policy.get(failure_class, {}), **stated}
     return policy
