@@ -193,3 +193,16 @@ def test_bad_failure_sections_name_the_key(section, key, word):
         Scenario.from_toml_text(section)
     assert info.value.field == key
     assert word in str(info.value)
+
+
+def test_the_schema_lists_each_modes_table_with_its_docstrings():
+    from floebreak.scenario import json_schema
+
+    failure = json_schema()["$defs"]["FailureSection"]
+    assert failure["additionalProperties"] is False
+    criterion = failure["properties"]["cracking"]["properties"]["criterion"]
+    assert set(criterion["enum"]) == {"point_load", "line_load", "tensile_stress", "flexural_stress"}
+    wedge = failure["properties"]["bending"]["properties"]["wedge_angle_deg"]
+    assert "[deg]" in wedge["description"] and wedge["default"] == 5.0  # thesis §4.1.2: φ = 5°
+    assert "flexural_strength_pa" not in failure["properties"]["bending"]["properties"]  # from [ice]
+    assert "cracking.criterion" in failure["properties"]["crack_criterion"]["description"]
