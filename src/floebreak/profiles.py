@@ -1,7 +1,7 @@
 """Model profiles: `default` (corrected physics, physics-notes) and `thesis` (the thesis' literal choices).
 
 A profile is a complete `simulation.Model` plus the field-generation switches of the same errata. Each thesis
-switch names its erratum (physics-notes §5); `docs/model.md` §9 lists them with the reasons.
+switch names its erratum (physics-notes §5); `docs/model.md` §11 lists them with the reasons.
 """
 
 from __future__ import annotations

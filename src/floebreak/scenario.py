@@ -466,7 +466,7 @@ class Scenario(_Section):
 
     profile: Literal["default", "thesis"] = Field(
         "default",
-        description="model profile: default (corrected physics) or thesis (literal, docs/model.md §9)",
+        description="model profile: default (corrected physics) or thesis (literal, docs/model.md §11)",
     )
     seed: Int = Field(1, ge=0, description="seed of numpy.random.default_rng for the field generation")
     name: str = Field("", description="free-text name shown in reports")

@@ -130,3 +130,18 @@ def test_the_architecture_doc_shows_this_code():
     start, end = "@dataclass(frozen=True)\nclass HalvingSettings", 'min_area_m2 = 2.0\n"""\n'
     assert block[block.index(start) : block.index(end) + len(end)] in this_file
     assert "floebreak.registered_mode(Halving, settings=HalvingSettings)" in block
+
+
+@dataclass(frozen=True)
+class NoDefault:
+    min_area_m2: float
+
+
+def test_a_registration_is_checked_against_the_settings():
+    with pytest.raises(TypeError, match="min_area_m2"):
+        floebreak.register_mode(Halving, settings=NoDefault)  # a scenario could not leave it out
+    with pytest.raises(ValueError, match="area_m2"):
+        floebreak.register_mode(Halving, settings=HalvingSettings, thesis={"area_m2": 3.0})
+    with pytest.raises(TypeError, match="failure mode"):
+        floebreak.register_mode(HalvingSettings)  # no name, no evaluate
+    assert "halving" not in floebreak.mode_names()

@@ -88,6 +88,9 @@ def register_mode(
         raise TypeError(f"settings of {name!r} must be a dataclass, got {settings!r}")
     thesis = dict(thesis or {})
     fields = {f.name for f in dataclasses.fields(settings)} if settings is not None else set()
+    for item in dataclasses.fields(settings) if settings is not None else ():
+        if item.default is dataclasses.MISSING and item.default_factory is dataclasses.MISSING:
+            raise TypeError(f"setting {item.name!r} of {name!r} needs a default (scenarios may omit it)")
     for key in (*material, *thesis):
         if key not in fields:
             raise ValueError(f"{key!r} (material or thesis value of {name!r}) is not a field of its settings")
