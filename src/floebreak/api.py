@@ -85,7 +85,23 @@ def _prefixed(key: str, error: InputError) -> InputError:
 # --- scenario → field, bow, model ------------------------------------------------------------------
 
 
+def waterline_rule(scenario: Scenario) -> str:
+    """ "follow_thickness" or "fixed": the scenario's `ship.waterlines`, else its profile's."""
+    from floebreak.profiles import profile_switches
+
+    return scenario.ship.waterlines or profile_switches(scenario.profile).get(
+        "ship.waterlines", "follow_thickness"
+    )
+
+
 def _bow_thickness_m(scenario: Scenario, floe_field: FloeField | None = None) -> float:
+    """Δz of a built-in hull's waterlines: the ice thickness, or the fixed design value (thesis §3.1)."""
+    if waterline_rule(scenario) == "fixed":
+        return scenario.ship.waterline_ice_thickness_m
+    return _mean_thickness_m(scenario, floe_field)
+
+
+def _mean_thickness_m(scenario: Scenario, floe_field: FloeField | None = None) -> float:
     ice = scenario.ice
     if ice.thickness_m is not None:
         return ice.thickness_m
@@ -116,7 +132,7 @@ def _observation(scenario: Scenario):
             if spec.concentration is not None:
                 observation = replace(observation, concentration=spec.concentration)
             return observation
-        mean = _bow_thickness_m(scenario)
+        mean = _mean_thickness_m(scenario)
         if scenario.ice.thickness_m is None and scenario.ice.thickness_range_m is None:
             raise InputError(
                 "ice.thickness_m",
@@ -167,7 +183,7 @@ def build_field(scenario: Scenario, rng: np.random.Generator) -> FloeField:
                 spec.width_m,
                 rng,
                 generator=spec.generator,
-                thickness_m=ice.thickness_m if not thesis_thickness else _bow_thickness_m(scenario),
+                thickness_m=ice.thickness_m if not thesis_thickness else _mean_thickness_m(scenario),
                 thickness_range_m=None if thesis_thickness else ice.thickness_range_m,
                 thickness_summands=ice.thickness_summands or switches.thickness_summands,
                 floe_area_factor=spec.floe_area_factor or switches.floe_area_factor,

@@ -37,11 +37,30 @@ THESIS_SWITCHES: MappingProxyType[str, Any] = MappingProxyType(
     {
         "contact.area_model": "single_psi",  # Eq. 6 with one ψ per zone (notes §2.2)
         "contact.force_signs": "thesis_alg3",  # erratum 9: Alg. 3 friction sign of F_h
+        "ship.waterlines": "fixed",  # thesis §3.1, Table 2: waterlines fixed for every ice thickness
         "field.floe_area_factor": 0.5,  # erratum 1
         "field.thickness_summands": c.THICKNESS_SUMMANDS_THESIS,  # erratum 6
         "field.thickness_sum_from_zero": True,  # erratum 6
     }
 )
+
+
+# The thesis profile's dispatch: a bending-class floe at the stem that lies wholly within its breaking radius
+# (it cannot bend: shorter than its breaking length, a rigid body — physics-notes §3.2) is rotated whole
+# instead of cracked: flipped (thesis §3.2 "If none of them occurs, the floe fails by direct rotation";
+# §5.3.1 "larger already bent floes fail by direct rotation"; Table 5: 40 % of the pieces flipped).
+THESIS_POLICY: MappingProxyType[str, Any] = MappingProxyType({"bending": {"stem": ("bending", "rotation")}})
+
+
+def _merged_policy(profile: str, policy: StatedPolicy | None) -> dict[str, Any]:
+    """The profile's policy entries with `policy`'s stated ones on top (per failure class and region)."""
+    merged: dict[str, Any] = {}
+    for given in (THESIS_POLICY if profile == "thesis" else {}, policy or {}):
+        for failure_class, regions in given.items():
+            if not isinstance(regions, Mapping):  # one list for both regions
+                regions = {"stem": regions, "shoulder": regions}
+            merged[failure_class] = {**merged.get(failure_class, {}), **regions}
+    return merged
 
 
 def _split(switches: dict[str, Any], prefix: str) -> dict[str, Any]:
@@ -78,7 +97,7 @@ def build_failure_model(
         )
         for spec in specs
     }
-    full_policy = complete_policy(policy, flip_uncracked_at_shoulder)
+    full_policy = complete_policy(_merged_policy(profile, policy), flip_uncracked_at_shoulder)
     check_policy(full_policy, mode_names())
     used = {name for regions in full_policy.values() for names in regions.values() for name in names}
     instances = {spec.name: spec.create(settings) for spec in specs if spec.name in used}

@@ -261,6 +261,14 @@ class ShipSection(_Section):
     hull_parameters: dict[str, float | int | str] = Field(
         default_factory=dict, description="keyword overrides of the parametric hull (e.g. beam_m [m])"
     )
+    waterlines: Literal["follow_thickness", "fixed"] | None = Field(
+        None,
+        description="ice waterlines of a built-in hull: follow the ice thickness (default profile) or fixed at "
+        "waterline_ice_thickness_m (thesis profile; thesis §3.1, Table 2)",
+    )
+    waterline_ice_thickness_m: Float = Field(
+        1.0, gt=0.0, description="ice thickness the fixed waterlines are built for [m] (thesis §5.3: 1.0 m)"
+    )
     step_m: Float = Field(0.25, gt=0.0, description="bow advance per step [m] (thesis §3.2)")
     x_start_m: Float = Field(0.0, description="stem tip position at the start [m]")
     x_end_m: Float | None = Field(

@@ -171,8 +171,25 @@ def test_indentation_depth_is_the_penetration(make_input, context, kit):
     assert indentation_depth_m(floe, inp.zone.centre_xy_m, np.array([0.0, 1.0])) == pytest.approx(p, rel=1e-9)
     f_h = kit.panel0_forces_per_area()[1] * WIDTH_M * p
     expected = 0.878 * kappa() * f_h * math.sqrt(math.pi / p)
-    cracking = Cracking(CrackingSettings(criterion="line_load"))
+    cracking = Cracking(CrackingSettings(criterion="line_load", line_load_crack_length="indentation"))
     assert criterion_check(cracking, inp, context).driving == pytest.approx(expected, rel=1e-9)
+
+
+@pytest.mark.parametrize("penetration_m", [1e-4, 0.07])
+def test_line_load_has_no_singularity_at_first_touch(make_input, context, kit, penetration_m):
+    """Default: the line load is evaluated at a = max(indentation, 0.13 b), where a crack loaded at its mouth
+    in a strip of width b has its smallest K_I (physics-notes §3.3), so K_I → 0 with the load at first touch
+    instead of reaching K_Ic at a few kN with a = 1 mm (issue 16: F_h ≈ 3.7 kN)."""
+    floe = kit.midbody_box(WIDTH_M, LENGTH_M, penetration_m)
+    inp = make_input(floe)
+    f_h = kit.panel0_forces_per_area()[1] * WIDTH_M * penetration_m
+    a = 0.13 * LENGTH_M  # b = the floe's extent along the crack (the panel normal) = LENGTH_M
+    expected = 0.878 * kappa() * f_h * math.sqrt(math.pi / a)  # h = 1 m
+    check = criterion_check(Cracking(CrackingSettings(criterion="line_load")), inp, context)
+    assert check.driving == pytest.approx(expected, rel=1e-9)
+    assert check.fails is (expected >= kit.k_ic_pa_sqrt_m)
+    literal = Cracking(CrackingSettings(criterion="line_load", line_load_crack_length="indentation"))
+    assert criterion_check(literal, inp, context).driving > check.driving
 
 
 def test_indentation_depth_counts_only_the_part_connected_to_o():
@@ -212,7 +229,11 @@ def test_stress_criteria_are_load_independent_thresholds_on_a(
     k_i = bz_strength_pa(b) * math.sqrt(math.pi * a_m) * tada_factor(a_m / b, polynomial)
     assert (k_i > 1.02 * kit.k_ic_pa_sqrt_m) if must_fail else (k_i < kit.k_ic_pa_sqrt_m / 1.02)
     settings = CrackingSettings(
-        criterion=criterion, tada_labels=labels, crack_length="ell_over_5", size_effect_law="BZ"
+        criterion=criterion,
+        tada_labels=labels,
+        crack_length="ell_over_5",
+        size_effect_law="BZ",
+        stress_mode="thesis",
     )
     for p in (0.01, 0.1):  # the verdict does not depend on the contact load (erratum 19)
         inp = make_input(kit.midbody_box(WIDTH_M, b, p), h)
@@ -237,3 +258,21 @@ def test_stress_criterion_strength_mode_follows_the_load(make_input, context, ki
     check = criterion_check(Cracking(settings), inp, context)
     assert check.driving == pytest.approx(applied, rel=1e-9)
     assert check.resistance == pytest.approx(strength, rel=1e-9)
+
+
+def test_stress_criterion_default_is_k_i_from_the_load(make_input, context, kit):
+    """Default `stress_mode = "sif"` (physics-notes §4.4): K_I = F_h/(h b) √(πa) F(a/b) against K_Ic, so it
+    scales with the contact load (the thesis' form does not, erratum 19)."""
+    b, a = 10.0, 0.3
+    h = thickness_for_ell_over_5(kit, a)
+    drivings = []
+    for penetration_m in (0.02, 0.04):
+        floe = kit.midbody_box(WIDTH_M, b, penetration_m)
+        applied = kit.panel0_forces_per_area()[1] * WIDTH_M * penetration_m / (h * b)
+        expected = applied * math.sqrt(math.pi * a) * tada_factor(a / b, "tension")
+        settings = CrackingSettings(criterion="tensile_stress", crack_length="ell_over_5")
+        check = criterion_check(Cracking(settings), make_input(floe, h), context)
+        assert check.driving == pytest.approx(expected, rel=1e-9)
+        assert check.resistance == kit.k_ic_pa_sqrt_m
+        drivings.append(check.driving)
+    assert drivings[1] == pytest.approx(2.0 * drivings[0], rel=1e-9)

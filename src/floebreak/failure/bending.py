@@ -161,8 +161,8 @@ register_mode(
     settings=BendingSettings,
     material=("flexural_strength_pa", "youngs_modulus_pa", "poisson_ratio"),
     thesis={
-        "capacity_model": "thesis_per_wedge",  # erratum 13: F_v against one 5° wedge
-        "breaking_length_mode": "max_moment",  # erratum 11: max-moment distance
+        # not the literal "capacity_model": "thesis_per_wedge" (erratum 13; §5.1's forces rule it out) nor
+        # "breaking_length_mode": "max_moment" (erratum 11; floes bend in §5.2-5.3): docs/model.md §11
         "loading_radius_model": "sector_area_clipped",  # notes §1.7: r clipped to the Erceg table
     },
 )

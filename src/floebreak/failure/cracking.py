@@ -45,10 +45,15 @@ from floebreak.mechanics import fracture, polygon_kernel
 CrackCriterion = Literal["point_load", "line_load", "tensile_stress", "flexural_stress"]
 PointLoadCapacity = Literal["bending_P", "tensile_Pt"]
 CrackLengthDefinition = Literal["indentation", "ell_over_5"]
+LineLoadCrackLength = Literal["strip_critical", "indentation"]
 SizeSource = Literal["b", "equiv_diameter", "thickness"]
 
 MAX_RELATIVE_CRACK_LENGTH = 0.95  # a/b cap for the Tada factors (they diverge as a → b)
 MIN_CRACK_LENGTH_M = 1e-3  # a → 0 makes K_I singular (line load) or zero (stress); keep it finite
+# a/b at which K_I of an edge crack in a strip of width b, loaded by splitting forces at its mouth, is
+# smallest (physics-notes §3.3: Tada, min K_I h √b / P = 6.55 at a/b ≈ 0.13): a full crack (thesis §3.1)
+# needs K_I ≥ K_Ic there too, so the line-load criterion is evaluated at a ≥ 0.13 b
+STRIP_CRITICAL_RELATIVE_CRACK_LENGTH = 0.13
 
 
 @dataclass(frozen=True)
@@ -79,8 +84,13 @@ class CrackingSettings:
     """friction μ of the wedge-splitting fraction; κ with μ = 0 is the thesis' 1/(2 tan(α/2)) [-]"""
     line_load_divide_by_thickness: bool = True
     """line load F_h/h in K_I (erratum 17; the thesis omits /h)"""
-    stress_mode: fracture.StressMode = "thesis"
-    """stress criteria form: the thesis' K_I(σ_n^t), or strength / sif (physics-notes §4.4)"""
+    line_load_crack_length: LineLoadCrackLength = "strip_critical"
+    """crack length of the line load: max(indentation, 0.13 b), where a mouth-loaded edge crack in a strip
+    is hardest to drive (physics-notes §3.3), or the indentation depth from 1 mm (thesis; singular at first
+    touch)"""
+    stress_mode: fracture.StressMode = "sif"
+    """stress criteria form: K_I from the load, F_h/(h b) √(πa) F(a/b) (sif), the size-effect strength as the
+    stress (strength), or the thesis' load-independent K_I(σ_n^t) (thesis; erratum 19, physics-notes §4.4)"""
     next_crack_angle_deg: float = c.NEXT_CRACK_ANGLE_DEG
     """α_nextcrack [deg]: rotation of a later crack in a cracked floe's piece (thesis §4.2.3), in [0, 90]"""
 
@@ -201,6 +211,8 @@ class Cracking:
                 capacity = bending_check(inp, ctx, bending).capacity_n
             return fracture.check_point_load(f_h, capacity)
         if s.criterion == "line_load":
+            if s.line_load_crack_length == "strip_critical":
+                a = max(a, STRIP_CRITICAL_RELATIVE_CRACK_LENGTH * b)
             kappa = fracture.wedge_splitting_fraction(s.tip_angle_deg, s.wedge_friction)
             return fracture.check_line_load(
                 f_h,
@@ -247,9 +259,11 @@ register_mode(
     settings=CrackingSettings,
     material=("fracture_toughness_pa_sqrt_m",),
     thesis={
-        "bz2_mode": "thesis",  # erratum 15
         "tada_labels": "thesis_alg7",  # erratum 16, as run (Alg. 7: swapped, exponent 3)
         "line_load_divide_by_thickness": False,  # erratum 17
+        "line_load_crack_length": "indentation",  # erratum 19: a = the indentation depth, from 1 mm
+        "stress_mode": "thesis",  # erratum 19: K_I from the size-effect strength, load-independent
+        # not "bz2_mode": "thesis" (erratum 15): Table 8 shows BZ2 ≈ BZ, which the literal law rules out
     },
     create=lambda settings: Cracking(settings["cracking"], settings["bending"]),
 )
