@@ -1,7 +1,9 @@
 """Profiles (`floebreak.profiles`) and how a scenario's failure section becomes the model (issue 17).
 
-The thesis-literal values are those of physics-notes §5 (errata 1, 6, 9, 11, 13, 15–17; docs/model.md §11);
-the defaults are the corrected physics of physics-notes.
+The thesis profile's values are those of physics-notes §5 (errata 1, 6, 9, 16, 17, 19) where the thesis' own
+results allow the literal reading, and the results-supported readings of docs/model.md §11 where they do not
+(errata 11, 13, 15: bending capacity over the fan, maximum-stress breaking distance, generalised BZ2); the
+defaults are the corrected physics of physics-notes.
 """
 
 from __future__ import annotations
@@ -14,11 +16,17 @@ from floebreak.profiles import build_model, field_switches
 from floebreak.scenario import REFERENCE_TOML, Scenario
 
 THESIS_BENDING = {
-    "capacity_model": "thesis_per_wedge",  # erratum 13: F_v against one 5° wedge
-    "breaking_length_mode": "max_moment",  # erratum 11
+    "capacity_model": "nevel_narrow",  # not erratum 13's literal per-wedge capacity: §5.1 forces
+    "breaking_length_mode": "max_stress",  # not erratum 11's max-moment distance: floes bend (§5.2–5.3)
     "loading_radius_model": "sector_area_clipped",  # notes §1.7
 }
-THESIS_CRACKING = {"bz2_mode": "thesis", "tada_labels": "thesis_alg7", "line_load_divide_by_thickness": False}
+THESIS_CRACKING = {
+    "bz2_mode": "generalised",  # not erratum 15's literal law: Table 8 BZ2 ≈ BZ
+    "tada_labels": "thesis_alg7",  # erratum 16
+    "line_load_divide_by_thickness": False,  # erratum 17
+    "line_load_crack_length": "indentation",  # erratum 19
+    "stress_mode": "thesis",  # erratum 19
+}
 CORRECTED_BENDING = {
     "capacity_model": "nevel_narrow",
     "breaking_length_mode": "max_stress",
@@ -28,6 +36,8 @@ CORRECTED_CRACKING = {
     "bz2_mode": "generalised",
     "tada_labels": "correct",
     "line_load_divide_by_thickness": True,
+    "line_load_crack_length": "strip_critical",
+    "stress_mode": "sif",
 }
 
 
@@ -52,6 +62,18 @@ def test_each_profile_has_its_switches(profile, contact, bending, cracking):
     assert values(modes["cracking"].settings, cracking) == cracking
 
 
+def test_thesis_profile_rotates_floes_that_cannot_bend_at_the_stem():
+    """A bending-class floe wholly within its breaking radius: passed on to cracking (default) or rotated
+    whole (thesis profile, docs/model.md §11); the shoulder and the other classes keep the default policy."""
+    default, thesis = build_model("default").failure.policy, build_model("thesis").failure.policy
+    assert default["bending"]["stem"] == ("bending", "cracking")
+    assert thesis["bending"]["stem"] == ("bending", "rotation")
+    assert thesis["bending"]["shoulder"] == default["bending"]["shoulder"]
+    assert thesis["cracking"] == default["cracking"]
+    stated = build_model("thesis", failure={"policy": {"bending": ["bending", "cracking"]}}).failure.policy
+    assert stated["bending"] == {"stem": ("bending", "cracking"), "shoulder": ("bending", "cracking")}
+
+
 def test_field_switches_of_the_profiles():
     # erratum 1: floe area π d²/4 (default) or π d²/2 (thesis); erratum 6: p_h = 12 or 1180 summed from 0
     default, thesis = field_switches("default"), field_switches("thesis")
@@ -71,11 +93,12 @@ def test_overrides_are_applied_after_the_profile():
     model = build_model(
         "thesis",
         contact={"area_model": "per_panel"},
-        modes={"bending": {"capacity_model": "nevel_narrow"}, "cracking": {"criterion": "line_load"}},
+        modes={"bending": {"capacity_model": "thesis_per_wedge"}, "cracking": {"criterion": "line_load"}},
     )
     assert model.contact.area_model == "per_panel" and model.contact.force_signs == "thesis_alg3"
     bending = model.failure.modes["bending"].settings
-    assert bending.capacity_model == "nevel_narrow" and bending.breaking_length_mode == "max_moment"
+    assert bending.capacity_model == "thesis_per_wedge"
+    assert bending.loading_radius_model == "sector_area_clipped"  # the profile's, kept
     cracking = model.failure.modes["cracking"].settings
     assert cracking.criterion == "line_load" and cracking.tada_labels == "thesis_alg7"
 
