@@ -263,8 +263,8 @@ class ShipSection(_Section):
     )
     waterlines: Literal["follow_thickness", "fixed"] | None = Field(
         None,
-        description="ice waterlines of a built-in hull: follow the ice thickness (default profile) or fixed at "
-        "waterline_ice_thickness_m (thesis profile; thesis §3.1, Table 2)",
+        description="ice waterlines of a built-in hull: follow the ice thickness (default profile) or fixed "
+        "at waterline_ice_thickness_m (thesis profile; thesis §3.1, Table 2)",
     )
     waterline_ice_thickness_m: Float = Field(
         1.0, gt=0.0, description="ice thickness the fixed waterlines are built for [m] (thesis §5.3: 1.0 m)"
