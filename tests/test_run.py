@@ -269,6 +269,21 @@ def test_thickness_override_reaches_field_and_bow():
     assert bow.z_upper_m - bow.z_lower_m == pytest.approx(0.8)
 
 
+@pytest.mark.parametrize(
+    ("overrides", "delta_z_m"),
+    [
+        ([], 0.4),  # default profile: the waterlines follow the ice (z_l = −ρ_i/ρ_w h)
+        (["profile=thesis"], 1.0),  # thesis §3.1, Table 2: fixed for every thickness (its h = 1.0 m study)
+        (["profile=thesis", "ship.waterlines=follow_thickness"], 0.4),
+        (["ship.waterlines=fixed", "ship.waterline_ice_thickness_m=0.8"], 0.8),
+    ],
+)
+def test_bow_waterlines_fixed_or_following_the_ice(overrides, delta_z_m):
+    scenario = floebreak.Scenario.reference([*SMALL, "ice.thickness_m=0.4", *overrides]).resolved()
+    bow = run_module.build_bow(scenario)
+    assert bow.z_upper_m - bow.z_lower_m == pytest.approx(delta_z_m)
+
+
 def test_a_field_built_beforehand_gives_the_same_run():
     # a study builds each common field once and hands it to its runs (floebreak.studies.runner)
     scenario = floebreak.Scenario.reference([*SMALL, "seed=3"]).resolved()
