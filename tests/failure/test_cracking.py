@@ -276,3 +276,29 @@ def test_stress_criterion_default_is_k_i_from_the_load(make_input, context, kit)
         assert check.resistance == kit.k_ic_pa_sqrt_m
         drivings.append(check.driving)
     assert drivings[1] == pytest.approx(2.0 * drivings[0], rel=1e-9)
+
+
+def crack_onset_penetration_m(make_input, context, kit, settings, thickness_m: float) -> float:
+    """The smallest penetration (to 1 mm) at which `settings`' criterion cracks a 9 m × 10 m floe."""
+    cracking = Cracking(settings)
+    for penetration_m in np.arange(0.001, 3.0, 0.001):
+        inp = make_input(kit.midbody_box(WIDTH_M, 10.0, penetration_m), thickness_m)
+        if criterion_check(cracking, inp, context).fails:
+            return float(penetration_m)
+    return math.inf
+
+
+def test_thicker_ice_needs_a_deeper_indentation_to_crack_only_with_the_load(make_input, context, kit):
+    """Why Ā stopped growing above h = 1 m in v0.1 (docs/model.md §12): with the thesis' load-independent
+    stress criterion the crack starts at the same indentation whatever the thickness, so thicker ice, whose
+    bending capacity grows as h², cracks before it bends and breaks into more, smaller pieces; with K_I from
+    the load (default) thicker ice needs a deeper indentation, F_h ∝ a at a fixed K_I h."""
+    onsets = {}
+    for mode in ("thesis", "sif"):
+        settings = CrackingSettings(criterion="tensile_stress", stress_mode=mode)
+        onsets[mode] = [crack_onset_penetration_m(make_input, context, kit, settings, h) for h in (1.0, 1.2)]
+    assert all(math.isfinite(p) for p in onsets["thesis"] + onsets["sif"])
+    thin, thick = onsets["thesis"]
+    assert thick == pytest.approx(thin, abs=1.5e-3), onsets
+    thin, thick = onsets["sif"]
+    assert thick > 1.05 * thin, onsets
