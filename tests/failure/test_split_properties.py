@@ -17,6 +17,7 @@ import shapely
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from floebreak.failure.base import split_parts
 from floebreak.failure.bending import BendingCheck, split_by_radius
 from floebreak.failure.cracking import split_by_line
 from floebreak.failure.local_cracking import local_crack_line
@@ -165,3 +166,19 @@ def test_bending_disk_just_below_a_spike_tip_keeps_all_the_area():
     near, far = split_by_radius(floe, check)
     assert near and far
     assert sum(p.area for p in [*near, *far]) == pytest.approx(floe.area, rel=1e-9)
+
+
+@pytest.mark.parametrize(("cut_y_m", "thickness_m", "separate"), [(0.3, 1.0, False), (0.6, 1.0, True)])
+def test_a_strip_thinner_than_the_ice_is_no_piece(cut_y_m, thickness_m, separate):
+    """A cut parallel to an edge of a 10 m × 10 m floe leaves a 10 m strip of width w: its hydraulic diameter
+    4A/P = 4·10w/(20 + 2w) is below h for w = 0.3 m (0.59 m < 1 m: rubble, merged into the rest) and above it
+    for w = 0.6 m (1.13 m: a piece of ice of its own); the area is kept either way."""
+    floe = shapely.box(0.0, 0.0, 10.0, 10.0)
+    strip = shapely.box(0.0, 0.0, 10.0, cut_y_m)
+    near, far = split_parts(
+        shapely.intersection(floe, strip), shapely.difference(floe, strip), thickness_m=thickness_m
+    )
+    assert (len(near) == 1) is separate
+    assert len(far) == 1
+    assert sum(p.area for p in [*near, *far]) == pytest.approx(100.0, rel=1e-12)
+    assert all(shapely.is_valid(p) for p in [*near, *far])

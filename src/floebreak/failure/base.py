@@ -114,20 +114,31 @@ def polygon_parts(geometry) -> list:
     return list(parts[(shapely.get_type_id(parts) == 3) & (shapely.area(parts) > 0.0)])
 
 
-def split_parts(*sides) -> tuple[list, ...]:
+def is_sliver(part, thickness_m: float) -> bool:
+    """A split part that is no plate piece: area ≤ `MIN_PIECE_AREA_M2`, or a hydraulic diameter 4A/P below the
+    ice thickness (a strip narrower than h/2, a square smaller than h × h). The failure modes are thin-plate
+    theory (Nevel's wedge, plane-stress LEFM), which describes pieces much wider than they are thick; a cut
+    that runs within half a thickness of a free edge — a bending arc or crack beside an earlier one — leaves a
+    sliver of crushed rubble, not an ice floe."""
+    area = shapely.area(part)
+    return area <= MIN_PIECE_AREA_M2 or 4.0 * area < thickness_m * shapely.length(part)
+
+
+def split_parts(*sides, thickness_m: float = 0.0) -> tuple[list, ...]:
     """The polygon parts of each side of a split (e.g. F ∩ D and F − D), with slivers merged, not dropped.
 
-    A part of at most `MIN_PIECE_AREA_M2` (a cut grazing a corner or a bump) is not a piece of ice, but its
-    area must not vanish either (area conservation, thesis §3.2): it is merged into the non-sliver part, of
-    either side, with which it shares the longest stretch of boundary. A sliver that shares no boundary
-    with any larger part (or whose union would not be one polygon) stays a piece of its own.
+    A sliver (`is_sliver`: a cut grazing a corner or a bump, or a strip thinner than the ice) is not a piece
+    of ice, but its area must not vanish either (area conservation, thesis §3.2): it is merged into the
+    non-sliver part, of either side, with which it shares the longest stretch of boundary. A sliver that
+    shares no boundary with any larger part (or whose union would not be one polygon) stays a piece of its
+    own; so do the parts of a split in which every part is a sliver.
     """
     parts = [polygon_parts(side) for side in sides]
     labelled = [(k, p) for k, side in enumerate(parts) for p in side]
-    slivers = [(k, p) for k, p in labelled if p.area <= MIN_PIECE_AREA_M2]
+    slivers = [(k, p) for k, p in labelled if is_sliver(p, thickness_m)]
     if not slivers or len(slivers) == len(labelled):
         return tuple(parts)
-    result = [[p for p in side if p.area > MIN_PIECE_AREA_M2] for side in parts]
+    result = [[p for p in side if not is_sliver(p, thickness_m)] for side in parts]
     for side, sliver in slivers:
         owners = [(k, i) for k, ps in enumerate(result) for i in range(len(ps))]
         bigs = np.array([result[k][i] for k, i in owners], dtype=object)

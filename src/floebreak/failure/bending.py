@@ -121,13 +121,15 @@ def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSetti
     return BendingCheck(fan, ell, capacity, zone.vertical_force_n, radius)
 
 
-def split_by_radius(polygon, check: BendingCheck) -> tuple[list, list]:
+def split_by_radius(polygon, check: BendingCheck, thickness_m: float = 0.0) -> tuple[list, list]:
     """(parts within the bending line, parts beyond it): F ∩ disk(O, R) and F − disk(O, R)."""
     fan = check.fan
     start = fan.centre_angle_rad - fan.opening_rad / 2.0 + fan.wedge_angle_rad / 2.0  # a vertex at B_0
     vertices = round(2.0 * np.pi / fan.wedge_angle_rad)
     disk = disk_polygon(fan.origin_xy_m, check.breaking_radius_m, start, vertices)
-    near, far = split_parts(shapely.intersection(polygon, disk), shapely.difference(polygon, disk))
+    near, far = split_parts(
+        shapely.intersection(polygon, disk), shapely.difference(polygon, disk), thickness_m=thickness_m
+    )
     return near, far
 
 
@@ -145,7 +147,7 @@ class Bending:
         check = bending_check(inp, ctx, self.settings)
         if (held := bending_gate(self.name, check)) is not None:
             return held
-        near, far = split_by_radius(inp.polygon, check)
+        near, far = split_by_radius(inp.polygon, check, inp.thickness_m)
         if not near:  # the bending line misses the floe
             return intact(self.name)
         if not far:

@@ -138,7 +138,9 @@ def crack_direction(inp: FailureInput, next_crack_angle_rad: float) -> np.ndarra
     return best
 
 
-def split_by_line(polygon, point_xy_m: np.ndarray, direction: np.ndarray) -> tuple[list, list]:
+def split_by_line(
+    polygon, point_xy_m: np.ndarray, direction: np.ndarray, thickness_m: float = 0.0
+) -> tuple[list, list]:
     """Split `polygon` by the infinite line through `point_xy_m` along `direction` (two half-planes).
 
     Half-plane intersections conserve area up to float rounding, whatever the polygon's shape.
@@ -155,7 +157,7 @@ def split_by_line(polygon, point_xy_m: np.ndarray, direction: np.ndarray) -> tup
         ]
     )
     left, right = shapely.intersection(polygon, halves)
-    return split_parts(left, right)
+    return split_parts(left, right, thickness_m=thickness_m)
 
 
 def indentation_depth_m(polygon, origin_xy_m: np.ndarray, direction: np.ndarray) -> float:
@@ -247,7 +249,7 @@ class Cracking:
         # the shoulder the default policy then rotates the floe by its position (thesis §4.4)
         if not self.criterion_check(inp, ctx, direction).fails:
             return pass_on(self.name)
-        left, right = split_by_line(inp.polygon, inp.zone.centre_xy_m, direction)
+        left, right = split_by_line(inp.polygon, inp.zone.centre_xy_m, direction, inp.thickness_m)
         if not left or not right:
             return pass_on(self.name)
         return failed(self.name, (NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*left, *right]))

@@ -142,7 +142,9 @@ class LocalCracking:
             check.fan.wedge_angle_rad,
         )
         near, far = split_parts(
-            shapely.intersection(inp.polygon, line.cutter), shapely.difference(inp.polygon, line.cutter)
+            shapely.intersection(inp.polygon, line.cutter),
+            shapely.difference(inp.polygon, line.cutter),
+            thickness_m=inp.thickness_m,
         )
         if not near:  # the local cracking line misses the floe
             return intact(self.name)
