@@ -188,7 +188,13 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
     import xarray as xr
 
     prop = out / "propeller"
-    for name in ("spectra.nc", "load_spectrum.csv", "torque_exceedance.csv", "cusp_loads.csv", "summary.json"):
+    for name in (
+        "spectra.nc",
+        "load_spectrum.csv",
+        "torque_exceedance.csv",
+        "cusp_loads.csv",
+        "summary.json",
+    ):
         assert (prop / name).is_file(), name
     for quantity in ("torque", "load"):
         for scale in ("linear", "log"):
@@ -292,6 +298,10 @@ BAD_RUNS = [
     ("", ["--set", "field.concentration=1.5"], "field.concentration"),
     ("", ["--set", "ice.fracture_toughness_pa_sqrt_m=-1.0"], "ice.fracture_toughness_pa_sqrt_m"),
     ("", ["--set", "ship.hull=titanic"], "ship.hull"),
+    ("", ["--set", "ship.speed_m_s=0.0"], "ship.speed_m_s"),
+    ("", ["--set", "propeller.fraction_reaching=1.5"], "propeller.fraction_reaching"),
+    ("", ["--set", "propeller.fraction_reaching=0.0"], "propeller.fraction_reaching"),
+    ("", ["--set", "propeller.count=0"], "propeller.count"),
     ("", ["--set", "failure.crack_criterion=shear"], "failure.crack_criterion"),
     ("", ["--set", "failure.size_effect_law=BZ9"], "failure.size_effect_law"),
     ("", ["--set", "profile=fast"], "profile"),

@@ -410,39 +410,58 @@ def _fmt(value, spec: str) -> str:
 
 def _propeller_table(summary: dict) -> Table:
     """Per pitch: cusps with a load, beyond the FEM table, the |Q| ranges with density > 0.1 % per kN·m
-    (thesis §6.2), maximum |Q|, loads per hour on one propeller and the rule-form fit of |Q|."""
+    (thesis §6.2) and the maximum |Q|."""
     options = summary["options"]
     table = Table(title=f"propeller spectra ({options['interpolation']}, beyond table: {options['beyond']})")
     for name in (r"pitch \[%]", "cusps", "beyond table", r"|Q| density > 0.1 %/kN·m \[kN·m]"):
         table.add_column(name, justify="left" if "density" in name else "right")
-    for name in (r"max |Q| \[kN·m]", r"loads/h/propeller", "fit k (95 % CI)", r"|Q|max per h \[kN·m]"):
-        table.add_column(name, justify="right")
-    rates = summary.get("rates") or {}
+    table.add_column(r"max |Q| \[kN·m]", justify="right")
     for label, info in summary["pitches"].items():
         intervals = summary["simulated_torque_above_threshold"][label]["intervals_knm"]
         ranges = "–" if not intervals else f"{intervals[0][0]:g}–{intervals[-1][1]:g}"
         if len(intervals) > 1:  # bins below the threshold inside the envelope
             ranges += f" ({len(intervals)} parts)"
         q_range = info["torque_range_knm"]
-        fit = ((summary.get("rule_form") or {}).get(label) or {}).get("torque_knm") or {}
-        k_text = "–" if "k" not in fit else f"{fit['k']:.2f} ({fit['k_ci95'][0]:.2f}–{fit['k_ci95'][1]:.2f})"
         table.add_row(
             f"{info['pitch_percent']:g}",
             str(summary["n_cusps"] - info["n_without_load"]),
             f"{info['n_beyond_table']} ({100 * info['fraction_beyond_table']:.0f} %)",
             ranges,
             "–" if q_range is None else f"{q_range[1]:.0f}",
-            _fmt(rates.get("loads_per_hour_per_propeller"), ".0f"),
-            k_text,
-            _fmt(fit.get("x_max_per_hour"), ".0f"),
         )
     return table
+
+
+def _rule_form_table(summary: dict) -> Table | None:
+    """Per pitch: the rule-form fit of |Q| (k with 95 % interval against the rule's k) and the expected
+    largest |Q| per hour and over the operating profile (notes §7.3)."""
+    rule_form = summary.get("rule_form") or {}
+    table = Table(title="rule form P(Q ≥ q) = exp(−(q/q_max)^k ln N) fitted to |Q|, one propeller")
+    for name in (r"pitch \[%]", "k (95 % CI)", "rule k", r"q_max per h \[kN·m]", r"q_max profile \[kN·m]"):
+        table.add_column(name, justify="right")
+    rows = 0
+    for label, info in summary["pitches"].items():
+        fit = (rule_form.get(label) or {}).get("torque_knm") or {}
+        if "k" not in fit:
+            continue
+        rows += 1
+        table.add_row(
+            f"{info['pitch_percent']:g}",
+            f"{fit['k']:.2f} ({fit['k_ci95'][0]:.2f}–{fit['k_ci95'][1]:.2f})",
+            f"{fit['rule_k']:g}",
+            _fmt(fit.get("x_max_per_hour"), ".0f"),
+            _fmt(fit.get("x_max_lifetime"), ".0f"),
+        )
+    return table if rows else None
 
 
 def _print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
     """The propeller summary table, the time base, warnings (always) and the files written."""
     if not quiet:
         console.print(_propeller_table(summary))
+        rule_table = _rule_form_table(summary)
+        if rule_table is not None:
+            console.print(rule_table)
         rates = summary.get("rates")
         if rates:
             console.print(

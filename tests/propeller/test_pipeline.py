@@ -12,9 +12,9 @@ import xarray as xr
 
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
+from floebreak.io.propeller import propeller_analysis
 from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.measured import synthetic_torque_path
-from floebreak.io.propeller import propeller_analysis
 from floebreak.propeller.pipeline import load_spectra, torque_ranges_above
 
 
@@ -133,7 +133,7 @@ def test_study_directory_and_options(tmp_path):
             {},
         )
     # runs without a scenario cannot be shown to describe the same conditions: pooled only on request
-    with pytest.raises(InputError, match="2 runs below .* differ in scenario.resolved.toml.*--pool"):
+    with pytest.raises(InputError, match=r"2 runs below .* differ in scenario\.resolved\.toml.*--pool"):
         propeller_analysis(study, tmp_path / "a")
     assert not (tmp_path / "a").exists()
     out = propeller_analysis(study, tmp_path / "a", interpolation="pchip", beyond="flag", pool=True)
