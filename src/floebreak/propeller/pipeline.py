@@ -27,7 +27,7 @@ from floebreak.propeller.interpolation import check_options, table_interpolant
 from floebreak.propeller.measured import TorqueSeries, read_torque_csv
 from floebreak.propeller.rates import RunExposure, check_exposures, weighted_exceedance
 from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
-from floebreak.propeller.spec import PropellerSpec, propeller_pitch_angle_deg
+from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
     DENSITY_THRESHOLD_PER_KNM,
     bin_edges,
@@ -273,6 +273,23 @@ def _add_rates(ds, loads, exposures: dict[str, RunExposure]) -> tuple[Any, dict[
     return ds, tables
 
 
+def _cusp_loads(columns, tables, options) -> dict[str, np.ndarray]:
+    """`propeller_loads` of the cusps in transit order, with their volume class; loads per cusp on one
+    propeller NaN until a time base is known (`_add_rates`)."""
+    order = transit_order(columns)
+    loads = propeller_loads(
+        {k: v[order] for k, v in columns.items()},
+        tables,
+        interpolation=options["interpolation"],
+        beyond=options["beyond"],
+        volume_basis=options["volume_basis"],
+        cusp_speed_m_s=options["cusp_speed_m_s"],
+    )
+    loads["volume_class"] = volume_class(loads["box_volume_m3"], options["volume_class_edges_m3"])
+    loads["loads_per_propeller"] = np.full(loads["run_id"].size, math.nan)
+    return loads
+
+
 def _check_options(
     interpolation, beyond, volume_basis, cusp_speed_m_s, force_bin_kn, torque_bin_knm, weibull
 ):
@@ -316,16 +333,14 @@ def analyse_propeller(
     if not isinstance(propeller, PropellerSpec):
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
     _check_options(interpolation, beyond, volume_basis, cusp_speed_m_s, force_bin_kn, torque_bin_knm, weibull)
+    require_range("rule_factor", rule_factor, low=0.0)
     edges_m3 = check_class_edges(volume_class_edges_m3)
     tables = resolve_fem_tables(fem_table)
     rule = ur_i3_loads(propeller, check_polar_class(polar_class)) if polar_class is not None else None
-    runs = sorted(set(columns["run_id"].tolist()))
-    exposures = check_exposures(exposures, runs) if exposures is not None else {}
+    exposures = check_exposures(exposures, set(columns["run_id"].tolist())) if exposures is not None else {}
     series = None
     if torque_csv is not None:
         series = read_torque_csv(torque_csv, torque_unit=torque_unit, flip_sign=flip_measured_sign)
-    order = transit_order(columns)
-    columns = {k: v[order] for k, v in columns.items()}
     options = {
         "interpolation": interpolation,
         "beyond": beyond,
@@ -337,16 +352,7 @@ def analyse_propeller(
         "weibull": weibull,
         "rule_factor": rule_factor,
     }
-    loads = propeller_loads(
-        columns,
-        tables,
-        interpolation=interpolation,
-        beyond=beyond,
-        volume_basis=volume_basis,
-        cusp_speed_m_s=cusp_speed_m_s,
-    )
-    loads["volume_class"] = volume_class(loads["box_volume_m3"], edges_m3)
-    loads["loads_per_propeller"] = np.full(loads["run_id"].size, math.nan)
+    loads = _cusp_loads(columns, tables, options)
     ds = load_spectra(loads, tables, force_bin_kn, torque_bin_knm)
     options["force_bin_kn"] = ds.attrs["force_bin_width_kn"]  # as used: wider for far loads
     options["torque_bin_knm"] = ds.attrs["torque_bin_width_knm"]
@@ -355,21 +361,9 @@ def analyse_propeller(
         ds, exceedance = _add_rates(ds, loads, exposures)
     table_info = _table_info(loads, tables, rule)
     measured = _measured_spectrum(series, torque_bin_knm) if series is not None else None
+    classes = _class_tables(loads, edges_m3)
     result = PropellerResult(
-        options,
-        propeller,
-        tables,
-        loads,
-        _class_tables(loads, edges_m3),
-        ds,
-        exceedance,
-        {},
-        rule,
-        measured,
-        exposures,
+        options, propeller, tables, loads, classes, ds, exceedance, {}, rule, measured, exposures
     )
-    summary = build_summary(result, table_info, operating_profile, sn_curve)
-    summary["propeller"]["pitch_angle_07R_deg"] = propeller_pitch_angle_deg(propeller, "r07")
-    summary["propeller"]["pitch_angle_thesis_deg"] = propeller_pitch_angle_deg(propeller, "thesis_r_prop")
-    result.summary.update(summary)
+    result.summary.update(build_summary(result, table_info, operating_profile, sn_curve))
     return result

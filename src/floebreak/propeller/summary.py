@@ -17,6 +17,7 @@ from floebreak.propeller.ruleform import (
     miner_damage,
     rule_n_ice,
 )
+from floebreak.propeller.spec import propeller_pitch_angle_deg
 from floebreak.propeller.spectra import envelope, pitch_label, torque_ranges_above
 
 BEYOND_WARNING_FRACTION = 0.10  # warn (terminal, summary, report) when more cusps lie beyond the FEM table
@@ -89,7 +90,7 @@ def _fit_entry(amplitudes, unit_scale: float, per_hour: float | None, profile, r
         entry["x_max_lifetime"] = fit.x_max(n_life) / unit_scale
         entry["x_max_lifetime_ci95"] = [v / unit_scale for v in fit.x_max_interval(n_life)]
     if rule_max is not None:
-        entry["rule_maximum"] = rule_max / unit_scale
+        entry["rule_maximum"] = rule_max / unit_scale  # F_b (backward blade force) or Q_max
         n_star = math.exp(min((rule_max / fit.scale) ** fit.shape_k, 700.0))
         entry["loads_until_rule_maximum"] = n_star
         entry["hours_until_rule_maximum"] = n_star / per_hour if per_hour else None
@@ -172,7 +173,12 @@ def build_summary(
         }
     return {
         "options": dict(result.options),
-        "propeller": {**result.propeller.__dict__, "pitch_m": result.propeller.pitch_m},
+        "propeller": {
+            **result.propeller.__dict__,
+            "pitch_m": result.propeller.pitch_m,
+            "pitch_angle_07R_deg": propeller_pitch_angle_deg(result.propeller, "r07"),
+            "pitch_angle_thesis_deg": propeller_pitch_angle_deg(result.propeller, "thesis_r_prop"),
+        },
         "n_cusps": int(run_id.size),
         "n_cusps_per_run": {r: int(np.sum(run_id == r)) for r in runs},
         "n_runs": len(runs),
