@@ -169,7 +169,10 @@ def plot_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float = 0.75)
     axes[0].set_yscale("log")
     axes[0].set_xlabel("torque |Q| [kN m]")
     axes[0].set_ylabel("P(X ≥ x)")
-    axes[0].legend(fontsize=7)
+    if axes[0].lines:
+        axes[0].legend(fontsize=7)
+    else:
+        axes[0].text(0.5, 0.5, "fewer than 10 distinct loads", transform=axes[0].transAxes, ha="center")
     axes[1].set_xlabel("torque level [kN m]")
     axes[1].set_ylabel("exceedances per hour in ice, one propeller [1/h]")
     if axes[1].lines:

@@ -137,7 +137,7 @@ def propeller_loads(
     volume = box_volume if volume_basis == "box" else columns["volume_m3"]
     out: dict[str, np.ndarray] = {
         "run_id": columns["run_id"],
-        "bow_x_m": columns["bow_x_m"],
+        "bow_x_m": columns.get("bow_x_m", np.full(columns["run_id"].size, math.nan)),
         "area_m2": columns["area_m2"],
         "thickness_m": columns["thickness_m"],
         "volume_m3": columns["volume_m3"],
