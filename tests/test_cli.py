@@ -177,7 +177,7 @@ def test_demo_runs_the_reference_scenario(tmp_path):
     # the field covers the observation's 44 % of 400 m × 50 m within ±1 percentage point (issue 2)
     assert summary["initial_ice_area_m2"] / (400.0 * 50.0) == pytest.approx(0.44, abs=0.01)
     assert "cusps" in result.stdout and "wall time" in result.stdout
-    check_demo_propeller(out, summary["n_cusps"], result.stdout)
+    check_demo_propeller(out, summary["n_cusps"], result.stdout + result.stderr)
 
 
 def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
@@ -225,6 +225,10 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
     assert len({round(loads["torque_knm_p95"][i], 2) for i in beyond}) > len(beyond) // 2
     summary = json.loads((prop / "summary.json").read_text())
     assert len(summary["warnings"]) == 2 and "beyond the FEM table" in summary["warnings"][0]
+    # where users look: the terminal and the report show the warning, the rates and the rule-form fit
+    assert "beyond the FEM table" in stdout and "loads per hour" in stdout and "rule form" in stdout
+    report = (out / "report.html").read_text()
+    assert "<h2>Propeller loads</h2>" in report and "Warning:" in report and "rule_form.png" in report
     assert "propeller spectra" in stdout and f"{prop}" in stdout
 
 

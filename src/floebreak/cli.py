@@ -470,6 +470,16 @@ def _print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
                 f"{rates['loads_per_km_per_propeller']:.0f} per km on one propeller",
                 highlight=False,
             )
+        for label, info in (summary.get("rule_form") or {}).items():
+            miner = info.get("miner") if isinstance(info, dict) else None
+            if miner:
+                life = miner["damage_lifetime"]
+                over = "" if life is None else f", {life:.3g} over the operating profile"
+                console.print(
+                    f"Miner sum ({miner['quantity']}, pitch {label[1:]} %): "
+                    f"{miner['damage_per_hour']:.3g} per hour{over}",
+                    highlight=False,
+                )
     for warning in summary.get("warnings", []):
         err_console.print(f"[bold yellow]warning:[/] {escape(warning)}", soft_wrap=True, highlight=False)
     console.print(
@@ -602,6 +612,21 @@ def _fem_tables(items: list[str] | None) -> list[tuple[float | None, Path]] | No
     return out
 
 
+def _sn_curve(text: str):
+    """`--sn-curve QUANTITY,M,AMPLITUDE,CYCLES` → BasquinCurve in SI (amplitude given in kN or kN·m)."""
+    from floebreak.propeller.ruleform import BasquinCurve
+
+    parts = text.split(",")
+    allowed = "QUANTITY,M,AMPLITUDE,CYCLES, e.g. torque,5,1000,1e7 (amplitude in kN·m or kN)"
+    if len(parts) != 4:
+        raise InputError("--sn-curve", f"{text!r} has {len(parts)} parts", allowed=allowed)
+    try:
+        m, amplitude, cycles = (float(p) for p in parts[1:])
+    except ValueError:
+        raise InputError("--sn-curve", f"{text!r}: not numbers", allowed=allowed) from None
+    return BasquinCurve(m, amplitude * 1e3, cycles, quantity=parts[0].strip().lower())
+
+
 @app.command()
 def propeller(
     run_or_study_dir: Annotated[Path, typer.Argument(help="a run directory or a study directory")],
@@ -639,6 +664,14 @@ def propeller(
     years: Annotated[
         float | None, typer.Option("--years", help="operating profile: years in service")
     ] = None,
+    sn_curve: Annotated[
+        str | None,
+        typer.Option(
+            "--sn-curve",
+            help="Basquin S–N curve for Miner's sum, QUANTITY,M,AMPLITUDE,CYCLES, e.g. torque,5,1000,1e7 "
+            "(N = CYCLES·(AMPLITUDE/x)^M; amplitude in kN·m for torque, kN for force)",
+        ),
+    ] = None,
     overwrite: Annotated[
         bool, typer.Option("--overwrite", help="replace an existing output directory")
     ] = False,
@@ -656,6 +689,7 @@ def propeller(
             "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
         )
     profile = None if years is None else OperatingProfile(hours_per_year, years)
+    curve = None if sn_curve is None else _sn_curve(sn_curve)
     tables = _fem_tables(fem_table)
     inputs = read_runs(
         run_or_study_dir,
@@ -673,6 +707,7 @@ def propeller(
         beyond=beyond,
         exposures=inputs.exposures,
         operating_profile=profile,
+        sn_curve=curve,
     )
     record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
     written = write_propeller(result, out, overwrite=overwrite, record=record)

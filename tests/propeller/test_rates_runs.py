@@ -139,14 +139,26 @@ def test_propeller_command(tmp_path, monkeypatch, capsys):
     (tmp_path / "fem.csv").write_text(FEM)
     out = tmp_path / "prop"
     args = ("propeller", str(tmp_path / "s"), "--out", str(out), "--fem-table", f"0={tmp_path / 'fem.csv'}")
-    code, stdout, err = cli(monkeypatch, capsys, *args, "--fem-table", f"50={tmp_path / 'fem.csv'}")
+    extra = ("--fem-table", f"50={tmp_path / 'fem.csv'}", "--sn-curve", "torque,3,100,1e6")
+    extra += ("--hours-in-ice-per-year", "100", "--years", "2")
+    code, stdout, err = cli(monkeypatch, capsys, *args, *extra)
     assert code == 0, err
     assert "pooled 2 runs" in stdout and "propeller spectra" in stdout and "rule form" in stdout
     # 24 cusps / 2 propellers in 2 × 240 m at 3 m/s: 12 loads in 0.0444 h → 270 per hour, 25 per km
     assert "480 m of transit" in stdout and "270 loads per hour and 25 per km" in stdout
     summary = json.loads((out / "summary.json").read_text())
     assert sorted(summary["pitches"]) == ["p0", "p50"]
-    assert summary["rates"]["loads_per_hour_per_propeller"] == pytest.approx(12 / (480 / 3 / 3600))
+    hours = 480 / 3 / 3600
+    assert summary["rates"]["loads_per_hour_per_propeller"] == pytest.approx(12 / hours)
+    # Miner: every cusp counts 1/2 on one propeller, N(Q) = 10⁶ (100 kN·m / |Q|)³
+    lines = [line for line in (out / "cusp_loads.csv").read_text().splitlines() if not line.startswith("#")]
+    header = lines[0].split(",")
+    q_knm = np.array([abs(float(row.split(",")[header.index("torque_knm_p50")])) for row in lines[1:]])
+    damage = np.sum(0.5 / (1e6 * (100.0 / q_knm) ** 3))
+    miner = summary["rule_form"]["p50"]["miner"]
+    assert miner["damage_per_hour"] == pytest.approx(damage / hours)
+    assert miner["damage_lifetime"] == pytest.approx(damage / hours * 200)
+    assert "Miner sum (torque, pitch 50 %)" in stdout
     bad = [
         (["--fem-table", str(tmp_path / "fem.csv")], "pitch unknown"),  # no PITCH= and no comment line
         (
@@ -157,6 +169,9 @@ def test_propeller_command(tmp_path, monkeypatch, capsys):
         (["--speed-m-s", "0"], "ship.speed_m_s"),
         (["--fraction-reaching", "1.5"], "propeller.fraction_reaching"),
         (["--years", "10"], "--hours-in-ice-per-year"),
+        (["--sn-curve", "torque,5,x,1e7"], "--sn-curve"),
+        (["--sn-curve", "thrust,5,1,1"], "sn_curve.quantity"),
+        (["--hours-in-ice-per-year", "-1", "--years", "10"], "hours_in_ice_per_year"),
     ]
     for extra, message in bad:
         code, _, err = cli(
