@@ -116,6 +116,11 @@ def test_transit_distance_and_pooling(tmp_path):
     pooled = read_runs(tmp_path / "s", pool=True, fraction_reaching=0.5)
     assert pooled.differing_keys == ("ice.thickness_m", "ship.speed_m_s")
     assert pooled.exposures["r3"].basis == RateBasis(2.0, 0.5, 2)
+    # a bad value written into a run's scenario file: the key and the file are named
+    path = tmp_path / "s" / "r3" / "scenario.resolved.toml"
+    path.write_text(path.read_text().replace("speed_m_s = 2.0", "speed_m_s = -2.0"))
+    with pytest.raises(InputError, match=r"ship\.speed_m_s: .*r3/scenario\.resolved\.toml: -2 is outside"):
+        read_runs(tmp_path / "s", pool=True)
 
 
 def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:

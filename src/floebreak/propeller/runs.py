@@ -10,6 +10,7 @@ x-extent (``field.parquet`` metadata ``domain_m``): the ice the ship sailed thro
 from __future__ import annotations
 
 import json
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -57,13 +58,16 @@ def transit_distance_m(run_dir: Path) -> float | None:
 
 
 def _scenario(run_dir: Path) -> dict | None:
-    """The run's resolved scenario as a dict (validated), None if the run directory has none."""
-    from floebreak.scenario import Scenario
-
+    """The run's resolved scenario (``scenario.resolved.toml``, every default written out) as a dict,
+    None if the run directory has none. Read as TOML only: the keys the rates use are validated by
+    `RateBasis`, naming them."""
     path = run_dir / "scenario.resolved.toml"
     if not path.is_file():
         return None
-    return Scenario.from_toml(path).to_dict()
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as error:
+        raise InputError("run_or_study_dir", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
 
 
 def _differing(scenarios: dict[str, dict | None]) -> tuple[str, ...]:
@@ -86,7 +90,7 @@ def _differing(scenarios: dict[str, dict | None]) -> tuple[str, ...]:
     return tuple(sorted(keys))
 
 
-def _basis(scenario: dict | None, overrides: dict) -> RateBasis:
+def _basis(scenario: dict | None, overrides: dict, source: str = "") -> RateBasis:
     ship = (scenario or {}).get("ship", {})
     prop = (scenario or {}).get("propeller", {})
     values = {
@@ -94,8 +98,15 @@ def _basis(scenario: dict | None, overrides: dict) -> RateBasis:
         "fraction_reaching": prop.get("fraction_reaching"),
         "n_propellers": prop.get("count"),
     }
-    values.update({k: v for k, v in overrides.items() if v is not None})
-    return RateBasis(**{k: v for k, v in values.items() if v is not None})
+    given = {k: v for k, v in overrides.items() if v is not None}
+    RateBasis(**given)  # the overrides alone first: their error names no file
+    given = {**{k: v for k, v in values.items() if v is not None}, **given}
+    try:
+        return RateBasis(**given)
+    except InputError as error:  # a value from the scenario file: name the file
+        raise InputError(
+            error.field, f"{source}: {str(error).partition(': ')[2]}", value=error.value
+        ) from None
 
 
 def read_runs(root, *, pool: bool = False, **basis_overrides) -> RunInputs:
@@ -118,7 +129,7 @@ def read_runs(root, *, pool: bool = False, **basis_overrides) -> RunInputs:
     exposures, missing = {}, []
     for run, run_dir in run_dirs.items():
         distance = transit_distance_m(run_dir)
-        basis = _basis(scenarios[run], basis_overrides)
+        basis = _basis(scenarios[run], basis_overrides, str(run_dir / "scenario.resolved.toml"))
         if distance is None:
             missing.append(run)
         else:
