@@ -84,6 +84,11 @@ def test_rates_pool_runs_time_weighted():
     assert amp.torque_nm.size == 6 and np.all(amp.torque_nm < 0)
     with pytest.raises(InputError, match="no RunExposure for run 'b'"):
         analyse_propeller(cusps, exposures={"a": exposures["a"]})
+    # a run without cusps still took its time: 900 m at 3 m/s more → 3 loads in (100 + 300 + 300) s
+    quiet = {**exposures, "c": RunExposure(900.0, RateBasis(3.0, 1.0, 2))}
+    rates = analyse_propeller(cusps, exposures=quiet).summary["rates"]
+    assert rates["loads_per_hour_per_propeller"] == pytest.approx(3 / (700 / 3600))
+    assert rates["loads_per_km_per_propeller"] == pytest.approx(3 / 1.8)
 
 
 def _run_dir(path, scenario: Scenario, domain=(10.0, -25.0, 310.0, 25.0), n_steps=1001):

@@ -246,10 +246,9 @@ def _add_rates(ds, loads, exposures: dict[str, RunExposure]) -> tuple[Any, dict[
 
     Counts of all runs are summed, each cusp weighted by its run's fraction reaching / propellers, and
     divided by the summed hours and km of the runs (time-weighted pooling)."""
-    runs = ds["run"].values.tolist()
-    share = np.array([exposures[r].basis.share_per_propeller for r in runs])
-    hours = sum(exposures[r].hours for r in runs)
-    km = sum(exposures[r].km for r in runs)
+    share = np.array([exposures[r].basis.share_per_propeller for r in ds["run"].values.tolist()])
+    hours = sum(e.hours for e in exposures.values())  # runs without cusps too
+    km = sum(e.km for e in exposures.values())
     weight = np.array([exposures[r].basis.share_per_propeller for r in loads["run_id"].tolist()])
     loads["loads_per_propeller"] = weight
     tables: dict[str, dict[str, np.ndarray]] = {}
@@ -357,7 +356,7 @@ def analyse_propeller(
     options["force_bin_kn"] = ds.attrs["force_bin_width_kn"]  # as used: wider for far loads
     options["torque_bin_knm"] = ds.attrs["torque_bin_width_knm"]
     exceedance = {}
-    if exposures and loads["run_id"].size:
+    if exposures:
         ds, exceedance = _add_rates(ds, loads, exposures)
     table_info = _table_info(loads, tables, rule)
     measured = _measured_spectrum(series, torque_bin_knm) if series is not None else None

@@ -81,14 +81,16 @@ class RunExposure:
 
 
 def check_exposures(exposures, runs) -> dict[str, RunExposure]:
-    """One RunExposure for every run (InputError naming the run that has none)."""
-    out = {}
+    """The exposures, checked: a RunExposure for every run with cusps (InputError naming the run that has
+    none). Runs without cusps may have one too: their hours and km count (a run in which no cusp reached
+    the propellers still took its time)."""
     for run in runs:
-        item = exposures.get(run)
-        if not isinstance(item, RunExposure):
+        if not isinstance(exposures.get(run), RunExposure):
             raise InputError("exposure", f"no RunExposure for run {run!r}", allowed="a RunExposure per run")
-        out[run] = item
-    return out
+    for run, item in exposures.items():
+        if not isinstance(item, RunExposure):
+            raise InputError("exposure", f"{run!r}: {type(item).__name__} is not a RunExposure")
+    return dict(exposures)
 
 
 def weighted_exceedance(values, weights, levels) -> np.ndarray:
