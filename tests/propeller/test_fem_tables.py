@@ -52,6 +52,8 @@ def test_resolve_from_path_and_mapping(tmp_path):
     with pytest.raises(InputError, match="pitch unknown"):
         resolve_fem_tables(bare)
     assert list(resolve_fem_tables([(0.0, bare), (95.0, bare)])) == [0.0, 95.0]
+    # a caller may state a fallback for files without the line; the line still wins where present
+    assert list(resolve_fem_tables([bare, path], 20.0)) == [20.0, 50.0]
     with pytest.raises(InputError, match="does not exist"):
         read_fem_table(tmp_path / "missing.csv")
 

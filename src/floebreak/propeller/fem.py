@@ -125,7 +125,11 @@ def unit_factor(
 
 
 def parse_fem_table(
-    text: str, source: str, default_pitch_percent: float | None = None, field: str = "fem_table"
+    text: str,
+    source: str,
+    default_pitch_percent: float | None = None,
+    field: str = "fem_table",
+    fallback_pitch_percent: float | None = None,
 ) -> FemTable:
     """Parse and validate a FEM table CSV text (see module docstring)."""
     pitch = default_pitch_percent
@@ -143,6 +147,7 @@ def parse_fem_table(
             continue
         if stripped:
             lines.append(line)
+    pitch = fallback_pitch_percent if pitch is None else pitch
     if not lines:
         raise InputError(field, f"{source}: no header line", allowed="a CSV header " + ",".join(COLUMNS))
     rows = list(csv.reader(io.StringIO("\n".join(lines))))
@@ -331,9 +336,13 @@ def fem_table_from_arrays(
 
 
 def read_fem_table(
-    path: str | os.PathLike[str], pitch_percent: float | None = None, field: str = "fem_table"
+    path: str | os.PathLike[str],
+    pitch_percent: float | None = None,
+    field: str = "fem_table",
+    fallback_pitch_percent: float | None = None,
 ) -> FemTable:
-    """Read a user FEM table CSV; the pitch comes from ``# pitch_percent:`` or `pitch_percent`."""
+    """Read a user FEM table CSV; the pitch comes from `pitch_percent` or ``# pitch_percent:`` (which must
+    agree when both are given), else `fallback_pitch_percent`."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -341,7 +350,7 @@ def read_fem_table(
         raise InputError(field, f"file {str(path)!r} does not exist", value=str(path)) from None
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(field, f"cannot read {str(path)!r}: {error}", value=str(path)) from None
-    return parse_fem_table(text, str(path), pitch_percent, field)
+    return parse_fem_table(text, str(path), pitch_percent, field, fallback_pitch_percent)
 
 
 def shipped_fem_tables() -> dict[float, FemTable]:
@@ -353,10 +362,11 @@ def shipped_fem_tables() -> dict[float, FemTable]:
     return tables
 
 
-def resolve_fem_tables(fem_table) -> dict[float, FemTable]:
+def resolve_fem_tables(fem_table, fallback_pitch_percent: float | None = None) -> dict[float, FemTable]:
     """None → the shipped tables; a path → one table; a mapping {pitch_percent: path or FemTable};
     a list of paths/FemTables or of (pitch_percent or None, path) pairs. A path given without a pitch
-    needs a ``# pitch_percent:`` line (no silent default); pitches must be distinct."""
+    needs a ``# pitch_percent:`` line, else `fallback_pitch_percent` if the caller states one (the
+    propeller analysis and CLI do not: no silent default); pitches must be distinct."""
     if fem_table is None:
         return shipped_fem_tables()
     if isinstance(fem_table, FemTable | str | os.PathLike):
@@ -377,7 +387,7 @@ def resolve_fem_tables(fem_table) -> dict[float, FemTable]:
                     "fem_table pitch", pitch, low=0.0, high=100.0, low_inclusive=True, unit="%"
                 )
             )
-            table = read_fem_table(item, given)
+            table = read_fem_table(item, given, fallback_pitch_percent=fallback_pitch_percent)
         if table.pitch_percent in tables:
             raise InputError(
                 "fem_table",
