@@ -93,3 +93,16 @@ def test_operating_profile_validation():
         OperatingProfile(9000.0, 1.0)  # more than a year has
     with pytest.raises(InputError, match="years"):
         OperatingProfile(100.0, float("nan"))
+
+
+def test_fit_is_scipys_weibull_maximum_likelihood():
+    """The same maximum as scipy.stats.weibull_min.fit with the location fixed at 0 (an independent
+    optimiser of the same likelihood)."""
+    from scipy import stats
+
+    rng = np.random.default_rng(11)
+    x = 250.0 * rng.weibull(1.3, 800)
+    shape, _, scale = stats.weibull_min.fit(x, floc=0.0)
+    fit = fit_rule_form(x)
+    assert fit.shape_k == pytest.approx(shape, rel=1e-4)
+    assert fit.scale == pytest.approx(scale, rel=1e-4)
