@@ -198,13 +198,16 @@ def propeller_section(folder: Path) -> list[str]:
     parts += [f"<p style='color:#a00'><b>Warning:</b> {esc(w)}</p>" for w in summary.get("warnings", [])]
     rates = summary.get("rates")
     if rates:
-        bases = {
-            json.dumps({k: v for k, v in r.items() if k not in ("transit_m", "hours_in_ice")}, sort_keys=True)
-            for r in rates["per_run"].values()
-        }
+        bases = sorted(
+            {
+                f"speed {r['speed_m_s']:g} m/s, fraction reaching {r['fraction_reaching']:g}, "
+                f"{r['n_propellers']} propeller(s)"
+                for r in rates["per_run"].values()
+            }
+        )
         parts.append(
             f"<p>Time base: {rates['transit_m']:.0f} m of transit, {rates['hours_in_ice']:.4g} h in ice "
-            f"({esc('; '.join(sorted(bases)))}): <b>{rates['loads_per_hour_per_propeller']:.4g}</b> "
+            f"({esc('; '.join(bases))}): <b>{rates['loads_per_hour_per_propeller']:.4g}</b> "
             f"loads per hour and <b>{rates['loads_per_km_per_propeller']:.4g}</b> per km on one propeller</p>"
         )
     else:

@@ -242,3 +242,15 @@ def test_far_loads_widen_the_bins_instead_of_making_millions():
     assert ds.attrs["torque_bin_width_knm"] == 5_000.0 and ds.attrs["force_bin_width_kn"] == 500.0
     # densities stay per kN·m: the two small loads share the first bin, 2/3 of the runs' loads
     assert ds["torque_density"].sel(pitch=0.0).values[0] == pytest.approx(2 / 3 / 5_000.0)
+
+
+def test_report_section_without_time_base(tmp_path):
+    """A table of cusps has no transit distance: densities only, said so in the summary and the report."""
+    from floebreak.report import propeller_section
+
+    out = propeller_analysis(_cusps(), tmp_path / "prop")
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["rates"] is None and not (out / "torque_exceedance.csv").exists()
+    html = "\n".join(propeller_section(out))
+    assert "No time base" in html and "rule_form.png" in html
+    assert propeller_section(tmp_path / "nothing") == []
