@@ -177,7 +177,7 @@ def test_demo_runs_the_reference_scenario(tmp_path):
     # the field covers the observation's 44 % of 400 m × 50 m within ±1 percentage point (issue 2)
     assert summary["initial_ice_area_m2"] / (400.0 * 50.0) == pytest.approx(0.44, abs=0.01)
     assert "cusps" in result.stdout and "wall time" in result.stdout
-    check_demo_propeller(out, summary["n_cusps"], result.stdout)
+    check_demo_propeller(out, summary["n_cusps"], result.stdout + result.stderr)
 
 
 def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
@@ -188,7 +188,13 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
     import xarray as xr
 
     prop = out / "propeller"
-    for name in ("spectra.nc", "spectra.csv", "cusp_loads.csv", "summary.json", "volume_classes.csv"):
+    for name in (
+        "spectra.nc",
+        "load_spectrum.csv",
+        "torque_exceedance.csv",
+        "cusp_loads.csv",
+        "summary.json",
+    ):
         assert (prop / name).is_file(), name
     for quantity in ("torque", "load"):
         for scale in ("linear", "log"):
@@ -199,17 +205,30 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
         assert ds["n_loads"].values.tolist() == [[n_cusps, n_cusps]]
         width = ds.attrs["torque_bin_width_knm"]
         # probability densities: each pitch integrates to 1 over its bins
-        assert (ds["torque_density"].sum("bin") * width).values == pytest.approx([1.0, 1.0])
+        assert (ds["torque_density"].sum("torque_knm") * width).values == pytest.approx([1.0, 1.0])
+        # rates: the field is 400 m long, sailed at 3 m/s (thesis §6.3); the cusps are shared by the
+        # two propellers (thesis §6.1): n/2 loads per propeller over 400 m / 3 m/s = 0.0370 h
+        hours = 400.0 / 3.0 / 3600.0
+        counts = ds["torque_count_run"].sum("torque_knm").values[0]
+        assert (ds["torque_rate_per_hour"].sum("torque_knm").values * hours) == pytest.approx(counts / 2)
+        assert (ds["torque_rate_per_km"].sum("torque_knm").values * 0.4) == pytest.approx(counts / 2)
     text = (prop / "cusp_loads.csv").read_bytes()
     lines = [line for line in text.splitlines() if not line.startswith(b"#")]  # provenance comments
     loads = pyarrow.csv.read_csv(io.BytesIO(b"\n".join(lines))).to_pydict()
     assert len(loads["torque_knm_p95"]) == n_cusps
-    # clamp policy: a box volume beyond the largest FEM cusp (12.5043 m³) gets that cusp's loads,
-    # thesis Table 10: −347.22 kN·m at 0 %, Table 11: −1658.78 kN·m at 95 %
+    # beyond the largest FEM cusp (12.5043 m³) the loads grow with volume (power law), no clamp spike:
+    # thesis Table 11's −1658.78 kN·m is the torque at 12.5043 m³, larger cusps get more
     beyond = [i for i, v in enumerate(loads["box_volume_m3"]) if v > 12.5043]
     assert beyond, "the reference run (h = 1 m) has cusps beyond the FEM table"
-    assert {round(loads["torque_knm_p0"][i], 2) for i in beyond} == {-347.22}
-    assert {round(loads["torque_knm_p95"][i], 2) for i in beyond} == {-1658.78}
+    assert all(loads["beyond_table_p95"][i] for i in beyond)
+    assert all(loads["torque_knm_p95"][i] < -1658.78 for i in beyond)
+    assert len({round(loads["torque_knm_p95"][i], 2) for i in beyond}) > len(beyond) // 2
+    summary = json.loads((prop / "summary.json").read_text())
+    assert len(summary["warnings"]) == 2 and "beyond the FEM table" in summary["warnings"][0]
+    # where users look: the terminal and the report show the warning, the rates and the rule-form fit
+    assert "beyond the FEM table" in stdout and "loads per hour" in stdout and "rule form" in stdout
+    report = (out / "report.html").read_text()
+    assert "<h2>Propeller loads</h2>" in report and "Warning:" in report and "rule_form.png" in report
     assert "propeller spectra" in stdout and f"{prop}" in stdout
 
 
@@ -228,7 +247,7 @@ def test_demo_without_propeller_overwrite_and_failure(tmp_path, monkeypatch, cap
         raise ZeroDivisionError("a bug")
 
     with monkeypatch.context() as patch:
-        patch.setattr(pipeline, "propeller_analysis", broken)
+        patch.setattr(pipeline, "analyse_propeller", broken)
         code, _, err = cli(monkeypatch, capsys, "demo", "--out", str(tmp_path / "failed"), *short)
     assert code == 1 and "ZeroDivisionError" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["demo", "failed.failed-scenario.toml"]
@@ -283,6 +302,10 @@ BAD_RUNS = [
     ("", ["--set", "field.concentration=1.5"], "field.concentration"),
     ("", ["--set", "ice.fracture_toughness_pa_sqrt_m=-1.0"], "ice.fracture_toughness_pa_sqrt_m"),
     ("", ["--set", "ship.hull=titanic"], "ship.hull"),
+    ("", ["--set", "ship.speed_m_s=0.0"], "ship.speed_m_s"),
+    ("", ["--set", "propeller.fraction_reaching=1.5"], "propeller.fraction_reaching"),
+    ("", ["--set", "propeller.fraction_reaching=0.0"], "propeller.fraction_reaching"),
+    ("", ["--set", "propeller.count=0"], "propeller.count"),
     ("", ["--set", "failure.crack_criterion=shear"], "failure.crack_criterion"),
     ("", ["--set", "failure.size_effect_law=BZ9"], "failure.size_effect_law"),
     ("", ["--set", "profile=fast"], "profile"),

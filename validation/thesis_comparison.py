@@ -35,7 +35,7 @@ from floebreak.propeller.cusps import REQUIRED_COLUMNS, box_dimensions
 from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.interpolation import VolumeInterpolant
 from floebreak.propeller.pipeline import load_spectra, propeller_loads, torque_ranges_above
-from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
+from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, spectrum_edges
 from floebreak.results import piece_table, summary
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.simulation import SimulationParams, SimulationResult, simulate
@@ -211,7 +211,7 @@ def propeller_rows(profile: str, columns: dict[str, np.ndarray]) -> list[dict]:
                     "q_max_knm": float(q_knm.max()),
                     "intervals": ranges[label]["intervals_knm"],
                     "max_density_percent": 100.0 * float(np.nanmax(density)),
-                    "max_density_bin_knm": float(ds["torque_bin_lower_knm"].values[np.nanargmax(density)]),
+                    "max_density_bin_knm": float(spectrum_edges(ds, "torque")[np.nanargmax(density)]),
                 }
             )
     return rows

@@ -3,8 +3,9 @@
 The public API (docs/api.md): ``floebreak.run(scenario) -> Result`` runs a `Scenario` (a TOML file, a dict
 or None for the reference scenario) without touching files, and ``Result.write(out)`` writes a run
 directory; `generate_field`, `FloeField`, `Bow`/`get_hull`, `build_model` (profiles) and `simulate` are the
-engine's parts for scripts; `register_mode` adds a failure mode; `propeller_analysis` and `run_study` are
-the propeller and study entry points. Everything else is internal and may change.
+engine's parts for scripts; `register_mode` adds a failure mode; `propeller_analysis` (writes),
+`analyse_propeller` (pure) and `run_study` are the propeller and study entry points. Everything else is
+internal and may change.
 
 The names below are imported on first use (PEP 562): ``import floebreak`` and the command line's light
 commands (``floebreak --help``, ``schema``, ``observations``, ``report``) then do not load the engine's
@@ -25,8 +26,9 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` impor
     from floebreak.ice.field import FloeField
     from floebreak.ice.generation import generate_field
     from floebreak.ice.observations import Observation, get_observation, thesis_observations
+    from floebreak.io.propeller import propeller_analysis
     from floebreak.profiles import PROFILES, build_model
-    from floebreak.propeller.pipeline import propeller_analysis
+    from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
     from floebreak.scenario import Scenario
     from floebreak.ship.bow import Bow
     from floebreak.ship.hulls import get_hull
@@ -58,7 +60,9 @@ _LAZY = {
     "get_observation": "floebreak.ice.observations",
     "load_study": "floebreak.studies.design",
     "mode_names": "floebreak.failure",
-    "propeller_analysis": "floebreak.propeller.pipeline",
+    "PropellerResult": "floebreak.propeller.pipeline",
+    "analyse_propeller": "floebreak.propeller.pipeline",
+    "propeller_analysis": "floebreak.io.propeller",
     "register_mode": "floebreak.failure",
     "registered_mode": "floebreak.failure",
     "run": "floebreak.api",
@@ -76,12 +80,14 @@ __all__ = [
     "InputError",
     "Model",
     "Observation",
+    "PropellerResult",
     "Result",
     "Scenario",
     "SimulationParams",
     "SimulationResult",
     "__version__",
     "aggregate_study",
+    "analyse_propeller",
     "build_model",
     "expand_study",
     "generate_field",

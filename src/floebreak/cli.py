@@ -379,51 +379,112 @@ DEMO_PROPELLER_DIR = "propeller"
 
 
 def _demo_propeller(run_dir: Path, run_id: str) -> dict:
-    """Propeller analysis (defaults: Agulhas II, FEM thesis Tables 10/11) of `run_dir` into
-    `run_dir/propeller`; returns its summary. `run_id` names the run (the folder is still temporary)."""
-    import json
+    """Propeller analysis (defaults: Agulhas II, FEM thesis Tables 10/11, the scenario's speed, fraction
+    reaching and propellers) of `run_dir` into `run_dir/propeller`; returns its summary. `run_id` names the
+    run (the folder is still temporary)."""
+    from floebreak.io.propeller import write_propeller
+    from floebreak.propeller.pipeline import analyse_propeller
+    from floebreak.propeller.runs import read_runs
+    from floebreak.report import write_report
 
+    inputs = read_runs(run_dir)
+    cusps = inputs.cusps.set_column(
+        inputs.cusps.column_names.index("run_id"), "run_id", pa_array([run_id] * inputs.cusps.num_rows)
+    )
+    exposures = None if inputs.exposures is None else {run_id: next(iter(inputs.exposures.values()))}
+    result = analyse_propeller(cusps, exposures=exposures)
+    write_propeller(result, run_dir / DEMO_PROPELLER_DIR, record={"runs": [run_id]})
+    write_report(run_dir, directory_name=run_id)  # again, now with the propeller section
+    return result.summary
+
+
+def pa_array(values: list[str]):
     import pyarrow as pa
 
-    from floebreak.propeller.pipeline import load_cusps, propeller_analysis
+    return pa.array(values, pa.string())
 
-    cusps = load_cusps(run_dir)
-    cusps = cusps.set_column(
-        cusps.column_names.index("run_id"), "run_id", pa.array([run_id] * cusps.num_rows, pa.string())
-    )
-    target = propeller_analysis(cusps, run_dir / DEMO_PROPELLER_DIR)
-    return json.loads((target / "summary.json").read_text(encoding="utf-8"))
+
+def _fmt(value, spec: str) -> str:
+    return "–" if value is None or value != value else format(value, spec)
+
+
+def _propeller_table(summary: dict) -> Table:
+    """Per pitch: cusps with a load, beyond the FEM table, the |Q| ranges with density > 0.1 % per kN·m
+    (thesis §6.2) and the maximum |Q|."""
+    options = summary["options"]
+    table = Table(title=f"propeller spectra ({options['interpolation']}, beyond table: {options['beyond']})")
+    for name in (r"pitch \[%]", "cusps", "beyond table", r"|Q| density > 0.1 %/kN·m \[kN·m]"):
+        table.add_column(name, justify="left" if "density" in name else "right")
+    table.add_column(r"max |Q| \[kN·m]", justify="right")
+    for label, info in summary["pitches"].items():
+        intervals = summary["simulated_torque_above_threshold"][label]["intervals_knm"]
+        ranges = "–" if not intervals else f"{intervals[0][0]:g}–{intervals[-1][1]:g}"
+        if len(intervals) > 1:  # bins below the threshold inside the envelope
+            ranges += f" ({len(intervals)} parts)"
+        q_range = info["torque_range_knm"]
+        table.add_row(
+            f"{info['pitch_percent']:g}",
+            str(summary["n_cusps"] - info["n_without_load"]),
+            f"{info['n_beyond_table']} ({100 * info['fraction_beyond_table']:.0f} %)",
+            ranges,
+            "–" if q_range is None else f"{q_range[1]:.0f}",
+        )
+    return table
+
+
+def _rule_form_table(summary: dict) -> Table | None:
+    """Per pitch: the rule-form fit of |Q| (k with 95 % interval against the rule's k) and the expected
+    largest |Q| per hour and over the operating profile (notes §7.3)."""
+    rule_form = summary.get("rule_form") or {}
+    table = Table(title="rule form P(Q ≥ q) = exp(−(q/q_max)^k ln N) fitted to |Q|, one propeller")
+    for name in (r"pitch \[%]", "k (95 % CI)", "rule k", r"q_max per h \[kN·m]", r"q_max profile \[kN·m]"):
+        table.add_column(name, justify="right")
+    rows = 0
+    for label, info in summary["pitches"].items():
+        fit = (rule_form.get(label) or {}).get("torque_knm") or {}
+        if "k" not in fit:
+            continue
+        rows += 1
+        table.add_row(
+            f"{info['pitch_percent']:g}",
+            f"{fit['k']:.2f} ({fit['k_ci95'][0]:.2f}–{fit['k_ci95'][1]:.2f})",
+            f"{fit['rule_k']:g}",
+            _fmt(fit.get("x_max_per_hour"), ".0f"),
+            _fmt(fit.get("x_max_lifetime"), ".0f"),
+        )
+    return table if rows else None
 
 
 def _print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
-    """Per pitch: cusps with a load, the |Q| ranges with density > 0.1 % per kN·m (thesis §6.2), maxima."""
-    options = summary["options"]
+    """The propeller summary table, the time base, warnings (always) and the files written."""
     if not quiet:
-        table = Table(
-            title=f"propeller spectra ({options['interpolation']}, beyond table: {options['beyond']})"
-        )
-        table.add_column(r"pitch \[%]", justify="right")
-        table.add_column("cusps", justify="right")
-        table.add_column("beyond table", justify="right")
-        table.add_column(r"|Q| density > 0.1 %/kN·m \[kN·m]")
-        table.add_column(r"max |Q| \[kN·m]", justify="right")
-        for label, info in summary["pitches"].items():
-            intervals = summary["simulated_torque_above_threshold"][label]["intervals_knm"]
-            ranges = "–" if not intervals else f"{intervals[0][0]:g}–{intervals[-1][1]:g}"
-            if len(intervals) > 1:  # bins below the threshold inside the envelope
-                ranges += f" ({len(intervals)} parts)"
-            q_range = info["torque_range_knm"]
-            table.add_row(
-                f"{info['pitch_percent']:g}",
-                str(summary["n_cusps"] - info["n_without_load"]),
-                str(info["n_beyond_table"]),
-                ranges,
-                "–" if q_range is None else f"{q_range[1]:.0f}",
+        console.print(_propeller_table(summary))
+        rule_table = _rule_form_table(summary)
+        if rule_table is not None:
+            console.print(rule_table)
+        rates = summary.get("rates")
+        if rates:
+            console.print(
+                f"time base: {rates['transit_m']:.0f} m of transit, {rates['hours_in_ice']:.3f} h in ice; "
+                f"{rates['loads_per_hour_per_propeller']:.0f} loads per hour and "
+                f"{rates['loads_per_km_per_propeller']:.0f} per km on one propeller",
+                highlight=False,
             )
-        console.print(table)
+        for label, info in (summary.get("rule_form") or {}).items():
+            miner = info.get("miner") if isinstance(info, dict) else None
+            if miner:
+                life = miner["damage_lifetime"]
+                over = "" if life is None else f", {life:.3g} over the operating profile"
+                console.print(
+                    f"Miner sum ({miner['quantity']}, pitch {label[1:]} %): "
+                    f"{miner['damage_per_hour']:.3g} per hour{over}",
+                    highlight=False,
+                )
+    for warning in summary.get("warnings", []):
+        err_console.print(f"[bold yellow]warning:[/] {escape(warning)}", soft_wrap=True, highlight=False)
     console.print(
-        f"written: {folder}/ (spectra.nc, spectra.csv, cusp_loads.csv, summary.json, "
-        "figures/torque_spectrum_{linear,log}.png, figures/load_spectrum_{linear,log}.png)",
+        f"written: {folder}/ (spectra.nc, load_/torque_spectrum.csv, *_exceedance.csv, cusp_loads.csv, "
+        "summary.json, figures/)",
         soft_wrap=True,
         highlight=False,
     )
@@ -526,38 +587,134 @@ def _register_studies() -> None:
 _register_studies()
 
 
+def _fem_tables(items: list[str] | None) -> list[tuple[float | None, Path]] | None:
+    """`--fem-table [PITCH=]FILE` options → [(pitch or None, path)]; a repeated pitch is refused here, a
+    file without a pitch (no PITCH= and no '# pitch_percent:' line) when it is read."""
+    if not items:
+        return None
+    out: list[tuple[float | None, Path]] = []
+    for item in items:
+        pitch_text, sep, path = item.partition("=")
+        if not sep:
+            out.append((None, Path(item)))
+            continue
+        try:
+            pitch = float(pitch_text)
+        except ValueError:
+            raise InputError(
+                "--fem-table", f"{item!r}: {pitch_text!r} is not a pitch [%]", allowed="PITCH=FILE"
+            ) from None
+        if any(p == pitch for p, _ in out):
+            raise InputError(
+                "--fem-table", f"two tables for pitch {pitch:g} %", allowed="one table per pitch"
+            )
+        out.append((pitch, Path(path)))
+    return out
+
+
+def _sn_curve(text: str):
+    """`--sn-curve QUANTITY,M,AMPLITUDE,CYCLES` → BasquinCurve in SI (amplitude given in kN or kN·m)."""
+    from floebreak.propeller.ruleform import BasquinCurve
+
+    parts = text.split(",")
+    allowed = "QUANTITY,M,AMPLITUDE,CYCLES, e.g. torque,5,1000,1e7 (amplitude in kN·m or kN)"
+    if len(parts) != 4:
+        raise InputError("--sn-curve", f"{text!r} has {len(parts)} parts", allowed=allowed)
+    try:
+        m, amplitude, cycles = (float(p) for p in parts[1:])
+    except ValueError:
+        raise InputError("--sn-curve", f"{text!r}: not numbers", allowed=allowed) from None
+    return BasquinCurve(m, amplitude * 1e3, cycles, quantity=parts[0].strip().lower())
+
+
 @app.command()
 def propeller(
     run_or_study_dir: Annotated[Path, typer.Argument(help="a run directory or a study directory")],
     out: Annotated[Path, typer.Option("--out", help="output directory")],
     fem_table: Annotated[
-        Path | None,
-        typer.Option("--fem-table", help="own FEM table CSV (volume, length, width, height, force, torque)"),
+        list[str] | None,
+        typer.Option(
+            "--fem-table",
+            help="own FEM table CSV as PITCH=FILE (pitch in %; repeatable, one per pitch); FILE alone if it "
+            "has a '# pitch_percent:' line",
+        ),
     ] = None,
     torque_csv: Annotated[Path | None, typer.Option("--torque-csv", help="measured shaft torque CSV")] = None,
     polar_class: Annotated[
         str | None, typer.Option("--polar-class", help="IACS polar class, e.g. PC5")
     ] = None,
     interpolation: Annotated[str, typer.Option("--interpolation", help="newton | pchip")] = "newton",
-    beyond: Annotated[str, typer.Option("--beyond", help="clamp | extrapolate | flag")] = "clamp",
+    beyond: Annotated[
+        str, typer.Option("--beyond", help="power_law | clamp | extrapolate | flag")
+    ] = "power_law",
+    pool: Annotated[
+        bool, typer.Option("--pool", help="pool runs whose scenarios differ in more than seed and field")
+    ] = False,
+    speed: Annotated[
+        float | None, typer.Option("--speed-m-s", help="ship speed in ice [m/s] (default: the scenario's)")
+    ] = None,
+    fraction_reaching: Annotated[
+        float | None,
+        typer.Option("--fraction-reaching", help="fraction of cusps reaching a propeller (0, 1]"),
+    ] = None,
+    propellers: Annotated[int | None, typer.Option("--propellers", help="number of propellers")] = None,
+    hours_per_year: Annotated[
+        float | None, typer.Option("--hours-in-ice-per-year", help="operating profile [h/a]")
+    ] = None,
+    years: Annotated[
+        float | None, typer.Option("--years", help="operating profile: years in service")
+    ] = None,
+    sn_curve: Annotated[
+        str | None,
+        typer.Option(
+            "--sn-curve",
+            help="Basquin S–N curve for Miner's sum, QUANTITY,M,AMPLITUDE,CYCLES, e.g. torque,5,1000,1e7 "
+            "(N = CYCLES·(AMPLITUDE/x)^M; amplitude in kN·m for torque, kN for force)",
+        ),
+    ] = None,
     overwrite: Annotated[
         bool, typer.Option("--overwrite", help="replace an existing output directory")
     ] = False,
+    quiet: QuietOption = False,
 ) -> None:
-    """Propeller–ice force and torque spectra of the cusps of a run or study (thesis chapter 6)."""
-    from floebreak.propeller.pipeline import propeller_analysis
+    """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
+    (thesis chapter 6; docs/propeller.md)."""
+    from floebreak.io.propeller import write_propeller
+    from floebreak.propeller.pipeline import analyse_propeller
+    from floebreak.propeller.ruleform import OperatingProfile
+    from floebreak.propeller.runs import read_runs
 
-    written = propeller_analysis(
+    if (hours_per_year is None) != (years is None):
+        raise InputError(
+            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
+        )
+    profile = None if years is None else OperatingProfile(hours_per_year, years)
+    curve = None if sn_curve is None else _sn_curve(sn_curve)
+    tables = _fem_tables(fem_table)
+    inputs = read_runs(
         run_or_study_dir,
-        out,
-        fem_table=fem_table,
+        pool=pool,
+        speed_m_s=speed,
+        fraction_reaching=fraction_reaching,
+        n_propellers=propellers,
+    )
+    result = analyse_propeller(
+        inputs.cusps,
+        fem_table=tables,
         torque_csv=torque_csv,
         polar_class=polar_class,
         interpolation=interpolation,
         beyond=beyond,
-        overwrite=overwrite,
+        exposures=inputs.exposures,
+        operating_profile=profile,
+        sn_curve=curve,
     )
-    console.print(f"propeller spectra written to {written}")
+    record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
+    written = write_propeller(result, out, overwrite=overwrite, record=record)
+    n_runs = len(inputs.run_dirs)
+    differing = f" (differing in {', '.join(inputs.differing_keys)})" if inputs.differing_keys else ""
+    console.print(f"pooled {n_runs} runs{differing}" if n_runs > 1 else "1 run", highlight=False)
+    _print_propeller_summary(result.summary, written, quiet)
 
 
 def _print_version(value: bool) -> None:

@@ -48,3 +48,8 @@ WEDGE_ANGLE_DEG: Final = 5.0  # φ, thesis §4.1.2
 NEXT_CRACK_ANGLE_DEG: Final = 30.0  # α_nextcrack, thesis §4.2.3
 BOW_TIP_ANGLE_DEG: Final = 64.54  # α (full waterline entrance angle), thesis Alg. 7
 PSI_MIN_DEG: Final = 10.0  # near-vertical panel guard, physics-notes §2.2
+
+# --- Propeller loads: time base (thesis §6.1, §6.3) -----------------------------------------------
+SHIP_SPEED_IN_ICE_M_S: Final = 3.0  # ship surge speed in ice, thesis §6.3 (Eq. 28: v_cusp = v_ship = 3 m/s)
+PROPELLER_COUNT: Final = 2  # the Agulhas II has two controllable-pitch propellers, thesis §6.1
+FRACTION_REACHING_PROPELLER: Final = 1.0  # every cusp reaches a propeller, as the thesis assumes (§6.2)

@@ -123,6 +123,7 @@ def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = 
         )
     if not order:
         parts.append("<p>(no figures)</p>")
+    parts += propeller_section(run_dir / "propeller")
     parts += [
         "<h2>Scenario (resolved)</h2>",
         f"<pre>{esc(scenario_text)}</pre>",
@@ -131,6 +132,98 @@ def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = 
         "</body></html>",
     ]
     return "\n".join(parts) + "\n"
+
+
+_PROPELLER_FIGURES = {
+    "torque_spectrum_log.png": "Torque spectrum |Q| per pitch (thesis Fig. 33 style, log scale).",
+    "load_spectrum_log.png": "Blade-load spectrum |F| per pitch (thesis Fig. 32 style, log scale).",
+    "rule_form.png": "Torque exceedance against the rule form exp(−(x/x_max)^k ln N): simulated, fitted, and "
+    "the rule's shape through the same x_max; right: exceedances per hour on one propeller.",
+    "ice_class_exceedance.png": "Loads against the IACS UR I3 maxima (as recalled, notes §7.2).",
+    "volume_loads.png": "FEM table interpolation and the policy beyond the table.",
+}
+
+
+def _embedded_figure(path: Path, caption: str) -> str:
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return (
+        f"<figure><img alt='{html.escape(path.name)}' src='data:image/png;base64,{data}'>"
+        f"<figcaption>{html.escape(caption)}</figcaption></figure>"
+    )
+
+
+def _propeller_rows(summary: dict) -> list[str]:
+    """One table row per pitch: cusps beyond the table, max |Q|, rule-form fit of |Q| and rates."""
+    esc = html.escape
+    rows = [
+        "<table><tr><th>pitch [%]</th><th>beyond FEM table</th><th>max |Q| [kN·m]</th>"
+        "<th>fit k (95 % CI)</th><th>rule k</th><th>|Q| max per hour [kN·m] (95 % CI)</th>"
+        "<th>|Q| max over the profile [kN·m]</th></tr>"
+    ]
+    for label, info in summary.get("pitches", {}).items():
+        fit = ((summary.get("rule_form") or {}).get(label) or {}).get("torque_knm") or {}
+        k = "–" if "k" not in fit else f"{fit['k']:.3f} ({fit['k_ci95'][0]:.3f}–{fit['k_ci95'][1]:.3f})"
+        hour = "–"
+        if "x_max_per_hour" in fit:
+            low, high = fit["x_max_per_hour_ci95"]
+            hour = f"{fit['x_max_per_hour']:.0f} ({low:.0f}–{high:.0f})"
+        life = "–" if "x_max_lifetime" not in fit else f"{fit['x_max_lifetime']:.0f}"
+        q = info.get("torque_range_knm")
+        cells = [
+            f"{info['pitch_percent']:g}",
+            f"{info['n_beyond_table']} ({100 * info['fraction_beyond_table']:.0f} %)",
+            "–" if not q else f"{q[1]:.0f}",
+            k,
+            _format(fit.get("rule_k")),
+            hour,
+            life,
+        ]
+        rows.append("<tr>" + "".join(f"<td class='num'>{esc(c)}</td>" for c in cells) + "</tr>")
+    rows.append("</table>")
+    return rows
+
+
+def propeller_section(folder: Path) -> list[str]:
+    """HTML parts of the propeller section when `folder` holds a propeller analysis (summary.json):
+    warnings, rates, the per-pitch table and the figures; nothing otherwise."""
+    path = folder / "summary.json"
+    if not path.is_file():
+        return []
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as error:
+        raise InputError("run_dir", f"{str(path)!r} is not readable JSON ({error})") from None
+    esc = html.escape
+    parts = ["<h2>Propeller loads</h2>"]
+    parts += [f"<p style='color:#a00'><b>Warning:</b> {esc(w)}</p>" for w in summary.get("warnings", [])]
+    rates = summary.get("rates")
+    if rates:
+        bases = sorted(
+            {
+                f"speed {r['speed_m_s']:g} m/s, fraction reaching {r['fraction_reaching']:g}, "
+                f"{r['n_propellers']} propeller(s)"
+                for r in rates["per_run"].values()
+            }
+        )
+        parts.append(
+            f"<p>Time base: {rates['transit_m']:.0f} m of transit, {rates['hours_in_ice']:.4g} h in ice "
+            f"({esc('; '.join(bases))}): <b>{rates['loads_per_hour_per_propeller']:.4g}</b> "
+            f"loads per hour and <b>{rates['loads_per_km_per_propeller']:.4g}</b> per km on one propeller</p>"
+        )
+    else:
+        parts.append("<p>No time base (transit distance unknown): densities only, no rates.</p>")
+    parts += _propeller_rows(summary)
+    rule = summary.get("rule_form") or {}
+    if rule.get("rule_n_ice") is not None:
+        parts.append(
+            f"<p>Rule N_ice = {rule['rule_n_ice']:.4g} ({esc(_format(rule['rule_n_ice_inputs']))}; "
+            "UR I3 as recalled, verify against the rule text).</p>"
+        )
+    figures = folder / "figures"
+    for name, caption in _PROPELLER_FIGURES.items():
+        if (figures / name).is_file():
+            parts.append(_embedded_figure(figures / name, caption))
+    return parts
 
 
 def write_report(

@@ -277,6 +277,12 @@ class ShipSection(_Section):
     initial_contact: Literal["shift_field", "shift_floes"] = Field(
         "shift_field", description="how floes touching the bow at the start are moved ahead (thesis §3.2)"
     )
+    speed_m_s: Float = Field(
+        c.SHIP_SPEED_IN_ICE_M_S,
+        gt=0.0,
+        description="ship speed in ice [m/s]: time base of the propeller load rates, not used by the "
+        "quasi-static breaking (default 3 m/s, thesis §6.3 Eq. 28)",
+    )
 
     _resolve_file = field_validator("file")(_resolve_path)
 
@@ -469,6 +475,22 @@ def _normalised_policy(policy: Mapping[str, Any]) -> dict[str, dict[str, list[st
     return result
 
 
+class PropellerSection(_Section):
+    """How the cusps meet the propellers (docs/propeller.md §6; used by the propeller rates only)."""
+
+    fraction_reaching: Float = Field(
+        c.FRACTION_REACHING_PROPELLER,
+        gt=0.0,
+        le=1.0,
+        description="fraction of the cusps that reach a propeller, in (0, 1] (default 1: thesis §6.2)",
+    )
+    count: Int = Field(
+        c.PROPELLER_COUNT,
+        ge=1,
+        description="number of propellers sharing the cusps (default 2: Agulhas II, thesis §6.1) [-]",
+    )
+
+
 class Scenario(_Section):
     """A complete run description: profile, seed and the field / ice / ship / failure sections."""
 
@@ -482,6 +504,7 @@ class Scenario(_Section):
     ice: IceSection = Field(default_factory=IceSection)
     ship: ShipSection = Field(default_factory=ShipSection)
     failure: FailureSection = Field(default_factory=FailureSection)
+    propeller: PropellerSection = Field(default_factory=PropellerSection)
 
     # --- construction -----------------------------------------------------------------------------
     @classmethod

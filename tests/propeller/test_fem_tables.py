@@ -40,10 +40,20 @@ def test_user_table_units_and_pitch():
 def test_resolve_from_path_and_mapping(tmp_path):
     path = tmp_path / "t.csv"
     path.write_text(GOOD)
-    assert list(resolve_fem_tables(path, 95.8)) == [50.0]
-    assert list(resolve_fem_tables({30: path}, 95.8)) == [30.0]
+    assert list(resolve_fem_tables(path)) == [50.0]
+    assert list(resolve_fem_tables({50: path})) == [50.0]
+    with pytest.raises(InputError, match="says pitch_percent 50, given 30"):
+        resolve_fem_tables({30: path})
     with pytest.raises(InputError, match="two tables"):
-        resolve_fem_tables([path, path], 95.8)
+        resolve_fem_tables([path, path])
+    # a table without a '# pitch_percent:' line needs a pitch: never a silent default
+    bare = tmp_path / "bare.csv"
+    bare.write_text(GOOD.replace("# pitch_percent: 50\n", ""))
+    with pytest.raises(InputError, match="pitch unknown"):
+        resolve_fem_tables(bare)
+    assert list(resolve_fem_tables([(0.0, bare), (95.0, bare)])) == [0.0, 95.0]
+    # a caller may state a fallback for files without the line; the line still wins where present
+    assert list(resolve_fem_tables([bare, path], 20.0)) == [20.0, 50.0]
     with pytest.raises(InputError, match="does not exist"):
         read_fem_table(tmp_path / "missing.csv")
 

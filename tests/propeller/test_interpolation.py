@@ -6,8 +6,14 @@ import numpy as np
 import pytest
 
 from floebreak.errors import InputError
-from floebreak.propeller.fem import shipped_fem_tables
-from floebreak.propeller.interpolation import VolumeInterpolant, divided_differences, newton_evaluate
+from floebreak.propeller.fem import parse_fem_table, shipped_fem_tables
+from floebreak.propeller.interpolation import (
+    VolumeInterpolant,
+    divided_differences,
+    newton_evaluate,
+    power_law_exponent,
+    table_interpolant,
+)
 
 # thesis Table 10 (pitch 0 %), force in kN, with the origin the thesis adds
 X = [0.0, 3.7073, 6.5232, 9.4535, 12.5043]
@@ -81,3 +87,97 @@ def test_bad_options_name_the_field():
         VolumeInterpolant.through_origin([1.0, 2.0], [1.0, 2.0], "cubic")
     with pytest.raises(InputError, match="beyond"):
         VolumeInterpolant.through_origin([1.0, 2.0], [1.0, 2.0], "newton", "wrap")
+
+
+def test_power_law_beyond_the_table():
+    """A table on y = 3 V^0.6 (the origin added): the exponent fitted to the three largest points is 0.6,
+    the loads beyond V_max follow 3 V^0.6, continuous at V_max; the default policy is the power law."""
+    x = np.array([2.0, 4.0, 6.0, 8.0])
+    y = 3.0 * x**0.6
+    assert power_law_exponent(x, y) == pytest.approx(0.6, abs=1e-12)
+    assert power_law_exponent(x, -y) == pytest.approx(0.6, abs=1e-12)  # torques are negative
+    curve = VolumeInterpolant.through_origin(x, y, "pchip")
+    assert curve.beyond == "power_law"
+    v = np.array([8.0, 8.0 + 1e-9, 12.0, 30.0])
+    assert curve(v) == pytest.approx(3.0 * v**0.6, rel=1e-9)
+    # thesis Table 11 (95 %): b = Σ a c / Σ a² over its three largest cusps, anchored at 12.5043 m³
+    t95 = shipped_fem_tables()[95.0]
+    a = np.log(np.array([6.5232, 9.4535]) / 12.5043)
+    c = np.log(np.array([1058.27, 1434.74]) / 1686.20)
+    assert power_law_exponent(t95.volume_m3, t95.force_n) == pytest.approx(np.sum(a * c) / np.sum(a * a))
+    with pytest.raises(InputError, match="no power law"):
+        VolumeInterpolant.through_origin([1.0, 2.0, 3.0], [1.0, -1.0, 2.0])(np.array([4.0]))
+
+
+def _table(text):
+    return parse_fem_table(text, "t.csv")
+
+
+GRID = """# pitch_percent: 95
+# dimensions: volume, thickness
+volume_m3,thickness_m,force_kN,torque_kNm
+2,0.5,100,-90
+4,0.5,200,-180
+8,0.5,400,-360
+2,1.0,200,-180
+4,1.0,400,-360
+8,1.0,800,-720
+"""
+
+
+def test_volume_by_thickness_grid():
+    """Loads on F = 100 kN/m⁴ · V · h, exactly bilinear, so the RegularGridInterpolator reproduces them
+    inside the grid and down to zero (the zero faces added): a 0.4 m thick cusp gets less load than a
+    1 m thick one of the same volume. Beyond the grid: flagged, clamped value × (V / V_clamped)^(2/3)."""
+    table = _table(GRID)
+    assert table.dimensions == ("volume", "height")
+    force = table_interpolant(table, "force")
+    coords = {"volume": np.array([3.0, 3.0, 6.0, 1.0, 16.0]), "height": np.array([0.5, 0.75, 1.0, 0.25, 1.0])}
+    load, beyond = force(coords)
+    assert load[:4] == pytest.approx(100e3 * np.array([1.5, 2.25, 6.0, 0.25]))
+    assert beyond.tolist() == [False, False, False, False, True]
+    assert load[4] == pytest.approx(800e3 * 2.0 ** (2 / 3))
+    flagged, _ = table_interpolant(table, "torque", beyond="flag")(coords)
+    assert np.isnan(flagged[4]) and flagged[0] == pytest.approx(-135e3)
+    with pytest.raises(InputError, match="not extrapolated"):
+        table_interpolant(table, "force", beyond="extrapolate")
+
+
+def test_scattered_length_width_height_table():
+    """Scattered points of F = (10 l + 20 w + 30 h) kN (linear through the origin): LinearNDInterpolator
+    reproduces it inside the hull of the points and the origin; outside, the nearest point, flagged."""
+    rng = np.random.default_rng(3)
+    points = rng.uniform(1.0, 4.0, (12, 3))
+    rows = "\n".join(
+        f"{lx},{w},{h},{10 * lx + 20 * w + 30 * h},{-(10 * lx + 20 * w + 30 * h)}" for lx, w, h in points
+    )
+    header = "length_m,width_m,height_m,force_kN,torque_kNm"
+    text = f"# pitch_percent: 0\n# dimensions: length, width, height\n{header}\n{rows}\n"
+    table = _table(text)
+    inside = points.mean(axis=0)
+    coords = {
+        "length": np.array([inside[0], 50.0]),
+        "width": np.array([inside[1], 1.0]),
+        "height": np.array([inside[2], 1.0]),
+    }
+    load, beyond = table_interpolant(table, "force", beyond="clamp")(coords)
+    assert load[0] == pytest.approx(1e3 * (10 * inside[0] + 20 * inside[1] + 30 * inside[2]))
+    assert beyond.tolist() == [False, True]
+    nearest = points[np.argmin(np.linalg.norm(points - [50.0, 1.0, 1.0], axis=1))]
+    assert load[1] == pytest.approx(1e3 * (10 * nearest[0] + 20 * nearest[1] + 30 * nearest[2]))
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        (GRID.replace("volume, thickness", "volume, colour"), "dimensions"),
+        (GRID.replace("4,1.0,400", "4,1.0,nan"), r"row 5, column 'force_kN' is 'nan'"),
+        (GRID.replace("4,1.0,400", "-4,1.0,400"), r"row 5, column 'volume_m3' must be > 0"),
+        (GRID.replace("8,1.0,800", "4,1.0,800"), "appears twice"),
+        (GRID.replace("thickness_m,", ""), "missing column.*height"),
+        (GRID.replace("# pitch_percent: 95\n", ""), "pitch unknown"),
+    ],
+)
+def test_bad_nd_tables(text, match):
+    with pytest.raises(InputError, match=match):
+        _table(text)

@@ -12,9 +12,10 @@ import xarray as xr
 
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
+from floebreak.io.propeller import propeller_analysis
 from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.measured import synthetic_torque_path
-from floebreak.propeller.pipeline import load_spectra, propeller_analysis, torque_ranges_above
+from floebreak.propeller.pipeline import load_spectra, torque_ranges_above
 
 
 def _cusps():
@@ -47,7 +48,8 @@ def test_outputs_and_numbers(tmp_path):
         "cusp_loads.csv",
         "volume_classes.csv",
         "spectra.nc",
-        "spectra.csv",
+        "load_spectrum.csv",
+        "torque_spectrum.csv",
         "measured_torque_spectrum.csv",
         "figures/load_spectrum_log.png",
         "figures/torque_spectrum_linear.png",
@@ -64,9 +66,13 @@ def test_outputs_and_numbers(tmp_path):
     # the thesis cuboids get the table values exactly (Table 10 / 11)
     assert float(rows[0]["force_kn_p0"]) == pytest.approx(240.55, rel=1e-9)
     assert float(rows[3]["torque_knm_p95"]) == pytest.approx(-1658.78, rel=1e-9)
-    # beyond the table: clamped to the largest point, and reported
+    # beyond the table (15 m³ > 12.5043 m³): the power law through Table 11's three largest points,
+    # anchored at the last, b = Σ a c / Σ a² with a = ln(V/V_max), c = ln(F/F_max), and reported
+    a = np.log(np.array([6.5232, 9.4535]) / 12.5043)
+    c = np.log(np.array([1058.27, 1434.74]) / 1686.20)
+    b = np.sum(a * c) / np.sum(a * a)
     assert rows[4]["beyond_table_p95"] == "true" and rows[3]["beyond_table_p95"] == "false"
-    assert float(rows[4]["force_kn_p95"]) == pytest.approx(1686.20)
+    assert float(rows[4]["force_kn_p95"]) == pytest.approx(1686.20 * (15.0 / 12.5043) ** b)
     assert summary["pitches"]["p95"]["n_beyond_table"] == 1
     # kinetic energy uses the cusp's own volume (0.8 of the box here): ½·917·V·3²
     assert float(rows[0]["kinetic_energy_kj"]) == pytest.approx(0.5 * 917 * 0.8 * 3.7073 * 9 / 1e3)
@@ -85,13 +91,21 @@ def test_spectra_netcdf_is_the_run_average(tmp_path):
     cusps = _cusps()
     out = propeller_analysis(cusps, tmp_path / "prop", force_bin_kn=50.0, torque_bin_knm=50.0)
     ds = xr.open_dataset(out / "spectra.nc")
-    assert ds["force_density"].dims == ("pitch", "bin")
     assert ds["pitch"].values.tolist() == [0.0, 95.0]
-    assert ds["torque_density"].attrs["units"] == "1/(kN m)"
+    assert ds["torque_density"].attrs["units"] == "kN-1 m-1"
     assert "floebreak_version" in ds.attrs["provenance"]
+    # CF-1.8: force and torque have their own bin axes with bounds; every numeric variable has units
+    assert ds.attrs["Conventions"] == "CF-1.8"
+    assert ds["force_density"].dims == ("pitch", "force_kn") and ds["torque_density"].dims[1] == "torque_knm"
+    assert ds["force_kn"].attrs["bounds"] == "force_kn_bounds"
+    bounds = {v.attrs["bounds"] for v in ds.coords.values() if "bounds" in v.attrs}  # CF §7.1: inherit units
+    for name, variable in {**ds.data_vars, **ds.coords}.items():
+        if variable.dtype.kind in "fiu" and name not in bounds:
+            assert "units" in variable.attrs, name
     rows = _rows(out / "cusp_loads.csv")
     width = 50.0
-    edges = [*ds["force_bin_lower_kn"].values.tolist(), ds["force_bin_upper_kn"].values[-1]]
+    bounds = ds["force_kn_bounds"].values
+    edges = [*bounds[:, 0], bounds[-1, 1]]
     for pitch, label in ((0.0, "p0"), (95.0, "p95")):
         per_run = []
         for run in ("r1", "r2"):
@@ -118,7 +132,11 @@ def test_study_directory_and_options(tmp_path):
             columns,
             {},
         )
-    out = propeller_analysis(study, tmp_path / "a", interpolation="pchip", beyond="flag")
+    # runs without a scenario cannot be shown to describe the same conditions: pooled only on request
+    with pytest.raises(InputError, match=r"2 runs below .* differ in scenario\.resolved\.toml.*--pool"):
+        propeller_analysis(study, tmp_path / "a")
+    assert not (tmp_path / "a").exists()
+    out = propeller_analysis(study, tmp_path / "a", interpolation="pchip", beyond="flag", pool=True)
     rows = _rows(out / "cusp_loads.csv")
     assert [r["run_id"] for r in rows] == ["run_r1"] * 5 + ["run_r2"] * 3
     assert rows[4]["force_kn_p0"] == ""  # box volume 15 m³ > 12.5 m³: flagged, no load claimed
@@ -220,32 +238,19 @@ def test_far_loads_widen_the_bins_instead_of_making_millions():
         loads[f"force_n_p{pitch:g}"] = -torque / 10.0
         loads[f"torque_nm_p{pitch:g}"] = torque
     ds = load_spectra(loads, tables, 10.0, 10.0)
-    assert ds.sizes["bin"] <= MAX_BINS
+    assert ds.sizes["torque_knm"] <= MAX_BINS and ds.sizes["force_kn"] <= MAX_BINS
     assert ds.attrs["torque_bin_width_knm"] == 5_000.0 and ds.attrs["force_bin_width_kn"] == 500.0
     # densities stay per kN·m: the two small loads share the first bin, 2/3 of the runs' loads
     assert ds["torque_density"].sel(pitch=0.0).values[0] == pytest.approx(2 / 3 / 5_000.0)
 
 
-def test_spectra_netcdf_has_the_bytes_of_xarray_to_netcdf(tmp_path):
-    # the writer bypasses to_netcdf (which imports dask.distributed); the file must be what it writes
-    from floebreak.propeller.pipeline import _write_netcdf
+def test_report_section_without_time_base(tmp_path):
+    """A table of cusps has no transit distance: densities only, said so in the summary and the report."""
+    from floebreak.report import propeller_section
 
-    out = propeller_analysis(_cusps(), tmp_path / "prop", force_bin_kn=50.0, torque_bin_knm=50.0)
-    with xr.open_dataset(out / "spectra.nc", engine="h5netcdf") as stored:
-        ds = stored.load()
-    assert _write_netcdf(ds, tmp_path / "ours.nc") == "h5netcdf"
-    ds.to_netcdf(tmp_path / "xarray.nc", engine="h5netcdf")
-    assert (tmp_path / "ours.nc").read_bytes() == (tmp_path / "xarray.nc").read_bytes()
-    assert (tmp_path / "ours.nc").read_bytes() == (out / "spectra.nc").read_bytes()
-
-
-def test_propeller_analysis_does_not_import_dask_distributed(tmp_path, imported_by):
-    code = (
-        "import sys, numpy as np\n"
-        "from floebreak.propeller.pipeline import propeller_analysis\n"
-        "n = 6\n"
-        "cusps = {'volume_m3': np.linspace(1, 9, n), 'bbox_length_m': np.linspace(2, 10, n),\n"
-        "         'bbox_width_m': np.ones(n), 'thickness_m': np.ones(n), 'area_m2': np.linspace(1, 9, n)}\n"
-        "propeller_analysis(cusps, sys.argv[1])\n"
-    )
-    assert imported_by(code, ("distributed",), tmp_path / "prop") == set()
+    out = propeller_analysis(_cusps(), tmp_path / "prop")
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["rates"] is None and not (out / "torque_exceedance.csv").exists()
+    html = "\n".join(propeller_section(out))
+    assert "No time base" in html and "rule_form.png" in html
+    assert propeller_section(tmp_path / "nothing") == []

@@ -1,5 +1,6 @@
 """Propeller figures: volume–load curves (thesis Figs. 30–31), load and torque spectra (Figs. 32–33),
-measured vs simulated torque (Fig. 35, A.3) and the UR I3 Weibull exceedance overlay (notes §7.3)."""
+measured vs simulated torque (Fig. 35, A.3), the UR I3 Weibull exceedance overlay and the rule-form fit
+with exceedance rates (notes §7.3). Each function takes computed data and returns a Figure."""
 
 from __future__ import annotations
 
@@ -9,6 +10,8 @@ from matplotlib.figure import Figure
 from floebreak.plotting.common import SPECTRUM_MARGINS_IN, new_figure, place_axes
 from floebreak.propeller.iceclass import empirical_exceedance, weibull_exceedance
 from floebreak.propeller.interpolation import VolumeInterpolant
+from floebreak.propeller.ruleform import fit_rule_form
+from floebreak.propeller.spectra import pitch_label, spectrum_edges
 
 PITCH_COLOURS = ("#4c72b0", "#d62728", "#2ca02c", "#9467bd", "#8c564b")
 
@@ -18,25 +21,35 @@ def _colour(i: int) -> str:
 
 
 def plot_volume_loads(
-    tables, method: str = "newton", beyond: str = "clamp", v_max_m3: float | None = None
+    tables, method: str = "newton", beyond: str = "power_law", v_max_m3: float | None = None
 ) -> Figure:
-    """Force and torque vs cusp volume for each FEM table: points, chosen interpolant (solid), the other
-    method (dashed)."""
+    """Force and torque vs cusp volume for each 1-D FEM table: points, chosen interpolant (solid), the other
+    method (dashed), to 2.5 × the largest table volume so that the policy beyond the table shows; N-D
+    tables as points only."""
     figure = Figure(figsize=(11.0, 4.0))
     place_axes(figure, 0.72, 0.5, 0.1, 0.4, columns=2, gap=0.92)  # fixed: see SPECTRUM_MARGINS_IN
     axes = figure.subplots(1, 2)
     other = "pchip" if method == "newton" else "newton"
-    top = v_max_m3 or max(t.max_volume_m3 for t in tables.values()) * 1.15
+    top = v_max_m3 or np.nanmax([t.max_volume_m3 for t in tables.values()]) * 2.5
     v = np.linspace(0.0, top, 300)
     for i, (pitch, table) in enumerate(tables.items()):
         for ax, values, scale in ((axes[0], table.force_n, 1e3), (axes[1], table.torque_nm, 1e3)):
+            if tuple(table.dimensions) != ("volume",):
+                ax.plot(
+                    table.volume_m3,
+                    values / scale,
+                    "o",
+                    color=_colour(i),
+                    label=f"P = {pitch:g} % (N-D table points)",
+                )
+                continue
             chosen = VolumeInterpolant.through_origin(table.volume_m3, values, method, beyond)
             alt = VolumeInterpolant.through_origin(table.volume_m3, values, other, beyond)
             ax.plot(v, chosen(v) / scale, color=_colour(i), label=f"P = {pitch:g} % ({method})")
             ax.plot(v, alt(v) / scale, color=_colour(i), ls="--", lw=0.8, label=f"P = {pitch:g} % ({other})")
             ax.plot(np.r_[0.0, table.volume_m3], np.r_[0.0, values] / scale, "o", color=_colour(i))
     for ax, label in ((axes[0], "force F [kN]"), (axes[1], "torque Q [kN m]")):
-        ax.axvline(max(t.max_volume_m3 for t in tables.values()), color="0.5", lw=0.6, ls=":")
+        ax.axvline(np.nanmax([t.max_volume_m3 for t in tables.values()]), color="0.5", lw=0.6, ls=":")
         ax.set_xlabel("cusp volume V [m³]")
         ax.set_ylabel(label)
         ax.legend(fontsize=7)
@@ -47,11 +60,8 @@ def plot_volume_loads(
 def plot_spectrum(ds, quantity: str = "force", log: bool = False) -> Figure:
     """Probability density of |F| (quantity "force") or |Q| ("torque") per pitch, run-averaged."""
     figure, ax = new_figure(7.5, 4.0, SPECTRUM_MARGINS_IN)
-    if quantity == "force":
-        lower, upper, var, unit = "force_bin_lower_kn", "force_bin_upper_kn", "force_density", "kN"
-    else:
-        lower, upper, var, unit = "torque_bin_lower_knm", "torque_bin_upper_knm", "torque_density", "kN m"
-    edges = np.r_[ds[lower].values, ds[upper].values[-1:]] if ds.sizes["bin"] else np.zeros(1)
+    var, unit = f"{quantity}_density", "kN" if quantity == "force" else "kN m"
+    edges = spectrum_edges(ds, quantity)
     any_data = False
     for i, pitch in enumerate(ds["pitch"].values):
         dens = ds[var].sel(pitch=pitch).values
@@ -79,7 +89,7 @@ def plot_measured_comparison(
     """Measured shaft-torque density vs simulated |Q| densities (thesis Fig. 35 log, Fig. 37 linear)."""
     figure, ax = new_figure(8.0, 4.0)
     ax.stairs(measured_density, measured_edges_knm, color="k", lw=1.4, label="measured (shaft)")
-    edges = np.r_[ds["torque_bin_lower_knm"].values, ds["torque_bin_upper_knm"].values[-1:]]
+    edges = spectrum_edges(ds, "torque")
     for i, pitch in enumerate(ds["pitch"].values):
         dens = ds["torque_density"].sel(pitch=pitch).values
         if np.any(np.isfinite(dens)):
@@ -126,4 +136,51 @@ def plot_rule_exceedance(force_n: dict, torque_nm: dict, rule, shape: float = 0.
         ax.set_ylabel("P(X ≥ x)")
         ax.legend(fontsize=7)
     figure.suptitle("Simulated loads against the IACS UR I3 exceedance shape")
+    return figure
+
+
+def plot_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float = 0.75) -> Figure:
+    """Left: empirical P(X ≥ x) of |Q| per pitch, the fitted rule form exp(−(x/x_max)^k ln N) and the
+    rule's shape (k = 0.75 open, 1.0 ducted) through the same x_max (notes §7.3). Right: exceedances per
+    hour on one propeller (`exceedance`: tables of `analyse_propeller`, empty without a time base).
+
+    amplitudes: {pitch_percent: torque [N·m] per cusp}."""
+    figure = Figure(figsize=(11.0, 4.0), constrained_layout=True)
+    axes = figure.subplots(1, 2)
+    for i, (pitch, values) in enumerate(amplitudes.items()):
+        v, p = empirical_exceedance(np.abs(values) / 1e3)
+        v, p = v[v > 0], p[v > 0]
+        if v.size < 10 or np.ptp(v) <= 0:
+            continue
+        axes[0].step(v, p, where="post", color=_colour(i), label=f"simulated P = {pitch:g} % (n = {v.size})")
+        fit = fit_rule_form(v)
+        x = np.linspace(0.0, v.max() * 1.2, 200)
+        x_max = fit.x_max(v.size)
+        axes[0].plot(
+            x, fit.exceedance(x), color=_colour(i), ls="--", lw=0.9, label=f"fit k = {fit.shape_k:.2f}"
+        )
+        rule = np.exp(-((x / x_max) ** rule_shape) * np.log(v.size))
+        axes[0].plot(x, rule, color=_colour(i), ls=":", lw=0.9, label=f"rule shape k = {rule_shape:g}")
+        table = exceedance.get(f"torque_{pitch_label(float(pitch))}")
+        if table is not None:
+            axes[1].step(
+                table["level"], table["per_hour"], where="post", color=_colour(i), label=f"P = {pitch:g} %"
+            )
+    axes[0].set_yscale("log")
+    axes[0].set_xlabel("torque |Q| [kN m]")
+    axes[0].set_ylabel("P(X ≥ x)")
+    if axes[0].lines:
+        axes[0].legend(fontsize=7)
+    else:
+        axes[0].text(0.5, 0.5, "fewer than 10 distinct loads", transform=axes[0].transAxes, ha="center")
+    axes[1].set_xlabel("torque level [kN m]")
+    axes[1].set_ylabel("exceedances per hour in ice, one propeller [1/h]")
+    if axes[1].lines:
+        axes[1].set_yscale("log")
+        axes[1].legend(fontsize=7)
+    else:
+        axes[1].text(
+            0.5, 0.5, "no time base (transit distance unknown)", transform=axes[1].transAxes, ha="center"
+        )
+    figure.suptitle("Torque exceedance against the rule form (fitted by maximum likelihood)")
     return figure

@@ -20,6 +20,7 @@ from floebreak.constants import ICE_DENSITY_KG_M3
 from floebreak.errors import InputError
 
 REQUIRED_COLUMNS = ("volume_m3", "bbox_length_m", "bbox_width_m", "thickness_m", "area_m2")
+OPTIONAL_COLUMNS = ("bow_x_m",)  # the bow's position when the cusp was made (transit order); NaN if absent
 DEFAULT_CLASS_EDGES_M3 = (5.0, 8.0, 11.0, 14.0)
 CUSPS_FILE = "cusps.parquet"
 
@@ -31,30 +32,9 @@ def load_cusps(run_or_study_dir: str | os.PathLike[str]) -> pa.Table:
     folders skipped) is read. The geometry column is ignored; a ``run_id`` column holds the run folder's
     name (its path relative to the study folder if names repeat).
     """
-    root = Path(run_or_study_dir)
     field = "run_or_study_dir"
-    if not root.is_dir():
-        raise InputError(field, f"{str(root)!r} is not a directory", value=str(root))
-    if (root / CUSPS_FILE).is_file():
-        files = [root / CUSPS_FILE]
-    else:
-        files = sorted(
-            p
-            for p in root.rglob(CUSPS_FILE)
-            if not any(part.startswith(".") for part in p.relative_to(root).parts)
-        )
-    if not files:
-        raise InputError(
-            field,
-            f"no {CUSPS_FILE} in or below {str(root)!r}",
-            value=str(root),
-            allowed="a run directory or a study directory containing run directories",
-        )
-    names = [f.parent.name for f in files]
-    if len(set(names)) < len(names):
-        names = [f.parent.relative_to(root).as_posix() if f.parent != root else root.name for f in files]
     tables = []
-    for path, run_id in zip(files, names, strict=True):
+    for run_id, path in cusp_files(run_or_study_dir).items():
         try:
             table = pq.ParquetFile(path).read()  # one file: no dataset layer (pyarrow.dataset)
         except (OSError, pa.ArrowInvalid) as error:
@@ -67,14 +47,46 @@ def load_cusps(run_or_study_dir: str | os.PathLike[str]) -> pa.Table:
                 value=str(path),
                 allowed=", ".join(REQUIRED_COLUMNS),
             )
-        columns = {c: table.column(c).cast(pa.float64()) for c in REQUIRED_COLUMNS}
+        present = [c for c in (*REQUIRED_COLUMNS, *OPTIONAL_COLUMNS) if c in table.column_names]
+        columns = {c: table.column(c).cast(pa.float64()) for c in present}
+        for c in OPTIONAL_COLUMNS:
+            if c not in columns:
+                columns[c] = pa.array(np.full(table.num_rows, np.nan), type=pa.float64())
         columns["run_id"] = pa.array([run_id] * table.num_rows, type=pa.string())
         tables.append(pa.table(columns))
     return pa.concat_tables(tables)
 
 
+def cusp_files(run_or_study_dir: str | os.PathLike[str]) -> dict[str, Path]:
+    """run_id → ``cusps.parquet`` of the run directory, or of every run below a study directory (hidden
+    folders skipped); run_id is the run folder's name, or its path below the study folder if names repeat."""
+    root = Path(run_or_study_dir)
+    field = "run_or_study_dir"
+    if not root.is_dir():
+        raise InputError(field, f"{str(root)!r} is not a directory", value=str(root))
+    if (root / CUSPS_FILE).is_file():
+        return {root.name: root / CUSPS_FILE}
+    files = sorted(
+        p
+        for p in root.rglob(CUSPS_FILE)
+        if not any(part.startswith(".") for part in p.relative_to(root).parts)
+    )
+    if not files:
+        raise InputError(
+            field,
+            f"no {CUSPS_FILE} in or below {str(root)!r}",
+            value=str(root),
+            allowed="a run directory or a study directory containing run directories",
+        )
+    names = [f.parent.name for f in files]
+    if len(set(names)) < len(names):
+        names = [f.parent.relative_to(root).as_posix() for f in files]
+    return dict(zip(names, files, strict=True))
+
+
 def cusp_columns(cusps: pa.Table | Mapping[str, Sequence], field: str = "cusps") -> dict[str, np.ndarray]:
-    """Validated float arrays of the required columns plus ``run_id`` (default "run")."""
+    """Validated float arrays of the required columns plus ``run_id`` (default "run") and ``bow_x_m``
+    (NaN where absent; finite or NaN)."""
     if isinstance(cusps, pa.Table):
         names = cusps.column_names
 
@@ -121,6 +133,14 @@ def cusp_columns(cusps: pa.Table | Mapping[str, Sequence], field: str = "cusps")
     if run_id.size != n:
         raise InputError(field, f"column 'run_id' has {run_id.size} rows, expected {n}")
     out["run_id"] = run_id.astype(str).astype(object)
+    out["bow_x_m"] = np.full(n, np.nan)
+    if "bow_x_m" in names:
+        try:
+            out["bow_x_m"] = np.asarray(get("bow_x_m"), dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise InputError(field, "column 'bow_x_m' is not numeric") from None
+        if out["bow_x_m"].size != n or np.isinf(out["bow_x_m"]).any():
+            raise InputError(field, "column 'bow_x_m' needs one finite (or NaN) value per cusp")
     return out
 
 

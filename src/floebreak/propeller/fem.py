@@ -5,6 +5,13 @@ force, torque, each with its unit in the name (``volume_m3``, ``force_kN``, ``to
 numeric row per exemplary cusp. An optional ``# pitch_percent: X`` comment names the pitch the table
 belongs to. A leading row at volume 0 must have zero force and torque (the thesis' boundary condition);
 the interpolation always passes through (0, 0) whether or not the row is present.
+
+A table over more than one dimension names them in a ``# dimensions: volume, thickness`` comment (any two
+or more of volume, length, width, height/thickness; length = the cusp's longer side, width = its shorter,
+height = thickness); it needs those columns plus force and torque, one row per FEM cusp, all coordinates
+> 0, no point twice. It is interpolated linearly: on a full grid by scipy's RegularGridInterpolator, else
+by LinearNDInterpolator (`floebreak.propeller.interpolation.table_interpolant`). Without the comment a
+table is the thesis' 1-D table in volume.
 """
 
 from __future__ import annotations
@@ -20,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from floebreak.errors import InputError
+from floebreak.errors import InputError, require_range
 
 SHIPPED_TABLES = {0.0: "fem_pitch0.csv", 95.0: "fem_pitch95.csv"}
 
@@ -29,6 +36,7 @@ _UNITS = {
     "length": {"m": 1.0},
     "width": {"m": 1.0},
     "height": {"m": 1.0},
+    "thickness": {"m": 1.0},
     "force": {"n": 1.0, "kn": 1e3, "mn": 1e6},
     "torque": {
         "nm": 1.0,
@@ -45,7 +53,8 @@ _UNITS = {
         "mn·m": 1e6,
     },
 }
-COLUMNS = tuple(_UNITS)
+COLUMNS = ("volume", "length", "width", "height", "force", "torque")
+DIMENSIONS = ("volume", "length", "width", "height")  # "thickness" is read as height
 
 
 @dataclass(frozen=True)
@@ -63,10 +72,23 @@ class FemTable:
     force_n: np.ndarray
     torque_nm: np.ndarray
     source: str
+    dimensions: tuple[str, ...] = ("volume",)
 
     @property
     def max_volume_m3(self) -> float:
-        return float(self.volume_m3[-1])
+        """The largest FEM cusp's volume (NaN if an N-D table gives neither volume nor l, w, h)."""
+        v = (
+            self.volume_m3
+            if np.isfinite(self.volume_m3).all()
+            else self.length_m * self.width_m * self.height_m
+        )
+        return float(np.max(v)) if np.isfinite(v).all() else float("nan")
+
+    def coordinate(self, name: str) -> np.ndarray:
+        """The table's values of dimension `name` (volume, length, width, height)."""
+        return {"volume": self.volume_m3, "length": self.length_m, "width": self.width_m}.get(
+            name, self.height_m
+        )
 
 
 def split_name_unit(name: str) -> tuple[str, str | None]:
@@ -103,27 +125,29 @@ def unit_factor(
 
 
 def parse_fem_table(
-    text: str, source: str, default_pitch_percent: float | None = None, field: str = "fem_table"
+    text: str,
+    source: str,
+    default_pitch_percent: float | None = None,
+    field: str = "fem_table",
+    fallback_pitch_percent: float | None = None,
 ) -> FemTable:
     """Parse and validate a FEM table CSV text (see module docstring)."""
     pitch = default_pitch_percent
+    dimensions = ("volume",)
     lines = []
     for line in text.splitlines():
         stripped = line.strip()
         if stripped.startswith("#"):
+            dims = re.match(r"#\s*dimensions\s*:\s*(.+)", stripped)
+            if dims:
+                dimensions = _parse_dimensions(dims.group(1), source, field)
             match = re.match(r"#\s*pitch_percent\s*:\s*(\S+)", stripped)
             if match:
-                try:
-                    pitch = float(match.group(1))
-                except ValueError:
-                    raise InputError(
-                        field,
-                        f"{source}: pitch_percent {match.group(1)!r} is not a number",
-                        value=match.group(1),
-                    ) from None
+                pitch = _comment_pitch(match.group(1), default_pitch_percent, source, field)
             continue
         if stripped:
             lines.append(line)
+    pitch = fallback_pitch_percent if pitch is None else pitch
     if not lines:
         raise InputError(field, f"{source}: no header line", allowed="a CSV header " + ",".join(COLUMNS))
     rows = list(csv.reader(io.StringIO("\n".join(lines))))
@@ -131,11 +155,13 @@ def parse_fem_table(
     index: dict[str, tuple[int, float]] = {}
     for i, name in enumerate(header):
         base, unit = split_name_unit(name)
+        base = "height" if base == "thickness" else base
         if base in _UNITS:
             if base in index:
                 raise InputError(field, f"{source}: column {base!r} appears twice", value=name)
             index[base] = (i, unit_factor(base, unit, name, field, source=source))
-    missing = [c for c in COLUMNS if c not in index]
+    required = COLUMNS if dimensions == ("volume",) else (*dimensions, "force", "torque")
+    missing = [c for c in required if c not in index]
     if missing:
         raise InputError(
             field,
@@ -143,9 +169,9 @@ def parse_fem_table(
             value=header,
             allowed="volume, length, width, height, force, torque, each with its unit",
         )
-    values = {c: [] for c in COLUMNS}
+    values = {c: [] for c in index}
     for r, row in enumerate(rows[1:], start=1):
-        for c in COLUMNS:
+        for c in index:
             i, factor = index[c]
             cell = row[i].strip() if i < len(row) else ""
             try:
@@ -163,7 +189,83 @@ def parse_fem_table(
                 )
             values[c].append(number * factor)
     arrays = {c: np.asarray(v, dtype=float) for c, v in values.items()}
+    if dimensions != ("volume",):
+        return grid_table_from_arrays(arrays, dimensions, pitch, source, field, header, index)
     return fem_table_from_arrays(arrays, pitch, source, field, header=header, index=index)
+
+
+def _comment_pitch(text: str, given: float | None, source: str, field: str) -> float:
+    """The ``# pitch_percent:`` value; InputError if not a number or if it contradicts the given pitch."""
+    try:
+        pitch = float(text)
+    except ValueError:
+        raise InputError(field, f"{source}: pitch_percent {text!r} is not a number", value=text) from None
+    if not math.isfinite(pitch) or not 0.0 <= pitch <= 100.0:
+        raise InputError(field, f"{source}: pitch_percent {text!r}", value=text, allowed="[0, 100] %")
+    if given is not None and float(given) != pitch:
+        raise InputError(
+            field,
+            f"{source}: the file says pitch_percent {pitch:g}, given {float(given):g}",
+            allowed="the same pitch, or a file without a '# pitch_percent:' line",
+        )
+    return pitch
+
+
+def _parse_dimensions(text: str, source: str, field: str) -> tuple[str, ...]:
+    names = []
+    for part in text.replace(";", ",").split(","):
+        base, _ = split_name_unit(part)
+        base = "height" if base == "thickness" else base
+        if base not in DIMENSIONS or base in names:
+            raise InputError(
+                field,
+                f"{source}: '# dimensions:' lists {part.strip()!r}",
+                value=text,
+                allowed="distinct names among volume, length, width, height (or thickness)",
+            )
+        names.append(base)
+    return tuple(names)
+
+
+def grid_table_from_arrays(arrays, dimensions, pitch_percent, source, field, header, index) -> FemTable:
+    """Validate an N-D table (see module docstring): finite cells, coordinates > 0, distinct points,
+    at least dimensions + 1 points; columns not given become NaN."""
+    n = arrays["force"].size
+    for c, a in arrays.items():
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            raise InputError(
+                field, f"{source}: row {bad[0] + 1}, column {header[index[c][0]]!r} is not finite"
+            )
+    for c in dimensions:
+        bad = np.flatnonzero(arrays[c] <= 0.0)
+        if bad.size:
+            raise InputError(
+                field,
+                f"{source}: row {bad[0] + 1}, column {header[index[c][0]]!r} must be > 0",
+                allowed="> 0",
+            )
+    points = np.column_stack([arrays[c] for c in dimensions])
+    if np.unique(points, axis=0).shape[0] < n:
+        raise InputError(field, f"{source}: a point appears twice", allowed="distinct points")
+    if n < len(dimensions) + 1:
+        raise InputError(field, f"{source}: {n} points", allowed=f"at least {len(dimensions) + 1}")
+    if pitch_percent is None:
+        raise InputError(field, f"{source}: pitch unknown", allowed="a '# pitch_percent: X' line or a pitch")
+    full = {c: arrays.get(c, np.full(n, np.nan)) for c in COLUMNS}
+    for a in full.values():
+        a.setflags(write=False)
+    return FemTable(
+        float(pitch_percent),
+        full["volume"],
+        full["length"],
+        full["width"],
+        full["height"],
+        full["force"],
+        full["torque"],
+        source,
+        tuple(dimensions),
+    )
 
 
 def fem_table_from_arrays(
@@ -234,9 +336,13 @@ def fem_table_from_arrays(
 
 
 def read_fem_table(
-    path: str | os.PathLike[str], pitch_percent: float | None = None, field: str = "fem_table"
+    path: str | os.PathLike[str],
+    pitch_percent: float | None = None,
+    field: str = "fem_table",
+    fallback_pitch_percent: float | None = None,
 ) -> FemTable:
-    """Read a user FEM table CSV; the pitch comes from ``# pitch_percent:`` or `pitch_percent`."""
+    """Read a user FEM table CSV; the pitch comes from `pitch_percent` or ``# pitch_percent:`` (which must
+    agree when both are given), else `fallback_pitch_percent`."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -244,7 +350,7 @@ def read_fem_table(
         raise InputError(field, f"file {str(path)!r} does not exist", value=str(path)) from None
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(field, f"cannot read {str(path)!r}: {error}", value=str(path)) from None
-    return parse_fem_table(text, str(path), pitch_percent, field)
+    return parse_fem_table(text, str(path), pitch_percent, field, fallback_pitch_percent)
 
 
 def shipped_fem_tables() -> dict[float, FemTable]:
@@ -256,25 +362,32 @@ def shipped_fem_tables() -> dict[float, FemTable]:
     return tables
 
 
-def resolve_fem_tables(fem_table, default_pitch_percent: float) -> dict[float, FemTable]:
+def resolve_fem_tables(fem_table, fallback_pitch_percent: float | None = None) -> dict[float, FemTable]:
     """None → the shipped tables; a path → one table; a mapping {pitch_percent: path or FemTable};
-    a list of paths/FemTables. Pitches must be distinct."""
+    a list of paths/FemTables or of (pitch_percent or None, path) pairs. A path given without a pitch
+    needs a ``# pitch_percent:`` line, else `fallback_pitch_percent` if the caller states one (the
+    propeller analysis and CLI do not: no silent default); pitches must be distinct."""
     if fem_table is None:
         return shipped_fem_tables()
     if isinstance(fem_table, FemTable | str | os.PathLike):
         items = [(None, fem_table)]
     elif isinstance(fem_table, dict):
         items = list(fem_table.items())
-    else:
-        items = [(None, t) for t in fem_table]
+    else:  # paths / FemTables, or (pitch or None, path) pairs
+        items = [t if isinstance(t, tuple) else (None, t) for t in fem_table]
     tables: dict[float, FemTable] = {}
     for pitch, item in items:
         if isinstance(item, FemTable):
             table = item
         else:
-            table = read_fem_table(item, default_pitch_percent if pitch is None else float(pitch))
-            if pitch is not None:
-                table = FemTable(**{**table.__dict__, "pitch_percent": float(pitch)})
+            given = (
+                None
+                if pitch is None
+                else require_range(
+                    "fem_table pitch", pitch, low=0.0, high=100.0, low_inclusive=True, unit="%"
+                )
+            )
+            table = read_fem_table(item, given, fallback_pitch_percent=fallback_pitch_percent)
         if table.pitch_percent in tables:
             raise InputError(
                 "fem_table",

@@ -1,24 +1,17 @@
-"""Propeller analysis of a run or study: cusps → force/torque per cusp → spectra, comparison, rule check.
-
-The one entry point with side effects. Everything is validated before anything is written; the output
-directory is written atomically (floebreak.io.atomic.atomic_directory). See docs/propeller.md.
+"""Propeller analysis of a run, study or voyage (pure): cusps → force/torque per cusp → spectra, rates,
+rule-form fits, comparison with a measured series, rule check. Returns a `PropellerResult`; writing is in
+`floebreak.io.propeller`, drawing in `floebreak.plotting.propeller`. See docs/propeller.md.
 """
 
 from __future__ import annotations
 
-import csv
-import json
 import math
-import os
-from pathlib import Path
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from floebreak.errors import InputError, require_range
-from floebreak.io.atomic import atomic_directory
-from floebreak.io.figures import save_figure
-from floebreak.io.provenance import provenance
 from floebreak.propeller.cusps import (
     DEFAULT_CLASS_EDGES_M3,
     box_dimensions,
@@ -26,31 +19,97 @@ from floebreak.propeller.cusps import (
     class_means,
     cusp_columns,
     kinetic_energy_j,
-    load_cusps,
     volume_class,
 )
 from floebreak.propeller.fem import FemTable, resolve_fem_tables
-from floebreak.propeller.iceclass import WEIBULL_SHAPE, check_polar_class, ur_i3_loads
-from floebreak.propeller.interpolation import VolumeInterpolant, check_options
+from floebreak.propeller.iceclass import WEIBULL_SHAPE, IceClassLoads, check_polar_class, ur_i3_loads
+from floebreak.propeller.interpolation import check_options, table_interpolant
 from floebreak.propeller.measured import TorqueSeries, read_torque_csv
-from floebreak.propeller.spec import PropellerSpec, propeller_pitch_angle_deg
+from floebreak.propeller.rates import RunExposure, check_exposures, weighted_exceedance
+from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
+from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
     DENSITY_THRESHOLD_PER_KNM,
     bin_edges,
     density,
-    envelope,
     fitting_width,
+    pitch_label,
     ranges_above,
     spectra_dataset,
+    spectrum_edges,
+    torque_ranges_above,
 )
+from floebreak.propeller.summary import build_summary, finite_range
 
 VOLUME_BASES = ("box", "actual")
 
-__all__ = ["load_cusps", "load_spectra", "propeller_analysis", "propeller_loads", "torque_ranges_above"]
+__all__ = [
+    "PropellerResult",
+    "analyse_propeller",
+    "load_spectra",
+    "pitch_label",
+    "propeller_loads",
+    "torque_ranges_above",
+]
 
 
-def _pitch_label(pitch: float) -> str:
-    return f"p{pitch:g}"
+@dataclass(frozen=True)
+class CuspAmplitudes:
+    """Per-cusp load amplitudes at one pitch in transit order: run, bow x [m], force [N], torque [N·m]
+    (signed as the FEM table), whether the cusp lay beyond the table, and the loads per cusp on one
+    propeller (`weight`: fraction reaching / number of propellers). For shaft-line and voyage models."""
+
+    run_id: np.ndarray
+    bow_x_m: np.ndarray
+    force_n: np.ndarray
+    torque_nm: np.ndarray
+    beyond_table: np.ndarray
+    weight: np.ndarray
+
+
+@dataclass(frozen=True)
+class MeasuredSpectrum:
+    """Density of a measured shaft-torque series on bins [kN·m] and its ranges above the threshold."""
+
+    series: TorqueSeries
+    edges_knm: np.ndarray
+    density_per_knm: np.ndarray
+    intervals_knm: list
+
+
+@dataclass(frozen=True)
+class PropellerResult:
+    """Everything `analyse_propeller` computes; nothing is written. `loads` is the per-cusp table in
+    transit order (run, then bow position); `spectra` the CF xarray Dataset (densities, counts and, with
+    exposures, rates per hour and per km); `summary` the JSON-ready summary (without provenance)."""
+
+    options: dict[str, Any]
+    propeller: PropellerSpec
+    tables: dict[float, FemTable]
+    loads: dict[str, np.ndarray]
+    class_tables: dict[str, dict[str, np.ndarray]]
+    spectra: Any
+    exceedance: dict[str, dict[str, np.ndarray]]
+    summary: dict[str, Any]
+    rule: IceClassLoads | None = None
+    measured: MeasuredSpectrum | None = None
+    exposures: dict[str, RunExposure] = field(default_factory=dict)
+
+    def amplitudes(self, pitch_percent: float) -> CuspAmplitudes:
+        """The per-cusp amplitudes at one pitch (transit order, see `CuspAmplitudes`)."""
+        if float(pitch_percent) not in self.tables:
+            raise InputError(
+                "pitch_percent", f"no table for {pitch_percent!r}", allowed=str(list(self.tables))
+            )
+        label = pitch_label(float(pitch_percent))
+        return CuspAmplitudes(
+            self.loads["run_id"],
+            self.loads["bow_x_m"],
+            self.loads[f"force_n_{label}"],
+            self.loads[f"torque_nm_{label}"],
+            self.loads[f"beyond_table_{label}"],
+            self.loads["loads_per_propeller"],
+        )
 
 
 def propeller_loads(
@@ -58,12 +117,12 @@ def propeller_loads(
     tables: dict[float, FemTable],
     *,
     interpolation: str = "newton",
-    beyond: str = "clamp",
+    beyond: str = "power_law",
     volume_basis: str = "box",
     cusp_speed_m_s: float = 3.0,
 ) -> dict[str, np.ndarray]:
     """Per-cusp table (pure): box dimensions, class, kinetic energy, and per pitch force [N], torque [N·m]
-    and whether the volume lies beyond the table. `columns` as returned by `cusp_columns`."""
+    and whether the cusp lies beyond the table. `columns` as returned by `cusp_columns`."""
     check_options(interpolation, beyond)
     if volume_basis not in VOLUME_BASES:
         raise InputError(
@@ -75,9 +134,10 @@ def propeller_loads(
     longer, shorter, box_volume = box_dimensions(
         columns["bbox_length_m"], columns["bbox_width_m"], columns["thickness_m"]
     )
-    v = box_volume if volume_basis == "box" else columns["volume_m3"]
+    volume = box_volume if volume_basis == "box" else columns["volume_m3"]
     out: dict[str, np.ndarray] = {
         "run_id": columns["run_id"],
+        "bow_x_m": columns.get("bow_x_m", np.full(columns["run_id"].size, math.nan)),
         "area_m2": columns["area_m2"],
         "thickness_m": columns["thickness_m"],
         "volume_m3": columns["volume_m3"],
@@ -86,13 +146,15 @@ def propeller_loads(
         "box_volume_m3": box_volume,
         "kinetic_energy_j": kinetic_energy_j(columns["volume_m3"], cusp_speed_m_s),
     }
+    coordinates = {"volume": volume, "thickness": columns["thickness_m"], "length": longer, "width": shorter}
+    coordinates["height"] = columns["thickness_m"]
     for pitch, table in tables.items():
-        label = _pitch_label(pitch)
-        f = VolumeInterpolant.through_origin(table.volume_m3, table.force_n, interpolation, beyond)
-        q = VolumeInterpolant.through_origin(table.volume_m3, table.torque_nm, interpolation, beyond)
-        out[f"force_n_{label}"] = f(v)
-        out[f"torque_nm_{label}"] = q(v)
-        out[f"beyond_table_{label}"] = v > table.max_volume_m3
+        label = pitch_label(pitch)
+        f = table_interpolant(table, "force", interpolation, beyond)
+        q = table_interpolant(table, "torque", interpolation, beyond)
+        out[f"force_n_{label}"], beyond_f = f(coordinates)
+        out[f"torque_nm_{label}"], _ = q(coordinates)
+        out[f"beyond_table_{label}"] = beyond_f
     return out
 
 
@@ -110,109 +172,145 @@ def load_spectra(
     force_kn = {}
     torque_knm = {}
     for pitch in tables:
-        label = _pitch_label(pitch)
+        label = pitch_label(pitch)
         f, q = loads[f"force_n_{label}"], loads[f"torque_nm_{label}"]
         force_kn[pitch] = {r: np.abs(f[run_id == r]) / 1e3 for r in runs}
         torque_knm[pitch] = {r: np.abs(q[run_id == r]) / 1e3 for r in runs}
     return spectra_dataset(force_kn, torque_knm, force_bin_kn, torque_bin_knm, attrs=attrs)
 
 
-def torque_ranges_above(ds, threshold_per_knm: float = DENSITY_THRESHOLD_PER_KNM) -> dict[str, dict]:
-    """Per pitch label ("p0", "p95"): the torque intervals [kN·m] whose run-averaged density exceeds
-    `threshold_per_knm` (the thesis' "probability density above 0.1 %", §6.2) and their envelope."""
-    q_edges = np.r_[ds["torque_bin_lower_knm"].values, ds["torque_bin_upper_knm"].values[-1:]]
-    out = {}
-    for pitch in ds["pitch"].values:
-        intervals = ranges_above(q_edges, ds["torque_density"].sel(pitch=pitch).values, threshold_per_knm)
-        out[_pitch_label(float(pitch))] = {"intervals_knm": intervals, "envelope_knm": envelope(intervals)}
+def transit_order(columns: dict[str, np.ndarray]) -> np.ndarray:
+    """Indices sorting the cusps by run (first appearance), then bow position (stable; NaN last)."""
+    run_id = columns["run_id"]
+    first = {r: i for i, r in reversed(list(enumerate(run_id.tolist())))}
+    rank = np.array([first[r] for r in run_id.tolist()], dtype=np.int64)
+    return np.lexsort((columns["bow_x_m"], rank))
+
+
+def _measured_spectrum(series: TorqueSeries, torque_bin_knm: float) -> MeasuredSpectrum:
+    q_knm = series.torque_nm / 1e3
+    edges = bin_edges(q_knm, fitting_width(q_knm, torque_bin_knm))
+    dens = density(q_knm, edges)
+    return MeasuredSpectrum(series, edges, dens, ranges_above(edges, dens, DENSITY_THRESHOLD_PER_KNM))
+
+
+def _table_info(loads, tables, rule) -> dict[str, dict]:
+    """Per pitch: table points, counts beyond the table / without load / with reversed sign, ranges, and
+    the rule flags (added to `loads`)."""
+    info = {}
+    n = loads["run_id"].size
+    for pitch, table in tables.items():
+        label = pitch_label(pitch)
+        f, q = loads[f"force_n_{label}"], loads[f"torque_nm_{label}"]
+        n_beyond = int(loads[f"beyond_table_{label}"].sum())
+        info[label] = {
+            "pitch_percent": pitch,
+            "source": table.source,
+            "dimensions": list(table.dimensions),
+            "max_volume_m3": table.max_volume_m3,
+            "n_beyond_table": n_beyond,
+            "fraction_beyond_table": n_beyond / n if n else 0.0,
+            "n_without_load": int((~np.isfinite(f)).sum()),
+            "n_sign_reversed_force": int(
+                np.sum(np.sign(f[np.isfinite(f)]) == -np.sign(np.sum(table.force_n)))
+            ),
+            "n_sign_reversed_torque": int(
+                np.sum(np.sign(q[np.isfinite(q)]) == -np.sign(np.sum(table.torque_nm)))
+            ),
+            "force_range_kn": finite_range(np.abs(f) / 1e3),
+            "torque_range_knm": finite_range(np.abs(q) / 1e3),
+        }
+        if rule is not None:
+            loads[f"exceeds_backward_force_{label}"] = np.abs(f) > rule.backward_force_n
+            loads[f"exceeds_forward_force_{label}"] = np.abs(f) > rule.forward_force_n
+            loads[f"exceeds_max_torque_{label}"] = np.abs(q) > rule.max_torque_nm
+            info[label]["rule_exceedances"] = {
+                k: int(loads[f"{k}_{label}"].sum())
+                for k in ("exceeds_backward_force", "exceeds_forward_force", "exceeds_max_torque")
+            }
+    return info
+
+
+def _class_tables(loads, edges_m3) -> dict[str, dict[str, np.ndarray]]:
+    keys = ("bbox_longer_m", "bbox_shorter_m", "thickness_m", "box_volume_m3")
+    run_id = loads["run_id"]
+    out = {
+        r: class_means(*(loads[k][run_id == r] for k in keys), edges_m3) for r in sorted(set(run_id.tolist()))
+    }
+    out["ALL"] = class_means(*(loads[k] for k in keys), edges_m3)
     return out
 
 
-def _write_csv(path: Path, columns: dict[str, Any], comments: list[str] = ()) -> None:
-    names = list(columns)
-    n = len(next(iter(columns.values()))) if columns else 0
-    with open(path, "w", newline="", encoding="utf-8") as handle:
-        for line in comments:
-            handle.write(f"# {line}\n")
-        writer = csv.writer(handle)
-        writer.writerow(names)
-        for i in range(n):
-            row = []
-            for name in names:
-                value = columns[name][i]
-                if isinstance(value, bool | np.bool_):
-                    row.append("true" if value else "false")
-                elif isinstance(value, float | np.floating):
-                    row.append("" if not math.isfinite(value) else format(float(value), ".10g"))
-                else:
-                    row.append(str(value))
-            writer.writerow(row)
+def _add_rates(ds, loads, exposures: dict[str, RunExposure]) -> tuple[Any, dict[str, dict[str, np.ndarray]]]:
+    """Rates per bin (per hour in ice and per km on one propeller) into `ds`, and exceedance tables.
+
+    Counts of all runs are summed, each cusp weighted by its run's fraction reaching / propellers, and
+    divided by the summed hours and km of the runs (time-weighted pooling)."""
+    share = np.array([exposures[r].basis.share_per_propeller for r in ds["run"].values.tolist()])
+    hours = sum(e.hours for e in exposures.values())  # runs without cusps too
+    km = sum(e.km for e in exposures.values())
+    weight = np.array([exposures[r].basis.share_per_propeller for r in loads["run_id"].tolist()])
+    loads["loads_per_propeller"] = weight
+    tables: dict[str, dict[str, np.ndarray]] = {}
+    for quantity, axis, scale in (("force", "force_kn", 1e3), ("torque", "torque_knm", 1e3)):
+        expected = np.einsum("rpb,r->pb", ds[f"{quantity}_count_run"].values.astype(float), share)
+        for per, total, unit in (("hour", hours, "h-1"), ("km", km, "km-1")):
+            ds[f"{quantity}_rate_per_{per}"] = (
+                ("pitch", axis),
+                expected / total,
+                {"units": unit, "long_name": f"{quantity} loads per bin on one propeller per {per} in ice"},
+            )
+        levels = spectrum_edges(ds, quantity)[:-1]
+        for pitch in ds["pitch"].values:
+            column = "force_n" if quantity == "force" else "torque_nm"
+            n = weighted_exceedance(loads[f"{column}_{pitch_label(float(pitch))}"] / scale, weight, levels)
+            tables[f"{quantity}_{pitch_label(float(pitch))}"] = {
+                "level": levels,
+                "per_hour": n / hours,
+                "per_km": n / km,
+            }
+    return ds, tables
 
 
-def _clean(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _clean(value.tolist())
-    if isinstance(value, np.generic):
-        return _clean(value.item())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, Path):
-        return str(value)
-    return value
+def _cusp_loads(columns, tables, options) -> dict[str, np.ndarray]:
+    """`propeller_loads` of the cusps in transit order, with their volume class; loads per cusp on one
+    propeller NaN until a time base is known (`_add_rates`)."""
+    order = transit_order(columns)
+    loads = propeller_loads(
+        {k: v[order] for k, v in columns.items()},
+        tables,
+        interpolation=options["interpolation"],
+        beyond=options["beyond"],
+        volume_basis=options["volume_basis"],
+        cusp_speed_m_s=options["cusp_speed_m_s"],
+    )
+    loads["volume_class"] = volume_class(loads["box_volume_m3"], options["volume_class_edges_m3"])
+    loads["loads_per_propeller"] = np.full(loads["run_id"].size, math.nan)
+    return loads
 
 
-def _finite_range(values) -> list[float] | None:
-    values = np.asarray(values, dtype=float)
-    values = values[np.isfinite(values)]
-    return [float(values.min()), float(values.max())] if values.size else None
+def _check_options(
+    interpolation, beyond, volume_basis, cusp_speed_m_s, force_bin_kn, torque_bin_knm, weibull
+):
+    check_options(interpolation, beyond)
+    if volume_basis not in VOLUME_BASES:
+        raise InputError("volume_basis", f"unknown value {volume_basis!r}", allowed=", ".join(VOLUME_BASES))
+    require_range("cusp_speed_m_s", cusp_speed_m_s, low=0.0, low_inclusive=True, unit="m/s")
+    require_range("force_bin_kn", force_bin_kn, low=0.0, unit="kN")
+    require_range("torque_bin_knm", torque_bin_knm, low=0.0, unit="kN m")
+    if weibull not in WEIBULL_SHAPE:
+        raise InputError("weibull", f"unknown propeller type {weibull!r}", allowed=", ".join(WEIBULL_SHAPE))
 
 
-def _write_netcdf(ds, path: Path) -> str:
-    """NetCDF4 via h5netcdf (needs h5py); NetCDF3 via scipy when h5netcdf/h5py are missing.
-
-    NetCDF4 is written through xarray's h5netcdf store, which is what ``ds.to_netcdf(path,
-    engine="h5netcdf")`` does for a dataset of numpy arrays (the same bytes), without asking dask which
-    scheduler is active (``to_netcdf`` and the store's default write lock do: that imports dask and
-    dask.distributed, ≈ 0.4 s, although nothing here is a dask array). The store gets xarray's HDF5 lock
-    (HDF5 calls serialised across threads, as by default). A dataset with dask (chunked) variables still
-    goes through ``to_netcdf``.
-    """
-    import importlib.util
-
-    has_h5 = all(importlib.util.find_spec(m) is not None for m in ("h5netcdf", "h5py"))
-    engine = "h5netcdf" if has_h5 else "scipy"
-    if engine != "h5netcdf" or any(v.chunks is not None for v in ds.variables.values()):
-        ds.to_netcdf(path, engine=engine)
-        return engine
-    try:  # xarray internals: if a future xarray moves them, fall back to the public call
-        from xarray.backends import H5NetCDFStore
-        from xarray.backends.locks import HDF5_LOCK
-    except ImportError:
-        ds.to_netcdf(path, engine=engine)
-        return engine
-    store = H5NetCDFStore.open(os.fspath(path), mode="w", lock=HDF5_LOCK)  # a str path, as to_netcdf
-    try:
-        ds.dump_to_store(store)  # numpy variables are written as they are stored
-    finally:
-        store.close()
-    return engine
-
-
-def propeller_analysis(
+def analyse_propeller(
     cusps,
-    out_dir: str | os.PathLike[str],
     *,
     fem_table=None,
-    torque_csv: str | os.PathLike[str] | None = None,
+    torque_csv=None,
     polar_class: str | None = None,
     propeller: PropellerSpec = PropellerSpec(),  # noqa: B008 - frozen dataclass, immutable default
     interpolation: str = "newton",
-    beyond: str = "clamp",
-    overwrite: bool = False,
+    beyond: str = "power_law",
     volume_basis: str = "box",
     volume_class_edges_m3=DEFAULT_CLASS_EDGES_M3,
     cusp_speed_m_s: float = 3.0,
@@ -221,277 +319,50 @@ def propeller_analysis(
     torque_unit: str | None = None,
     flip_measured_sign: bool = False,
     weibull: str = "open",
-) -> Path:
-    """Write the propeller analysis of `cusps` (a dict of arrays / pyarrow.Table, or a run or study
-    directory) to `out_dir` and return it. See docs/propeller.md for the files."""
-    # ---- validate everything before writing anything
-    if isinstance(cusps, str | os.PathLike):
-        cusps = load_cusps(cusps)
+    exposures: dict[str, RunExposure] | None = None,
+    operating_profile: OperatingProfile | None = None,
+    sn_curve: BasquinCurve | None = None,
+    rule_factor: float = 1.0,
+) -> PropellerResult:
+    """The propeller analysis of `cusps` (a dict of arrays or a pyarrow.Table with the `cusp_columns`;
+    ``bow_x_m`` optional) — pure: validates everything, writes nothing. `exposures` (a `RunExposure` per
+    run: transit distance, speed, fraction reaching, propellers) adds rates, exceedance tables and the
+    rule-form fits; `operating_profile`, `polar_class` and `sn_curve` extend the fits (docs/propeller.md)."""
     columns = cusp_columns(cusps)
     if not isinstance(propeller, PropellerSpec):
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
-    check_options(interpolation, beyond)
+    _check_options(interpolation, beyond, volume_basis, cusp_speed_m_s, force_bin_kn, torque_bin_knm, weibull)
+    require_range("rule_factor", rule_factor, low=0.0)
     edges_m3 = check_class_edges(volume_class_edges_m3)
-    require_range("cusp_speed_m_s", cusp_speed_m_s, low=0.0, low_inclusive=True, unit="m/s")
-    require_range("force_bin_kn", force_bin_kn, low=0.0, unit="kN")
-    require_range("torque_bin_knm", torque_bin_knm, low=0.0, unit="kN m")
-    if weibull not in WEIBULL_SHAPE:
-        raise InputError("weibull", f"unknown propeller type {weibull!r}", allowed=", ".join(WEIBULL_SHAPE))
-    tables = resolve_fem_tables(fem_table, propeller.pitch_percent)
+    tables = resolve_fem_tables(fem_table)
     rule = ur_i3_loads(propeller, check_polar_class(polar_class)) if polar_class is not None else None
-    series: TorqueSeries | None = None
+    exposures = check_exposures(exposures, set(columns["run_id"].tolist())) if exposures is not None else {}
+    series = None
     if torque_csv is not None:
         series = read_torque_csv(torque_csv, torque_unit=torque_unit, flip_sign=flip_measured_sign)
-
-    # ---- compute (pure)
-    loads = propeller_loads(
-        columns,
-        tables,
-        interpolation=interpolation,
-        beyond=beyond,
-        volume_basis=volume_basis,
-        cusp_speed_m_s=cusp_speed_m_s,
-    )
-    loads["volume_class"] = volume_class(loads["box_volume_m3"], edges_m3)
-    runs = sorted(set(columns["run_id"].tolist()))
-    table_info = {}
-    for pitch, table in tables.items():
-        label = _pitch_label(pitch)
-        f, q = loads[f"force_n_{label}"], loads[f"torque_nm_{label}"]
-        table_sign_f = np.sign(np.sum(table.force_n))
-        table_sign_q = np.sign(np.sum(table.torque_nm))
-        table_info[label] = {
-            "pitch_percent": pitch,
-            "source": table.source,
-            "volume_m3": table.volume_m3,
-            "force_n": table.force_n,
-            "torque_nm": table.torque_nm,
-            "max_volume_m3": table.max_volume_m3,
-            "n_beyond_table": int(loads[f"beyond_table_{label}"].sum()),
-            "n_without_load": int((~np.isfinite(f)).sum()),
-            "n_sign_reversed_force": int(np.sum(np.sign(f[np.isfinite(f)]) == -table_sign_f)),
-            "n_sign_reversed_torque": int(np.sum(np.sign(q[np.isfinite(q)]) == -table_sign_q)),
-            "force_range_kn": _finite_range(np.abs(f) / 1e3),
-            "torque_range_knm": _finite_range(np.abs(q) / 1e3),
-        }
-        if rule is not None:
-            loads[f"exceeds_backward_force_{label}"] = np.abs(f) > rule.backward_force_n
-            loads[f"exceeds_forward_force_{label}"] = np.abs(f) > rule.forward_force_n
-            loads[f"exceeds_max_torque_{label}"] = np.abs(q) > rule.max_torque_nm
-            table_info[label]["rule_exceedances"] = {
-                k: int(loads[f"{k}_{label}"].sum())
-                for k in ("exceeds_backward_force", "exceeds_forward_force", "exceeds_max_torque")
-            }
-    prov = provenance(
-        command="propeller_analysis",
-        interpolation=interpolation,
-        beyond=beyond,
-        volume_basis=volume_basis,
-        fem_tables=[t.source for t in tables.values()],
-        torque_csv=None if series is None else series.source,
-    )
-    ds = load_spectra(
-        loads,
-        tables,
-        force_bin_kn,
-        torque_bin_knm,
-        attrs={
-            "title": "floebreak propeller-ice load and torque spectra",
-            "method": "histogram densities of |F| and |Q| per pitch; mean over runs (equal weight per run)",
-            "interpolation": interpolation,
-            "beyond_table": beyond,
-            "volume_basis": volume_basis,
-            "provenance": json.dumps(_clean(prov), sort_keys=True),
-        },
-    )
-    simulated_ranges = torque_ranges_above(ds)
-    measured = None
-    if series is not None:
-        q_meas_knm = series.torque_nm / 1e3
-        m_edges = bin_edges(q_meas_knm, fitting_width(q_meas_knm, torque_bin_knm))
-        m_dens = density(q_meas_knm, m_edges)
-        m_intervals = ranges_above(m_edges, m_dens, DENSITY_THRESHOLD_PER_KNM)
-        measured = {
-            "source": series.source,
-            "n_samples": int(series.time_s.size),
-            "duration_s": series.duration_s,
-            "sign_flipped": bool(flip_measured_sign),
-            "torque_range_knm": _finite_range(q_meas_knm),
-            "intervals_above_threshold_knm": m_intervals,
-            "envelope_above_threshold_knm": envelope(m_intervals),
-        }
-    class_tables = {
-        r: class_means(
-            *(
-                loads[k][columns["run_id"] == r]
-                for k in ("bbox_longer_m", "bbox_shorter_m", "thickness_m", "box_volume_m3")
-            ),
-            edges_m3,
-        )
-        for r in runs
+    options = {
+        "interpolation": interpolation,
+        "beyond": beyond,
+        "volume_basis": volume_basis,
+        "volume_class_edges_m3": edges_m3,
+        "cusp_speed_m_s": cusp_speed_m_s,
+        "density_threshold_per_knm": DENSITY_THRESHOLD_PER_KNM,
+        "polar_class": polar_class,
+        "weibull": weibull,
+        "rule_factor": rule_factor,
     }
-    class_tables["ALL"] = class_means(
-        loads["bbox_longer_m"],
-        loads["bbox_shorter_m"],
-        loads["thickness_m"],
-        loads["box_volume_m3"],
-        edges_m3,
+    loads = _cusp_loads(columns, tables, options)
+    ds = load_spectra(loads, tables, force_bin_kn, torque_bin_knm)
+    options["force_bin_kn"] = ds.attrs["force_bin_width_kn"]  # as used: wider for far loads
+    options["torque_bin_knm"] = ds.attrs["torque_bin_width_knm"]
+    exceedance = {}
+    if exposures:
+        ds, exceedance = _add_rates(ds, loads, exposures)
+    table_info = _table_info(loads, tables, rule)
+    measured = _measured_spectrum(series, torque_bin_knm) if series is not None else None
+    classes = _class_tables(loads, edges_m3)
+    result = PropellerResult(
+        options, propeller, tables, loads, classes, ds, exceedance, {}, rule, measured, exposures
     )
-
-    summary = {
-        "provenance": prov,
-        "options": {
-            "interpolation": interpolation,
-            "beyond": beyond,
-            "volume_basis": volume_basis,
-            "volume_class_edges_m3": edges_m3,
-            "cusp_speed_m_s": cusp_speed_m_s,
-            "force_bin_kn": ds.attrs["force_bin_width_kn"],  # as used: wider for far loads (`fitting_width`)
-            "torque_bin_knm": ds.attrs["torque_bin_width_knm"],
-            "density_threshold_per_knm": DENSITY_THRESHOLD_PER_KNM,
-            "polar_class": polar_class,
-            "weibull": weibull,
-        },
-        "propeller": {
-            **propeller.__dict__,
-            "pitch_m": propeller.pitch_m,
-            "pitch_angle_07R_deg": propeller_pitch_angle_deg(propeller, "r07"),
-            "pitch_angle_thesis_deg": propeller_pitch_angle_deg(propeller, "thesis_r_prop"),
-        },
-        "n_cusps": int(columns["volume_m3"].size),
-        "n_cusps_per_run": {r: int(np.sum(columns["run_id"] == r)) for r in runs},
-        "n_runs": len(runs),
-        "n_above_last_class_edge": int(np.sum(loads["box_volume_m3"] > edges_m3[-1])),
-        "kinetic_energy_kj": {
-            "total": float(loads["kinetic_energy_j"].sum() / 1e3),
-            "max": float(loads["kinetic_energy_j"].max() / 1e3) if loads["kinetic_energy_j"].size else None,
-            "note": "energy (Eqs. 27-28), not comparable with torque (erratum 25)",
-        },
-        "pitches": table_info,
-        "simulated_torque_above_threshold": simulated_ranges,
-        "measured_torque": measured,
-        "ice_class": None if rule is None else rule.as_dict(),
-    }
-
-    # ---- write
-    from floebreak.plotting import propeller as figs
-
-    with atomic_directory(out_dir, overwrite=overwrite) as tmp:
-        tmp = Path(tmp)
-        per_cusp = {}
-        for k, v in loads.items():
-            if k.startswith("force_n_"):
-                per_cusp["force_kn_" + k[len("force_n_") :]] = v / 1e3
-            elif k.startswith("torque_nm_"):
-                per_cusp["torque_knm_" + k[len("torque_nm_") :]] = v / 1e3
-            elif k == "kinetic_energy_j":
-                per_cusp["kinetic_energy_kj"] = v / 1e3
-            else:
-                per_cusp[k] = v
-        _write_csv(
-            tmp / "cusp_loads.csv",
-            per_cusp,
-            [
-                f"floebreak propeller loads per cusp; interpolation={interpolation}, beyond={beyond} "
-                f"(beyond_table_* columns), volume_basis={volume_basis}",
-                "force_kn/torque_knm signed as in the FEM table; "
-                "kinetic_energy_kj = 1/2 rho V v^2 (thesis Eqs. 27-28)",
-            ],
-        )
-        class_rows: dict[str, list] = {}
-        for r, table in class_tables.items():
-            n = len(table["class_index"])
-            class_rows.setdefault("run_id", []).extend([r] * n)
-            for k, v in table.items():
-                class_rows.setdefault(k, []).extend(np.asarray(v).tolist())
-        _write_csv(
-            tmp / "volume_classes.csv",
-            {
-                k: np.asarray(v, dtype=object) if k == "run_id" else np.asarray(v)
-                for k, v in class_rows.items()
-            },
-            ["cusp volume classes by bounding-box volume (thesis Alg. 1, Tables 10/11 structure)"],
-        )
-        engine = _write_netcdf(ds, tmp / "spectra.nc")
-        summary["netcdf_engine"] = engine
-        long = {
-            "pitch_percent": [],
-            "bin": [],
-            "force_bin_lower_kn": [],
-            "force_bin_upper_kn": [],
-            "force_density_per_kn": [],
-            "torque_bin_lower_knm": [],
-            "torque_bin_upper_knm": [],
-            "torque_density_per_knm": [],
-        }
-        # each variable read once (an xarray lookup per value cost ≈ 0.2 s for two pitches)
-        edges = {
-            name: ds[name].values
-            for name in (
-                "force_bin_lower_kn",
-                "force_bin_upper_kn",
-                "torque_bin_lower_knm",
-                "torque_bin_upper_knm",
-            )
-        }
-        for pitch in ds["pitch"].values:
-            force_density = ds["force_density"].sel(pitch=pitch).values
-            torque_density = ds["torque_density"].sel(pitch=pitch).values
-            for b in ds["bin"].values:
-                long["pitch_percent"].append(float(pitch))
-                long["bin"].append(int(b))
-                for k, values in edges.items():
-                    long[k].append(float(values[b]))
-                long["force_density_per_kn"].append(float(force_density[b]))
-                long["torque_density_per_knm"].append(float(torque_density[b]))
-        _write_csv(
-            tmp / "spectra.csv",
-            {k: np.asarray(v) for k, v in long.items()},
-            ["probability densities of |F| and |Q|, mean over runs; see spectra.nc for per-run values"],
-        )
-        fig_dir = tmp / "figures"
-        fig_dir.mkdir()
-        save_figure(figs.plot_volume_loads(tables, interpolation, beyond), fig_dir / "volume_loads.png")
-        for quantity in ("force", "torque"):
-            name = "load" if quantity == "force" else "torque"
-            for log in (False, True):
-                scale = "log" if log else "linear"
-                save_figure(figs.plot_spectrum(ds, quantity, log), fig_dir / f"{name}_spectrum_{scale}.png")
-        if series is not None:
-            _write_csv(
-                tmp / "measured_torque_spectrum.csv",
-                {
-                    "torque_bin_lower_knm": m_edges[:-1],
-                    "torque_bin_upper_knm": m_edges[1:],
-                    "density_per_knm": m_dens,
-                },
-                [f"probability density of the measured torque series {series.source}"],
-            )
-            for log in (False, True):
-                scale = "log" if log else "linear"
-                save_figure(
-                    figs.plot_measured_comparison(m_edges, m_dens, ds, log, DENSITY_THRESHOLD_PER_KNM),
-                    fig_dir / f"torque_comparison_{scale}.png",
-                )
-        if rule is not None:
-            f_by_pitch = {p: loads[f"force_n_{_pitch_label(p)}"] for p in tables}
-            q_by_pitch = {p: loads[f"torque_nm_{_pitch_label(p)}"] for p in tables}
-            save_figure(
-                figs.plot_rule_exceedance(f_by_pitch, q_by_pitch, rule, WEIBULL_SHAPE[weibull]),
-                fig_dir / "ice_class_exceedance.png",
-            )
-        written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
-        summary["files"] = [*written, "summary.json"]
-        (tmp / "summary.json").write_text(
-            json.dumps(_clean(summary), indent=2, sort_keys=True) + "\n", encoding="utf-8"
-        )
-        _normal_permissions(tmp)
-    return Path(out_dir)
-
-
-def _normal_permissions(root: Path) -> None:
-    """The temporary directory is private (0700); give the finished one the umask's modes."""
-    umask = os.umask(0)
-    os.umask(umask)
-    for path in [root, *root.rglob("*")]:
-        path.chmod((0o777 if path.is_dir() else 0o666) & ~umask)
+    result.summary.update(build_summary(result, table_info, operating_profile, sn_curve))
+    return result

@@ -89,6 +89,74 @@ def envelope(intervals: list[tuple[float, float]]) -> tuple[float, float] | None
     return (intervals[0][0], intervals[-1][1])
 
 
+def pitch_label(pitch: float) -> str:
+    """Column suffix of a pitch: 95.0 → "p95"."""
+    return f"p{pitch:g}"
+
+
+def torque_ranges_above(ds, threshold_per_knm: float = DENSITY_THRESHOLD_PER_KNM) -> dict[str, dict]:
+    """Per pitch label ("p0", "p95"): the torque intervals [kN·m] whose run-averaged density exceeds
+    `threshold_per_knm` (the thesis' "probability density above 0.1 %", §6.2) and their envelope."""
+    q_edges = spectrum_edges(ds, "torque")
+    out = {}
+    for pitch in ds["pitch"].values:
+        intervals = ranges_above(q_edges, ds["torque_density"].sel(pitch=pitch).values, threshold_per_knm)
+        out[pitch_label(float(pitch))] = {"intervals_knm": intervals, "envelope_knm": envelope(intervals)}
+    return out
+
+
+def finite_range(values) -> list[float] | None:
+    """[min, max] of the finite values, None if there are none."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    return [float(values.min()), float(values.max())] if values.size else None
+
+
+def spectrum_edges(ds, quantity: str) -> np.ndarray:
+    """Bin edges [kN or kN·m] of the "force" or "torque" spectrum of a `spectra_dataset`."""
+    bounds = ds[f"{_BIN[quantity]}_bounds"].values
+    return np.r_[bounds[:, 0], bounds[-1:, 1]] if bounds.size else np.zeros(1)
+
+
+_BIN = {"force": "force_kn", "torque": "torque_knm"}
+_UNITS = {"force": "kN", "torque": "kN m"}
+_DENSITY_UNITS = {"force": "kN-1", "torque": "kN-1 m-1"}
+
+
+def _bin_coordinate(edges: np.ndarray, quantity: str) -> dict:
+    """CF coordinate variable (bin centres) and its bounds variable for one load axis."""
+    name = _BIN[quantity]
+    what = "blade force |F|" if quantity == "force" else "ice torque |Q|"
+    return {
+        name: (
+            name,
+            0.5 * (edges[:-1] + edges[1:]),
+            {"units": _UNITS[quantity], "long_name": f"{what}, bin centre", "bounds": f"{name}_bounds"},
+        ),
+        f"{name}_bounds": (
+            (name, "nv"),
+            np.stack([edges[:-1], edges[1:]], axis=1),
+            {"units": _UNITS[quantity]},
+        ),
+    }
+
+
+def _run_densities(values: dict[float, dict[str, np.ndarray]], pitches, runs, edges):
+    """(run, pitch, bin) densities and counts, and the run-averaged density (runs without loads left out)."""
+    dens = np.full((len(runs), len(pitches), edges.size - 1), np.nan)
+    counts = np.zeros(dens.shape, dtype=np.int64)
+    for j, p in enumerate(pitches):
+        for i, r in enumerate(runs):
+            v = np.asarray(values[p].get(r, np.zeros(0)), dtype=float)
+            dens[i, j] = density(v, edges)
+            counts[i, j] = np.histogram(v[np.isfinite(v)], bins=edges)[0]
+    with np.errstate(all="ignore"):
+        valid = np.isfinite(dens).all(axis=2)
+        n_runs = valid.sum(axis=0)
+        mean = np.where(n_runs[:, None] > 0, np.nansum(dens, axis=0) / np.maximum(n_runs, 1)[:, None], np.nan)
+    return dens, counts, mean, n_runs
+
+
 def spectra_dataset(
     force_kn: dict[float, dict[str, np.ndarray]],
     torque_knm: dict[float, dict[str, np.ndarray]],
@@ -96,11 +164,13 @@ def spectra_dataset(
     torque_bin_knm: float = 10.0,
     attrs: dict | None = None,
 ):
-    """xarray Dataset of load and torque spectra.
+    """CF-1.8 xarray Dataset of the load and torque spectra.
 
-    force_kn / torque_knm: {pitch_percent: {run_id: magnitudes}}. Dims (pitch, bin) for the run-averaged
-    densities and (run, pitch, bin) for each run's; the bin coordinate counts bins of `force_bin_kn`
-    (force) and `torque_bin_knm` (torque), both starting at 0, with centre and edge coordinates of each.
+    force_kn / torque_knm: {pitch_percent: {run_id: magnitudes}}. The force and torque axes are separate
+    dimensions (``force_kn``, ``torque_knm``: bin centres with ``*_bounds`` variables), both starting at 0
+    with bins of `force_bin_kn` / `torque_bin_knm` (widened by `fitting_width` for far loads). Variables:
+    run-averaged densities ``force_density(pitch, force_kn)``, ``torque_density(pitch, torque_knm)``, each
+    run's densities and counts, ``n_loads(run, pitch)``. Every numeric variable carries UDUNITS units.
     """
     import xarray as xr
 
@@ -109,71 +179,54 @@ def spectra_dataset(
     all_f = np.concatenate([np.ravel(v) for p in pitches for v in force_kn[p].values()] + [np.zeros(0)])
     all_q = np.concatenate([np.ravel(v) for p in pitches for v in torque_knm[p].values()] + [np.zeros(0)])
     force_bin_kn, torque_bin_knm = fitting_width(all_f, force_bin_kn), fitting_width(all_q, torque_bin_knm)
-    f_edges = bin_edges(all_f, force_bin_kn, start=0.0)
-    q_edges = bin_edges(all_q, torque_bin_knm, start=0.0)
-    n = max(f_edges.size, q_edges.size) - 1
-    f_edges = force_bin_kn * np.arange(n + 1)
-    q_edges = torque_bin_knm * np.arange(n + 1)
-    f_run = np.full((len(runs), len(pitches), n), np.nan)
-    q_run = np.full((len(runs), len(pitches), n), np.nan)
-    counts = np.zeros((len(runs), len(pitches)), dtype=int)
-    for j, p in enumerate(pitches):
-        for i, r in enumerate(runs):
-            f = np.asarray(force_kn[p].get(r, np.zeros(0)), dtype=float)
-            q = np.asarray(torque_knm[p].get(r, np.zeros(0)), dtype=float)
-            counts[i, j] = int(np.isfinite(f).sum())
-            f_run[i, j] = density(f, f_edges)
-            q_run[i, j] = density(q, q_edges)
-    with np.errstate(all="ignore"):
-        valid = np.isfinite(f_run).all(axis=2)  # runs with at least one load
-        n_runs = valid.sum(axis=0)
-        f_mean = np.where(
-            n_runs[:, None] > 0, np.nansum(f_run, axis=0) / np.maximum(n_runs, 1)[:, None], np.nan
+    edges = {
+        "force": bin_edges(all_f, force_bin_kn, start=0.0),
+        "torque": bin_edges(all_q, torque_bin_knm, 0.0),
+    }
+    data_vars = {}
+    for quantity, values in (("force", force_kn), ("torque", torque_knm)):
+        dens, counts, mean, n_runs = _run_densities(values, pitches, runs, edges[quantity])
+        axis, what = _BIN[quantity], "|F|" if quantity == "force" else "|Q|"
+        unit = _DENSITY_UNITS[quantity]
+        data_vars[f"{quantity}_density"] = (
+            ("pitch", axis),
+            mean,
+            {"units": unit, "long_name": f"probability density of {what}, mean over runs"},
         )
-        q_mean = np.where(
-            n_runs[:, None] > 0, np.nansum(q_run, axis=0) / np.maximum(n_runs, 1)[:, None], np.nan
+        data_vars[f"{quantity}_density_run"] = (
+            ("run", "pitch", axis),
+            dens,
+            {"units": unit, "long_name": f"probability density of {what} per run"},
         )
-    bins = np.arange(n)
-    ds = xr.Dataset(
-        data_vars={
-            "force_density": (
-                ("pitch", "bin"),
-                f_mean,
-                {"units": "1/kN", "long_name": "probability density of |F|, mean over runs"},
-            ),
-            "torque_density": (
-                ("pitch", "bin"),
-                q_mean,
-                {"units": "1/(kN m)", "long_name": "probability density of |Q|, mean over runs"},
-            ),
-            "force_density_run": (("run", "pitch", "bin"), f_run, {"units": "1/kN"}),
-            "torque_density_run": (("run", "pitch", "bin"), q_run, {"units": "1/(kN m)"}),
-            "n_loads": (
+        data_vars[f"{quantity}_count_run"] = (
+            ("run", "pitch", axis),
+            counts,
+            {"units": "1", "long_name": f"number of cusps per {what} bin and run"},
+        )
+        if quantity == "force":  # loads are finite for both or neither
+            data_vars["n_loads"] = (
                 ("run", "pitch"),
-                counts,
-                {"units": "1", "long_name": "finite loads per run and pitch"},
-            ),
-            "n_runs_averaged": (("pitch",), n_runs.astype(int), {"units": "1"}),
-        },
-        coords={
-            "pitch": (
-                "pitch",
-                np.asarray(pitches, dtype=float),
-                {"units": "percent", "long_name": "pitch P_0.7%"},
-            ),
-            "bin": ("bin", bins),
-            "run": ("run", np.asarray(runs, dtype=str)),
-            "force_bin_lower_kn": ("bin", f_edges[:-1], {"units": "kN"}),
-            "force_bin_upper_kn": ("bin", f_edges[1:], {"units": "kN"}),
-            "force_bin_center_kn": ("bin", 0.5 * (f_edges[:-1] + f_edges[1:]), {"units": "kN"}),
-            "torque_bin_lower_knm": ("bin", q_edges[:-1], {"units": "kN m"}),
-            "torque_bin_upper_knm": ("bin", q_edges[1:], {"units": "kN m"}),
-            "torque_bin_center_knm": ("bin", 0.5 * (q_edges[:-1] + q_edges[1:]), {"units": "kN m"}),
-        },
+                counts.sum(axis=2),
+                {"units": "1", "long_name": "cusps with a finite load per run"},
+            )
+            data_vars["n_runs_averaged"] = (("pitch",), n_runs.astype(np.int64), {"units": "1"})
+    coords = {
+        "pitch": (
+            "pitch",
+            np.asarray(pitches, dtype=float),
+            {"units": "percent", "long_name": "pitch P_0.7%"},
+        ),
+        "run": ("run", np.asarray(runs, dtype=str), {"long_name": "run (floe field) identifier"}),
+        **_bin_coordinate(edges["force"], "force"),
+        **_bin_coordinate(edges["torque"], "torque"),
+    }
+    return xr.Dataset(
+        data_vars=data_vars,
+        coords=coords,
         attrs={
+            "Conventions": "CF-1.8",
             "force_bin_width_kn": float(force_bin_kn),
             "torque_bin_width_knm": float(torque_bin_knm),
             **(attrs or {}),
         },
     )
-    return ds

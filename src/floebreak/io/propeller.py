@@ -1,0 +1,288 @@
+"""Writing a propeller analysis: CSV tables, the CF-1.8 NetCDF spectra, figures and summary.json, as one
+atomic directory (`floebreak.io.atomic.atomic_directory`: on any error nothing appears).
+
+`propeller_analysis(cusps_or_dir, out_dir, ...)` is the one call with side effects: read (a run or study
+directory, with its transit distances and scenarios), analyse (`floebreak.propeller.pipeline
+.analyse_propeller`, pure), write (`write_propeller`). Files: docs/propeller.md "Output directory".
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from floebreak.errors import InputError
+from floebreak.io.atomic import atomic_directory
+from floebreak.io.figures import save_figure
+from floebreak.io.provenance import provenance
+from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
+from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, spectrum_edges
+
+
+def write_csv(path: Path, columns: dict[str, Any], comments=()) -> None:
+    """A CSV with `#` comment lines, a header and one row per index of the equally long columns; floats
+    with 10 significant digits, non-finite as empty cells, booleans as true/false."""
+    names = list(columns)
+    n = len(next(iter(columns.values()))) if columns else 0
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        for line in comments:
+            handle.write(f"# {line}\n")
+        writer = csv.writer(handle)
+        writer.writerow(names)
+        for i in range(n):
+            row = []
+            for name in names:
+                value = columns[name][i]
+                if isinstance(value, bool | np.bool_):
+                    row.append("true" if value else "false")
+                elif isinstance(value, float | np.floating):
+                    row.append("" if not math.isfinite(value) else format(float(value), ".10g"))
+                else:
+                    row.append(str(value))
+            writer.writerow(row)
+
+
+def json_clean(value: Any) -> Any:
+    """`value` with numpy types, tuples and paths made JSON types and non-finite floats None."""
+    if isinstance(value, dict):
+        return {str(k): json_clean(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_clean(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return json_clean(value.tolist())
+    if isinstance(value, np.generic):
+        return json_clean(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, Path):
+        return str(value)
+    return value
+
+
+def write_netcdf(ds, path: Path) -> str:
+    """``ds.to_netcdf`` (public API): NetCDF4 via h5netcdf when installed, else NetCDF3 via scipy.
+
+    Coordinates and bin bounds get no ``_FillValue`` (CF: coordinate values are never missing); bounds
+    inherit their coordinate's units (CF §7.1, and xarray writes them so)."""
+    import importlib.util
+
+    engine = "h5netcdf" if importlib.util.find_spec("h5netcdf") is not None else "scipy"
+    no_fill = [n for n in ds.variables if n in ds.coords or n.endswith("_bounds")]
+    ds.to_netcdf(
+        path, engine=engine, encoding={n: {"_FillValue": None} for n in no_fill if ds[n].dtype.kind == "f"}
+    )
+    return engine
+
+
+def _per_cusp_columns(loads: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The per-cusp table in the CSV's units (kN, kN·m, kJ)."""
+    out = {}
+    for k, v in loads.items():
+        if k.startswith("force_n_"):
+            out["force_kn_" + k[len("force_n_") :]] = v / 1e3
+        elif k.startswith("torque_nm_"):
+            out["torque_knm_" + k[len("torque_nm_") :]] = v / 1e3
+        elif k == "kinetic_energy_j":
+            out["kinetic_energy_kj"] = v / 1e3
+        else:
+            out[k] = v
+    return out
+
+
+def _class_rows(class_tables) -> dict[str, np.ndarray]:
+    rows: dict[str, list] = {}
+    for run, table in class_tables.items():
+        rows.setdefault("run_id", []).extend([run] * len(table["class_index"]))
+        for k, v in table.items():
+            rows.setdefault(k, []).extend(np.asarray(v).tolist())
+    return {k: np.asarray(v, dtype=object) if k == "run_id" else np.asarray(v) for k, v in rows.items()}
+
+
+def _spectrum_rows(ds, quantity: str) -> dict[str, np.ndarray]:
+    """Long table of one spectrum: pitch, bin edges, density and (with a time base) counts per hour/km."""
+    unit = "kn" if quantity == "force" else "knm"
+    edges = spectrum_edges(ds, quantity)
+    n_bins, pitches = edges.size - 1, ds["pitch"].values
+    columns = {
+        "pitch_percent": np.repeat(pitches.astype(float), n_bins),
+        f"{quantity}_lower_{unit}": np.tile(edges[:-1], pitches.size),
+        f"{quantity}_upper_{unit}": np.tile(edges[1:], pitches.size),
+        f"density_per_{unit}": ds[f"{quantity}_density"].values.reshape(-1),
+    }
+    for per in ("hour", "km"):
+        name = f"{quantity}_rate_per_{per}"
+        if name in ds:
+            columns[f"loads_per_{per}_per_propeller"] = ds[name].values.reshape(-1)
+    return columns
+
+
+def _exceedance_rows(exceedance: dict, quantity: str) -> dict[str, np.ndarray]:
+    unit = "kn" if quantity == "force" else "knm"
+    parts = [(k, v) for k, v in exceedance.items() if k.startswith(quantity + "_")]
+    return {
+        "pitch_percent": np.concatenate(
+            [np.full(v["level"].size, float(k.split("_p")[-1])) for k, v in parts]
+        ),
+        f"{quantity}_level_{unit}": np.concatenate([v["level"] for _, v in parts]),
+        "exceedances_per_hour_per_propeller": np.concatenate([v["per_hour"] for _, v in parts]),
+        "exceedances_per_km_per_propeller": np.concatenate([v["per_km"] for _, v in parts]),
+    }
+
+
+def _write_tables(result: PropellerResult, tmp: Path) -> None:
+    o = result.options
+    write_csv(
+        tmp / "cusp_loads.csv",
+        _per_cusp_columns(result.loads),
+        [
+            f"floebreak propeller loads per cusp in transit order; interpolation={o['interpolation']}, "
+            f"beyond={o['beyond']} (beyond_table_* columns), volume_basis={o['volume_basis']}",
+            "force_kn/torque_knm signed as in the FEM table; kinetic_energy_kj = 1/2 rho V v^2 (thesis Eqs. "
+            "27-28); loads_per_propeller = fraction_reaching / n_propellers (empty without a time base)",
+        ],
+    )
+    write_csv(
+        tmp / "volume_classes.csv",
+        _class_rows(result.class_tables),
+        ["cusp volume classes by bounding-box volume (thesis Alg. 1, Tables 10/11 structure)"],
+    )
+    for quantity, name in (("force", "load"), ("torque", "torque")):
+        write_csv(
+            tmp / f"{name}_spectrum.csv",
+            _spectrum_rows(result.spectra, quantity),
+            ["probability densities mean over runs; loads per hour/km on one propeller, all runs pooled"],
+        )
+        if result.exceedance:
+            write_csv(
+                tmp / f"{name}_exceedance.csv",
+                _exceedance_rows(result.exceedance, quantity),
+                ["number of loads >= level on one propeller per hour in ice and per km of transit"],
+            )
+    if result.measured is not None:
+        m = result.measured
+        write_csv(
+            tmp / "measured_torque_spectrum.csv",
+            {
+                "torque_lower_knm": m.edges_knm[:-1],
+                "torque_upper_knm": m.edges_knm[1:],
+                "density_per_knm": m.density_per_knm,
+            },
+            [f"probability density of the measured torque series {m.series.source}"],
+        )
+
+
+def _write_figures(result: PropellerResult, folder: Path) -> None:
+    from floebreak.plotting import propeller as figs
+    from floebreak.propeller.iceclass import WEIBULL_SHAPE
+
+    folder.mkdir()
+    o = result.options
+    save_figure(
+        figs.plot_volume_loads(result.tables, o["interpolation"], o["beyond"]), folder / "volume_loads.png"
+    )
+    for quantity, name in (("force", "load"), ("torque", "torque")):
+        for log in (False, True):
+            scale = "log" if log else "linear"
+            save_figure(
+                figs.plot_spectrum(result.spectra, quantity, log), folder / f"{name}_spectrum_{scale}.png"
+            )
+    torque = {p: result.amplitudes(p).torque_nm for p in result.tables}
+    save_figure(
+        figs.plot_rule_form(torque, result.exceedance, WEIBULL_SHAPE[o["weibull"]]), folder / "rule_form.png"
+    )
+    if result.measured is not None:
+        m = result.measured
+        for log in (False, True):
+            save_figure(
+                figs.plot_measured_comparison(
+                    m.edges_knm, m.density_per_knm, result.spectra, log, DENSITY_THRESHOLD_PER_KNM
+                ),
+                folder / f"torque_comparison_{'log' if log else 'linear'}.png",
+            )
+    if result.rule is not None:
+        force = {p: result.amplitudes(p).force_n for p in result.tables}
+        save_figure(
+            figs.plot_rule_exceedance(force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]]),
+            folder / "ice_class_exceedance.png",
+        )
+
+
+def write_propeller(
+    result: PropellerResult,
+    out_dir: str | os.PathLike[str],
+    *,
+    overwrite: bool = False,
+    record: dict | None = None,
+) -> Path:
+    """Write `result` to the new directory `out_dir` atomically and return it. `record` adds to the
+    provenance (e.g. the input files)."""
+    prov = provenance(command="propeller_analysis", **json_clean(result.options), **(record or {}))
+    ds = result.spectra.copy()
+    ds.attrs.update(
+        {
+            "title": "floebreak propeller-ice load and torque spectra",
+            "institution": "floebreak",
+            "source": "floebreak propeller analysis (thesis chapter 6; docs/propeller.md)",
+            "references": "docs/propeller.md",
+            "interpolation": result.options["interpolation"],
+            "beyond_table": result.options["beyond"],
+            "volume_basis": result.options["volume_basis"],
+            "provenance": json.dumps(json_clean(prov), sort_keys=True),
+        }
+    )
+    summary = {"provenance": prov, **result.summary}
+    with atomic_directory(out_dir, overwrite=overwrite) as tmp:
+        tmp = Path(tmp)
+        _write_tables(result, tmp)
+        summary["netcdf_engine"] = write_netcdf(ds, tmp / "spectra.nc")
+        _write_figures(result, tmp / "figures")
+        written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
+        summary["files"] = [*written, "summary.json"]
+        text = json.dumps(json_clean(summary), indent=2, sort_keys=True) + "\n"
+        (tmp / "summary.json").write_text(text, encoding="utf-8")
+    return Path(out_dir)
+
+
+def propeller_analysis(
+    cusps,
+    out_dir: str | os.PathLike[str],
+    *,
+    overwrite: bool = False,
+    pool: bool = False,
+    speed_m_s: float | None = None,
+    fraction_reaching: float | None = None,
+    n_propellers: int | None = None,
+    **options,
+) -> Path:
+    """Analyse and write: `cusps` is a run or study directory (its transit distances and scenarios give
+    the rates; several runs need equal scenarios but for seed and field, or `pool=True`) or a table
+    (`options["exposures"]` then gives the rates). `options`: those of `analyse_propeller`."""
+    record: dict[str, Any] = {}
+    if isinstance(cusps, str | os.PathLike):
+        from floebreak.propeller.runs import read_runs
+
+        inputs = read_runs(
+            cusps,
+            pool=pool,
+            speed_m_s=speed_m_s,
+            fraction_reaching=fraction_reaching,
+            n_propellers=n_propellers,
+        )
+        if "exposures" in options:
+            raise InputError("exposures", "given with a directory, which has its own", allowed="one of them")
+        options["exposures"] = inputs.exposures
+        cusps = inputs.cusps
+        record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
+        if inputs.missing_transit:
+            record["no_transit_distance"] = list(inputs.missing_transit)
+    fem = options.get("fem_table")
+    record["fem_tables"] = None if fem is None else json_clean(fem if isinstance(fem, dict) else str(fem))
+    record["torque_csv"] = None if options.get("torque_csv") is None else str(options["torque_csv"])
+    result = analyse_propeller(cusps, **options)
+    return write_propeller(result, out_dir, overwrite=overwrite, record=record)

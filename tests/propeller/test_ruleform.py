@@ -1,0 +1,108 @@
+"""Rule-form fit (notes §7.3), rule N_ice (as recalled) and Miner's sum: known answers."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from floebreak.errors import InputError
+from floebreak.propeller.ruleform import (
+    BasquinCurve,
+    OperatingProfile,
+    fit_rule_form,
+    miner_damage,
+    rule_n_ice,
+)
+
+
+@pytest.mark.parametrize(("k", "scale"), [(0.75, 300.0e3), (1.0, 50.0), (2.2, 1.0e6)])
+def test_fit_recovers_known_parameters(k, scale):
+    """Samples of P(X ≥ x) = exp(−(x/λ)^k) drawn with a seeded Generator (λ·Weibull(k)): with 20 000
+    samples the MLE lies within 2 % of k and λ and its 95 % interval contains the true k."""
+    rng = np.random.default_rng(20231218)
+    x = scale * rng.weibull(k, 20_000)
+    fit = fit_rule_form(x)
+    assert fit.shape_k == pytest.approx(k, rel=0.02)
+    assert fit.scale == pytest.approx(scale, rel=0.02)
+    low, high = fit.shape_interval()
+    assert low < k < high
+    # the expected-information standard error of k is k·sqrt(6/π²/n) ≈ 0.0055·k for n = 20 000
+    assert (high - low) / (2 * 1.959964) == pytest.approx(k * math.sqrt(6 / math.pi**2 / 20_000), rel=0.05)
+
+
+def test_interval_coverage_is_near_95_percent():
+    """200 seeded samples of 300: the 95 % intervals of k and of x_max(N = 10⁴) contain the truth in
+    about 95 % of them (binomial sd 1.5 %: 90–99 % allowed)."""
+    rng = np.random.default_rng(7)
+    k, scale, n_loads = 0.75, 100.0, 1.0e4
+    true_x_max = scale * math.log(n_loads) ** (1 / k)
+    hits_k = hits_x = 0
+    for _ in range(200):
+        fit = fit_rule_form(scale * rng.weibull(k, 300))
+        low, high = fit.shape_interval()
+        hits_k += low < k < high
+        low, high = fit.x_max_interval(n_loads)
+        hits_x += low < true_x_max < high
+    assert 0.90 <= hits_k / 200 <= 0.99
+    assert 0.90 <= hits_x / 200 <= 0.99
+
+
+def test_x_max_is_the_load_exceeded_once_in_n():
+    """Rule form: P(X ≥ x_max) = exp(−ln N) = 1/N; notes §7.3: for N = 10⁶ and k = 0.75, x/x_max = 0.019,
+    0.092, 0.231 are exceeded with probability 0.5, 0.1, 0.01."""
+    rng = np.random.default_rng(1)
+    fit = fit_rule_form(rng.weibull(0.75, 5000))
+    n = 1e6
+    assert fit.exceedance(fit.x_max(n)) == pytest.approx(1 / n, rel=1e-9)
+    exact = type(fit)(0.75, 1.0, 100, ((1.0, 0.0), (0.0, 1.0)))
+    x_max = exact.x_max(n)
+    for share, probability in ((0.019, 0.5), (0.092, 0.1), (0.231, 0.01)):
+        assert exact.exceedance(share * x_max) == pytest.approx(probability, rel=0.06)
+
+
+def test_fit_refuses_too_few_or_equal_samples():
+    with pytest.raises(InputError, match="at least 10"):
+        fit_rule_form([1.0, 2.0, 3.0])
+    with pytest.raises(InputError, match="at least 10"):
+        fit_rule_form(np.full(50, 4.0))
+
+
+def test_rule_n_ice_as_recalled():
+    # N_ice = k1 k2 k3 k4 N_class n: PC5 N_class = 6·10⁶, Agulhas II 140 rpm = 2.333 1/s
+    assert rule_n_ice("pc5", 140 / 60) == pytest.approx(6e6 * 140 / 60)
+    assert rule_n_ice("PC1", 2.0, rule_factor=2.0) == pytest.approx(2 * 21e6 * 2)
+    with pytest.raises(InputError, match="polar_class"):
+        rule_n_ice("PC8", 2.0)
+
+
+def test_miner_damage_by_hand():
+    """N(x) = 10⁶ (100/x)³: amplitudes 100 and 200 → 1/10⁶ + 8/10⁶; each counted 0.5 times → 4.5·10⁻⁶."""
+    curve = BasquinCurve(exponent_m=3.0, reference_amplitude=100.0, reference_cycles=1e6)
+    assert miner_damage([100.0, -200.0, np.nan, 0.0], curve, 0.5) == pytest.approx(4.5e-6)
+    with pytest.raises(InputError, match=r"sn_curve\.exponent_m"):
+        BasquinCurve(exponent_m=0.0, reference_amplitude=1.0, reference_cycles=1.0)
+    with pytest.raises(InputError, match=r"sn_curve\.quantity"):
+        BasquinCurve(3.0, 1.0, 1.0, quantity="thrust")
+
+
+def test_operating_profile_validation():
+    assert OperatingProfile(1000.0, 25.0).hours == 25_000.0
+    with pytest.raises(InputError, match="hours_in_ice_per_year"):
+        OperatingProfile(9000.0, 1.0)  # more than a year has
+    with pytest.raises(InputError, match="years"):
+        OperatingProfile(100.0, float("nan"))
+
+
+def test_fit_is_scipys_weibull_maximum_likelihood():
+    """The same maximum as scipy.stats.weibull_min.fit with the location fixed at 0 (an independent
+    optimiser of the same likelihood)."""
+    from scipy import stats
+
+    rng = np.random.default_rng(11)
+    x = 250.0 * rng.weibull(1.3, 800)
+    shape, _, scale = stats.weibull_min.fit(x, floc=0.0)
+    fit = fit_rule_form(x)
+    assert fit.shape_k == pytest.approx(shape, rel=1e-4)
+    assert fit.scale == pytest.approx(scale, rel=1e-4)
