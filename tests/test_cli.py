@@ -218,17 +218,21 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
     assert len(loads["torque_knm_p95"]) == n_cusps
     # beyond the largest FEM cusp (12.5043 m³) the loads grow with volume (power law), no clamp spike:
     # thesis Table 11's −1658.78 kN·m is the torque at 12.5043 m³, larger cusps get more
-    beyond = [i for i, v in enumerate(loads["box_volume_m3"]) if v > 12.5043]
+    beyond = [i for i, v in enumerate(loads["volume_m3"]) if v > 12.5043]  # the volume interpolated
     assert beyond, "the reference run (h = 1 m) has cusps beyond the FEM table"
     assert all(loads["beyond_table_p95"][i] for i in beyond)
     assert all(loads["torque_knm_p95"][i] < -1658.78 for i in beyond)
     assert len({round(loads["torque_knm_p95"][i], 2) for i in beyond}) > len(beyond) // 2
     summary = json.loads((prop / "summary.json").read_text())
-    assert len(summary["warnings"]) == 2 and "beyond the FEM table" in summary["warnings"][0]
-    # where users look: the terminal and the report show the warning, the rates and the rule-form fit
-    assert "beyond the FEM table" in stdout and "loads per hour" in stdout and "rule form" in stdout
+    # where users look: the terminal and the report show the rates, the rule-form fit and — when more than
+    # 10 % of the cusps lie beyond the FEM table (issue 18) — the warning
+    warned = len(beyond) > 0.1 * n_cusps
+    assert any("beyond the FEM table" in w for w in summary["warnings"]) is warned
+    assert ("beyond the FEM table" in stdout) is warned
+    assert "loads per hour" in stdout and "rule form" in stdout
     report = (out / "report.html").read_text()
-    assert "<h2>Propeller loads</h2>" in report and "Warning:" in report and "rule_form.png" in report
+    assert "<h2>Propeller loads</h2>" in report and "rule_form.png" in report
+    assert ("Warning:" in report) is warned
     assert "propeller spectra" in stdout and f"{prop}" in stdout
 
 

@@ -41,7 +41,11 @@ def _rows(path):
 
 def test_outputs_and_numbers(tmp_path):
     out = propeller_analysis(
-        _cusps(), tmp_path / "prop", torque_csv=synthetic_torque_path(), polar_class="PC5"
+        _cusps(),
+        tmp_path / "prop",
+        torque_csv=synthetic_torque_path(),
+        polar_class="PC5",
+        volume_basis="box",
     )
     summary = json.loads((out / "summary.json").read_text())
     for name in (
@@ -136,7 +140,9 @@ def test_study_directory_and_options(tmp_path):
     with pytest.raises(InputError, match=r"2 runs below .* differ in scenario\.resolved\.toml.*--pool"):
         propeller_analysis(study, tmp_path / "a")
     assert not (tmp_path / "a").exists()
-    out = propeller_analysis(study, tmp_path / "a", interpolation="pchip", beyond="flag", pool=True)
+    out = propeller_analysis(
+        study, tmp_path / "a", interpolation="pchip", beyond="flag", pool=True, volume_basis="box"
+    )
     rows = _rows(out / "cusp_loads.csv")
     assert [r["run_id"] for r in rows] == ["run_r1"] * 5 + ["run_r2"] * 3
     assert rows[4]["force_kn_p0"] == ""  # box volume 15 m³ > 12.5 m³: flagged, no load claimed
@@ -145,7 +151,7 @@ def test_study_directory_and_options(tmp_path):
     assert summary["options"]["interpolation"] == "pchip" and summary["n_runs"] == 2
     assert summary["pitches"]["p0"]["n_without_load"] == 1
     # the cusp's own volume (0.8 of the box, 12 m³) lies inside the table
-    out = propeller_analysis(cusps, tmp_path / "b", beyond="flag", volume_basis="actual")
+    out = propeller_analysis(cusps, tmp_path / "b", beyond="flag")  # default: the cusp's own volume
     assert _rows(out / "cusp_loads.csv")[4]["force_kn_p0"] != ""
     classes = _rows(out / "volume_classes.csv")
     assert [r["run_id"] for r in classes] == ["r1"] * 4 + ["r2"] * 4 + ["ALL"] * 4

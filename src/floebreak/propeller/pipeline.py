@@ -42,6 +42,12 @@ from floebreak.propeller.spectra import (
 from floebreak.propeller.summary import build_summary, finite_range
 
 VOLUME_BASES = ("box", "actual")
+# The cusp's own volume (area × thickness) enters the FEM interpolation (thesis §6.1.3: the loads "are
+# interpolated with respect to the cusp volume"). Evidence from §6.2: at h = 0.4 m the neutral-pitch torques
+# end at 210 kN·m, which the quartic reaches at 2.59 m³ — the actual volume of the largest unbreakable cusp,
+# A_rotate(0.4 m) × 0.4 m = 6.79 m² × 0.4 m = 2.72 m³ (215 kN·m); its bounding box is larger (box/actual
+# 1.3–2 for broken pieces), and box volumes would end at 250–300 kN·m. "box" (Alg. 1's class volume) stays.
+DEFAULT_VOLUME_BASIS = "actual"
 
 __all__ = [
     "PropellerResult",
@@ -118,7 +124,7 @@ def propeller_loads(
     *,
     interpolation: str = "newton",
     beyond: str = "power_law",
-    volume_basis: str = "box",
+    volume_basis: str = DEFAULT_VOLUME_BASIS,
     cusp_speed_m_s: float = 3.0,
 ) -> dict[str, np.ndarray]:
     """Per-cusp table (pure): box dimensions, class, kinetic energy, and per pitch force [N], torque [N·m]
@@ -311,7 +317,7 @@ def analyse_propeller(
     propeller: PropellerSpec = PropellerSpec(),  # noqa: B008 - frozen dataclass, immutable default
     interpolation: str = "newton",
     beyond: str = "power_law",
-    volume_basis: str = "box",
+    volume_basis: str = DEFAULT_VOLUME_BASIS,
     volume_class_edges_m3=DEFAULT_CLASS_EDGES_M3,
     cusp_speed_m_s: float = 3.0,
     force_bin_kn: float = 10.0,
