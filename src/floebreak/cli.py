@@ -578,10 +578,11 @@ def validate_single_floe(
 
 
 def _register_studies() -> None:
-    from floebreak.studies.cli import aggregate_command, study
+    from floebreak.studies.cli import aggregate_command, study, voyage
 
     app.command("study")(study)
     app.command("aggregate")(aggregate_command)
+    app.command("voyage")(voyage)
 
 
 _register_studies()

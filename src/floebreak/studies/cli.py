@@ -98,3 +98,113 @@ def aggregate_command(
     from floebreak.studies.aggregate import aggregate
 
     console.print(json.dumps(aggregate(study_dir)))
+
+
+def voyage(
+    log: Annotated[Path, typer.Argument(help="ice observation log CSV (docs/studies.md, Voyages)")],
+    out: Annotated[Path, typer.Option("--out", help="voyage directory (re-running resumes it)")],
+    n_fields: Annotated[int, typer.Option("--n-fields", help="random fields per period")] = 4,
+    workers: Annotated[
+        int | None, typer.Option("--workers", help="local worker processes (default: cores)")
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option("--scheduler", help="Dask scheduler tcp://HOST:PORT, or 'local' (LocalCluster)"),
+    ] = None,
+    seed: Annotated[int, typer.Option("--seed", help="root seed of the fields")] = 2023,
+    overrides: Annotated[
+        list[str] | None, typer.Option("--set", help="scenario override KEY=VALUE (repeatable)")
+    ] = None,
+    speed_m_s: Annotated[
+        float | None,
+        typer.Option("--speed-m-s", help="ship speed [m/s] where the log has none (default 3 m/s)"),
+    ] = None,
+    max_length_m: Annotated[
+        float, typer.Option("--max-length-m", help="longest simulated field per period [m]")
+    ] = 400.0,
+) -> None:
+    """Simulate a voyage from an ice observation log: per-period tables, time-weighted load spectra."""
+    from floebreak.io.voyage_log import read_voyage_log
+    from floebreak.studies.executors import make_executor
+    from floebreak.studies.voyage import prepare_voyage, run_voyage
+
+    if workers is not None and workers < 1:
+        raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
+    setup = prepare_voyage(  # everything validated before anything is written or started
+        read_voyage_log(log),
+        n_fields=n_fields,
+        seed=seed,
+        overrides=overrides or [],
+        speed_m_s=speed_m_s,
+        max_length_m=max_length_m,
+    )
+    from floebreak.studies.voyage import check_out_dir
+
+    check_out_dir(out, setup.identity)
+    executor = make_executor(workers, scheduler)
+    periods = len(setup.plans)
+    console.print(
+        f"voyage {log.name}: {periods} periods × {n_fields} fields on {executor.description} → {out}"
+    )
+    try:
+        with Progress(*_progress_columns(), console=console) as bar:
+            task = bar.add_task("generators", total=periods, info="circles or voronoi per period")
+
+            def progress(stage: str, value) -> None:
+                if stage == "fields":
+                    bar.update(task, completed=value)
+                else:
+                    info = f"failed {value.failed}, resumed {value.skipped}"
+                    bar.update(task, description="runs", total=value.total, completed=value.done, info=info)
+
+            summary = run_voyage(setup, out, executor, progress)
+    finally:
+        executor.close()
+    _print_voyage(summary, out)
+
+
+def _progress_columns() -> tuple:
+    return (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("{task.fields[info]}"),
+        TimeElapsedColumn(),
+        TimeRemainingColumn(),
+    )
+
+
+def _print_voyage(summary: dict, out: Path) -> None:
+    from rich.table import Table
+
+    table = Table(title=f"voyage: {summary['hours_in_ice']:.3g} h in ice, {summary['distance_km']:.3g} km")
+    for column in (
+        "case",
+        "loads per hour",
+        "loads per km",
+        "max |F| [kN]",
+        "max |Q| [kN·m]",
+        "beyond FEM table",
+    ):
+        table.add_column(column, justify="right")
+    for case, values in summary["cases"].items():
+
+        def fmt(value, spec):
+            return "–" if value is None else format(value, spec)
+
+        table.add_row(
+            case,
+            fmt(values["loads_per_hour"], ".0f"),
+            fmt(values["loads_per_km"], ".1f"),
+            fmt(values["max_force_kn"], ".0f"),
+            fmt(values["max_torque_knm"], ".0f"),
+            fmt(values["beyond_table_fraction"], ".0%"),
+        )
+    console.print(table)
+    console.print(
+        f"periods simulated {summary['n_periods_simulated']} of {summary['n_periods']}; "
+        f"tables, spectra and figures in {out / 'results'}",
+        soft_wrap=True,
+    )
+    for failure in summary.get("failures", [])[:5]:
+        console.print(f"[red]failed[/] {failure['run']}: {failure['error']}")

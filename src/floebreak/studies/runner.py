@@ -70,13 +70,15 @@ def execute_run(task: dict[str, Any]) -> dict[str, Any]:
     field_file = task.get("field_file")
     floe_field = load_field(field_file) if field_file else None
     result = run(task["scenario"], floe_field=floe_field)
-    write_run_directory(result, task["run_dir"], overwrite=True, report=False)
+    write_run_directory(
+        result, task["run_dir"], overwrite=True, report=False, figures=task.get("figures", True)
+    )
     return {key: value for key, value in result.summary.items() if not isinstance(value, dict | list)}
 
 
-def common_field_file(scenario: dict[str, Any], fields_dir: Path) -> str | None:
-    """The saved common field of a run's scenario, generated here on first request; None when its field is
-    not generated (file, inline floes) or cannot be (the run then fails in its worker and is recorded)."""
+def generate_common_field(scenario: dict[str, Any], fields_dir: Path) -> str | None:
+    """The saved common field of a run's scenario, generated here on first request (errors raised); None
+    when its field is not generated (file, inline floes)."""
     import numpy as np
 
     from floebreak.api import build_field, field_key
@@ -89,13 +91,19 @@ def common_field_file(scenario: dict[str, Any], fields_dir: Path) -> str | None:
         return None
     path = fields_dir / f"field-{key[:20]}.parquet"
     if not path.exists():
-        try:
-            floe_field = build_field(resolved, np.random.default_rng(resolved.seed))
-        except Exception:  # the run meets the same error in its worker, which records it as the run's
-            return None
+        floe_field = build_field(resolved, np.random.default_rng(resolved.seed))
         fields_dir.mkdir(exist_ok=True)
         save_field(floe_field, path)  # atomic: a study killed here leaves no half file
     return str(path.resolve())  # absolute: a worker's working directory may be another
+
+
+def common_field_file(scenario: dict[str, Any], fields_dir: Path) -> str | None:
+    """`generate_common_field`, or None when the field cannot be generated (the run then fails in its
+    worker and is recorded)."""
+    try:
+        return generate_common_field(scenario, fields_dir)
+    except Exception:  # the run meets the same error in its worker, which records it as the run's
+        return None
 
 
 def _atomic_write_text(path: Path, text: str) -> None:
@@ -111,8 +119,11 @@ def run_study(
     out_dir: Path,
     executor: Executor | None = None,
     progress: Callable[[StudyProgress], None] | None = None,
+    run_figures: bool = True,
 ) -> StudyProgress:
-    """Run every incomplete run of the study; failures are recorded and the study goes on."""
+    """Run every incomplete run of the study; failures are recorded and the study goes on.
+
+    `run_figures=False`: the run directories get no figures/ (a voyage reads only their tables)."""
     executor = executor or SerialExecutor()
     out_dir = Path(out_dir)
     runs_dir, failed_dir = out_dir / "runs", out_dir / "failed"
@@ -149,7 +160,12 @@ def run_study(
             state.skipped += 1
             state.done += 1
             continue
-        task = {"index": spec_run.index, "scenario": spec_run.scenario, "run_dir": str(run_dir)}
+        task = {
+            "index": spec_run.index,
+            "scenario": spec_run.scenario,
+            "run_dir": str(run_dir),
+            "figures": run_figures,
+        }
         if spec.common_fields:
             task["field_file"] = common_field_file(spec_run.scenario, out_dir / "fields")
             if task["field_file"] and task["field_file"] not in fields_ready:

@@ -1,0 +1,316 @@
+"""Voyage logs: a ship's ice observation log, one row per observation period (issue 18 §4).
+
+A CSV file (UTF-8, comma-separated, lines starting with ``#`` are comments). Units are part of every column
+name; docs/studies.md ("Voyages") is the user's reference:
+
+=============================  ==========================================================================
+column                         meaning
+=============================  ==========================================================================
+``start_utc``, ``end_utc``     start and end of the period, ISO 8601 (``2019-12-18T20:20``, ``…Z`` or
+                               ``…+02:00``; without an offset the time is UTC)
+``concentration_percent``      ice concentration in (0, 100] % — or ``concentration_fraction`` in (0, 1]
+``mean_thickness_m``           mean ice thickness [m], > 0
+``share_d<D>m_percent``        share of the floe *count* in the equivalent-diameter class D [m], e.g.
+                               ``share_d2.5m_percent`` (thesis Table 1 classes: 2.5, 7.5, 15, 60, 300 m);
+                               one column per class, shares in [0, 100] %, summing to 100 ± 0.5 % per row
+``speed_m_s`` / ``speed_kn``   optional: ship speed [m/s] or [kn], > 0
+``propeller_rpm``              optional: propeller speed [1/min], > 0
+``propeller_pitch_percent``    optional: pitch P_0.7 relative to the maximum pitch [%], in [0, 100]
+``label``                      optional: free text
+=============================  ==========================================================================
+
+Every error is an `InputError` whose key names the file, the row (data rows counted from 1, and the line
+of the file) and the column: wrong or missing units in a header, unknown, duplicate or missing columns,
+empty, non-numeric or NaN cells, values out of range, shares not summing to 100 %, a period that does not
+end after it starts, periods not in time order or overlapping. Gaps between periods are allowed (no ice
+observed, or open water): they are not part of the voyage's hours in ice.
+"""
+
+from __future__ import annotations
+
+import csv
+import datetime as dt
+import io
+import itertools
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from floebreak.errors import InputError
+from floebreak.ice.observations import PERCENT_SUM_TOLERANCE
+
+KNOT_M_S = 1852.0 / 3600.0  # international knot
+SHARE_COLUMN = re.compile(r"^share_d(?P<diameter>[0-9]+(\.[0-9]+)?)m_percent$")
+SHARE_FORM = "share_d<D>m_percent with D in m, e.g. share_d2.5m_percent"
+TIME_COLUMNS = ("start_utc", "end_utc")
+# quantity stem → the columns that give it (one of them); used to name a wrong unit in a header
+QUANTITIES: dict[str, tuple[str, ...]] = {
+    "start": ("start_utc",),
+    "end": ("end_utc",),
+    "concentration": ("concentration_percent", "concentration_fraction"),
+    "mean_thickness": ("mean_thickness_m",),
+    "thickness": ("mean_thickness_m",),
+    "speed": ("speed_m_s", "speed_kn"),
+    "propeller_rpm": ("propeller_rpm",),
+    "rpm": ("propeller_rpm",),
+    "propeller_pitch": ("propeller_pitch_percent",),
+    "pitch": ("propeller_pitch_percent",),
+}
+REQUIRED = ("start_utc", "end_utc", "mean_thickness_m")
+OPTIONAL = ("speed_m_s", "speed_kn", "propeller_rpm", "propeller_pitch_percent", "label")
+KNOWN = (*REQUIRED, "concentration_percent", "concentration_fraction", *OPTIONAL)
+
+
+@dataclass(frozen=True)
+class LogPeriod:
+    """One observation period of a log (SI; times in UTC). `row`: data row from 1; `line`: line of the file."""
+
+    row: int
+    line: int
+    start_utc: dt.datetime
+    end_utc: dt.datetime
+    concentration: float  # fraction in (0, 1]
+    mean_thickness_m: float
+    diameter_classes_m: tuple[float, ...]
+    percentages: tuple[float, ...]  # share of the floe count per class [%]
+    speed_m_s: float | None = None
+    propeller_rpm: float | None = None
+    propeller_pitch_percent: float | None = None
+    label: str = ""
+
+    @property
+    def duration_h(self) -> float:
+        return (self.end_utc - self.start_utc).total_seconds() / 3600.0
+
+
+@dataclass(frozen=True)
+class VoyageLog:
+    """A validated voyage log: its source (file name) and periods in time order."""
+
+    source: str
+    periods: tuple[LogPeriod, ...]
+    columns: tuple[str, ...]
+
+    @property
+    def hours(self) -> float:
+        return sum(p.duration_h for p in self.periods)
+
+
+def _where(source: str, column: str | None, row: int | None = None, line: int | None = None) -> str:
+    """The InputError key: file, row (and line) and column."""
+    text = source
+    if row is not None:
+        text += f", row {row} (line {line})"
+    elif line is not None:
+        text += f", header (line {line})"
+    if column is not None:
+        text += f", column {column!r}"
+    return text
+
+
+def _check_header(source: str, header: list[str], line: int) -> None:
+    seen: set[str] = set()
+    for name in header:
+        if name in seen:
+            raise InputError(_where(source, name, line=line), "duplicate column", allowed="each column once")
+        seen.add(name)
+        if name in KNOWN or SHARE_COLUMN.match(name):
+            continue
+        if name.startswith("share_d") or name.startswith("share"):
+            raise InputError(
+                _where(source, name, line=line), "not a diameter-class column", allowed=SHARE_FORM
+            )
+        stem = next((s for s in sorted(QUANTITIES, key=len, reverse=True) if name.startswith(s)), None)
+        if stem is not None:
+            unit = name[len(stem) :].lstrip("_") or "none"
+            raise InputError(
+                _where(source, name, line=line),
+                f"unit {unit!r} not accepted",
+                allowed=" or ".join(QUANTITIES[stem]),
+            )
+        raise InputError(
+            _where(source, name, line=line),
+            "unknown column",
+            allowed=", ".join((*KNOWN, SHARE_FORM)),
+        )
+    missing = [c for c in REQUIRED if c not in seen]
+    if missing:
+        raise InputError(_where(source, missing[0], line=line), "missing column", allowed=", ".join(REQUIRED))
+    given = [c for c in ("concentration_percent", "concentration_fraction") if c in seen]
+    if len(given) != 1:
+        raise InputError(
+            _where(source, given[1] if given else "concentration_percent", line=line),
+            "missing column" if not given else "give the concentration once",
+            allowed="one of concentration_percent, concentration_fraction",
+        )
+    if "speed_m_s" in seen and "speed_kn" in seen:
+        raise InputError(
+            _where(source, "speed_kn", line=line), "give the speed once", allowed="speed_m_s or speed_kn"
+        )
+    if not any(SHARE_COLUMN.match(name) for name in header):
+        raise InputError(
+            _where(source, "share_d<D>m_percent", line=line), "no diameter-class column", allowed=SHARE_FORM
+        )
+
+
+def _number(text: str, where: str, low: float, high: float | None, low_inclusive: bool, unit: str) -> float:
+    text = text.strip()
+    if not text:
+        raise InputError(where, "empty cell", allowed="a number")
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(where, f"{text!r} is not a number", value=text, allowed="a number") from None
+    if not math.isfinite(value):
+        raise InputError(where, f"{text!r} is not a finite number", value=text, allowed="a finite number")
+    left = "[" if low_inclusive else "("
+    interval = f"{left}{low:g}, {'inf)' if high is None else f'{high:g}]'}" + (f" {unit}" if unit else "")
+    if (value < low if low_inclusive else value <= low) or (high is not None and value > high):
+        raise InputError(where, f"{value:g} is outside {interval}", value=value, allowed=interval)
+    return value
+
+
+def _time(text: str, where: str) -> dt.datetime:
+    text = text.strip()
+    try:
+        value = dt.datetime.fromisoformat(text)
+    except ValueError:
+        raise InputError(
+            where,
+            f"{text!r} is not an ISO 8601 date and time",
+            value=text,
+            allowed="e.g. 2019-12-18T20:20, 2019-12-18T20:20Z or 2019-12-18T22:20+02:00",
+        ) from None
+    if value.tzinfo is None:
+        return value.replace(tzinfo=dt.UTC)
+    return value.astimezone(dt.UTC)
+
+
+def _period(source: str, row: int, line: int, cells: dict[str, str], shares: list[tuple[str, float]]):
+    def where(column: str) -> str:
+        return _where(source, column, row, line)
+
+    start = _time(cells["start_utc"], where("start_utc"))
+    end = _time(cells["end_utc"], where("end_utc"))
+    if not end > start:
+        raise InputError(
+            where("end_utc"),
+            f"{end.isoformat()} is not after the start {start.isoformat()}",
+            allowed="end > start",
+        )
+    if "concentration_percent" in cells:
+        c = _number(cells["concentration_percent"], where("concentration_percent"), 0.0, 100.0, False, "%")
+        concentration = c / 100.0
+    else:
+        concentration = _number(
+            cells["concentration_fraction"], where("concentration_fraction"), 0.0, 1.0, False, ""
+        )
+    thickness = _number(cells["mean_thickness_m"], where("mean_thickness_m"), 0.0, None, False, "m")
+    percentages = [_number(cells[name], where(name), 0.0, 100.0, True, "%") for name, _ in shares]
+    total = sum(percentages)
+    if abs(total - 100.0) > PERCENT_SUM_TOLERANCE:
+        raise InputError(
+            where(", ".join(name for name, _ in shares)),
+            f"shares sum to {total:g} %",
+            value=total,
+            allowed=f"100 ± {PERCENT_SUM_TOLERANCE:g} %",
+        )
+    speed = None
+    if "speed_m_s" in cells:
+        speed = _number(cells["speed_m_s"], where("speed_m_s"), 0.0, None, False, "m/s")
+    elif "speed_kn" in cells:
+        speed = _number(cells["speed_kn"], where("speed_kn"), 0.0, None, False, "kn") * KNOT_M_S
+    rpm = pitch = None
+    if "propeller_rpm" in cells:
+        rpm = _number(cells["propeller_rpm"], where("propeller_rpm"), 0.0, None, False, "1/min")
+    if "propeller_pitch_percent" in cells:
+        pitch = _number(
+            cells["propeller_pitch_percent"], where("propeller_pitch_percent"), 0.0, 100.0, True, "%"
+        )
+    kept = [(d, p) for (_, d), p in zip(shares, percentages, strict=True) if p > 0.0]
+    return LogPeriod(
+        row=row,
+        line=line,
+        start_utc=start,
+        end_utc=end,
+        concentration=concentration,
+        mean_thickness_m=thickness,
+        diameter_classes_m=tuple(d for d, _ in kept),
+        percentages=tuple(p for _, p in kept),
+        speed_m_s=speed,
+        propeller_rpm=rpm,
+        propeller_pitch_percent=pitch,
+        label=cells.get("label", "").strip(),
+    )
+
+
+def _check_order(source: str, periods: list[LogPeriod]) -> None:
+    for before, period in itertools.pairwise(periods):
+        where = _where(source, "start_utc", period.row, period.line)
+        if period.start_utc < before.start_utc:
+            raise InputError(
+                where,
+                f"{period.start_utc.isoformat()} is before the previous period's start "
+                f"{before.start_utc.isoformat()} (row {before.row})",
+                allowed="periods in increasing time order",
+            )
+        if period.start_utc < before.end_utc:
+            raise InputError(
+                where,
+                f"{period.start_utc.isoformat()} overlaps the previous period (row {before.row}), which ends "
+                f"{before.end_utc.isoformat()}",
+                allowed=f"a start ≥ {before.end_utc.isoformat()}",
+            )
+
+
+def parse_voyage_log(text: str, source: str = "log") -> VoyageLog:
+    """Validate the text of a voyage log (see the module docstring); `source` names it in errors."""
+    numbered = [(i + 1, line) for i, line in enumerate(text.splitlines())]
+    numbered = [(n, line) for n, line in numbered if line.strip() and not line.lstrip().startswith("#")]
+    if not numbered:
+        raise InputError(source, "no header", allowed="a CSV header and one row per observation period")
+    rows = list(csv.reader(io.StringIO("\n".join(line for _, line in numbered))))
+    header = [name.strip() for name in rows[0]]
+    header_line = numbered[0][0]
+    _check_header(source, header, header_line)
+    shares = sorted(
+        ((name, float(SHARE_COLUMN.match(name)["diameter"])) for name in header if SHARE_COLUMN.match(name)),
+        key=lambda item: item[1],
+    )
+    for (name, diameter), (_, other) in itertools.pairwise(shares):
+        if diameter <= 0.0 or diameter == other:
+            raise InputError(
+                _where(source, name, line=header_line),
+                "diameter must be > 0 and distinct from the other classes",
+                allowed=SHARE_FORM,
+            )
+    if shares[0][1] <= 0.0:
+        raise InputError(
+            _where(source, shares[0][0], line=header_line), "diameter must be > 0", allowed=SHARE_FORM
+        )
+    periods = []
+    for row, ((line, _), cells) in enumerate(zip(numbered[1:], rows[1:], strict=True), start=1):
+        if len(cells) != len(header):
+            raise InputError(
+                _where(source, None, row, line),
+                f"{len(cells)} cells for {len(header)} columns",
+                allowed="one cell per column",
+            )
+        periods.append(_period(source, row, line, dict(zip(header, cells, strict=True)), shares))
+    if not periods:
+        raise InputError(source, "no observation period", allowed="at least one row after the header")
+    _check_order(source, periods)
+    return VoyageLog(source=source, periods=tuple(periods), columns=tuple(header))
+
+
+def read_voyage_log(path: str | Path) -> VoyageLog:
+    """Read and validate a voyage log CSV file; errors name the file, row and column."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(
+            str(path), f"cannot read the log: {error}", allowed="a readable UTF-8 CSV file"
+        ) from None
+    return parse_voyage_log(text, source=str(path))

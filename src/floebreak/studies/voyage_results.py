@@ -1,0 +1,441 @@
+"""Results of a voyage: per-period table, time-weighted load and torque spectra, rates, figures (issue 18 §4).
+
+Pooling (docs/studies.md, "Voyages"). Period p lasts T_p hours and sails D_p = v_p T_p; n_p of its fields
+completed, each L_p long. One simulated cusp of p stands for
+
+    w_p = D_p / (n_p L_p)
+
+cusps of the voyage, so the voyage's expected number of loads in a bin is C_b = Σ_p w_p · c_p,b (c_p,b: the
+period's simulated cusps in the bin). Since the period's rate per hour is r_p,b = c_p,b v_p / (n_p L_p),
+C_b = Σ_p T_p r_p,b: the time-weighted sum of the periods' rates. Rates per hour divide by Σ T_p (hours in
+ice: the periods, not the gaps between them), per km by Σ D_p; the density is C_b / (Σ_b C_b · bin width).
+Every cusp is assumed to reach the propeller once (the thesis' assumption, §6.1).
+
+Loads per cusp come from `floebreak.propeller.pipeline.propeller_loads` with its defaults (FEM tables,
+interpolation, beyond-table policy), for each shipped FEM pitch and "operated": each period with the FEM
+table whose pitch is nearest its logged pitch (the propeller's default pitch when the log has none). The
+logged rpm is recorded only: the FEM loads are for 140 rpm (thesis §6.1.2).
+
+`write_voyage_results(voyage_dir)` re-builds ``results/`` (written atomically) from the runs on disk.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from floebreak.errors import InputError
+from floebreak.studies.voyage import FIELD_MARGIN_M
+
+RESULTS_DIR = "results"
+QUANTITIES = {"force": ("kn", 10.0), "torque": ("knm", 10.0)}  # quantity → (unit in names, bin width)
+
+
+def period_weight(distance_m: float, simulated_length_m: float, n_fields_complete: int) -> float:
+    """w_p = D_p / (n_p L_p): voyage cusps one simulated cusp of the period stands for (0 without runs)."""
+    if n_fields_complete <= 0:
+        return 0.0
+    return distance_m / (n_fields_complete * simulated_length_m)
+
+
+def weighted_counts(values: np.ndarray, weights: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """Σ of the weights of the finite values in each bin [edges[i], edges[i+1]) (last bin closed)."""
+    values, weights = np.asarray(values, dtype=float), np.asarray(weights, dtype=float)
+    keep = np.isfinite(values)
+    counts, _ = np.histogram(values[keep], bins=edges, weights=weights[keep])
+    return counts
+
+
+def exceedances(values: np.ndarray, weights: np.ndarray, levels: np.ndarray) -> np.ndarray:
+    """Σ of the weights of the finite values ≥ each level (the voyage's number of exceedances)."""
+    values, weights = np.asarray(values, dtype=float), np.asarray(weights, dtype=float)
+    keep = np.isfinite(values)
+    order = np.argsort(values[keep])
+    v, w = values[keep][order], weights[keep][order]
+    tail = np.concatenate([np.cumsum(w[::-1])[::-1], [0.0]])  # tail[i] = Σ w[i:]
+    return tail[np.searchsorted(v, np.asarray(levels, dtype=float), side="left")]
+
+
+def read_voyage(voyage_dir: Path) -> dict[str, Any]:
+    path = voyage_dir / "voyage.json"
+    if not path.exists():
+        raise InputError(
+            "voyage_dir", f"{str(voyage_dir)!r} has no voyage.json", allowed="a voyage directory"
+        )
+    document = json.loads(path.read_text(encoding="utf-8"))
+    if "periods" not in document:
+        raise InputError("voyage_dir", f"{str(voyage_dir)!r} was never planned", allowed="a voyage directory")
+    return document
+
+
+def _run_tables(voyage_dir: Path, names: set[str]) -> tuple[dict[str, dict], dict[str, dict]]:
+    """Summaries and cusp columns of the complete runs among `names`."""
+    from floebreak.propeller.cusps import cusp_columns, load_cusps
+
+    summaries, cusps = {}, {}
+    for name in sorted(names):
+        run_dir = voyage_dir / "runs" / name
+        if not (run_dir / "summary.json").exists():
+            continue
+        summaries[name] = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
+        cusps[name] = cusp_columns(load_cusps(run_dir))
+    return summaries, cusps
+
+
+def _nearest_pitch(pitches: list[float], pitch: float) -> float:
+    return min(pitches, key=lambda p: (abs(p - pitch), p))
+
+
+def period_loads(periods: list[dict], cusps: dict[str, dict]) -> dict[str, Any]:
+    """Per cusp of every period (a run shared by two periods counts in each): period index and load
+    magnitudes [kN, kN·m] per case (each FEM pitch "p<pitch>", and "operated")."""
+    from floebreak.propeller.fem import resolve_fem_tables
+    from floebreak.propeller.pipeline import propeller_loads
+    from floebreak.propeller.spec import PropellerSpec
+
+    default_pitch = PropellerSpec().pitch_percent
+    tables = resolve_fem_tables(None, default_pitch)
+    pitches = sorted(tables)
+    names = sorted(cusps)
+    loads = {}
+    if names:
+        columns = {k: np.concatenate([cusps[n][k] for n in names]) for k in cusps[names[0]]}
+        loads = propeller_loads(columns, tables)
+    start = dict(
+        zip(names, np.cumsum([0] + [cusps[n]["volume_m3"].size for n in names]).tolist(), strict=False)
+    )
+    index: list[np.ndarray] = []
+    period_of: list[np.ndarray] = []
+    operated: list[float] = []
+    for period in periods:
+        rows = [
+            np.arange(start[n], start[n] + cusps[n]["volume_m3"].size) for n in period["runs"] if n in cusps
+        ]
+        rows = np.concatenate(rows) if rows else np.zeros(0, dtype=int)
+        index.append(rows)
+        period_of.append(np.full(rows.size, period["index"]))
+        logged = period["propeller_pitch_percent"]
+        operated.append(_nearest_pitch(pitches, default_pitch if logged is None else logged))
+    rows = np.concatenate(index) if index else np.zeros(0, dtype=int)
+    out: dict[str, Any] = {
+        "period": np.concatenate(period_of),
+        "pitches": pitches,
+        "operated_pitch": operated,
+    }
+    cases: dict[str, dict[str, np.ndarray]] = {}
+    for pitch in pitches:
+        label = f"p{pitch:g}"
+        cases[label] = {
+            "force": np.abs(loads[f"force_n_{label}"][rows]) / 1e3 if names else np.zeros(0),
+            "torque": np.abs(loads[f"torque_nm_{label}"][rows]) / 1e3 if names else np.zeros(0),
+            "beyond_table": loads[f"beyond_table_{label}"][rows] if names else np.zeros(0, bool),
+        }
+    pick = np.asarray([operated[p] for p in out["period"]], dtype=float)
+    chosen: dict[str, np.ndarray] = {
+        "force": np.full(pick.size, np.nan),
+        "torque": np.full(pick.size, np.nan),
+        "beyond_table": np.zeros(pick.size, dtype=bool),
+    }
+    for pitch in pitches:
+        mask = pick == pitch
+        for key, values in chosen.items():
+            values[mask] = cases[f"p{pitch:g}"][key][mask]
+    cases["operated"] = chosen
+    out["cases"] = cases
+    out["volume_m3"] = np.concatenate([cusps[n]["volume_m3"] for n in names])[rows] if names else np.zeros(0)
+    return out
+
+
+def period_table(periods: list[dict], summaries: dict[str, dict], loads: dict[str, Any]) -> list[dict]:
+    """One row per period: conditions, distance, fields, rates per km and per hour, mean cusp volume,
+    operated torque statistics and the share of cusps beyond the FEM table."""
+    rows = []
+    operated = loads["cases"]["operated"]
+    for period in periods:
+        complete = [summaries[n] for n in period["runs"] if n in summaries]
+        n = len(complete)
+        simulated_km = n * period["simulated_length_m"] / 1e3
+        km_per_h = period["speed_m_s"] * 3.6
+        cusps = sum(s["n_cusps"] for s in complete)
+        flips = sum(s["n_flipped"] for s in complete)
+        mine = loads["period"] == period["index"]
+        torque = operated["torque"][mine]
+        per_km = cusps / simulated_km if n else math.nan
+        rows.append(
+            {
+                **{k: period[k] for k in ("index", "row", "label", "start_utc", "end_utc", "duration_h")},
+                "concentration_percent": 100.0 * period["concentration"],
+                "mean_thickness_m": period["mean_thickness_m"],
+                "diameter_classes": " ".join(
+                    f"{d:g}m:{p:g}%"
+                    for d, p in zip(period["diameter_classes_m"], period["percentages"], strict=True)
+                ),
+                **{k: period[k] for k in ("speed_m_s", "speed_source", "distance_m", "simulated_length_m")},
+                "field_width_m": period["field_width_m"],
+                "generator": period["generator"],
+                "n_fields_complete": n,
+                "n_fields_planned": len(period["runs"]),
+                "weight": period_weight(period["distance_m"], period["simulated_length_m"], n),
+                "n_cusps_simulated": cusps,
+                "cusps_per_km": per_km,
+                "cusps_per_hour": per_km * km_per_h,
+                "cusps_in_period": per_km * period["distance_m"] / 1e3,
+                "flips_per_km": flips / simulated_km if n else math.nan,
+                "flips_per_hour": flips / simulated_km * km_per_h if n else math.nan,
+                "mean_cusp_volume_m3": float(np.mean(loads["volume_m3"][mine])) if mine.any() else math.nan,
+                "operated_pitch_percent": loads["operated_pitch"][period["index"]],
+                "propeller_rpm": period["propeller_rpm"],
+                "mean_torque_knm": float(np.nanmean(torque)) if torque.size else math.nan,
+                "max_torque_knm": float(np.nanmax(torque)) if torque.size else math.nan,
+                "beyond_table_fraction": float(np.mean(operated["beyond_table"][mine]))
+                if mine.any()
+                else math.nan,
+            }
+        )
+    return rows
+
+
+def pooled_spectra(loads: dict[str, Any], rows: list[dict]) -> dict[str, Any]:
+    """Per case and quantity: bin edges, the voyage's expected counts, per hour, per km, density, and the
+    exceedances of each lower bin edge — the time-weighted pooling of the module docstring."""
+    from floebreak.propeller.spectra import bin_edges, fitting_width
+
+    weight_of = np.asarray([row["weight"] for row in rows], dtype=float)
+    weights = weight_of[loads["period"]] if loads["period"].size else np.zeros(0)
+    simulated = [row for row in rows if row["n_fields_complete"]]  # a period without runs has no loads
+    hours = sum(row["duration_h"] for row in simulated)
+    km = sum(row["distance_m"] for row in simulated) / 1e3
+    out: dict[str, Any] = {"hours": hours, "distance_km": km}
+    for quantity, (_, width) in QUANTITIES.items():
+        every = np.concatenate([case[quantity] for case in loads["cases"].values()])
+        width = fitting_width(every, width)
+        edges = bin_edges(every[np.isfinite(every)], width, start=0.0)
+        for case, values in loads["cases"].items():
+            counts = weighted_counts(values[quantity], weights, edges)
+            total = counts.sum()
+            out[(case, quantity)] = {
+                "edges": edges,
+                "width": width,
+                "count": counts,
+                "per_hour": counts / hours if hours else np.full(counts.size, np.nan),
+                "per_km": counts / km if km else np.full(counts.size, np.nan),
+                "density": counts / (total * width) if total > 0 else np.full(counts.size, np.nan),
+                "exceedances": exceedances(values[quantity], weights, edges[:-1]),  # at lower edges
+                "total": float(total),
+            }
+    return out
+
+
+PERIOD_COLUMNS_MD = (  # (key, header, format) of periods.md
+    ("index", "#", "d"),
+    ("start_utc", "start (UTC)", "s"),
+    ("duration_h", "T [h]", ".3g"),
+    ("concentration_percent", "c [%]", "g"),
+    ("mean_thickness_m", "h [m]", "g"),
+    ("diameter_classes", "diameter classes", "s"),
+    ("speed_m_s", "v [m/s]", "g"),
+    ("distance_m", "D [m]", ".0f"),
+    ("simulated_length_m", "L [m]", ".0f"),
+    ("field_width_m", "W [m]", ".1f"),
+    ("generator", "generator", "s"),
+    ("n_fields_complete", "fields", "d"),
+    ("cusps_per_km", "cusps/km", ".1f"),
+    ("cusps_per_hour", "cusps/h", ".0f"),
+    ("flips_per_km", "flips/km", ".1f"),
+    ("mean_cusp_volume_m3", "V̄_cusp [m³]", ".3g"),
+    ("mean_torque_knm", "mean abs Q [kN·m]", ".0f"),
+    ("beyond_table_fraction", "beyond FEM table", ".0%"),
+)
+
+
+def _cell(value: Any, fmt: str = "g") -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return ""
+    if isinstance(value, float | int) and not isinstance(value, bool):
+        return format(value, fmt if fmt != "s" else "g")
+    return str(value)
+
+
+def _csv_text(rows: list[dict], comments: list[str]) -> str:
+    import csv
+    import io
+
+    buffer = io.StringIO()
+    for line in comments:
+        buffer.write(f"# {line}\n")
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(list(rows[0]) if rows else [])
+    for row in rows:
+        writer.writerow([_cell(v, ".10g") for v in row.values()])
+    return buffer.getvalue()
+
+
+def _periods_markdown(rows: list[dict], notes: list[str]) -> str:
+    lines = ["# Voyage periods", "", *[f"- {note}" for note in notes], ""]
+    lines.append("| " + " | ".join(h for _, h, _ in PERIOD_COLUMNS_MD) + " |")
+    lines.append("|" + "---|" * len(PERIOD_COLUMNS_MD))
+    for row in rows:
+        lines.append("| " + " | ".join(_cell(row[k], f) for k, _, f in PERIOD_COLUMNS_MD) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _spectra_rows(spectra: dict[str, Any]) -> tuple[list[dict], list[dict]]:
+    """Long tables of the pooled spectra and exceedances (one row per case, quantity and bin)."""
+    spectrum_rows, exceedance_rows = [], []
+    for key, data in spectra.items():
+        if not isinstance(key, tuple):
+            continue
+        case, quantity = key
+        unit = QUANTITIES[quantity][0]
+        edges = data["edges"]
+        for i in range(edges.size - 1):
+            spectrum_rows.append(
+                {
+                    "case": case,
+                    "quantity": quantity,
+                    f"bin_lower_{unit}": edges[i],
+                    f"bin_upper_{unit}": edges[i + 1],
+                    "count_voyage": data["count"][i],
+                    "per_hour": data["per_hour"][i],
+                    "per_km": data["per_km"][i],
+                    f"density_per_{unit}": data["density"][i],
+                }
+            )
+            exceedance_rows.append(
+                {
+                    "case": case,
+                    "quantity": quantity,
+                    f"level_{unit}": edges[i],
+                    "exceedances_voyage": data["exceedances"][i],
+                    "per_hour": data["exceedances"][i] / spectra["hours"] if spectra["hours"] else math.nan,
+                    "per_km": data["exceedances"][i] / spectra["distance_km"]
+                    if spectra["distance_km"]
+                    else math.nan,
+                }
+            )
+    return spectrum_rows, exceedance_rows
+
+
+def _split_by_quantity(rows: list[dict]) -> dict[str, list[dict]]:
+    out: dict[str, list[dict]] = {}
+    for row in rows:
+        out.setdefault(row["quantity"], []).append(row)
+    return out
+
+
+def _case_summary(spectra: dict[str, Any], loads: dict[str, Any]) -> dict[str, Any]:
+    """Per case: loads per hour and per km, largest load, share of cusps beyond the FEM table."""
+    out = {}
+    for case, values in loads["cases"].items():
+        torque = spectra[(case, "torque")]
+        force = values["force"][np.isfinite(values["force"])]
+        q = values["torque"][np.isfinite(values["torque"])]
+        out[case] = {
+            "loads_voyage": torque["total"],
+            "loads_per_hour": torque["total"] / spectra["hours"] if spectra["hours"] else None,
+            "loads_per_km": torque["total"] / spectra["distance_km"] if spectra["distance_km"] else None,
+            "max_force_kn": float(force.max()) if force.size else None,
+            "max_torque_knm": float(q.max()) if q.size else None,
+            "beyond_table_fraction": float(np.mean(values["beyond_table"]))
+            if values["beyond_table"].size
+            else None,
+            "force_bin_width_kn": spectra[(case, "force")]["width"],
+            "torque_bin_width_knm": torque["width"],
+        }
+    return out
+
+
+def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
+    """What a reader of the tables must know: rules, scaling, fallbacks, failures."""
+    notes = [
+        "counts are scaled by distance: each period's cusps × D / (fields × L); L = min(D, max_length_m = "
+        f"{document['identity']['max_length_m']:g} m)",
+        f"field width W = beam + 2 × largest floe diameter + 2 × {FIELD_MARGIN_M:g} m margin: the field's edges "
+        "never touch the ship's band",
+        "every cusp is assumed to reach the propeller once (thesis §6.1); rates per hour are per hour in ice "
+        "(the periods' hours, not the gaps between them)",
+        "operated case: each period with the FEM table nearest its logged pitch; logged rpm recorded only "
+        "(FEM loads at 140 rpm, thesis §6.1.2)",
+    ]
+    for row in rows:
+        if row["generator"] != "circles":
+            notes.append(f"period {row['index']} ({row['start_utc']}): {row['generator']} fields")
+        if row["n_fields_complete"] < row["n_fields_planned"]:
+            notes.append(
+                f"period {row['index']}: {row['n_fields_complete']} of {row['n_fields_planned']} fields "
+                "complete (see failed/)"
+            )
+    return notes
+
+
+def write_voyage_results(voyage_dir: str | Path) -> dict[str, Any]:
+    """(Re)write ``results/`` of a voyage directory from its runs, atomically; returns the summary."""
+    from floebreak.io.atomic import atomic_directory
+    from floebreak.io.provenance import provenance
+
+    voyage_dir = Path(voyage_dir)
+    document = read_voyage(voyage_dir)
+    periods = document["periods"]
+    summaries, cusps = _run_tables(voyage_dir, {n for p in periods for n in p["runs"]})
+    loads = period_loads(periods, cusps)
+    rows = period_table(periods, summaries, loads)
+    spectra = pooled_spectra(loads, rows)
+    notes = voyage_notes(document, rows)
+    summary = {
+        "provenance": provenance(command="floebreak voyage", log=document["log"], **document["identity"]),
+        "hours_in_ice": spectra["hours"],
+        "distance_km": spectra["distance_km"],
+        "n_periods": len(periods),
+        "n_periods_simulated": sum(1 for row in rows if row["n_fields_complete"]),
+        "n_runs_complete": len(summaries),
+        "cusps_voyage": sum(row["cusps_in_period"] for row in rows if row["n_fields_complete"]),
+        "fem_pitches_percent": loads["pitches"],
+        "cases": _case_summary(spectra, loads),
+        "generators": {str(p["index"]): [p["generator"], p["generator_reason"]] for p in periods},
+        "notes": notes,
+    }
+    summary["cusps_per_hour"] = summary["cusps_voyage"] / spectra["hours"] if spectra["hours"] else None
+    spectrum_rows, exceedance_rows = _spectra_rows(spectra)
+    with atomic_directory(voyage_dir / RESULTS_DIR, overwrite=True, field="out") as temp:
+        (temp / "periods.csv").write_text(_csv_text(rows, notes), encoding="utf-8")
+        (temp / "periods.md").write_text(_periods_markdown(rows, notes), encoding="utf-8")
+        for name, table in (("spectra", spectrum_rows), ("exceedance", exceedance_rows)):
+            for quantity, quantity_rows in _split_by_quantity(table).items():
+                comment = f"voyage {name} of |{quantity}|, time-weighted over the periods; {notes[0]}"
+                (temp / f"{name}_{quantity}.csv").write_text(
+                    _csv_text(quantity_rows, [comment]), encoding="utf-8"
+                )
+        _figures(temp / "figures", rows, spectra, list(loads["cases"]))
+        summary["files"] = sorted(p.relative_to(temp).as_posix() for p in temp.rglob("*") if p.is_file())
+        summary["files"].append("summary.json")
+        (temp / "summary.json").write_text(json.dumps(_json(summary), indent=2) + "\n", encoding="utf-8")
+    return summary
+
+
+def _json(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _json(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_json(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def _figures(folder: Path, rows: list[dict], spectra: dict[str, Any], cases: list[str]) -> None:
+    from floebreak.io.figures import save_figure
+    from floebreak.plotting import voyage as figs
+
+    folder.mkdir()
+    for quantity in QUANTITIES:
+        data = {case: spectra[(case, quantity)] for case in cases}
+        save_figure(figs.plot_rate_spectrum(data, quantity), folder / f"{quantity}_spectrum.png")
+    data = {(case, q): spectra[(case, q)] for case in cases for q in QUANTITIES}
+    save_figure(figs.plot_exceedance(data, spectra["hours"]), folder / "exceedance.png")
+    save_figure(figs.plot_timeline(rows), folder / "timeline.png")
