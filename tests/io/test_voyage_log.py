@@ -1,0 +1,130 @@
+"""Voyage logs (issue 18 §4): the column scheme, and every bad input named by file, row and column."""
+
+from __future__ import annotations
+
+import datetime as dt
+from pathlib import Path
+
+import pytest
+
+from floebreak.errors import InputError
+from floebreak.io.voyage_log import parse_voyage_log, read_voyage_log
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "agu1920_log.csv"
+
+HEADER = "start_utc,end_utc,concentration_percent,mean_thickness_m,share_d5m_percent,share_d20m_percent"
+ROW1 = "2020-01-01T00:00,2020-01-01T00:10,50,0.5,60,40"
+ROW2 = "2020-01-01T01:00,2020-01-01T01:30,30,1.0,100,0"
+
+
+def test_thesis_table1_example_log():
+    log = read_voyage_log(EXAMPLE)
+    assert len(log.periods) == 10
+    third = log.periods[2]  # thesis Table 1, 19/12/2019 04:40–04:50: 79 %, 1.12 m, 15/60/300 m at 20/60/20 %
+    assert third.start_utc == dt.datetime(2019, 12, 19, 4, 40, tzinfo=dt.UTC)
+    assert third.duration_h == pytest.approx(10 / 60)
+    assert third.concentration == pytest.approx(0.79)
+    assert third.mean_thickness_m == 1.12
+    assert third.diameter_classes_m == (15.0, 60.0, 300.0)  # the 0 % classes are dropped
+    assert third.percentages == (20.0, 60.0, 20.0)
+    assert third.speed_m_s is None and third.propeller_pitch_percent is None
+    assert log.hours == pytest.approx(10 * 10 / 60)
+
+
+def test_units_offsets_and_optional_columns():
+    text = (
+        "# a comment line\n"
+        "start_utc,end_utc,concentration_fraction,mean_thickness_m,share_d10m_percent,speed_kn,"
+        "propeller_rpm,propeller_pitch_percent,label\n"
+        "2020-01-01T02:00+02:00,2020-01-01T02:30+02:00,0.4,0.7,100,5.832,140,80,first\n"
+        "2020-01-01T00:45Z,2020-01-01T01:00Z,0.5,0.7,100,1,120,0,second\n"
+    )
+    log = parse_voyage_log(text, "log.csv")
+    first, second = log.periods
+    assert first.start_utc == dt.datetime(2020, 1, 1, 0, 0, tzinfo=dt.UTC)  # 02:00 at +02:00
+    assert first.duration_h == 0.5
+    assert first.concentration == 0.4
+    assert first.speed_m_s == pytest.approx(5.832 * 1852 / 3600)  # international knot: 1852 m per hour
+    assert (first.propeller_rpm, first.propeller_pitch_percent, first.label) == (140.0, 80.0, "first")
+    assert first.line == 3 and second.row == 2 and second.line == 4
+    assert second.start_utc == dt.datetime(2020, 1, 1, 0, 45, tzinfo=dt.UTC)
+
+
+def _log(*lines: str) -> str:
+    return "\n".join(lines) + "\n"
+
+
+BAD = [
+    # (log text, text the message must hold: the row or header, the column, the problem)
+    (
+        _log(HEADER.replace("mean_thickness_m", "mean_thickness_cm"), ROW1),
+        ["header", "mean_thickness_cm", "unit"],
+    ),
+    (_log(HEADER.replace("concentration_percent", "concentration_pct"), ROW1), ["concentration_pct", "unit"]),
+    (_log(HEADER.replace("share_d5m", "share_d5cm"), ROW1), ["share_d5cm_percent", "share_d<D>m_percent"]),
+    (_log(HEADER + ",speed_mph", ROW1 + ",3"), ["speed_mph", "speed_m_s or speed_kn"]),
+    (_log(HEADER + ",colour", ROW1 + ",red"), ["'colour'", "unknown column"]),
+    (_log(HEADER + ",mean_thickness_m", ROW1 + ",0.5"), ["'mean_thickness_m'", "duplicate"]),
+    (
+        _log(HEADER.replace(",mean_thickness_m", ""), "2020-01-01T00:00,2020-01-01T00:10,50,60,40"),
+        ["mean_thickness_m", "missing"],
+    ),
+    (
+        _log(HEADER.replace(",concentration_percent", ""), "2020-01-01T00:00,2020-01-01T00:10,0.5,60,40"),
+        ["concentration_percent", "missing"],
+    ),
+    (
+        _log(
+            "start_utc,end_utc,concentration_percent,mean_thickness_m",
+            "2020-01-01T00:00,2020-01-01T00:10,50,1",
+        ),
+        ["share_d<D>m_percent"],
+    ),
+    (
+        _log(HEADER, ROW1.replace(",0.5,", ",thick,")),
+        ["row 1 (line 2)", "'mean_thickness_m'", "not a number"],
+    ),
+    (_log(HEADER, ROW1, ROW2.replace(",1.0,", ",nan,")), ["row 2 (line 3)", "'mean_thickness_m'", "finite"]),
+    (_log(HEADER, ROW1.replace(",50,", ",,")), ["row 1", "'concentration_percent'", "empty cell"]),
+    (_log(HEADER, ROW1.replace(",50,", ",120,")), ["row 1", "'concentration_percent'", "(0, 100] %"]),
+    (_log(HEADER, ROW1.replace(",0.5,", ",0,")), ["row 1", "'mean_thickness_m'", "(0, inf)"]),
+    (
+        _log(HEADER, ROW1.replace("60,40", "60,30")),
+        ["row 1", "share_d5m_percent, share_d20m_percent", "sum to 90"],
+    ),
+    (_log(HEADER, ROW1.replace("60,40", "-10,110")), ["row 1", "'share_d5m_percent'", "[0, 100] %"]),
+    (_log(HEADER, ROW1.replace("T00:10", "T00:00")), ["row 1", "'end_utc'", "not after the start"]),
+    (
+        _log(HEADER, ROW1.replace("2020-01-01T00:00", "01/01/2020 00:00")),
+        ["row 1", "'start_utc'", "ISO 8601"],
+    ),
+    (_log(HEADER, ROW2, ROW1), ["row 2 (line 3)", "'start_utc'", "before the previous period's start"]),
+    (
+        _log(HEADER, ROW1, ROW1.replace("T00:00", "T00:05").replace("T00:10", "T00:20")),
+        ["row 2", "'start_utc'", "overlaps"],
+    ),
+    (_log(HEADER + ",speed_m_s", ROW1 + ",0"), ["row 1", "'speed_m_s'", "(0, inf) m/s"]),
+    (_log(HEADER + ",speed_kn", ROW1 + ",-4"), ["row 1", "'speed_kn'", "(0, inf) kn"]),
+    (
+        _log(HEADER + ",propeller_pitch_percent", ROW1 + ",101"),
+        ["row 1", "'propeller_pitch_percent'", "[0, 100] %"],
+    ),
+    (_log(HEADER + ",propeller_rpm", ROW1 + ",0"), ["row 1", "'propeller_rpm'"]),
+    (_log(HEADER, ROW1 + ",7"), ["row 1 (line 2)", "7 cells for 6 columns"]),
+    (_log(HEADER), ["no observation period"]),
+]
+
+
+@pytest.mark.parametrize(("text", "expected"), BAD)
+def test_bad_logs_name_file_row_and_column(text, expected):
+    with pytest.raises(InputError) as info:
+        parse_voyage_log(text, "season.csv")
+    message = str(info.value)
+    assert message.startswith("season.csv")
+    for part in expected:
+        assert part in message, message
+
+
+def test_unreadable_file_names_it(tmp_path):
+    with pytest.raises(InputError, match="missing.csv"):
+        read_voyage_log(tmp_path / "missing.csv")
