@@ -126,5 +126,5 @@ def test_bad_logs_name_file_row_and_column(text, expected):
 
 
 def test_unreadable_file_names_it(tmp_path):
-    with pytest.raises(InputError, match="missing.csv"):
+    with pytest.raises(InputError, match=r"missing\.csv"):
         read_voyage_log(tmp_path / "missing.csv")

@@ -1,4 +1,4 @@
-"""Voyages (issue 18 §4): period → scenario mapping, field rules, generator fallback, a tiny voyage end to end."""
+"""Voyages (issue 18 §4): period → scenario, field rules, generator fallback, a tiny voyage end to end."""
 
 from __future__ import annotations
 

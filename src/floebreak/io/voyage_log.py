@@ -64,7 +64,7 @@ KNOWN = (*REQUIRED, "concentration_percent", "concentration_fraction", *OPTIONAL
 
 @dataclass(frozen=True)
 class LogPeriod:
-    """One observation period of a log (SI; times in UTC). `row`: data row from 1; `line`: line of the file."""
+    """One period of a log (SI; times in UTC). `row`: data row counted from 1; `line`: line of the file."""
 
     row: int
     line: int

@@ -354,8 +354,8 @@ def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
     notes = [
         "counts are scaled by distance: each period's cusps × D / (fields × L); L = min(D, max_length_m = "
         f"{document['identity']['max_length_m']:g} m)",
-        f"field width W = beam + 2 × largest floe diameter + 2 × {FIELD_MARGIN_M:g} m margin: the field's edges "
-        "never touch the ship's band",
+        f"field width W = beam + 2 × largest floe diameter + 2 × {FIELD_MARGIN_M:g} m margin: the field's "
+        "edges never touch the ship's band",
         "every cusp is assumed to reach the propeller once (thesis §6.1); rates per hour are per hour in ice "
         "(the periods' hours, not the gaps between them)",
         "operated case: each period with the FEM table nearest its logged pitch; logged rpm recorded only "
