@@ -114,34 +114,34 @@ def test_generator_falls_back_to_voronoi_and_says_why(tmp_path):
 TINY_LOG = (
     "start_utc,end_utc,concentration_percent,mean_thickness_m,share_d3m_percent,share_d6m_percent,"
     "speed_m_s,propeller_pitch_percent\n"
-    "2020-01-01T00:00,2020-01-01T00:02,40,0.6,50,50,0.5,0\n"  # 60 m sailed
-    "2020-01-01T00:10,2020-01-01T00:12,30,0.9,100,0,1,90\n"  # 120 m sailed, simulated on 80 m
+    "2020-01-01T00:00,2020-01-01T00:02,40,0.6,50,50,0.25,0\n"  # 30 m sailed
+    "2020-01-01T00:10,2020-01-01T00:12,30,0.9,100,0,0.5,90\n"  # 60 m sailed, simulated on 40 m
 )
 
 
 def test_tiny_voyage_end_to_end_and_resume(tmp_path):
     log = parse_voyage_log(TINY_LOG, "tiny.csv")
-    setup = prepare_voyage(log, n_fields=1, seed=4, overrides=["ship.step_m=0.5"], max_length_m=80.0)
+    setup = prepare_voyage(log, n_fields=1, seed=4, overrides=["ship.step_m=1.0"], max_length_m=40.0)
     out = tmp_path / "voyage"
     summary = run_voyage(setup, out)
     voyage = json.loads((out / "voyage.json").read_text(encoding="utf-8"))
     runs = [json.loads((out / "runs" / p["runs"][0] / "summary.json").read_text()) for p in voyage["periods"]]
     # independent: each simulated cusp counts D / (n L) times; n = 1 field
-    expected = runs[0]["n_cusps"] * 60.0 / 60.0 + runs[1]["n_cusps"] * 120.0 / 80.0
+    expected = runs[0]["n_cusps"] * 30.0 / 30.0 + runs[1]["n_cusps"] * 60.0 / 40.0
     assert summary["cusps_voyage"] == pytest.approx(expected)
     hours = 4 / 60
     for case in ("p0", "p95", "operated"):
         assert summary["cases"][case]["loads_per_hour"] == pytest.approx(expected / hours)
-        assert summary["cases"][case]["loads_per_km"] == pytest.approx(expected / 0.18)
+        assert summary["cases"][case]["loads_per_km"] == pytest.approx(expected / 0.09)
     periods = pyarrow.csv.read_csv(
         out / "results" / "periods.csv",
         parse_options=pyarrow.csv.ParseOptions(),
         read_options=_skip_comments(out),
     ).to_pydict()
-    assert periods["distance_m"] == pytest.approx([60.0, 120.0])
-    assert periods["simulated_length_m"] == pytest.approx([60.0, 80.0])
+    assert periods["distance_m"] == pytest.approx([30.0, 60.0])
+    assert periods["simulated_length_m"] == pytest.approx([30.0, 40.0])
     assert periods["operated_pitch_percent"] == [0.0, 95.0]  # nearest FEM table to 0 % and 90 %
-    assert periods["cusps_per_km"][1] == pytest.approx(runs[1]["n_cusps"] / 0.08)
+    assert periods["cusps_per_km"][1] == pytest.approx(runs[1]["n_cusps"] / 0.04)
     for name in ("force_spectrum", "torque_spectrum", "exceedance", "timeline"):
         assert (out / "results" / "figures" / f"{name}.png").stat().st_size > 0
     assert not any((out / "runs" / p["runs"][0] / "figures").exists() for p in voyage["periods"])
@@ -149,7 +149,7 @@ def test_tiny_voyage_end_to_end_and_resume(tmp_path):
     again = run_voyage(setup, out)
     assert again["cusps_voyage"] == summary["cusps_voyage"] and again["failures"] == []
     # another voyage into the same directory is refused before anything is written
-    other = prepare_voyage(log, n_fields=1, seed=5, overrides=["ship.step_m=0.5"], max_length_m=80.0)
+    other = prepare_voyage(log, n_fields=1, seed=5, overrides=["ship.step_m=1.0"], max_length_m=40.0)
     with pytest.raises(InputError, match="another voyage"):
         run_voyage(other, out)
 
