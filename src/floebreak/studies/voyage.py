@@ -208,12 +208,15 @@ def choose_generators(
     by_name = {run.run_name: run for run in runs}
     choices = []
     for index, group in enumerate(period_members(members, len(plans), n_fields)):
-        choice = ("circles", "")
+        choice, made = ("circles", ""), []
         for member in group:
             try:
-                generate_common_field(by_name[member.run_name].scenario, fields_dir)
+                made.append(generate_common_field(by_name[member.run_name].scenario, fields_dir))
             except InputError as error:  # ConcentrationError, or a field too small for whole large floes
                 choice = ("voronoi", f"circles: {error}")
+                for path in made:  # unused now (a period with the same conditions fails the same way)
+                    if path:
+                        Path(path).unlink(missing_ok=True)
                 break
             except Exception:  # a bug: the run meets it again in its worker, which records it
                 break

@@ -32,6 +32,7 @@ from floebreak.errors import InputError
 from floebreak.studies.voyage import FIELD_MARGIN_M
 
 RESULTS_DIR = "results"
+BEYOND_TABLE_WARNING = 0.10  # share of a period's cusps beyond the FEM table that is worth a warning
 QUANTITIES = {"force": ("kn", 10.0), "torque": ("knm", 10.0)}  # quantity → (unit in names, bin width)
 
 
@@ -349,6 +350,16 @@ def _case_summary(spectra: dict[str, Any], loads: dict[str, Any]) -> dict[str, A
     return out
 
 
+def _load_options() -> dict[str, Any]:
+    """The options `propeller_loads` uses by default (the voyage passes none), for the record."""
+    import inspect
+
+    from floebreak.propeller.pipeline import propeller_loads
+
+    parameters = inspect.signature(propeller_loads).parameters.values()
+    return {p.name: p.default for p in parameters if p.default is not inspect.Parameter.empty}
+
+
 def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
     """What a reader of the tables must know: rules, scaling, fallbacks, failures."""
     notes = [
@@ -361,6 +372,13 @@ def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
         "operated case: each period with the FEM table nearest its logged pitch; logged rpm recorded only "
         "(FEM loads at 140 rpm, thesis §6.1.2)",
     ]
+    shares = [row["beyond_table_fraction"] for row in rows]
+    beyond = max((share for share in shares if math.isfinite(share)), default=0.0)
+    if beyond > BEYOND_TABLE_WARNING:
+        notes.append(
+            f"warning: in a period up to {beyond:.0%} of the cusps lie beyond the largest FEM cusp; their "
+            f"loads follow the beyond-table policy {_load_options()['beyond']!r} (docs/propeller.md)"
+        )
     for row in rows:
         if row["generator"] != "circles":
             notes.append(f"period {row['index']} ({row['start_utc']}): {row['generator']} fields")
@@ -394,6 +412,7 @@ def write_voyage_results(voyage_dir: str | Path) -> dict[str, Any]:
         "n_runs_complete": len(summaries),
         "cusps_voyage": sum(row["cusps_in_period"] for row in rows if row["n_fields_complete"]),
         "fem_pitches_percent": loads["pitches"],
+        "propeller_loads_options": _load_options(),
         "cases": _case_summary(spectra, loads),
         "generators": {str(p["index"]): [p["generator"], p["generator_reason"]] for p in periods},
         "notes": notes,
