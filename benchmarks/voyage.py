@@ -6,7 +6,7 @@ the default speed (3 m/s → 1.8 km each, simulated on 400 m fields), 40 runs. G
 its worker processes, ``os.wait4``) is printed too: on a shared machine it is less sensitive to load.
 
 Run: ``.venv/bin/python benchmarks/voyage.py [--n-fields 4] [--workers 2]`` (the CLI next to the running
-Python is used). The voyage directory is a temporary one, removed afterwards.
+Python is used). The voyage directory is a temporary one, removed afterwards (`--keep DIR`: kept in DIR).
 """
 
 from __future__ import annotations
@@ -31,9 +31,9 @@ def _cli() -> str:
     return str(path)
 
 
-def measure(n_fields: int, workers: int) -> dict:
+def measure(n_fields: int, workers: int, keep: Path | None = None) -> dict:
     with tempfile.TemporaryDirectory() as temp:
-        out = Path(temp) / "voyage"
+        out = keep if keep is not None else Path(temp) / "voyage"
         command = [
             _cli(),
             "voyage",
@@ -74,8 +74,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-fields", type=int, default=4)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--keep", type=Path, help="write the voyage here (a new directory) and keep it")
     args = parser.parse_args()
-    result = measure(args.n_fields, args.workers)
+    if args.keep is not None and args.keep.exists():
+        sys.exit(f"{args.keep} exists: the benchmark needs a new directory (an existing voyage would resume)")
+    result = measure(args.n_fields, args.workers, args.keep)
     verdict = "met" if result["wall_s"] <= GOAL_SECONDS else "NOT met"
     print(
         f"voyage agu1920_log.csv, {args.n_fields} fields/period, {args.workers} workers: "

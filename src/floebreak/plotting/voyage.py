@@ -15,6 +15,11 @@ def _case_label(case: str) -> str:
     return "as operated (nearest FEM pitch)" if case == "operated" else f"pitch {case[1:]} %"
 
 
+def _case_style(case: str) -> dict[str, Any]:
+    """Dashed black for "operated": it often equals one FEM pitch's line, which must stay visible."""
+    return {"color": "black", "linestyle": "--"} if case == "operated" else {}
+
+
 def plot_rate_spectrum(data: dict[str, dict[str, Any]], quantity: str) -> Figure:
     """Loads per hour in ice per bin of |F| or |Q| (time-weighted over the periods), one line per case."""
     figure = Figure(figsize=(8.0, 4.0), constrained_layout=True)
@@ -23,7 +28,7 @@ def plot_rate_spectrum(data: dict[str, dict[str, Any]], quantity: str) -> Figure
         edges, rate = spectrum["edges"], spectrum["per_hour"]
         if not np.any(rate > 0):
             continue
-        axes.stairs(np.where(rate > 0, rate, np.nan), edges, label=_case_label(case))
+        axes.stairs(np.where(rate > 0, rate, np.nan), edges, label=_case_label(case), **_case_style(case))
     axes.set_yscale("log")
     width = next(iter(data.values()))["width"] if data else 0.0
     axes.set_xlabel(f"{SYMBOLS[quantity]} [{UNITS[quantity]}]")
@@ -44,7 +49,9 @@ def plot_exceedance(data: dict[tuple[str, str], dict[str, Any]], hours: float) -
         levels = spectrum["edges"][:-1]
         keep = per_hour > 0
         if keep.any():
-            axes.step(levels[keep], per_hour[keep], where="post", label=_case_label(case))
+            axes.step(
+                levels[keep], per_hour[keep], where="post", label=_case_label(case), **_case_style(case)
+            )
     for quantity, axes in axes_of.items():
         axes.set_yscale("log")
         axes.set_xlabel(f"{SYMBOLS[quantity]} [{UNITS[quantity]}]")
