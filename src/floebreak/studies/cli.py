@@ -126,7 +126,7 @@ def voyage(
     """Simulate a voyage from an ice observation log: per-period tables, time-weighted load spectra."""
     from floebreak.io.voyage_log import read_voyage_log
     from floebreak.studies.executors import make_executor
-    from floebreak.studies.voyage import prepare_voyage, run_voyage
+    from floebreak.studies.voyage import check_out_dir, prepare_voyage, run_voyage
 
     if workers is not None and workers < 1:
         raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
@@ -138,8 +138,6 @@ def voyage(
         speed_m_s=speed_m_s,
         max_length_m=max_length_m,
     )
-    from floebreak.studies.voyage import check_out_dir
-
     check_out_dir(out, setup.identity)
     executor = make_executor(workers, scheduler)
     periods = len(setup.plans)
@@ -174,6 +172,10 @@ def _progress_columns() -> tuple:
     )
 
 
+def _fmt(value, spec: str) -> str:
+    return "–" if value is None else format(value, spec)
+
+
 def _print_voyage(summary: dict, out: Path) -> None:
     from rich.table import Table
 
@@ -188,17 +190,13 @@ def _print_voyage(summary: dict, out: Path) -> None:
     ):
         table.add_column(column, justify="right")
     for case, values in summary["cases"].items():
-
-        def fmt(value, spec):
-            return "–" if value is None else format(value, spec)
-
         table.add_row(
             case,
-            fmt(values["loads_per_hour"], ".0f"),
-            fmt(values["loads_per_km"], ".1f"),
-            fmt(values["max_force_kn"], ".0f"),
-            fmt(values["max_torque_knm"], ".0f"),
-            fmt(values["beyond_table_fraction"], ".0%"),
+            _fmt(values["loads_per_hour"], ".0f"),
+            _fmt(values["loads_per_km"], ".1f"),
+            _fmt(values["max_force_kn"], ".0f"),
+            _fmt(values["max_torque_knm"], ".0f"),
+            _fmt(values["beyond_table_fraction"], ".0%"),
         )
     console.print(table)
     console.print(
@@ -206,5 +204,11 @@ def _print_voyage(summary: dict, out: Path) -> None:
         f"tables, spectra and figures in {out / 'results'}",
         soft_wrap=True,
     )
+    fallback = [index for index, (generator, _) in summary["generators"].items() if generator != "circles"]
+    if fallback:
+        console.print(f"voronoi fields for periods {', '.join(fallback)} (circles could not; see periods.md)")
+    for note in summary["notes"]:
+        if note.startswith("warning"):
+            console.print(f"[yellow]{note}[/]", soft_wrap=True)
     for failure in summary.get("failures", [])[:5]:
         console.print(f"[red]failed[/] {failure['run']}: {failure['error']}")

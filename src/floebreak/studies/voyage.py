@@ -122,6 +122,7 @@ def _beam_m(base: dict[str, Any], thickness_m: float) -> float:
 
     data = copy.deepcopy(base)
     data.setdefault("ice", {})["thickness_m"] = thickness_m
+    # any valid field source: the bow reads only the ship section and the thickness
     data.setdefault("field", {}).update(
         {"concentration": 0.5, "diameter_classes_m": [1.0], "percentages": [100.0]}
     )
