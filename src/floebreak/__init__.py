@@ -4,8 +4,8 @@ The public API (docs/api.md): ``floebreak.run(scenario) -> Result`` runs a `Scen
 or None for the reference scenario) without touching files, and ``Result.write(out)`` writes a run
 directory; `generate_field`, `FloeField`, `Bow`/`get_hull`, `build_model` (profiles) and `simulate` are the
 engine's parts for scripts; `register_mode` adds a failure mode; `propeller_analysis` (writes),
-`analyse_propeller` (pure) and `run_study` are the propeller and study entry points. Everything else is
-internal and may change.
+`analyse_propeller` (pure), `run_study` and `run_voyage` are the propeller, study and voyage entry points.
+Everything else is internal and may change.
 
 The names below are imported on first use (PEP 562): ``import floebreak`` and the command line's light
 commands (``floebreak --help``, ``schema``, ``observations``, ``report``) then do not load the engine's
@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` impor
     from floebreak.ice.generation import generate_field
     from floebreak.ice.observations import Observation, get_observation, thesis_observations
     from floebreak.io.propeller import propeller_analysis
+    from floebreak.io.voyage_log import read_voyage_log
     from floebreak.profiles import PROFILES, build_model
     from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
     from floebreak.scenario import Scenario
@@ -37,6 +38,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` impor
     from floebreak.studies.design import expand as expand_study
     from floebreak.studies.design import load_study, thesis_study
     from floebreak.studies.runner import run_study
+    from floebreak.studies.voyage import prepare_voyage, run_voyage
 
 __version__ = floebreak_version()
 
@@ -62,11 +64,14 @@ _LAZY = {
     "mode_names": "floebreak.failure",
     "PropellerResult": "floebreak.propeller.pipeline",
     "analyse_propeller": "floebreak.propeller.pipeline",
+    "prepare_voyage": "floebreak.studies.voyage",
     "propeller_analysis": "floebreak.io.propeller",
+    "read_voyage_log": "floebreak.io.voyage_log",
     "register_mode": "floebreak.failure",
     "registered_mode": "floebreak.failure",
     "run": "floebreak.api",
     "run_study": "floebreak.studies.runner",
+    "run_voyage": "floebreak.studies.voyage",
     "simulate": "floebreak.simulation",
     "thesis_observations": "floebreak.ice.observations",
     "thesis_study": "floebreak.studies.design",
@@ -95,11 +100,14 @@ __all__ = [
     "get_observation",
     "load_study",
     "mode_names",
+    "prepare_voyage",
     "propeller_analysis",
+    "read_voyage_log",
     "register_mode",
     "registered_mode",
     "run",
     "run_study",
+    "run_voyage",
     "simulate",
     "thesis_observations",
     "thesis_study",
