@@ -68,7 +68,7 @@ def test_period_scenario_is_the_logged_observation():
     assert scenario.field.length_m == pytest.approx(180.0)  # 3 m/s × 60 s
     assert scenario.field.generator == "voronoi"
     assert scenario.ice.thickness_m == 0.5
-    assert scenario.failure.crack_criterion == "line_load"
+    assert scenario.failure.mode_tables()["cracking"]["criterion"] == "line_load"  # the --set is kept
 
 
 @pytest.mark.parametrize("key", ["ice.thickness_m", "field.length_m", "field.observation", "seed"])
