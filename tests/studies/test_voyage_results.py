@@ -49,6 +49,15 @@ def test_pooled_torque_rates_are_the_time_weighted_period_rates():
     np.testing.assert_allclose(torque["exceedances"] / 1.5, [15.0, 12.0, 6.0])
 
 
+def test_loads_per_propeller_are_the_cusps_share():
+    # 60 % of the cusps reach a propeller, two propellers share them: 0.3 loads per cusp on one propeller
+    spectra = pooled_spectra(LOADS, ROWS, share=0.6 / 2)
+    np.testing.assert_allclose(spectra[("p0", "torque")]["per_hour"], np.array([3.0, 6.0, 6.0]) * 0.3)
+    np.testing.assert_allclose(
+        spectra[("p0", "torque")]["exceedances"] / 1.5, np.array([15.0, 12.0, 6.0]) * 0.3
+    )
+
+
 def test_a_period_without_fields_adds_neither_loads_nor_hours():
     rows = [*ROWS, {"duration_h": 3.0, "distance_m": 9000.0, "n_fields_complete": 0, "weight": 0.0}]
     spectra = pooled_spectra(LOADS, rows)

@@ -182,8 +182,8 @@ def _print_voyage(summary: dict, out: Path) -> None:
     table = Table(title=f"voyage: {summary['hours_in_ice']:.3g} h in ice, {summary['distance_km']:.3g} km")
     for column in (
         "case",
-        "loads per hour",
-        "loads per km",
+        "loads per hour per propeller",
+        "per km",
         "max |F| [kN]",
         "max |Q| [kN·m]",
         "beyond FEM table",

@@ -6,7 +6,8 @@ voyage runs on the study machinery (`floebreak.studies.runner`: resumable, local
 documented in docs/studies.md ("Voyages"):
 
 - **Distance.** A period sails D = v · T: v from the log's speed column, else the `speed_m_s` option, else
-  `DEFAULT_SPEED_M_S` = 3 m/s, the ship speed the thesis assumes for the cusps (§6.1.3, Eq. 28).
+  the scenario's ``ship.speed_m_s`` (default 3 m/s, the ship speed the thesis assumes, §6.3, Eq. 28). Each
+  period's scenario carries its speed, so the runs' rates (`floebreak propeller`) use it too.
 - **Simulated length.** Each field is L = min(D, `max_length_m`) long (default `DEFAULT_MAX_LENGTH_M` =
   400 m, the thesis' field length, §5.3). A simulated cusp of the period then stands for
   w = D / (n · L) cusps of the voyage (n = fields completed): counts are scaled by the distance.
@@ -37,7 +38,6 @@ from floebreak.io.voyage_log import LogPeriod, VoyageLog
 from floebreak.scenario import REFERENCE_TOML, Scenario, apply_overrides
 from floebreak.studies.design import Membership, StudySpec, Sweep, expand
 
-DEFAULT_SPEED_M_S = 3.0  # thesis §6.1.3, Eq. 28: v_cusp = v_ship = 3 m/s
 DEFAULT_MAX_LENGTH_M = 400.0  # thesis §5.3 field length
 FIELD_MARGIN_M = 5.0  # each side, beyond the largest floe diameter
 VOYAGE_FILE = "voyage.json"
@@ -65,7 +65,7 @@ class PeriodPlan:
     index: int
     period: LogPeriod
     speed_m_s: float
-    speed_source: str  # "log", "option" or "default"
+    speed_source: str  # "log", "option" or "scenario" (ship.speed_m_s, default or --set)
     distance_m: float
     simulated_length_m: float
     field_width_m: float
@@ -113,20 +113,19 @@ def period_scenario(base: dict[str, Any], plan: PeriodPlan, generator: str = "ci
         }
     )
     scenario.setdefault("ice", {})["thickness_m"] = period.mean_thickness_m
+    scenario.setdefault("ship", {})["speed_m_s"] = plan.speed_m_s
     return scenario
 
 
-def _beam_m(base: dict[str, Any], thickness_m: float) -> float:
-    """The bow's beam (2 × its half breadth) as built for `thickness_m`."""
-    from floebreak.api import build_bow
-
+def _ship_scenario(base: dict[str, Any], thickness_m: float) -> Scenario:
+    """The resolved base scenario at `thickness_m` (for the bow and the ship's default speed)."""
     data = copy.deepcopy(base)
     data.setdefault("ice", {})["thickness_m"] = thickness_m
     # any valid field source: the bow reads only the ship section and the thickness
     data.setdefault("field", {}).update(
         {"concentration": 0.5, "diameter_classes_m": [1.0], "percentages": [100.0]}
     )
-    return 2.0 * build_bow(Scenario.from_dict(data).resolved()).half_breadth_m
+    return Scenario.from_dict(data).resolved()
 
 
 def plan_voyage(
@@ -139,18 +138,21 @@ def plan_voyage(
     if speed_m_s is not None:
         require_range("speed_m_s", speed_m_s, low=0.0, unit="m/s")
     require_range("max_length_m", max_length_m, low=0.0, unit="m")
+    from floebreak.api import build_bow
+
     plans = []
     beams: dict[float, float] = {}
     for index, period in enumerate(log.periods):
+        ship = _ship_scenario(base, period.mean_thickness_m)
         if period.speed_m_s is not None:
             speed, source = period.speed_m_s, "log"
         elif speed_m_s is not None:
             speed, source = speed_m_s, "option"
         else:
-            speed, source = DEFAULT_SPEED_M_S, "default"
+            speed, source = ship.ship.speed_m_s, "scenario"
         distance = speed * period.duration_h * 3600.0
-        if period.mean_thickness_m not in beams:
-            beams[period.mean_thickness_m] = _beam_m(base, period.mean_thickness_m)
+        if period.mean_thickness_m not in beams:  # the beam of the bow as built for the thickness
+            beams[period.mean_thickness_m] = 2.0 * build_bow(ship).half_breadth_m
         beam = beams[period.mean_thickness_m]
         width = beam + 2.0 * max(period.diameter_classes_m) + 2.0 * FIELD_MARGIN_M
         plans.append(
@@ -172,6 +174,7 @@ def voyage_spec(
         "field.width_m": ("field", "width_m"),
         "field.generator": ("field", "generator"),
         "ice.thickness_m": ("ice", "thickness_m"),
+        "ship.speed_m_s": ("ship", "speed_m_s"),
     }
     parameters = {key: [s[a][b] for s in scenarios] for key, (a, b) in keys.items()}
     return StudySpec(
@@ -364,10 +367,12 @@ def run_voyage(
     out = Path(out)
     check_out_dir(out, setup.identity)
     out.mkdir(parents=True, exist_ok=True)
+    propeller = _ship_scenario(setup.base, 1.0).propeller  # the same for every period
     document = {
         "log": Path(setup.log.source).name,
         "identity": setup.identity,
         "columns": list(setup.log.columns),
+        "propeller": {"fraction_reaching": propeller.fraction_reaching, "count": propeller.count},
     }
     _write_json(out / VOYAGE_FILE, document)
     n_fields, plans = setup.n_fields, setup.plans

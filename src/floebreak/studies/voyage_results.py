@@ -9,7 +9,9 @@ cusps of the voyage, so the voyage's expected number of loads in a bin is C_b = 
 period's simulated cusps in the bin). Since the period's rate per hour is r_p,b = c_p,b v_p / (n_p L_p),
 C_b = Σ_p T_p r_p,b: the time-weighted sum of the periods' rates. Rates per hour divide by Σ T_p (hours in
 ice: the periods, not the gaps between them), per km by Σ D_p; the density is C_b / (Σ_b C_b · bin width).
-Every cusp is assumed to reach the propeller once (the thesis' assumption, §6.1).
+Loads are per propeller: each cusp gives f / n loads on one propeller (scenario keys
+``propeller.fraction_reaching`` f and ``propeller.count`` n; defaults 1, as the thesis assumes, §6.2, and 2,
+the Agulhas II, §6.1).
 
 Loads per cusp come from `floebreak.propeller.pipeline.propeller_loads` with its defaults (FEM tables,
 interpolation, beyond-table policy), for each shipped FEM pitch and "operated": each period with the FEM
@@ -200,13 +202,14 @@ def period_table(periods: list[dict], summaries: dict[str, dict], loads: dict[st
     return rows
 
 
-def pooled_spectra(loads: dict[str, Any], rows: list[dict]) -> dict[str, Any]:
+def pooled_spectra(loads: dict[str, Any], rows: list[dict], share: float = 1.0) -> dict[str, Any]:
     """Per case and quantity: bin edges, the voyage's expected counts, per hour, per km, density, and the
-    exceedances of each lower bin edge — the time-weighted pooling of the module docstring."""
+    exceedances of each lower bin edge — the time-weighted pooling of the module docstring. `share`: loads
+    on one propeller per cusp (fraction reaching / number of propellers)."""
     from floebreak.propeller.spectra import bin_edges, fitting_width
 
     weight_of = np.asarray([row["weight"] for row in rows], dtype=float)
-    weights = weight_of[loads["period"]] if loads["period"].size else np.zeros(0)
+    weights = share * weight_of[loads["period"]] if loads["period"].size else np.zeros(0)
     simulated = [row for row in rows if row["n_fields_complete"]]  # a period without runs has no loads
     hours = sum(row["duration_h"] for row in simulated)
     km = sum(row["distance_m"] for row in simulated) / 1e3
@@ -329,7 +332,8 @@ def _split_by_quantity(rows: list[dict]) -> dict[str, list[dict]]:
 
 
 def _case_summary(spectra: dict[str, Any], loads: dict[str, Any]) -> dict[str, Any]:
-    """Per case: loads per hour and per km, largest load, share of cusps beyond the FEM table."""
+    """Per case: loads on one propeller per hour and per km, largest load, share of cusps beyond the FEM
+    table."""
     out = {}
     for case, values in loads["cases"].items():
         torque = spectra[(case, "torque")]
@@ -360,6 +364,11 @@ def _load_options() -> dict[str, Any]:
     return {p.name: p.default for p in parameters if p.default is not inspect.Parameter.empty}
 
 
+def _share_text(document: dict[str, Any]) -> str:
+    propeller = document.get("propeller", {"fraction_reaching": 1.0, "count": 1})
+    return f"{propeller['fraction_reaching']:g} / {propeller['count']:g}"
+
+
 def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
     """What a reader of the tables must know: rules, scaling, fallbacks, failures."""
     notes = [
@@ -367,8 +376,9 @@ def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
         f"{document['identity']['max_length_m']:g} m)",
         f"field width W = beam + 2 × largest floe diameter + 2 × {FIELD_MARGIN_M:g} m margin: the field's "
         "edges never touch the ship's band",
-        "every cusp is assumed to reach the propeller once (thesis §6.1); rates per hour are per hour in ice "
-        "(the periods' hours, not the gaps between them)",
+        "loads are per propeller: each cusp gives propeller.fraction_reaching / propeller.count loads on one "
+        f"propeller ({_share_text(document)}); rates per hour are per hour in ice (the periods' hours, not "
+        "the gaps between them)",
         "operated case: each period with the FEM table nearest its logged pitch; logged rpm recorded only "
         "(FEM loads at 140 rpm, thesis §6.1.2)",
     ]
@@ -401,7 +411,9 @@ def write_voyage_results(voyage_dir: str | Path) -> dict[str, Any]:
     summaries, cusps = _run_tables(voyage_dir, {n for p in periods for n in p["runs"]})
     loads = period_loads(periods, cusps)
     rows = period_table(periods, summaries, loads)
-    spectra = pooled_spectra(loads, rows)
+    propeller = document.get("propeller", {"fraction_reaching": 1.0, "count": 1})
+    share = propeller["fraction_reaching"] / propeller["count"]
+    spectra = pooled_spectra(loads, rows, share)
     notes = voyage_notes(document, rows)
     summary = {
         "provenance": provenance(command="floebreak voyage", log=document["log"], **document["identity"]),
@@ -413,6 +425,7 @@ def write_voyage_results(voyage_dir: str | Path) -> dict[str, Any]:
         "cusps_voyage": sum(row["cusps_in_period"] for row in rows if row["n_fields_complete"]),
         "fem_pitches_percent": loads["pitches"],
         "propeller_loads_options": _load_options(),
+        "propeller": {**propeller, "share_per_propeller": share},
         "cases": _case_summary(spectra, loads),
         "generators": {str(p["index"]): [p["generator"], p["generator_reason"]] for p in periods},
         "notes": notes,
