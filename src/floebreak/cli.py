@@ -579,10 +579,14 @@ def validate_single_floe(
 
 def _register_studies() -> None:
     from floebreak.studies.cli import aggregate_command, study, voyage
+    from floebreak.studies.validate_cli import convergence_command, sensitivity_command, thesis_command
 
     app.command("study")(study)
     app.command("aggregate")(aggregate_command)
     app.command("voyage")(voyage)
+    validate_app.command("thesis")(thesis_command)
+    validate_app.command("sensitivity")(sensitivity_command)
+    validate_app.command("convergence")(convergence_command)
 
 
 _register_studies()

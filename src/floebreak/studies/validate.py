@@ -1,0 +1,155 @@
+"""`floebreak validate thesis`: the designs the scoreboard needs, run on the study machinery (issue 16 §1).
+
+Every configuration (a profile, or a profile with a named *variant* of scenario keys) runs the thesis' §5.3
+design points (`POINTS`: the one-factor sweeps of Tables 5–8, the Polarstern of §5.1 and the h = 0.4 m of
+§6.2) on the same random fields — one study, ``OUT/study``, with common fields, so that every trend is a
+paired difference on the same fields — and the single floes of thesis Figs. 15–16 (``OUT/single_floe``).
+Both are ordinary study directories: resumable, `--workers` / `--scheduler` as `floebreak study`.
+`floebreak.studies.scoreboard` turns them into the scoreboard.
+"""
+
+from __future__ import annotations
+
+import copy
+import re
+import tomllib
+from dataclasses import dataclass, field
+from typing import Any
+
+from floebreak.errors import InputError
+from floebreak.scenario import PROFILE_NAMES, REFERENCE_TOML, apply_overrides, parse_override
+from floebreak.studies.design import StudySpec, Sweep
+
+POINTS: dict[str, dict[str, Any]] = {  # design point → scenario keys changed from the reference (§5.3)
+    "reference": {},
+    "K120": {"ice.fracture_toughness_pa_sqrt_m": 120e3},
+    "K230": {"ice.fracture_toughness_pa_sqrt_m": 230e3},
+    "point_load": {"failure.crack_criterion": "point_load"},
+    "line_load": {"failure.crack_criterion": "line_load"},
+    "flexural_stress": {"failure.crack_criterion": "flexural_stress"},
+    "h0.8": {"ice.thickness_m": 0.8},
+    "h1.2": {"ice.thickness_m": 1.2},
+    "h_random": {"ice.thickness_m": None, "ice.thickness_range_m": [0.75, 1.25]},
+    "BZ1": {"failure.size_effect_law": "BZ1"},
+    "BZ2": {"failure.size_effect_law": "BZ2"},
+    "polarstern": {"ship.hull": "polarstern"},  # §5.1, Fig. 13
+    "h0.4": {"ice.thickness_m": 0.4},  # §6.2: the observation's mean thickness
+}
+SINGLE_FLOE_CASES = ((10.0, 0.8), (20.0, 1.0))  # (d [m], h [m]) of thesis Figs. 15 and 16
+SINGLE_FLOE_POSITIONS = ("a", "b", "c", "d", "e")
+GROUP_SEPARATOR = " | "
+_NAME = re.compile(r"^[A-Za-z0-9_-]+$")
+_NEXT_KEY = re.compile(r",(?=\s*[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*\s*=)")
+
+
+@dataclass(frozen=True)
+class Config:
+    """A scored configuration: a profile plus the scenario keys of a named variant (none for the profile)."""
+
+    profile: str
+    variant: str = ""
+    overrides: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        return f"{self.profile}+{self.variant}" if self.variant else self.profile
+
+
+def parse_variant(text: str) -> tuple[str, dict[str, Any]]:
+    """``NAME:KEY=VALUE[,KEY=VALUE ...]`` → (NAME, {dotted key: parsed value}); values as in ``--set``."""
+    name, sep, body = text.partition(":")
+    name = name.strip()
+    if not sep or not _NAME.match(name) or not body.strip():
+        raise InputError(
+            "--variant",
+            f"{text!r} is not NAME:KEY=VALUE[,KEY=VALUE]",
+            value=text,
+            allowed="e.g. perwedge:failure.wedge_angle_deg=10 (NAME of letters, digits, _ and -)",
+        )
+    overrides = {}
+    for expression in _NEXT_KEY.split(body):
+        path, value = parse_override(expression.strip())
+        overrides[".".join(path)] = value
+    return name, overrides
+
+
+def make_configs(profile: str, variants: list[str]) -> list[Config]:
+    """The configurations of `--profile default|thesis|both` and every `--variant` (on each profile)."""
+    if profile not in (*PROFILE_NAMES, "both"):
+        raise InputError(
+            "--profile", f"unknown profile {profile!r}", value=profile, allowed="default, thesis, both"
+        )
+    profiles = list(PROFILE_NAMES) if profile == "both" else [profile]
+    parsed = [parse_variant(text) for text in variants]
+    names = [name for name, _ in parsed]
+    if len(set(names)) != len(names):
+        raise InputError("--variant", f"repeated variant name in {names}", allowed="distinct names")
+    configs = [Config(p) for p in profiles]
+    configs += [Config(p, name, overrides) for p in profiles for name, overrides in parsed]
+    return configs
+
+
+def base_scenario(length_m: float, sets: list[str]) -> dict[str, Any]:
+    """The reference scenario of thesis §5.3 on a field `length_m` long, with the `--set` overrides."""
+    base = tomllib.loads(REFERENCE_TOML)
+    base["field"]["length_m"] = float(length_m)
+    return apply_overrides(base, sets)
+
+
+def _sweep(config: Config, point: str, keys: dict[str, Any]) -> Sweep:
+    parameters = {"profile": [config.profile]}
+    parameters.update({key: [value] for key, value in config.overrides.items()})
+    parameters.update({key: [value] for key, value in keys.items()})
+    return Sweep(name=f"{config.name}{GROUP_SEPARATOR}{point}", mode="zip", parameters=parameters)
+
+
+def thesis_validation_spec(
+    configs: list[Config], base: dict[str, Any], n_fields: int, seed: int, points: dict[str, dict] = POINTS
+) -> StudySpec:
+    """One study: every configuration × design point on the same `n_fields` fields (common fields)."""
+    if n_fields < 1:
+        raise InputError("--n-fields", f"{n_fields} < 1", value=n_fields, allowed="an integer ≥ 1")
+    sweeps = [_sweep(config, point, keys) for config in configs for point, keys in points.items()]
+    return StudySpec(
+        name="validate thesis",
+        root_seed=seed,
+        n_fields=n_fields,
+        common_fields=True,
+        base=base,
+        sweeps=sweeps,
+    )
+
+
+def single_floe_keys(position: str, diameter_m: float, thickness_m: float) -> dict[str, Any]:
+    """Scenario keys of one single-floe case (thesis §5.2, Fig. 14): an inline floe ahead of the bow."""
+    from floebreak.ship.hulls import get_hull
+    from floebreak.studies.single_floe import floe_centre_m
+
+    half_breadth = float(get_hull("agulhas_ii", ice_thickness_m=thickness_m).half_breadth_m)
+    x, y = floe_centre_m(position, diameter_m, half_breadth)
+    return {
+        "field": {"floes": [{"x_m": x, "y_m": y, "diameter_m": diameter_m}]},
+        "ice.thickness_m": thickness_m,
+        "ship.hull": "agulhas_ii",
+    }
+
+
+def single_floe_spec(configs: list[Config], base: dict[str, Any]) -> StudySpec:
+    """The single floes of thesis Figs. 15–16 at the five positions of Fig. 14, per configuration."""
+    sweeps = [
+        _sweep(config, f"single d{d:g} h{h:g} {position}", single_floe_keys(position, d, h))
+        for config in configs
+        for d, h in SINGLE_FLOE_CASES
+        for position in SINGLE_FLOE_POSITIONS
+    ]
+    base = copy.deepcopy(base)
+    base.pop("field", None)
+    return StudySpec(
+        name="validate thesis: single floes", n_fields=1, common_fields=True, base=base, sweeps=sweeps
+    )
+
+
+def split_group(group: str) -> tuple[str, str]:
+    """``"thesis+perwedge | K120"`` → ("thesis+perwedge", "K120")."""
+    config, _, point = group.partition(GROUP_SEPARATOR)
+    return config, point

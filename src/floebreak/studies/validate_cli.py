@@ -1,0 +1,303 @@
+"""CLI of `floebreak validate thesis | sensitivity | convergence` (a thin layer; issue 16 §1, §4)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import shlex
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+from floebreak.errors import InputError
+
+console = Console()
+
+OutOption = Annotated[Path, typer.Option("--out", help="output directory (re-running resumes it)")]
+ProfileOption = Annotated[str, typer.Option("--profile", help="default | thesis | both")]
+FieldsOption = Annotated[int, typer.Option("--n-fields", help="common random fields per design point (≥ 1)")]
+SeedOption = Annotated[int, typer.Option("--seed", help="root seed of the fields")]
+WorkersOption = Annotated[
+    int | None, typer.Option("--workers", help="local worker processes (default: cores)")
+]
+SchedulerOption = Annotated[
+    str | None, typer.Option("--scheduler", help="Dask scheduler tcp://HOST:PORT, or 'local'")
+]
+SetOption = Annotated[
+    list[str] | None,
+    typer.Option("--set", help="override a scenario key for every run, KEY=VALUE (repeatable)"),
+]
+LengthOption = Annotated[
+    float | None, typer.Option("--length-m", help="field length [m] (default: the thesis' inferred length)")
+]
+
+
+def _check(n_fields: int, workers: int | None, length_m: float | None) -> None:
+    if n_fields < 1:
+        raise InputError("--n-fields", f"{n_fields} < 1", value=n_fields, allowed="an integer ≥ 1")
+    if workers is not None and workers < 1:
+        raise InputError("--workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
+    if length_m is not None and not (length_m > 0 and math.isfinite(length_m)):
+        raise InputError("--length-m", f"{length_m}", value=length_m, allowed="a field length > 0 m")
+
+
+def _progress_bar():
+    columns = (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("{task.fields[info]}"),
+        TimeElapsedColumn(),
+    )
+    return Progress(*columns, console=console)
+
+
+def _run(out: Path, specs: dict, workers, scheduler, finish):
+    """Run the study specs (validated first) into `out` with a progress bar per study; `finish()` writes."""
+    from floebreak.studies.design import expand
+    from floebreak.studies.executors import make_executor
+    from floebreak.studies.validation_report import check_out_dir, run_spec
+
+    check_out_dir(out)
+    total = {name: len(expand(spec)[0]) for name, spec in specs.items()}  # validates before anything runs
+    out.mkdir(parents=True, exist_ok=True)
+    executor = make_executor(workers, scheduler)
+    console.print(f"{sum(total.values())} runs on {executor.description} → {out}")
+    failures = []
+    try:
+        with _progress_bar() as bar:
+            for name, spec in specs.items():
+                task = bar.add_task(name, total=total[name], info="")
+
+                def progress(state, task=task) -> None:
+                    bar.update(
+                        task, completed=state.done, info=f"failed {state.failed}, resumed {state.skipped}"
+                    )
+
+                failures += run_spec(spec, out / name, executor, progress).failures
+    finally:
+        executor.close()
+    for failure in failures[:5]:
+        console.print(f"[red]failed[/] {failure['run']}: {failure['error']}")
+    return finish(failures)
+
+
+def _command(name: str, out: Path, options: list[tuple[str, object]]) -> str:
+    """The command line that reproduces these results (options that were given; not --workers/--scheduler)."""
+    words = ["floebreak", "validate", name, "--out", str(out)]
+    for option, value in options:
+        if value is not None:
+            words += [option, f"{value:g}" if isinstance(value, float) else str(value)]
+    return shlex.join(words)
+
+
+def _length(length_m: float | None) -> float:
+    from floebreak.studies.field_size import thesis_field_length_m
+
+    return thesis_field_length_m() if length_m is None else float(length_m)
+
+
+def thesis_command(
+    out: OutOption,
+    profile: ProfileOption = "both",
+    n_fields: FieldsOption = 4,
+    seed: SeedOption = 2023,
+    workers: WorkersOption = None,
+    scheduler: SchedulerOption = None,
+    sets: SetOption = None,
+    variants: Annotated[
+        list[str] | None,
+        typer.Option("--variant", help="a named reading NAME:KEY=VALUE[,KEY=VALUE], scored on each profile"),
+    ] = None,
+    length_m: LengthOption = None,
+) -> None:
+    """Score every quantitative statement of thesis §5.1–§5.3 and §6.2: scoreboard.md/.csv and figures."""
+    import time
+
+    from floebreak.studies.field_size import thesis_field_length_m
+    from floebreak.studies.validate import (
+        base_scenario,
+        make_configs,
+        single_floe_spec,
+        thesis_validation_spec,
+    )
+    from floebreak.studies.validation_report import ValidationSettings, write_outputs
+
+    _check(n_fields, workers, length_m)
+    configs = make_configs(profile, list(variants or []))
+    sets = list(sets or [])
+    base = base_scenario(_length(length_m), sets)
+    specs = {
+        "single_floe": single_floe_spec(configs, base),
+        "study": thesis_validation_spec(configs, base, n_fields, seed),
+    }
+    options = [("--profile", profile), ("--n-fields", n_fields), ("--seed", seed), ("--length-m", length_m)]
+    options += [("--set", s) for s in sets] + [("--variant", v) for v in variants or []]
+    command = _command("thesis", out, options)
+    settings = ValidationSettings(
+        command, base["field"]["length_m"], thesis_field_length_m(), n_fields, seed, tuple(sets)
+    )
+    started = time.perf_counter()
+
+    def finish(failures):
+        counts = write_outputs(out, configs, settings, time.perf_counter() - started, failures)
+        for name, (passed, total) in counts.items():
+            console.print(f"{name}: {passed} / {total} must-hold rows pass")
+        console.print(f"written: {out}/scoreboard.md, scoreboard.csv, figures/", soft_wrap=True)
+
+    _run(out, specs, workers, scheduler, finish)
+
+
+def _one_config(profile: str, length_m: float | None, sets: list[str] | None):
+    from floebreak.studies.validate import Config, base_scenario
+
+    if profile not in ("default", "thesis"):
+        raise InputError(
+            "--profile", f"unknown profile {profile!r}", value=profile, allowed="default, thesis"
+        )
+    return Config(profile), base_scenario(_length(length_m), list(sets or []))
+
+
+def _csv_text(rows: list[dict], columns: list[str]) -> str:
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return buffer.getvalue()
+
+
+def _cell(value, se) -> str:
+    if value is None or not math.isfinite(value):
+        return "–"
+    return f"{value:+.3f} ± {se:.3f}" if se is not None and math.isfinite(se) else f"{value:+.3f}"
+
+
+def sensitivity_command(
+    out: OutOption,
+    profile: Annotated[str, typer.Option("--profile", help="default | thesis")] = "default",
+    n_fields: FieldsOption = 4,
+    seed: SeedOption = 2023,
+    delta: Annotated[float, typer.Option("--delta", help="relative step δ of each input (0 < δ < 1)")] = 0.1,
+    workers: WorkersOption = None,
+    scheduler: SchedulerOption = None,
+    sets: SetOption = None,
+    length_m: LengthOption = None,
+) -> None:
+    """One-at-a-time elasticities d ln(output)/d ln(input) of the Table-5 outputs (Fig. 25 generalised)."""
+    from floebreak.io.figures import save_figure
+    from floebreak.plotting.validation import plot_elasticities
+    from floebreak.studies import sensitivity as sens
+    from floebreak.studies.validation_report import collect_data, write_text
+
+    _check(n_fields, workers, length_m)
+    if not 0.0 < delta < 1.0:
+        raise InputError("--delta", f"{delta}", value=delta, allowed="0 < δ < 1")
+    config, base = _one_config(profile, length_m, sets)
+    points = sens.sensitivity_points(base | {"profile": profile}, delta)
+    options = [("--profile", profile), ("--n-fields", n_fields), ("--seed", seed), ("--delta", delta)]
+    command = _command(
+        "sensitivity", out, [*options, ("--length-m", length_m)] + [("--set", s) for s in sets or []]
+    )
+    spec = sens.one_config_spec("validate sensitivity", config, base, points, n_fields, seed)
+
+    def finish(_failures):
+        data = collect_data(out / "sweep")[0].get(config.name, {})
+        rows = sens.sensitivity_rows(data, delta)
+        columns = ["input", "key", "kind", "n_fields"] + [
+            f"{k}_{s}" for k, _ in sens.OUTPUTS for s in ("value", "se")
+        ]
+        write_text(out / "sensitivity.csv", _csv_text(rows, columns))
+        lines = [
+            "# One-at-a-time sensitivity",
+            "",
+            f"Generated by `{command}`: profile `{profile}`, {n_fields} "
+            f"common fields of {base['field']['length_m']:g} m × 50 m, δ = {delta:g}. Elasticity "
+            "d ln y / d ln x (central difference, per field; mean ± s.e.); categorical rows: paired relative "
+            "change to the reference.",
+            "",
+            "| input | kind | " + " | ".join(label for _, label in sens.OUTPUTS) + " |",
+            "|---|---|" + "---|" * len(sens.OUTPUTS),
+        ]
+        for row in rows:
+            cells = [_cell(row.get(f"{k}_value"), row.get(f"{k}_se")) for k, _ in sens.OUTPUTS]
+            lines.append(f"| {row['input']} | {row['kind']} | " + " | ".join(cells) + " |")
+        write_text(out / "sensitivity.md", "\n".join(lines) + "\n")
+        shown = [r for r in rows if "not exposed" not in r["kind"]]
+        figure = plot_elasticities(
+            shown, list(sens.OUTPUTS), f"Sensitivity of the Table-5 outputs (profile {profile})"
+        )
+        (out / "figures").mkdir(exist_ok=True)
+        save_figure(figure, out / "figures" / "sensitivity.png", field="--out")
+        console.print(
+            f"written: {out}/sensitivity.md, sensitivity.csv, figures/sensitivity.png", soft_wrap=True
+        )
+
+    _run(out, {"sweep": spec}, workers, scheduler, finish)
+
+
+def convergence_command(
+    out: OutOption,
+    profile: Annotated[str, typer.Option("--profile", help="default | thesis")] = "default",
+    n_fields: FieldsOption = 4,
+    seed: SeedOption = 2023,
+    workers: WorkersOption = None,
+    scheduler: SchedulerOption = None,
+    sets: SetOption = None,
+    length_m: LengthOption = None,
+) -> None:
+    """The Table-5 outputs at x_step 0.5/0.25/0.125/0.0625 m and φ 10/5/2.5°: where they converge (≤ 2 %)."""
+    from floebreak.io.figures import save_figure
+    from floebreak.plotting.validation import plot_convergence
+    from floebreak.studies import sensitivity as sens
+    from floebreak.studies.validation_report import collect_data, write_text
+
+    _check(n_fields, workers, length_m)
+    config, base = _one_config(profile, length_m, sets)
+    spec = sens.one_config_spec(
+        "validate convergence", config, base, sens.convergence_points(), n_fields, seed
+    )
+    options = [("--profile", profile), ("--n-fields", n_fields), ("--seed", seed), ("--length-m", length_m)]
+    command = _command("convergence", out, options + [("--set", s) for s in sets or []])
+
+    def finish(_failures):
+        data = collect_data(out / "sweep")[0].get(config.name, {})
+        table = sens.convergence_table(data)
+        rows, lines = (
+            [],
+            [
+                "# Convergence in x_step and the wedge angle φ",
+                "",
+                f"Generated by `{command}`: profile `{profile}`, {n_fields} common fields of "
+                f"{base['field']['length_m']:g} m × 50 m. Each output as the paired relative difference to "
+                f"the finest setting (mean ± s.e. over the fields); converged: ≤ "
+                f"{100 * sens.CONVERGED_REL:g} %.",
+                "",
+            ],
+        )
+        for parameter, by_value in table.items():
+            where = sens.converged_from(by_value)
+            lines += [f"## {parameter}: " + (f"converged from {where:g}" if where else "not converged"), ""]
+            lines += ["| value | " + " | ".join(lab for _, lab in sens.OUTPUTS) + " |", "|---|" + "---|" * 6]
+            for value, entry in sorted(by_value.items(), reverse=True):
+                cells = [
+                    f"{entry[f'{k}_mean']:.4g} ({_cell(entry[k], entry[f'{k}_se'])})" for k, _ in sens.OUTPUTS
+                ]
+                lines.append(f"| {value:g} | " + " | ".join(cells) + " |")
+                rows.append({"parameter": parameter, "value": value, **entry})
+            lines.append("")
+        columns = ["parameter", "value"] + [f"{k}{s}" for k, _ in sens.OUTPUTS for s in ("_mean", "", "_se")]
+        write_text(out / "convergence.csv", _csv_text(rows, columns))
+        write_text(out / "convergence.md", "\n".join(lines))
+        (out / "figures").mkdir(exist_ok=True)
+        save_figure(
+            plot_convergence(table, list(sens.OUTPUTS)), out / "figures" / "convergence.png", field="--out"
+        )
+        console.print(
+            f"written: {out}/convergence.md, convergence.csv, figures/convergence.png", soft_wrap=True
+        )
+
+    _run(out, {"sweep": spec}, workers, scheduler, finish)
