@@ -222,7 +222,7 @@ CSV_STATEMENT_COLUMNS = ("id", "source", "quote", "quantity", "unit", "point", "
 def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    per_config = ("value", "se", "n_fields", "verdict", "must_hold")
+    per_config = ("ours", "se", "n_fields", "verdict", "must_hold")
     writer.writerow(list(CSV_STATEMENT_COLUMNS) + [f"{c}_{k}" for c in configs for k in per_config])
     for row in rows:
         st: Statement = row["statement"]

@@ -1,0 +1,48 @@
+"""The thesis' field length inferred from its affected area (issue 16 §2)."""
+
+from __future__ import annotations
+
+import pytest
+
+from floebreak.errors import InputError
+from floebreak.studies.field_size import area_weighted_diameter_m, infer_field_length_m, thesis_field_length_m
+
+
+def test_area_weighted_diameter_by_hand():
+    # Table 1, 2019-12-18 20:20: 20/40/40 % of the floes at 2.5/7.5/15 m
+    # Σ p d² = 0.2·6.25 + 0.4·56.25 + 0.4·225 = 113.75
+    # Σ p d³ = 0.2·15.625 + 0.4·421.875 + 0.4·3375 = 1521.875
+    assert area_weighted_diameter_m((2.5, 7.5, 15.0), (20, 40, 40)) == pytest.approx(1521.875 / 113.75)
+
+
+def test_thesis_field_length_by_hand():
+    # 3446.38 m² / (0.44 · 0.25/0.5 · (21.7 m + 13.379 m)) = 3446.38 / 7.7174 = 446.6 m
+    expected = 3446.38 / (0.22 * (21.7 + 1521.875 / 113.75))
+    assert expected == pytest.approx(446.6, abs=0.1)
+    assert thesis_field_length_m() == round(expected) == 447
+
+
+def test_bounds_of_the_inference():
+    args = (3446.38, 0.44, 21.7, (2.5, 7.5, 15.0), (20, 40, 40))
+    # only the swept strip affected (κ = 0): 3446.38 / (0.22 · 21.7) = 721.9 m
+    assert infer_field_length_m(*args, straddle_fraction=0.0) == pytest.approx(3446.38 / (0.22 * 21.7))
+    # circles counted with their true area (π d²/4): the cover is the nominal 44 %, half the length
+    assert infer_field_length_m(*args, floe_area_factor=0.25) == pytest.approx(
+        infer_field_length_m(*args) / 2
+    )
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        ({"affected_area_m2": 0.0}, "affected_area_m2"),
+        ({"concentration": 1.5}, "concentration"),
+        ({"beam_m": -1.0}, "beam_m"),
+        ({"straddle_fraction": 2.0}, "straddle_fraction"),
+    ],
+)
+def test_bad_inputs_name_the_field(kwargs, field):
+    args = {"affected_area_m2": 3446.38, "concentration": 0.44, "beam_m": 21.7,
+            "diameters_m": (2.5,), "percentages": (100.0,)}  # fmt: skip
+    with pytest.raises(InputError, match=field):
+        infer_field_length_m(**{**args, **kwargs})

@@ -1,0 +1,107 @@
+"""Scoreboard metrics and scoring on hand-made numbers (issue 16 §1)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+
+import numpy as np
+import pytest
+
+from floebreak.studies.scoreboard import (
+    bending_force_metrics,
+    bending_forces_kn,
+    cusp_volume_metrics,
+    evaluate,
+    must_hold_counts,
+    scoreboard_csv,
+    scoreboard_markdown_table,
+    scoreboard_rows,
+    single_floe_metrics,
+    summary_metrics,
+)
+from floebreak.studies.statements import STATEMENTS
+
+
+def test_summary_metrics_ratios():
+    m = summary_metrics({"n_cusps": 150, "n_flipped": 50, "cusp_area_m2": 1000.0, "flipped_area_m2": 2500.0})
+    assert m["affected_area_m2"] == 3500.0
+    assert m["cusp_flip_count_ratio"] == 3.0 and m["flip_cusp_area_ratio"] == 2.5
+    assert math.isnan(summary_metrics({"n_cusps": 3, "n_flipped": 0})["cusp_flip_count_ratio"])
+
+
+def test_bending_forces_are_summed_per_evaluation_of_bending_failures():
+    contacts = {  # two panels of one bending evaluation, one bending evaluation, one cracking evaluation
+        "step": np.array([1, 1, 2, 3]),
+        "piece_id": np.array([7, 7, 7, 9]),
+        "zone": np.array([0, 0, 0, 0]),
+        "f_c_n": np.array([300e3, 200e3, 1.0e6, 5.0e6]),
+        "outcome": np.array(["bending", "bending", "bending", "cracking"], dtype=object),
+    }
+    assert sorted(bending_forces_kn(contacts)) == pytest.approx([500.0, 1000.0])
+    m = bending_force_metrics(np.array([100.0, 500.0, 1000.0, 3000.0]))
+    assert m["bending_force_median_kn"] == 750.0 and m["bending_force_mean_kn"] == 1150.0
+    assert m["bending_force_share_le_2500kn"] == 0.75 and m["bending_force_share_le_3000kn"] == 1.0
+
+
+def test_cusp_volume_metrics():
+    m = cusp_volume_metrics(np.array([1.0, 4.0, 8.0, 12.0]))
+    assert m == {"max_cusp_volume_m3": 12.0, "share_cusps_le_4m3": 0.5, "share_cusps_gt_11m3": 0.25}
+
+
+def test_single_floe_metrics_by_hand():
+    def case(n_cusps, cusp, flipped, area=100.0):
+        return {
+            "n_cusps": n_cusps,
+            "cusp_area_m2": cusp,
+            "flipped_area_m2": flipped,
+            "initial_ice_area_m2": area,
+        }
+
+    cases = {
+        (10.0, 1.0, "a"): case(1, 20.0, 60.0),
+        (10.0, 1.0, "c"): case(1, 20.0, 60.0),
+        (10.0, 1.0, "b"): case(2, 50.0, 0.0),
+        (10.0, 1.0, "d"): case(2, 49.0, 0.0),
+        (10.0, 1.0, "e"): case(3, 90.0, 10.0),
+        (20.0, 1.0, "e"): case(0, 0.0, 0.0, 300.0),
+    }
+    m = single_floe_metrics(cases)
+    assert m["single_floe_midship_cusp_share"] == 0.5
+    # shoulders flip 60 % of their area; midship 10 % and 0 %: 0.6 − 0.05
+    assert m["single_floe_shoulder_flip_excess"] == pytest.approx(0.55)
+    assert m["single_floe_mirror_difference"] == pytest.approx(0.01)  # b/d: 1 m² of 100 m²
+
+
+def _data(reference: list[float], **points: list[float]) -> dict:
+    """Per-point, per-field metrics with one metric, the mean cusp volume."""
+    out = {"reference": {i: {"mean_cusp_volume_m3": v} for i, v in enumerate(reference)}}
+    for name, values in points.items():
+        out[name] = {i: {"mean_cusp_volume_m3": v} for i, v in enumerate(values)}
+    return out
+
+
+def test_evaluate_level_and_paired_change():
+    by_id = {st.id: st for st in STATEMENTS}
+    data = _data([8.0, 9.0], K230=[8.4, 9.0])
+    mean, se, n = evaluate(by_id["T5.V"], data)
+    assert (mean, n) == (8.5, 2) and se == pytest.approx(0.5)  # std 0.7071 / √2
+    mean, se, n = evaluate(by_id["T5.K230.dV"], data)  # +5 % and 0 %
+    assert (mean, n) == (pytest.approx(0.025), 2) and se == pytest.approx(0.025)
+
+
+def test_scoreboard_rows_csv_and_must_hold_counts():
+    statements = tuple(st for st in STATEMENTS if st.id in ("T5.V", "T5.K230.dV"))
+    data = {"default": _data([8.0, 9.0], K230=[8.4, 9.0]), "thesis": _data([4.0, 4.0], K230=[5.0, 5.0])}
+    rows = scoreboard_rows(data, {"default": "default", "thesis": "thesis"}, statements)
+    assert [r["default"]["verdict"] for r in rows] == ["pass", "pass"]  # 8.5 within 15 % of 8.14; 2.5 % ≤ 5 %
+    assert [r["thesis"]["verdict"] for r in rows] == ["fail", "fail"]  # 4.0 vs 8.14; +25 %
+    assert must_hold_counts(rows, "default") == (1, 1)  # T5.V must hold only in the thesis profile
+    assert must_hold_counts(rows, "thesis") == (0, 2)
+    table = list(csv.DictReader(io.StringIO(scoreboard_csv(rows, ["default", "thesis"]))))
+    assert [r["id"] for r in table] == ["T5.V", "T5.K230.dV"]
+    assert table[0]["thesis_value"] == "8.14" and table[0]["thesis_verdict"] == "fail"
+    assert table[0]["thesis_must_hold"] == "yes" and table[0]["default_must_hold"] == "no"
+    markdown = "\n".join(scoreboard_markdown_table(rows, ["default", "thesis"]))
+    assert "**FAIL**" in markdown and "8.5 ± 0.5 pass" in markdown
