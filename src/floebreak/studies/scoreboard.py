@@ -82,11 +82,14 @@ def bending_forces_kn(contacts: dict[str, np.ndarray]) -> np.ndarray:
 
 
 def bending_force_metrics(forces_kn: np.ndarray) -> dict[str, float]:
+    """Count, median, mean, 95th percentile and the shares ≤ 2500 kN and ≤ 3000 kN of the bending forces."""
     f = np.asarray(forces_kn, dtype=float)
     if f.size == 0:
         keys = ("median", "mean", "p95", "share_le_2500kn", "share_le_3000kn")
-        return {f"bending_force_{k}" + ("" if k.startswith("share") else "_kn"): math.nan for k in keys}
+        out = {f"bending_force_{k}" + ("" if k.startswith("share") else "_kn"): math.nan for k in keys}
+        return {**out, "n_bending_failures": 0.0}
     return {
+        "n_bending_failures": float(f.size),
         "bending_force_median_kn": float(np.median(f)),
         "bending_force_mean_kn": float(np.mean(f)),
         "bending_force_p95_kn": float(np.percentile(f, 95)),

@@ -671,6 +671,17 @@ def _forces() -> list[Statement]:
     q51 = "crushing forces during the bending of ice floes (Agulhas II, h = 1.0 m) mainly in [0 kN, 2500 kN]"
     return [
         _level(
+            "S51.count",
+            "§5.1 text, Fig. 13",
+            "crushing force spectrum of the bending failures",
+            "bending failures per field (the forces below are theirs)",
+            "n_bending_failures",
+            "reference",
+            math.nan,
+            INFO,
+            text="Fig. 13 has a spectrum",
+        ),
+        _level(
             "S51.band",
             "§5.1 text, Fig. 13",
             q51,
