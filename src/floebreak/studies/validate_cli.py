@@ -170,10 +170,14 @@ def _csv_text(rows: list[dict], columns: list[str]) -> str:
     return buffer.getvalue()
 
 
-def _cell(value, se) -> str:
+def _cell(value, se, percent: bool = False) -> str:
     if value is None or not math.isfinite(value):
         return "–"
-    return f"{value:+.3f} ± {se:.3f}" if se is not None and math.isfinite(se) else f"{value:+.3f}"
+    scale, unit = (100.0, " %") if percent else (1.0, "")
+    text = f"{scale * value:+.{1 if percent else 3}f}"
+    if se is not None and math.isfinite(se):
+        text += f" ± {scale * se:.{1 if percent else 3}f}"
+    return text + unit
 
 
 def sensitivity_command(
@@ -284,7 +288,8 @@ def convergence_command(
             lines += ["| value | " + " | ".join(lab for _, lab in sens.OUTPUTS) + " |", "|---|" + "---|" * 6]
             for value, entry in sorted(by_value.items(), reverse=True):
                 cells = [
-                    f"{entry[f'{k}_mean']:.4g} ({_cell(entry[k], entry[f'{k}_se'])})" for k, _ in sens.OUTPUTS
+                    f"{entry[f'{k}_mean']:.4g} ({_cell(entry[k], entry[f'{k}_se'], percent=True)})"
+                    for k, _ in sens.OUTPUTS
                 ]
                 lines.append(f"| {value:g} | " + " | ".join(cells) + " |")
                 rows.append({"parameter": parameter, "value": value, **entry})
