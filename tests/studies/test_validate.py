@@ -67,7 +67,7 @@ def test_design_runs_every_point_of_every_configuration_on_common_fields():
     reference = by_group[("thesis", "reference")][0].scenario
     assert reference["profile"] == "thesis" and reference["field"]["length_m"] == 100.0
     assert reference["ship"]["step_m"] == 0.5
-    assert by_group[("default", "line_load")][0].scenario["failure"]["crack_criterion"] == "line_load"
+    assert by_group[("default", "line_load")][0].scenario["failure"]["cracking"]["criterion"] == "line_load"
     random = by_group[("default", "h_random")][0].scenario["ice"]
     assert "thickness_m" not in random and random["thickness_range_m"] == [0.75, 1.25]
 
@@ -84,7 +84,8 @@ def test_sensitivity_points_move_every_input_by_delta():
     points = sensitivity_points(base_scenario(100.0, []), 0.1)
     assert points["h-"] == {"ice.thickness_m": pytest.approx(0.9)}
     assert points["K_Ic+"] == {"ice.fracture_toughness_pa_sqrt_m": pytest.approx(1.1 * 145.7e3)}
-    assert points["φ-"] == {"failure.wedge_angle_deg": pytest.approx(4.5)}
+    assert points["φ-"] == {"failure.wedge_angle_deg": pytest.approx(4.5)}  # thesis §4.1.2: φ = 5°
+    assert points["α_nextcrack+"] == {"failure.next_crack_angle_deg": pytest.approx(33.0)}  # §4.2.3: 30°
     assert len(points) == 1 + 2 * len(CONTINUOUS_INPUTS) + 5
 
 

@@ -62,20 +62,30 @@ WEDGE_ANGLES_DEG = (10.0, 5.0, 2.5)
 CONVERGED_REL = 0.02
 
 
-def _value(data: dict[str, Any], key: str) -> Any:
-    node = data
+def reference_value(scenario: Scenario, key: str) -> float:
+    """The value the run uses for the dotted scenario `key`: a failure-mode setting from the model the
+    scenario builds (its profile's value unless the scenario sets one), any other key from the resolved
+    scenario."""
+    from floebreak.api import build_model_for
+    from floebreak.scenario import FLAT_FAILURE_KEYS
+
+    section, _, name = key.partition(".")
+    if section == "failure":
+        mode, setting = FLAT_FAILURE_KEYS.get(name, tuple(name.split(".", 1)))
+        return float(getattr(build_model_for(scenario).failure.modes[mode].settings, setting))
+    node: Any = scenario.to_dict()
     for part in key.split("."):
-        node = node.get(part) if isinstance(node, dict) else None
-    return node
+        node = node[part]
+    return float(node)
 
 
 def sensitivity_points(base: dict[str, Any], delta: float) -> dict[str, dict[str, Any]]:
     """Design points: the reference, each continuous input at (1 ∓ δ) × its reference value, each
     categorical alternative."""
-    resolved = Scenario.from_dict(base).resolved().to_dict()
+    resolved = Scenario.from_dict(base).resolved()
     points: dict[str, dict[str, Any]] = {"reference": {}}
     for label, key in CONTINUOUS_INPUTS:
-        x = float(_value(resolved, key))
+        x = reference_value(resolved, key)
         points[f"{label}-"] = {key: x * (1.0 - delta)}
         points[f"{label}+"] = {key: x * (1.0 + delta)}
     for label, keys in CATEGORICAL_INPUTS:

@@ -17,7 +17,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from floebreak.errors import InputError
-from floebreak.scenario import PROFILE_NAMES, REFERENCE_TOML, apply_overrides, parse_override
+from floebreak.profiles import PROFILES
+from floebreak.scenario import REFERENCE_TOML, apply_overrides, parse_override
 from floebreak.studies.design import StudySpec, Sweep
 
 POINTS: dict[str, dict[str, Any]] = {  # design point → scenario keys changed from the reference (§5.3)
@@ -75,11 +76,11 @@ def parse_variant(text: str) -> tuple[str, dict[str, Any]]:
 
 def make_configs(profile: str, variants: list[str]) -> list[Config]:
     """The configurations of `--profile default|thesis|both` and every `--variant` (on each profile)."""
-    if profile not in (*PROFILE_NAMES, "both"):
+    if profile not in (*PROFILES, "both"):
         raise InputError(
             "--profile", f"unknown profile {profile!r}", value=profile, allowed="default, thesis, both"
         )
-    profiles = list(PROFILE_NAMES) if profile == "both" else [profile]
+    profiles = list(PROFILES) if profile == "both" else [profile]
     parsed = [parse_variant(text) for text in variants]
     names = [name for name, _ in parsed]
     if len(set(names)) != len(names):
