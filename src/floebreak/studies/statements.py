@@ -226,8 +226,10 @@ def _table5() -> list[Statement]:
     ]
 
 
+QUOTE_TOUGHNESS_V = "mean cusp volumes decrease slightly with increasing K_Ic (8.16 / 8.14 / 8.05 m³)"
+
+
 def _toughness() -> list[Statement]:
-    quote_v = "mean cusp volumes decrease slightly with increasing K_Ic (8.16 / 8.14 / 8.05 m³)"
     quote_a = "A_cusp^tot + A_flip^tot nearly constant, within 0.4 % around the reference"
     out = []
     for name, table_v, table_a, a_cusp in (
@@ -239,7 +241,7 @@ def _toughness() -> list[Statement]:
             _change(
                 f"T5.{name}.dV",
                 T5,
-                quote_v,
+                QUOTE_TOUGHNESS_V,
                 f"ΔV̄_cusp, K_Ic {k} vs 145.7",
                 "mean_cusp_volume_m3",
                 name,
@@ -269,11 +271,15 @@ def _toughness() -> list[Statement]:
                 SMALL,
             ),
         ]
-    out += [
+    return out + _toughness_text()
+
+
+def _toughness_text() -> list[Statement]:
+    return [
         _change(
             "T5.K230.dV_vs_K120",
             T5,
-            quote_v,
+            QUOTE_TOUGHNESS_V,
             "ΔV̄_cusp, K_Ic 230 vs 120",
             "mean_cusp_volume_m3",
             "K230",
@@ -306,7 +312,6 @@ def _toughness() -> list[Statement]:
             text="more",
         ),
     ]
-    return out
 
 
 CRITERIA = {  # Table 6: V̄, n_cusp, n_flip, A_cusp^tot, A_flip^tot
@@ -346,7 +351,11 @@ def _criteria() -> list[Statement]:
                 BOTH,
             ),
         ]
-    out += [
+    return out + _criteria_text()
+
+
+def _criteria_text() -> list[Statement]:
+    return [
         _change(
             "S532.line.dn_cusp",
             "§5.3.2 text",
@@ -390,6 +399,12 @@ def _criteria() -> list[Statement]:
             _rel(86, 83),
             DIRECTION,
         ),
+        *_criteria_text_2(),
+    ]
+
+
+def _criteria_text_2() -> list[Statement]:
+    return [
         _change(
             "S532.point.dV",
             "§5.3.2 text",
@@ -446,7 +461,6 @@ def _criteria() -> list[Statement]:
             THESIS,
         ),
     ]
-    return out
 
 
 THICKNESS = {
@@ -455,9 +469,9 @@ THICKNESS = {
 }
 
 
-def _thickness() -> list[Statement]:
+def _thickness_levels() -> list[Statement]:
     out = []
-    for name, (v, a, _n_cusp, n_f, a_c, a_f) in THICKNESS.items():
+    for name, (v, a, *_) in THICKNESS.items():
         h = name[1:]
         q = f"Table 7, h = {h} m"
         out += [
@@ -483,6 +497,15 @@ def _thickness() -> list[Statement]:
                 REL15,
                 unit="m²",
             ),
+        ]
+    return out
+
+
+def _thickness() -> list[Statement]:
+    out = _thickness_levels()
+    for name, (v, a, _n_cusp, n_f, a_c, a_f) in THICKNESS.items():
+        h = name[1:]
+        out += [
             _change(
                 f"T7.{name}.dA",
                 T7,
@@ -539,7 +562,11 @@ def _thickness() -> list[Statement]:
                 DIRECTION,
             ),
         ]
-    out += [
+    return out + _thickness_text()
+
+
+def _thickness_text() -> list[Statement]:
+    return [
         _change(
             "S533.h0.8.dn_cusp",
             "§5.3.3 text",
@@ -611,7 +638,6 @@ def _thickness() -> list[Statement]:
             text="small (< the ±35 % of ±20 % in h)",
         ),
     ]
-    return out
 
 
 def _size_effect() -> list[Statement]:
