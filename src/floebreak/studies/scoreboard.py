@@ -99,8 +99,8 @@ def bending_force_metrics(forces_kn: np.ndarray) -> dict[str, float]:
 
 
 def torque_metrics(cusps) -> dict[str, float]:
-    """Largest and smallest |Q| [kN·m] per pitch of one run's cusps (thesis §6.2; `floebreak.propeller`,
-    newton interpolation in the box volume, clamped beyond the FEM table, as `floebreak propeller`)."""
+    """Largest and smallest |Q| [kN·m] per pitch of one run's cusps (thesis §6.2; `floebreak.propeller`
+    with the defaults of `floebreak propeller`: Tables 10/11, Newton interpolation in the box volume)."""
     from floebreak.propeller.cusps import cusp_columns
     from floebreak.propeller.fem import shipped_fem_tables
     from floebreak.propeller.pipeline import propeller_loads
