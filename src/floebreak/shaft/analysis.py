@@ -47,6 +47,7 @@ class ShaftResult:
     shaft_torque_n_m: np.ndarray  # (case, time)
     modes: Modes
     n_cusps: int
+    overlap: str = "queue"
 
     @property
     def mean_torque_n_m(self) -> float:
@@ -84,6 +85,7 @@ def shaft_response(
     samples_per_blade_passage: int = 40,
     lead_s: float = 2.0,
     tail_s: float = 5.0,
+    overlap: str = "queue",
 ) -> ShaftResult:
     """Excitation (floebreak.shaft.excitation) and shaft torque (floebreak.shaft.response) per case.
 
@@ -111,6 +113,7 @@ def shaft_response(
             samples_per_blade_passage=samples_per_blade_passage,
             tail_s=tail_s,
             duration_s=duration,
+            overlap=overlap,
         )
         if time_s is None:  # every case on the first case's time axis
             time_s, duration = t, float(t[-1]) if t.size else 0.0
@@ -133,6 +136,7 @@ def shaft_response(
         shaft_torque_n_m=np.vstack(shafts),
         modes=modal_analysis(line),
         n_cusps=int(np.size(bow_x_m)),
+        overlap=overlap,
     )
 
 

@@ -9,7 +9,10 @@ shape (physics-notes §7.3, formulas **as recalled** from the FSICR/IACS UR I3 f
     Q(φ) = C_q · Q_cusp · sin(φ · 180°/α_i)   for 0 ≤ φ ≤ α_i of propeller rotation, else 0
 
 with Q_cusp the magnitude of the cusp's FEM torque. Cases: 1 (C_q 0.75, α_i 90°), 2 (1.0, 135°),
-3 (0.5, 45°, two ice blocks: a second sequence shifted by 360°/(2Z)), 4 (0.5, 45°). Overlapping impacts add.
+3 (0.5, 45°, two ice blocks: a second sequence shifted by 360°/(2Z)), 4 (0.5, 45°). The propeller mills one
+cusp at a time: a cusp arriving while another is milled waits until that sequence ends (``overlap="queue"``,
+the default; cusps broken at the same bow position would otherwise hit the blades simultaneously and their
+torques add up to many times the largest FEM torque); ``overlap="superpose"`` lets sequences overlap and add.
 
 The series is sampled at `samples_per_blade_passage` (≥ 20) points per blade passage, in float64, built
 without a Python loop per sample (impacts are scattered with `numpy.bincount`, in blocks of
@@ -27,6 +30,7 @@ from floebreak.errors import InputError, require_range
 
 MIN_SAMPLES_PER_BLADE_PASSAGE = 20
 IMPACT_BLOCK = 65_536
+OVERLAP_POLICIES = ("queue", "superpose")
 
 
 @dataclass(frozen=True)
@@ -68,6 +72,39 @@ def impacts_per_cusp(thickness_m, blades: int) -> np.ndarray:
     return np.maximum(1, np.rint(blades * 2.0 * h)).astype(np.int64)
 
 
+def milling_starts(first_passage, n_impacts) -> np.ndarray:
+    """Start passages when cusps (in arrival order) are milled one after another: a cusp's sequence
+    starts at its first passage or when the previous sequence ends, whichever is later.
+
+    end_i = max(a_i, end_{i−1}) + d_i has the closed form end_i = D_i + max_{j≤i}(a_j − D_{j−1}) with
+    D_i = d_1 + … + d_i (a cumulative maximum: no loop over cusps).
+    """
+    a = np.asarray(first_passage, dtype=np.int64)
+    d = np.asarray(n_impacts, dtype=np.int64)
+    cum = np.cumsum(d)
+    end = cum + np.maximum.accumulate(a - (cum - d))
+    return end - d
+
+
+def _cusp_arrays(arrival_s, torque_amplitude_n_m, thickness_m):
+    """Validated per-cusp (arrival, |torque|, thickness), sorted by arrival (stable)."""
+    arrival = np.asarray(arrival_s, dtype=float).reshape(-1)
+    amplitude = np.abs(np.asarray(torque_amplitude_n_m, dtype=float).reshape(-1))
+    if amplitude.shape != arrival.shape:
+        raise InputError("torque_amplitude_n_m", f"{amplitude.size} values for {arrival.size} cusps")
+    try:
+        thickness = np.broadcast_to(np.asarray(thickness_m, dtype=float), arrival.shape)
+    except ValueError:
+        raise InputError("thickness_m", f"{np.size(thickness_m)} values for {arrival.size} cusps") from None
+    if np.any(arrival < 0.0) or not np.all(np.isfinite(arrival)):
+        raise InputError("arrival_s", "arrival times must be finite and ≥ 0 s", allowed="finite ≥ 0 s")
+    if not np.all(np.isfinite(thickness) & (thickness >= 0.0)):
+        raise InputError("thickness_m", "cusp thickness must be finite and ≥ 0 m", allowed="finite ≥ 0 m")
+    amplitude = np.where(np.isfinite(amplitude), amplitude, 0.0)  # no load claimed ("flag" policy)
+    order = np.argsort(arrival, kind="stable")
+    return arrival[order], amplitude[order], thickness[order]
+
+
 def _check(rpm, blades, samples_per_blade_passage) -> None:
     require_range("rpm", rpm, low=0.0, unit="1/min")
     if isinstance(blades, bool) or int(blades) != blades or blades < 1:
@@ -94,26 +131,27 @@ def ice_torque_series(
     samples_per_blade_passage: int = 40,
     tail_s: float = 5.0,
     duration_s: float | None = None,
+    overlap: str = "queue",
 ) -> tuple[np.ndarray, np.ndarray]:
     """(time [s], ice torque [N·m]) from plain per-cusp arrays (module docstring); time starts at 0.
 
     The series ends `tail_s` after the last impact, or at `duration_s` if given (impacts after it are cut).
+    `overlap`: "queue" (a cusp arriving while another is milled waits for it: `milling_starts`) or
+    "superpose" (sequences overlap and add).
     """
     _check(rpm, blades, samples_per_blade_passage)
+    if overlap not in OVERLAP_POLICIES:
+        raise InputError("overlap", f"unknown policy {overlap!r}", allowed=", ".join(OVERLAP_POLICIES))
     spec = excitation_case(case)
-    arrival = np.asarray(arrival_s, dtype=float).reshape(-1)
-    amplitude = np.abs(np.asarray(torque_amplitude_n_m, dtype=float).reshape(-1))
-    thickness = np.broadcast_to(np.asarray(thickness_m, dtype=float), arrival.shape)
-    if amplitude.shape != arrival.shape:
-        raise InputError("torque_amplitude_n_m", f"{amplitude.size} values for {arrival.size} cusps")
-    if np.any(arrival < 0.0) or not np.all(np.isfinite(arrival)):
-        raise InputError("arrival_s", "arrival times must be finite and ≥ 0 s")
-    amplitude = np.where(np.isfinite(amplitude), amplitude, 0.0)  # no load claimed ("flag" policy)
+    arrival, amplitude, thickness = _cusp_arrays(arrival_s, torque_amplitude_n_m, thickness_m)
     s = int(samples_per_blade_passage)
     passage_rate_hz = blades * rpm / 60.0
     dt = 1.0 / (passage_rate_hz * s)
-    first = np.ceil(arrival * passage_rate_hz - 1e-9).astype(np.int64) * s  # first passage, as sample
     n_imp = impacts_per_cusp(thickness, blades)
+    first = np.ceil(arrival * passage_rate_hz - 1e-9).astype(np.int64)  # first passage after arrival
+    if overlap == "queue":
+        first = milling_starts(first, n_imp)
+    first = first * s  # as sample index
     # impact starts: per cusp first + j·s for j < n_imp; a second block shifted by half a passage
     cusp = np.repeat(np.arange(arrival.size), n_imp)
     within = np.arange(cusp.size) - np.repeat(np.cumsum(n_imp) - n_imp, n_imp)
