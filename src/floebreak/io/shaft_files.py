@@ -194,18 +194,20 @@ def shaft_summary(result: ShaftResult, densities: dict[str, dict], extra: dict |
                 "cases": {c: EXCITATION_CASES[c].__dict__ for c in result.cases},
                 "note": "rule cases as recalled (physics-notes §7.3): verify against the rule text",
                 "n_cusps": result.n_cusps,
-            "overlap": result.overlap,
+                "overlap": result.overlap,
                 "ship_speed_m_s": result.speed_m_s,
                 "samples_per_blade_passage": result.samples_per_blade_passage,
                 "time_step_s": float(result.time_s[1] - result.time_s[0]) if result.time_s.size > 1 else None,
                 "duration_s": float(result.time_s[-1]) if result.time_s.size else 0.0,
             },
             "q_peak_knm": {
-            c: {(k[:-4] + "_knm" if k.endswith("_n_m") else k): (v / 1e3 if k.endswith("_n_m") else v)
-                for k, v in p.items()}
-            for c, p in result.peaks().items()
-        },
-        "spectra_above_threshold_knm": {
+                c: {
+                    (k[:-4] + "_knm" if k.endswith("_n_m") else k): (v / 1e3 if k.endswith("_n_m") else v)
+                    for k, v in p.items()
+                }
+                for c, p in result.peaks().items()
+            },
+            "spectra_above_threshold_knm": {
                 n: {"intervals": d["intervals_knm"], "envelope": d["envelope_knm"]}
                 for n, d in densities.items()
             },
@@ -333,7 +335,7 @@ def _write_figures(figs, fig_dir: Path, result, primary, series, edges, densitie
                     compared,
                     log,
                     DENSITY_THRESHOLD_PER_KNM,
-                    f"shaft torque: simulated vs measured ({measured.source})",
+                    f"shaft torque: simulated vs measured ({Path(measured.source).name})",
                 ),
                 fig_dir / f"shaft_comparison_{scale}.png",
             )
