@@ -8,7 +8,7 @@ from matplotlib.figure import Figure
 
 from floebreak.plotting.common import SPECTRUM_MARGINS_IN, new_figure
 
-MAX_PLOTTED_POINTS = 20_000
+MAX_PLOTTED_POINTS = 3_000  # ≈ 2 groups per pixel column at 150 dpi
 
 
 def _envelope(t, y, max_points: int = MAX_PLOTTED_POINTS):
@@ -21,20 +21,29 @@ def _envelope(t, y, max_points: int = MAX_PLOTTED_POINTS):
     return t[:n:group], shaped.min(axis=1), shaped.max(axis=1)
 
 
-def plot_series(time_s, series_knm: dict[str, np.ndarray], title: str) -> Figure:
-    """Torque series [kN·m] over time [s]; long series as min–max bands."""
-    figure, ax = new_figure(10.0, 4.0, SPECTRUM_MARGINS_IN)
+def plot_series(time_s, series_knm: dict[str, np.ndarray], title: str, zoom_s: float = 3.0) -> Figure:
+    """Torque series [kN·m] over time [s] (long series as min–max bands) and, below, `zoom_s` seconds
+    around the largest value of the last series, sample by sample."""
+    figure = Figure(figsize=(10.0, 6.5), constrained_layout=True)
+    full, zoom = figure.subplots(2, 1)
+    time_s = np.asarray(time_s)
+    last = np.asarray(list(series_knm.values())[-1])
+    centre = time_s[int(np.argmax(last))] if last.size else 0.0
+    window = (time_s >= centre - zoom_s / 2) & (time_s <= centre + zoom_s / 2)
     for i, (label, y) in enumerate(series_knm.items()):
-        t, lo, hi = _envelope(np.asarray(time_s), np.asarray(y))
-        colour = f"C{i}"
+        y = np.asarray(y)
+        t, lo, hi = _envelope(time_s, y)
         if lo is hi:
-            ax.plot(t, y, color=colour, lw=0.6, label=label)
+            full.plot(t, y, color=f"C{i}", lw=0.6, label=label)
         else:
-            ax.fill_between(t, lo, hi, color=colour, alpha=0.6, lw=0, label=f"{label} (min–max)")
-    ax.set_xlabel("time t [s]")
-    ax.set_ylabel("torque [kN m]")
-    ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7)
+            full.fill_between(t, lo, hi, color=f"C{i}", alpha=0.6, lw=0, label=f"{label} (min–max)")
+        zoom.plot(time_s[window], y[window], color=f"C{i}", lw=0.9, label=label)
+    for ax in (full, zoom):
+        ax.set_xlabel("time t [s]")
+        ax.set_ylabel("torque [kN m]")
+        ax.legend(fontsize=7)
+    full.set_title(title, fontsize=9)
+    zoom.set_title(f"{zoom_s:g} s around the largest value", fontsize=9)
     return figure
 
 
