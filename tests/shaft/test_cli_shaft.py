@@ -172,3 +172,29 @@ def test_bad_shaft_input_exit_2_nothing_written(tmp_path, monkeypatch, capsys, a
     assert code == 2, err
     assert f"error: {key}:" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_shaft_options_need_a_shaft_line(tmp_path, monkeypatch, capsys):
+    run = make_run(tmp_path / "run")
+    code, _, err = cli(monkeypatch, capsys, "propeller", run, "--out", tmp_path / "out", "--rpm", "120")
+    assert code == 2 and "error: --rpm:" in err and "--shaft-line" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_non_boolean_flag_names_its_key(tmp_path, monkeypatch, capsys):
+    path = tmp_path / "line.toml"
+    path.write_text('[shaft_line]\nbase = "agulhas_ii"\nhydrodynamic_damping = "no"\n', encoding="utf-8")
+    code, _, err = cli(
+        monkeypatch,
+        capsys,
+        "propeller",
+        make_run(tmp_path / "run"),
+        "--out",
+        tmp_path / "out",
+        "--shaft-line",
+        path,
+        "--speed-m-s",
+        "3",
+    )
+    assert code == 2 and "error: shaft_line.hydrodynamic_damping:" in err
+    assert not (tmp_path / "out").exists()

@@ -90,7 +90,7 @@ def series_dataset(result: ShaftResult):
             "rpm": line.rpm,
             "blades": result.blades,
             "ship_speed_m_s": result.speed_m_s,
-            "mean_torque_kn_m": line.mean_torque() / 1e3,
+            "mean_torque_knm": line.mean_torque() / 1e3,
             "samples_per_blade_passage": result.samples_per_blade_passage,
         },
     )

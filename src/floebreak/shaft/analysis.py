@@ -151,6 +151,7 @@ def run_cusp_inputs(
     """Per cusp of a run, in transit order: ``bow_x_m``, ``thickness_m`` and ``torque_n_m`` (FEM torque
     of the box volume, thesis §6.1, for the table nearest `pitch_percent`, default the propeller's
     95.86 %), and the ``pitch_percent`` of that table."""
+    import pyarrow as pa
     import pyarrow.parquet as pq
 
     check_options(interpolation, beyond)
@@ -163,8 +164,12 @@ def run_cusp_inputs(
             allowed="a run directory (the shaft analysis needs one run's transit order)",
         )
     needed = ("bow_x_m", "step", "bbox_length_m", "bbox_width_m", "thickness_m")
-    table = pq.ParquetFile(path).read(columns=None)
-    missing = [c for c in needed if c not in table.column_names]
+    try:
+        parquet = pq.ParquetFile(path)
+        missing = [c for c in needed if c not in parquet.schema_arrow.names]
+        table = None if missing else parquet.read(columns=list(needed))
+    except (OSError, pa.ArrowInvalid) as error:
+        raise InputError("run_dir", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
     if missing:
         raise InputError("run_dir", f"{str(path)!r} lacks column(s) {', '.join(missing)}", value=str(path))
     col = {c: table.column(c).to_numpy().astype(float) for c in needed}

@@ -122,12 +122,11 @@ class ShaftLine:
         reduced = j[:-1] * j[1:] / (j[:-1] + j[1:])
         return 2.0 * zeta * np.sqrt(self.stiffnesses_n_m_per_rad * reduced)
 
-    def mean_torque(self, rpm: float | None = None) -> float:
-        """Mean hydrodynamic torque [N·m]: the given one, else P/(2π n) at the line's rpm (or `rpm`)."""
+    def mean_torque(self) -> float:
+        """Mean hydrodynamic torque [N·m]: the given one, else P/(2π n) at the line's rpm."""
         if self.mean_torque_n_m is not None:
             return float(self.mean_torque_n_m)
-        n_rps = (self.rpm if rpm is None else rpm) / 60.0
-        return float(self.rated_power_w) / (2.0 * math.pi * n_rps)
+        return float(self.rated_power_w) / (2.0 * math.pi * self.rpm / 60.0)
 
     def station_index(self, station: str | None) -> int:
         """Index of the shaft `station` (default: the line's default station, else the first shaft)."""
@@ -150,7 +149,9 @@ def _element(data, i: int, last: bool, key: str) -> ShaftElement:
     unknown = sorted(set(data) - known)
     if unknown:
         raise InputError(f"{where}.{unknown[0]}", "unknown key", allowed=", ".join(sorted(known)))
-    name = str(data.get("name", f"element_{i}"))
+    name = data.get("name", f"element_{i}")
+    if not isinstance(name, str) or not name:
+        raise InputError(f"{where}.name", f"{name!r} is not a name", allowed="a non-empty string")
     inertia = require_range(f"{where}.inertia_kg_m2", data.get("inertia_kg_m2"), low=0.0, unit="kg m^2")
     if last:
         extra = [k for k in ("stiffness_n_m_per_rad", "damping_ratio", "shaft") if k in data]
@@ -237,15 +238,21 @@ def shaft_line_from_dict(data: dict, key: str = "shaft_line", source: str = "") 
             low=0.0,
             high=10.0,
         ),
-        hydrodynamic_damping=bool(data.get("hydrodynamic_damping", True)),
+        hydrodynamic_damping=_boolean(data.get("hydrodynamic_damping", True), f"{key}.hydrodynamic_damping"),
         default_station=data.get("default_station"),
         source=source,
     )
-    if line.default_station is not None and line.default_station not in line.stations:
+    if line.default_station is not None and str(line.default_station) not in line.stations:
         raise InputError(
             f"{key}.default_station", f"no shaft {line.default_station!r}", allowed=", ".join(line.stations)
         )
     return line
+
+
+def _boolean(value, key: str) -> bool:
+    if not isinstance(value, bool):
+        raise InputError(key, f"{value!r} is not a boolean", value=value, allowed="true or false")
+    return value
 
 
 def builtin_shaft_line(name: str) -> dict:
