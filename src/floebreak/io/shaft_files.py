@@ -372,7 +372,7 @@ def shaft_analysis_of_run(
     pitch_percent: float | None = None,
     torque_csv: str | os.PathLike[str] | None = None,
     interpolation: str = "newton",
-    beyond: str = "clamp",
+    beyond: str = "power_law",
     samples_per_blade_passage: int = 40,
 ) -> PreparedShaftAnalysis:
     """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is

@@ -17,7 +17,7 @@ import numpy as np
 from floebreak.errors import InputError, require_range
 from floebreak.propeller.cusps import CUSPS_FILE, box_dimensions
 from floebreak.propeller.fem import resolve_fem_tables
-from floebreak.propeller.interpolation import VolumeInterpolant, check_options
+from floebreak.propeller.interpolation import check_options, table_interpolant
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
     DENSITY_THRESHOLD_PER_KNM,
@@ -146,7 +146,7 @@ def run_cusp_inputs(
     fem_table=None,
     pitch_percent: float | None = None,
     interpolation: str = "newton",
-    beyond: str = "clamp",
+    beyond: str = "power_law",
 ) -> dict[str, np.ndarray | float]:
     """Per cusp of a run, in transit order: ``bow_x_m``, ``thickness_m`` and ``torque_n_m`` (FEM torque
     of the box volume, thesis §6.1, for the table nearest `pitch_percent`, default the propeller's
@@ -174,12 +174,20 @@ def run_cusp_inputs(
         raise InputError("run_dir", f"{str(path)!r} lacks column(s) {', '.join(missing)}", value=str(path))
     col = {c: table.column(c).to_numpy().astype(float) for c in needed}
     order = np.lexsort((col["step"], col["bow_x_m"]))
-    tables = resolve_fem_tables(fem_table, PropellerSpec().pitch_percent)
+    tables = resolve_fem_tables(fem_table)
     target = PropellerSpec().pitch_percent if pitch_percent is None else float(pitch_percent)
     pitch = min(tables, key=lambda p: abs(p - target))
-    fem = tables[pitch]
-    _, _, box_volume = box_dimensions(col["bbox_length_m"], col["bbox_width_m"], col["thickness_m"])
-    torque = VolumeInterpolant.through_origin(fem.volume_m3, fem.torque_nm, interpolation, beyond)(box_volume)
+    longer, shorter, box_volume = box_dimensions(
+        col["bbox_length_m"], col["bbox_width_m"], col["thickness_m"]
+    )
+    coordinates = {  # as the propeller analysis evaluates its tables (box volume, sides, thickness)
+        "volume": box_volume,
+        "length": longer,
+        "width": shorter,
+        "thickness": col["thickness_m"],
+        "height": col["thickness_m"],
+    }
+    torque, _ = table_interpolant(tables[pitch], "torque", interpolation, beyond)(coordinates)
     return {
         "bow_x_m": col["bow_x_m"][order],
         "thickness_m": col["thickness_m"][order],
