@@ -18,6 +18,7 @@ from floebreak.errors import InputError, require_range
 from floebreak.propeller.cusps import CUSPS_FILE, box_dimensions
 from floebreak.propeller.fem import resolve_fem_tables
 from floebreak.propeller.interpolation import check_options, table_interpolant
+from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS, VOLUME_BASES
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
     DENSITY_THRESHOLD_PER_KNM,
@@ -147,14 +148,18 @@ def run_cusp_inputs(
     pitch_percent: float | None = None,
     interpolation: str = "newton",
     beyond: str = "power_law",
+    volume_basis: str = DEFAULT_VOLUME_BASIS,
 ) -> dict[str, np.ndarray | float]:
     """Per cusp of a run, in transit order: ``bow_x_m``, ``thickness_m`` and ``torque_n_m`` (FEM torque
-    of the box volume, thesis §6.1, for the table nearest `pitch_percent`, default the propeller's
-    95.86 %), and the ``pitch_percent`` of that table."""
+    of the cusp's volume, "actual" area × thickness or "box", as the propeller analysis, thesis §6.1.3,
+    for the table nearest `pitch_percent`, default the propeller's 95.86 %), and the ``pitch_percent``
+    of that table."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
     check_options(interpolation, beyond)
+    if volume_basis not in VOLUME_BASES:
+        raise InputError("volume_basis", f"unknown value {volume_basis!r}", allowed=", ".join(VOLUME_BASES))
     path = Path(run_dir) / CUSPS_FILE
     if not path.is_file():
         raise InputError(
@@ -163,7 +168,7 @@ def run_cusp_inputs(
             value=str(run_dir),
             allowed="a run directory (the shaft analysis needs one run's transit order)",
         )
-    needed = ("bow_x_m", "step", "bbox_length_m", "bbox_width_m", "thickness_m")
+    needed = ("bow_x_m", "step", "bbox_length_m", "bbox_width_m", "thickness_m", "volume_m3")
     try:
         parquet = pq.ParquetFile(path)
         missing = [c for c in needed if c not in parquet.schema_arrow.names]
@@ -180,8 +185,8 @@ def run_cusp_inputs(
     longer, shorter, box_volume = box_dimensions(
         col["bbox_length_m"], col["bbox_width_m"], col["thickness_m"]
     )
-    coordinates = {  # as the propeller analysis evaluates its tables (box volume, sides, thickness)
-        "volume": box_volume,
+    coordinates = {  # as the propeller analysis evaluates its tables (volume, box sides, thickness)
+        "volume": box_volume if volume_basis == "box" else col["volume_m3"],
         "length": longer,
         "width": shorter,
         "thickness": col["thickness_m"],
