@@ -4,8 +4,9 @@ The public API (docs/api.md): ``floebreak.run(scenario) -> Result`` runs a `Scen
 or None for the reference scenario) without touching files, and ``Result.write(out)`` writes a run
 directory; `generate_field`, `FloeField`, `Bow`/`get_hull`, `build_model` (profiles) and `simulate` are the
 engine's parts for scripts; `register_mode` adds a failure mode; `propeller_analysis` (writes),
-`analyse_propeller` (pure), `run_study` and `run_voyage` are the propeller, study and voyage entry points.
-Everything else is internal and may change.
+`analyse_propeller` (pure), `run_study` and `run_voyage` are the propeller, study and voyage entry points;
+`shaft_response` (with `load_shaft_line`, `write_shaft_analysis`) turns cusps into shaft torque. Everything
+else is internal and may change.
 
 The names below are imported on first use (PEP 562): ``import floebreak`` and the command line's light
 commands (``floebreak --help``, ``schema``, ``observations``, ``report``) then do not load the engine's
@@ -27,10 +28,13 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` impor
     from floebreak.ice.generation import generate_field
     from floebreak.ice.observations import Observation, get_observation, thesis_observations
     from floebreak.io.propeller import propeller_analysis
+    from floebreak.io.shaft_files import write_shaft_analysis
     from floebreak.io.voyage_log import read_voyage_log
     from floebreak.profiles import PROFILES, build_model
     from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
     from floebreak.scenario import Scenario
+    from floebreak.shaft.analysis import shaft_response
+    from floebreak.shaft.line import load_shaft_line
     from floebreak.ship.bow import Bow
     from floebreak.ship.hulls import get_hull
     from floebreak.simulation import Model, SimulationParams, SimulationResult, simulate
@@ -60,6 +64,7 @@ _LAZY = {
     "generate_field": "floebreak.ice.generation",
     "get_hull": "floebreak.ship.hulls",
     "get_observation": "floebreak.ice.observations",
+    "load_shaft_line": "floebreak.shaft.line",
     "load_study": "floebreak.studies.design",
     "mode_names": "floebreak.failure",
     "PropellerResult": "floebreak.propeller.pipeline",
@@ -72,10 +77,12 @@ _LAZY = {
     "run": "floebreak.api",
     "run_study": "floebreak.studies.runner",
     "run_voyage": "floebreak.studies.voyage",
+    "shaft_response": "floebreak.shaft.analysis",
     "simulate": "floebreak.simulation",
     "thesis_observations": "floebreak.ice.observations",
     "thesis_study": "floebreak.studies.design",
     "unregister_mode": "floebreak.failure",
+    "write_shaft_analysis": "floebreak.io.shaft_files",
 }
 
 __all__ = [
@@ -98,6 +105,7 @@ __all__ = [
     "generate_field",
     "get_hull",
     "get_observation",
+    "load_shaft_line",
     "load_study",
     "mode_names",
     "prepare_voyage",
@@ -108,10 +116,12 @@ __all__ = [
     "run",
     "run_study",
     "run_voyage",
+    "shaft_response",
     "simulate",
     "thesis_observations",
     "thesis_study",
     "unregister_mode",
+    "write_shaft_analysis",
 ]
 
 

@@ -681,9 +681,26 @@ def propeller(
         bool, typer.Option("--overwrite", help="replace an existing output directory")
     ] = False,
     quiet: QuietOption = False,
+    shaft_line: Annotated[
+        str | None,
+        typer.Option("--shaft-line", help="shaft torque too (OUT/shaft/): agulhas_ii or FILE.toml"),
+    ] = None,
+    station: Annotated[
+        str | None, typer.Option("--station", help="shaft measurement station (default: the line's)")
+    ] = None,
+    rpm: Annotated[
+        float | None, typer.Option("--rpm", help="propeller speed [1/min] (shaft analysis)")
+    ] = None,
+    mean_torque_knm: Annotated[
+        float | None, typer.Option("--mean-torque-knm", help="mean hydrodynamic torque [kN m] (shaft)")
+    ] = None,
+    cases: Annotated[
+        str, typer.Option("--excitation-cases", help="ice excitation cases, first plotted, e.g. 1,2,3,4")
+    ] = "1,2,3,4",
 ) -> None:
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
-    (thesis chapter 6; docs/propeller.md)."""
+    (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
+    station of a run (docs/shaft.md)."""
     from floebreak.io.propeller import write_propeller
     from floebreak.propeller.pipeline import analyse_propeller
     from floebreak.propeller.ruleform import OperatingProfile
@@ -696,6 +713,19 @@ def propeller(
     profile = None if years is None else OperatingProfile(hours_per_year, years)
     curve = None if sn_curve is None else _sn_curve(sn_curve)
     tables = _fem_tables(fem_table)
+    shaft = _shaft_analysis(
+        run_or_study_dir,
+        shaft_line,
+        station,
+        rpm,
+        speed,
+        mean_torque_knm,
+        cases,
+        tables,
+        torque_csv,
+        interpolation,
+        beyond,
+    )
     inputs = read_runs(
         run_or_study_dir,
         pool=pool,
@@ -720,6 +750,49 @@ def propeller(
     differing = f" (differing in {', '.join(inputs.differing_keys)})" if inputs.differing_keys else ""
     console.print(f"pooled {n_runs} runs{differing}" if n_runs > 1 else "1 run", highlight=False)
     _print_propeller_summary(result.summary, written, quiet)
+    if shaft is not None:
+        shaft_dir = shaft.write(Path(written) / "shaft", overwrite=overwrite)
+        console.print(f"shaft torque written to {shaft_dir}", highlight=False)
+
+
+def _shaft_analysis(
+    run_dir,
+    shaft_line,
+    station,
+    rpm,
+    speed_m_s,
+    mean_torque_knm,
+    cases,
+    tables,
+    torque_csv,
+    interpolation,
+    beyond,
+):
+    """The `propeller` command's shaft analysis, computed (not written) before anything is written; None
+    without --shaft-line (then its own options are refused)."""
+    if shaft_line is None:
+        given = {"--station": station, "--rpm": rpm, "--mean-torque-knm": mean_torque_knm}
+        for name, value in given.items():
+            if value is not None:
+                raise InputError(
+                    name, "is an option of the shaft analysis", allowed="add --shaft-line NAME|FILE"
+                )
+        return None
+    from floebreak.io.shaft_files import shaft_analysis_of_run
+
+    return shaft_analysis_of_run(
+        run_dir,
+        shaft_line,
+        station=station,
+        rpm=rpm,
+        speed_m_s=speed_m_s,
+        mean_torque_knm=mean_torque_knm,
+        cases=_parse_floats(cases, "excitation_cases"),
+        fem_table=tables,
+        torque_csv=torque_csv,
+        interpolation=interpolation,
+        beyond=beyond,
+    )
 
 
 def _print_version(value: bool) -> None:
