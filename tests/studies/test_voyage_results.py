@@ -72,3 +72,14 @@ def test_weighted_counts_and_exceedances_ignore_missing_loads():
     assert list(exceedances(values, weights, np.array([0.0, 10.0, 10.5, 13.0]))) == pytest.approx(
         [3.5, 1.5, 0.5, 0.0]
     )
+
+
+def test_voyage_exceedances_equal_the_propeller_weighted_exceedance():
+    values = np.array([1.0, np.nan, 12.0, 10.0, 10.0])
+    weights = np.array([2.0, 100.0, 0.5, 1.0, 0.25])
+    levels = np.array([0.0, 10.0, 10.5, 13.0])
+    from floebreak.propeller.rates import weighted_exceedance
+
+    np.testing.assert_array_equal(
+        exceedances(values, weights, levels), weighted_exceedance(values, weights, levels)
+    )
