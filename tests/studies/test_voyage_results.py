@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from floebreak.studies.voyage_results import exceedances, period_weight, pooled_spectra, weighted_counts
+from floebreak.propeller.rates import weighted_exceedance
+from floebreak.studies.voyage_results import period_weight, pooled_spectra, weighted_counts
 
 # Two periods, hand-made:
 #   A: T = 0.5 h at v = 2 m/s → D = 3600 m; n = 2 fields of L = 400 m; torques 5, 15, 15 kN·m
@@ -69,17 +70,7 @@ def test_weighted_counts_and_exceedances_ignore_missing_loads():
     values = np.array([1.0, np.nan, 12.0, 10.0])
     weights = np.array([2.0, 100.0, 0.5, 1.0])
     np.testing.assert_allclose(weighted_counts(values, weights, np.array([0.0, 10.0, 20.0])), [2.0, 1.5])
-    assert list(exceedances(values, weights, np.array([0.0, 10.0, 10.5, 13.0]))) == pytest.approx(
+    assert list(weighted_exceedance(values, weights, np.array([0.0, 10.0, 10.5, 13.0]))) == pytest.approx(
         [3.5, 1.5, 0.5, 0.0]
     )
 
-
-def test_voyage_exceedances_equal_the_propeller_weighted_exceedance():
-    values = np.array([1.0, np.nan, 12.0, 10.0, 10.0])
-    weights = np.array([2.0, 100.0, 0.5, 1.0, 0.25])
-    levels = np.array([0.0, 10.0, 10.5, 13.0])
-    from floebreak.propeller.rates import weighted_exceedance
-
-    np.testing.assert_array_equal(
-        exceedances(values, weights, levels), weighted_exceedance(values, weights, levels)
-    )

@@ -53,16 +53,6 @@ def weighted_counts(values: np.ndarray, weights: np.ndarray, edges: np.ndarray) 
     return counts
 
 
-def exceedances(values: np.ndarray, weights: np.ndarray, levels: np.ndarray) -> np.ndarray:
-    """Σ of the weights of the finite values ≥ each level (the voyage's number of exceedances)."""
-    values, weights = np.asarray(values, dtype=float), np.asarray(weights, dtype=float)
-    keep = np.isfinite(values)
-    order = np.argsort(values[keep])
-    v, w = values[keep][order], weights[keep][order]
-    tail = np.concatenate([np.cumsum(w[::-1])[::-1], [0.0]])  # tail[i] = Σ w[i:]
-    return tail[np.searchsorted(v, np.asarray(levels, dtype=float), side="left")]
-
-
 def read_voyage(voyage_dir: Path) -> dict[str, Any]:
     path = voyage_dir / "voyage.json"
     if not path.exists():
@@ -206,6 +196,7 @@ def pooled_spectra(loads: dict[str, Any], rows: list[dict], share: float = 1.0) 
     """Per case and quantity: bin edges, the voyage's expected counts, per hour, per km, density, and the
     exceedances of each lower bin edge — the time-weighted pooling of the module docstring. `share`: loads
     on one propeller per cusp (fraction reaching / number of propellers)."""
+    from floebreak.propeller.rates import weighted_exceedance
     from floebreak.propeller.spectra import bin_edges, fitting_width
 
     weight_of = np.asarray([row["weight"] for row in rows], dtype=float)
@@ -228,7 +219,7 @@ def pooled_spectra(loads: dict[str, Any], rows: list[dict], share: float = 1.0) 
                 "per_hour": counts / hours if hours else np.full(counts.size, np.nan),
                 "per_km": counts / km if km else np.full(counts.size, np.nan),
                 "density": counts / (total * width) if total > 0 else np.full(counts.size, np.nan),
-                "exceedances": exceedances(values[quantity], weights, edges[:-1]),  # at lower edges
+                "exceedances": weighted_exceedance(values[quantity], weights, edges[:-1]),  # at lower edges
                 "total": float(total),
             }
     return out
