@@ -219,9 +219,8 @@ def voyage_rule_form(
         else {"hours_in_ice_per_year": profile.hours_in_ice_per_year, "years": profile.years},
     }
     for quantity, key in (("force", "force_kn"), ("torque", "torque_knm")):
-        values = operated[quantity] if weights.size else np.zeros(0)
         out[key] = rule_form_entry(
-            values, 1.0, per_hour, profile, None, None, WEIBULL_SHAPE["open"], weights=weights
+            operated[quantity], 1.0, per_hour, profile, None, None, WEIBULL_SHAPE["open"], weights=weights
         )
     return out
 
