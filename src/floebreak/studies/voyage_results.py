@@ -555,12 +555,18 @@ def _rule_form_markdown(rule_form: dict[str, Any]) -> str:
         f"- {rule_form['form']}; weights: {rule_form['weights']}",
         "- 95 % intervals from the effective sample size (Σw)²/Σw² (docs/studies.md, Voyages)",
         "- operating profile: "
-        + ("none (give --hours-in-ice-per-year and --years)" if profile is None else _cell(profile)),
+        + (
+            "none (give --hours-in-ice-per-year and --years)"
+            if profile is None
+            else f"{profile['hours_in_ice_per_year']:g} h in ice per year × {profile['years']:g} years"
+        ),
         "",
         "| " + " | ".join(RULE_FORM_COLUMNS) + " |",
         "|" + "---|" * len(RULE_FORM_COLUMNS),
     ]
-    lines += ["| " + " | ".join(row) + " |" for row in rule_form_rows(rule_form)]
+    lines += [
+        "| " + " | ".join(c.replace("|", "\\|") for c in row) + " |" for row in rule_form_rows(rule_form)
+    ]
     return "\n".join(lines) + "\n"
 
 
@@ -615,7 +621,9 @@ def propeller_view(summary: dict[str, Any], rows: list[dict], loads: dict[str, A
             "loads_per_km_per_propeller": operated["loads_per_km"],
         }
     return {
-        "warnings": [note for note in summary["notes"] if note.startswith("warning")],
+        "warnings": [
+            note.removeprefix("warning: ") for note in summary["notes"] if note.startswith("warning")
+        ],
         "rates": rates,
         "pitches": pitches,
         "rule_form": {"operated": {"torque_knm": summary["rule_form"]["torque_knm"]}},
