@@ -63,6 +63,16 @@ def _format(value: Any) -> str:
     return str(value)
 
 
+def _page_head(title: str) -> list[str]:
+    esc = html.escape
+    return [
+        "<!DOCTYPE html>",
+        '<html lang="en"><head><meta charset="utf-8">',
+        f"<title>{esc(title)}</title><style>{_STYLE}</style></head><body>",
+        f"<h1>{esc(title)}</h1>",
+    ]
+
+
 def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = None) -> str:
     """The HTML text of the report of run directory `run_dir` (InputError if it is not a run directory).
 
@@ -86,10 +96,7 @@ def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = 
     esc = html.escape
     title = f"floebreak run {summary.get('scenario_hash', '')[:12]}"
     parts = [
-        "<!DOCTYPE html>",
-        '<html lang="en"><head><meta charset="utf-8">',
-        f"<title>{esc(title)}</title><style>{_STYLE}</style></head><body>",
-        f"<h1>{esc(title)}</h1>",
+        *_page_head(title),
         f"<p>profile <b>{esc(str(summary.get('profile')))}</b>, seed <b>{esc(str(summary.get('seed')))}</b>, "
         f"floebreak {esc(str(summary.get('floebreak_version')))}; "
         f"directory <code>{esc(directory_name or run_dir.name)}</code>"
@@ -170,7 +177,7 @@ def _propeller_rows(summary: dict) -> list[str]:
         life = "–" if "x_max_lifetime" not in fit else f"{fit['x_max_lifetime']:.0f}"
         q = info.get("torque_range_knm")
         cells = [
-            f"{info['pitch_percent']:g}",
+            _format(info["pitch_percent"]),  # a voyage's "operated" case is a name
             f"{info['n_beyond_table']} ({100 * info['fraction_beyond_table']:.0f} %)",
             "–" if not q else f"{q[1]:.0f}",
             k,
@@ -193,6 +200,13 @@ def propeller_section(folder: Path) -> list[str]:
         summary = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, json.JSONDecodeError) as error:
         raise InputError("run_dir", f"{str(path)!r} is not readable JSON ({error})") from None
+    return propeller_parts(summary, folder / "figures")
+
+
+def propeller_parts(summary: dict, figures: Path, captions: dict[str, str] | None = None) -> list[str]:
+    """HTML parts of a propeller section from a summary in the shape `analyse_propeller` writes (warnings,
+    rates, pitches, rule_form): warnings, time base, per-pitch table, and the `captions`' figures found in
+    `figures` (default: the propeller analysis' figures)."""
     esc = html.escape
     parts = ["<h2>Propeller loads</h2>"]
     parts += [f"<p style='color:#a00'><b>Warning:</b> {esc(w)}</p>" for w in summary.get("warnings", [])]
@@ -219,11 +233,24 @@ def propeller_section(folder: Path) -> list[str]:
             f"<p>Rule N_ice = {rule['rule_n_ice']:.4g} ({esc(_format(rule['rule_n_ice_inputs']))}; "
             "UR I3 as recalled, verify against the rule text).</p>"
         )
-    figures = folder / "figures"
-    for name, caption in _PROPELLER_FIGURES.items():
+    for name, caption in (_PROPELLER_FIGURES if captions is None else captions).items():
         if (figures / name).is_file():
             parts.append(_embedded_figure(figures / name, caption))
     return parts
+
+
+def render_voyage_report(
+    title: str, notes: list[str], propeller: dict, figures: Path, captions: dict[str, str]
+) -> str:
+    """The HTML text of a voyage's report: its notes and its propeller section (`propeller_parts` of the
+    voyage's pooled loads in the propeller summary's shape, with the voyage's figures)."""
+    esc = html.escape
+    parts = [*_page_head(title), "<h2>Notes</h2><ul>"]
+    parts += [f"<li>{esc(note)}</li>" for note in notes]
+    parts.append("</ul>")
+    parts += propeller_parts(propeller, figures, captions)
+    parts.append("</body></html>")
+    return "\n".join(parts) + "\n"
 
 
 def write_report(

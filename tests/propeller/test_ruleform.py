@@ -106,3 +106,43 @@ def test_fit_is_scipys_weibull_maximum_likelihood():
     fit = fit_rule_form(x)
     assert fit.shape_k == pytest.approx(shape, rel=1e-4)
     assert fit.scale == pytest.approx(scale, rel=1e-4)
+
+
+def test_integer_weights_fit_like_repeated_samples():
+    """Σ w_i ℓ(x_i) with integer weights is the log-likelihood of the sample with x_i repeated w_i times:
+    same k and λ. The intervals differ by design: the weighted fit counts n_eff = (Σw)²/Σw² samples,
+    the repeated one Σw, so its covariance is the repeated one's × Σw / n_eff."""
+    rng = np.random.default_rng(11)
+    x = 40.0 * rng.weibull(0.9, 60)
+    w = rng.integers(1, 5, x.size)
+    weighted = fit_rule_form(x, weights=w)
+    repeated = fit_rule_form(np.repeat(x, w))
+    assert weighted.shape_k == pytest.approx(repeated.shape_k, rel=1e-9)
+    assert weighted.scale == pytest.approx(repeated.scale, rel=1e-9)
+    n_eff = w.sum() ** 2 / np.sum(w**2)
+    assert weighted.n_effective == pytest.approx(n_eff)
+    np.testing.assert_allclose(
+        np.asarray(weighted.cov_k_log_scale),
+        np.asarray(repeated.cov_k_log_scale) * w.sum() / n_eff,
+        rtol=1e-8,
+    )
+
+
+def test_unit_weights_equal_the_unweighted_fit_and_zero_weights_drop_samples():
+    rng = np.random.default_rng(12)
+    x = 3.0 * rng.weibull(1.4, 80)
+    plain = fit_rule_form(x)
+    ones = fit_rule_form(x, weights=np.ones(x.size))
+    assert ones.shape_k == pytest.approx(plain.shape_k, rel=1e-12)
+    assert ones.scale == pytest.approx(plain.scale, rel=1e-12)
+    np.testing.assert_allclose(ones.cov_k_log_scale, plain.cov_k_log_scale, rtol=1e-12)
+    dropped = fit_rule_form(np.r_[x, 1e6], weights=np.r_[np.full(x.size, 2.5), 0.0])  # scale-free
+    assert dropped.shape_k == pytest.approx(plain.shape_k, rel=1e-12)
+    assert dropped.n_samples == x.size
+
+
+@pytest.mark.parametrize("weights", [np.ones(5), np.r_[np.ones(29), -1.0], np.r_[np.ones(29), np.nan]])
+def test_bad_weights_are_refused(weights):
+    x = np.linspace(1.0, 30.0, 30)
+    with pytest.raises(InputError, match="weights"):
+        fit_rule_form(x, weights=weights)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import pyarrow.csv
 import pytest
@@ -150,6 +151,7 @@ def test_tiny_voyage_end_to_end_and_resume(tmp_path):
     for name in ("force_spectrum", "torque_spectrum", "exceedance", "timeline"):
         assert (out / "results" / "figures" / f"{name}.png").stat().st_size > 0
     assert not any((out / "runs" / p["runs"][0] / "figures").exists() for p in voyage["periods"])
+    _check_rule_form_and_report(summary, out, runs[0]["n_cusps"], runs[1]["n_cusps"])
     # resume: nothing re-runs, the same results
     again = run_voyage(setup, out)
     assert again["cusps_voyage"] == summary["cusps_voyage"] and again["failures"] == []
@@ -162,3 +164,23 @@ def test_tiny_voyage_end_to_end_and_resume(tmp_path):
 def _skip_comments(out):
     lines = (out / "results" / "periods.csv").read_text(encoding="utf-8").splitlines()
     return pyarrow.csv.ReadOptions(skip_rows=sum(1 for line in lines if line.startswith("#")))
+
+
+def _check_rule_form_and_report(summary, out, n_first, n_second):
+    """The operated loads' rule-form fit is in summary.json, periods.md and report.html (propeller
+    section with the time base and the rule-form figure)."""
+    written = json.loads((out / "results" / "summary.json").read_text(encoding="utf-8"))
+    torque = written["rule_form"]["torque_knm"]
+    # weights: 30/30 and 60/40 cusps per simulated cusp, × 1/2 per propeller → 0.5 and 0.75
+    n_eff = (0.5 * n_first + 0.75 * n_second) ** 2 / (0.25 * n_first + 0.5625 * n_second)
+    assert torque["n_samples"] == n_first + n_second and torque["n_effective"] == pytest.approx(n_eff)
+    per_hour = summary["cases"]["operated"]["loads_per_hour"]
+    assert written["rule_form"]["n_ice_per_hour"] == torque["n_per_hour"] == pytest.approx(per_hour)
+    x_max = torque["scale"] * math.log(per_hour) ** (1 / torque["k"])  # λ (ln N)^(1/k), notes §7.3
+    assert torque["x_max_per_hour"] == pytest.approx(x_max)
+    assert "Rule-form fit of the operated loads" in (out / "results" / "periods.md").read_text(
+        encoding="utf-8"
+    )
+    report = (out / "results" / "report.html").read_text(encoding="utf-8")
+    assert "<h2>Propeller loads</h2>" in report and "Time base:" in report
+    assert "alt='rule_form.png'" in report and "report.html" in written["files"]

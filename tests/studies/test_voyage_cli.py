@@ -64,6 +64,8 @@ def test_bad_log_exit_code_2_names_file_row_column_and_writes_nothing(
         (["--set", "ice.thickness_m=0.5"], "--set"),
         (["--set", "ship.hull=titanic"], "ship.hull"),
         (["--workers", "0"], "workers"),
+        (["--years", "20"], "--years"),
+        (["--hours-in-ice-per-year", "9000", "--years", "20"], "hours_in_ice_per_year"),
     ],
 )
 def test_bad_options_exit_code_2_and_write_nothing(monkeypatch, capsys, tmp_path, args, key):

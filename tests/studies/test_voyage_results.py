@@ -2,10 +2,20 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
-from floebreak.studies.voyage_results import exceedances, period_weight, pooled_spectra, weighted_counts
+from floebreak.propeller.rates import weighted_exceedance
+from floebreak.propeller.ruleform import OperatingProfile, fit_rule_form
+from floebreak.studies.voyage_results import (
+    cusp_weights,
+    period_weight,
+    pooled_spectra,
+    voyage_rule_form,
+    weighted_counts,
+)
 
 # Two periods, hand-made:
 #   A: T = 0.5 h at v = 2 m/s → D = 3600 m; n = 2 fields of L = 400 m; torques 5, 15, 15 kN·m
@@ -69,6 +79,27 @@ def test_weighted_counts_and_exceedances_ignore_missing_loads():
     values = np.array([1.0, np.nan, 12.0, 10.0])
     weights = np.array([2.0, 100.0, 0.5, 1.0])
     np.testing.assert_allclose(weighted_counts(values, weights, np.array([0.0, 10.0, 20.0])), [2.0, 1.5])
-    assert list(exceedances(values, weights, np.array([0.0, 10.0, 10.5, 13.0]))) == pytest.approx(
+    assert list(weighted_exceedance(values, weights, np.array([0.0, 10.0, 10.5, 13.0]))) == pytest.approx(
         [3.5, 1.5, 0.5, 0.0]
     )
+
+
+def test_voyage_rule_form_is_the_fit_of_the_sample_repeated_by_weight():
+    """Period weights 4.5 and 9 (ROWS) are 1 : 2: the weighted fit equals the plain fit of period A's
+    loads once and period B's twice (independent: `fit_rule_form` unweighted on the repeated sample)."""
+    rng = np.random.default_rng(5)
+    torque = 100.0 * rng.weibull(0.9, 30)
+    loads = {
+        "period": np.repeat([0, 1], [18, 12]),
+        "cases": {"operated": {"force": torque / 10.0, "torque": torque, "beyond_table": np.zeros(30, bool)}},
+    }
+    profile = OperatingProfile(hours_in_ice_per_year=500.0, years=20.0)
+    fit = voyage_rule_form(loads, cusp_weights(loads, ROWS, share=0.5), 40.0, profile)["torque_knm"]
+    repeated = fit_rule_form(np.r_[torque[:18], torque[18:], torque[18:]])
+    assert fit["k"] == pytest.approx(repeated.shape_k, rel=1e-9)
+    assert fit["scale"] == pytest.approx(repeated.scale, rel=1e-9)
+    assert fit["n_effective"] == pytest.approx((18 + 2 * 12) ** 2 / (18 + 4 * 12))
+    n_life = 40.0 * 500.0 * 20.0
+    assert fit["n_lifetime"] == n_life
+    assert fit["x_max_lifetime"] == pytest.approx(repeated.scale * math.log(n_life) ** (1 / repeated.shape_k))
+    assert fit["rule_k"] == 0.75  # open propeller (notes §7.3)

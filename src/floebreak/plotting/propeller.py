@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 from floebreak.plotting.common import SPECTRUM_MARGINS_IN, new_figure, place_axes
 from floebreak.propeller.iceclass import empirical_exceedance, weibull_exceedance
 from floebreak.propeller.interpolation import VolumeInterpolant
+from floebreak.propeller.rates import weighted_exceedance
 from floebreak.propeller.ruleform import fit_rule_form
 from floebreak.propeller.spectra import pitch_label, spectrum_edges
 
@@ -139,33 +140,48 @@ def plot_rule_exceedance(force_n: dict, torque_nm: dict, rule, shape: float = 0.
     return figure
 
 
-def plot_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float = 0.75) -> Figure:
+def _exceedance_points(values_knm, weights) -> tuple[np.ndarray, np.ndarray, float]:
+    """Sorted |values| > 0, their P(X ≥ value) (weighted: the weights' share at or above) and N (the
+    number of values, or the sum of the weights)."""
+    values_knm = np.abs(np.asarray(values_knm, dtype=float))
+    if weights is None:
+        v, p = empirical_exceedance(values_knm)
+        return v[v > 0], p[v > 0], float(np.sum(v > 0))
+    w = np.asarray(weights, dtype=float)
+    keep = np.isfinite(values_knm) & (values_knm > 0) & (w > 0)
+    v, w = values_knm[keep], w[keep]
+    levels = np.sort(v)
+    return levels, weighted_exceedance(v, w, levels) / w.sum(), float(w.sum())
+
+
+def plot_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float = 0.75, weights=None) -> Figure:
     """Left: empirical P(X ≥ x) of |Q| per pitch, the fitted rule form exp(−(x/x_max)^k ln N) and the
     rule's shape (k = 0.75 open, 1.0 ducted) through the same x_max (notes §7.3). Right: exceedances per
     hour on one propeller (`exceedance`: tables of `analyse_propeller`, empty without a time base).
 
-    amplitudes: {pitch_percent: torque [N·m] per cusp}."""
+    amplitudes: {pitch_percent or case name: torque [N·m] per cusp}; weights: None, or the same keys with
+    the loads each cusp stands for (a weighted fit and empirical exceedance, N = Σ weights)."""
     figure = Figure(figsize=(11.0, 4.0), constrained_layout=True)
     axes = figure.subplots(1, 2)
     for i, (pitch, values) in enumerate(amplitudes.items()):
-        v, p = empirical_exceedance(np.abs(values) / 1e3)
-        v, p = v[v > 0], p[v > 0]
+        w = None if weights is None else weights[pitch]
+        v, p, n = _exceedance_points(np.asarray(values, dtype=float) / 1e3, w)
         if v.size < 10 or np.ptp(v) <= 0:
             continue
-        axes[0].step(v, p, where="post", color=_colour(i), label=f"simulated P = {pitch:g} % (n = {v.size})")
-        fit = fit_rule_form(v)
+        name = pitch if isinstance(pitch, str) else f"P = {pitch:g} %"
+        key = pitch if isinstance(pitch, str) else pitch_label(float(pitch))
+        axes[0].step(v, p, where="post", color=_colour(i), label=f"simulated {name} (n = {v.size})")
+        fit = fit_rule_form(np.abs(values) / 1e3, weights=w)
         x = np.linspace(0.0, v.max() * 1.2, 200)
-        x_max = fit.x_max(v.size)
+        x_max = fit.x_max(n)
         axes[0].plot(
             x, fit.exceedance(x), color=_colour(i), ls="--", lw=0.9, label=f"fit k = {fit.shape_k:.2f}"
         )
-        rule = np.exp(-((x / x_max) ** rule_shape) * np.log(v.size))
+        rule = np.exp(-((x / x_max) ** rule_shape) * np.log(n))
         axes[0].plot(x, rule, color=_colour(i), ls=":", lw=0.9, label=f"rule shape k = {rule_shape:g}")
-        table = exceedance.get(f"torque_{pitch_label(float(pitch))}")
+        table = exceedance.get(f"torque_{key}")
         if table is not None:
-            axes[1].step(
-                table["level"], table["per_hour"], where="post", color=_colour(i), label=f"P = {pitch:g} %"
-            )
+            axes[1].step(table["level"], table["per_hour"], where="post", color=_colour(i), label=name)
     axes[0].set_yscale("log")
     axes[0].set_xlabel("torque |Q| [kN m]")
     axes[0].set_ylabel("P(X ≥ x)")

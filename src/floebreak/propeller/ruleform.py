@@ -10,6 +10,12 @@ largest of N loads is x_max = λ (ln N)^(1/k) (P(X ≥ x_max) = 1/N). `fit_rule_
 maximum likelihood; the expected-information (Wald) standard errors give confidence intervals for k and,
 by the delta method on ln x_max, for x_max at any N.
 
+Weighted fit (pooled voyages, where one simulated cusp stands for w_i loads): the weighted log-likelihood
+Σ w_i ℓ(x_i) gives the same estimating equations with weighted means. Its curvature alone would treat Σ w
+as the number of independent loads; the weights only rescale how often the few simulated cusps count, so
+the intervals use the Kish effective sample size n_eff = (Σ w)² / Σ w² instead (n_eff = n for equal
+weights). The weights' scale does not change the fit.
+
 Rule N_ice (UR I3 2006/Rev.1 as recalled, notes §7; verify against the rule text):
 N_ice = k_1 k_2 k_3 k_4 · N_class · n with N_class the reference number of impacts per unit propeller speed
 (`N_CLASS`), n the propeller speed [1/s] and k_1…k_4 the location, duct, azimuthing and submersion factors
@@ -47,6 +53,7 @@ class RuleFormFit:
     scale: float
     n_samples: int
     cov_k_log_scale: tuple[tuple[float, float], tuple[float, float]]  # covariance of (k, ln λ)
+    n_effective: float | None = None  # Kish (Σw)²/Σw² of a weighted fit; None: unweighted (n_samples)
 
     def x_max(self, n_loads: float) -> float:
         """Expected largest of `n_loads` loads: λ (ln N)^(1/k) (notes §7.3)."""
@@ -70,36 +77,58 @@ class RuleFormFit:
         return np.exp(-((np.clip(np.asarray(x, dtype=float), 0.0, None) / self.scale) ** self.shape_k))
 
 
-def fit_rule_form(amplitudes, field: str = "amplitudes") -> RuleFormFit:
-    """Maximum-likelihood Weibull fit (location 0) of the finite amplitudes > 0.
+def _positive_samples(amplitudes, weights, field: str) -> tuple[np.ndarray, np.ndarray | None]:
+    """The finite amplitudes > 0 (absolute values) with a weight > 0, and those weights (None unweighted)."""
+    x = np.abs(np.asarray(amplitudes, dtype=float))
+    keep = np.isfinite(x) & (x > 0.0)
+    if weights is None:
+        return x[keep], None
+    w = np.asarray(weights, dtype=float)
+    if w.shape != x.shape:
+        raise InputError(f"{field} weights", f"shape {w.shape} is not the amplitudes' {x.shape}")
+    if not np.all(np.isfinite(w) & (w >= 0.0)):
+        raise InputError(f"{field} weights", "a weight is negative or not finite", allowed="finite, ≥ 0")
+    keep &= w > 0.0
+    return x[keep], w[keep]
+
+
+def fit_rule_form(amplitudes, field: str = "amplitudes", weights=None) -> RuleFormFit:
+    """Maximum-likelihood Weibull fit (location 0) of the finite amplitudes > 0, optionally weighted.
 
     k solves the profile-likelihood equation Σ x^k ln x / Σ x^k − 1/k − mean(ln x) = 0 (scipy brentq),
     λ = (mean x^k)^(1/k). Covariance of (k, ln λ) from the expected Fisher information per sample
-    [[((1−γ)² + π²/6)/k², −(1−γ)], [−(1−γ), k²]] (γ: Euler's constant)."""
-    x = np.abs(np.asarray(amplitudes, dtype=float))
-    x = x[np.isfinite(x) & (x > 0.0)]
+    [[((1−γ)² + π²/6)/k², −(1−γ)], [−(1−γ), k²]] (γ: Euler's constant) times n. With `weights` (≥ 0, one
+    per amplitude) the sums and means are weighted (maximum of Σ w_i ℓ(x_i)) and n is the Kish effective
+    sample size (Σw)²/Σw² (module docstring)."""
+    x, w = _positive_samples(amplitudes, weights, field)
     if x.size < MIN_SAMPLES or np.ptp(x) <= 0.0:
         raise InputError(field, f"{x.size} distinct positive amplitudes", allowed=f"at least {MIN_SAMPLES}")
     top = x.max()
     log_x = np.log(x / top)  # scaled: x^k stays ≤ 1 for any k
 
+    def mean(values: np.ndarray) -> float:
+        return values.mean() if w is None else np.sum(w * values) / np.sum(w)
+
     def profile(k: float) -> float:
-        w = np.exp(k * log_x)
-        return float(np.sum(w * log_x) / np.sum(w) - 1.0 / k - log_x.mean())
+        power = np.exp(k * log_x) if w is None else w * np.exp(k * log_x)
+        return float(np.sum(power * log_x) / np.sum(power) - 1.0 / k - mean(log_x))
 
     low, high = 1e-3, 1.0
     while profile(high) < 0.0 and high < 1e3:
         high *= 2.0
     k = optimize.brentq(profile, low, high, xtol=1e-12)
-    scale = top * float(np.mean(np.exp(k * log_x))) ** (1.0 / k)
-    info = x.size * np.array(
+    scale = top * float(mean(np.exp(k * log_x))) ** (1.0 / k)
+    n_eff = x.size if w is None else float(np.sum(w) ** 2 / np.sum(w**2))
+    info = n_eff * np.array(
         [
             [((1.0 - EULER_GAMMA) ** 2 + math.pi**2 / 6.0) / k**2, -(1.0 - EULER_GAMMA)],
             [-(1.0 - EULER_GAMMA), k**2],
         ]
     )
     cov = np.linalg.inv(info)
-    return RuleFormFit(float(k), float(scale), int(x.size), tuple(map(tuple, cov.tolist())))
+    return RuleFormFit(
+        float(k), float(scale), int(x.size), tuple(map(tuple, cov.tolist())), None if w is None else n_eff
+    )
 
 
 def rule_n_ice(polar_class: str, revolutions_per_s: float, rule_factor: float = 1.0) -> float:

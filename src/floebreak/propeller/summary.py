@@ -66,11 +66,14 @@ def _rates(result) -> dict[str, Any] | None:
     }
 
 
-def _fit_entry(amplitudes, unit_scale: float, per_hour: float | None, profile, rule_max, rule_n, shape_rule):
+def rule_form_entry(
+    amplitudes, unit_scale: float, per_hour: float | None, profile, rule_max, rule_n, shape_rule, weights=None
+):
     """One quantity's rule-form fit in kN or kN·m: k with 95 % interval, λ, x_max per hour and over the
-    operating profile with 95 % intervals, and the hours until the rule maximum is expected once."""
+    operating profile with 95 % intervals, and the hours until the rule maximum is expected once.
+    `weights` (one per amplitude): a weighted fit (`fit_rule_form`), with its effective sample size."""
     try:
-        fit = fit_rule_form(amplitudes)
+        fit = fit_rule_form(amplitudes, weights=weights)
     except InputError as error:
         return {"fit": None, "reason": str(error)}
     entry: dict[str, Any] = {
@@ -80,6 +83,8 @@ def _fit_entry(amplitudes, unit_scale: float, per_hour: float | None, profile, r
         "scale": fit.scale / unit_scale,
         "n_samples": fit.n_samples,
     }
+    if fit.n_effective is not None:
+        entry["n_effective"] = fit.n_effective
     if per_hour is not None and per_hour > 1.0:
         entry["n_per_hour"] = per_hour
         entry["x_max_per_hour"] = fit.x_max(per_hour) / unit_scale
@@ -100,7 +105,7 @@ def _fit_entry(amplitudes, unit_scale: float, per_hour: float | None, profile, r
 
 
 def _rule_form(result, rates, profile: OperatingProfile | None, sn_curve: BasquinCurve | None) -> dict:
-    """Per pitch and quantity: the rule-form fit (`_fit_entry`) and, with `sn_curve`, Miner's sum."""
+    """Per pitch and quantity: the rule-form fit (`rule_form_entry`) and, with `sn_curve`, Miner's sum."""
     shape_rule = WEIBULL_SHAPE[result.options["weibull"]]
     rule = result.rule
     rule_n = None
@@ -132,10 +137,10 @@ def _rule_form(result, rates, profile: OperatingProfile | None, sn_curve: Basqui
         amp = result.amplitudes(pitch)
         label = pitch_label(pitch)
         out[label] = {
-            "force_kn": _fit_entry(
+            "force_kn": rule_form_entry(
                 amp.force_n, 1e3, per_hour, profile, rule and rule.backward_force_n, rule_n, shape_rule
             ),
-            "torque_knm": _fit_entry(
+            "torque_knm": rule_form_entry(
                 amp.torque_nm, 1e3, per_hour, profile, rule and rule.max_torque_nm, rule_n, shape_rule
             ),
         }

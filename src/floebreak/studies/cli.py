@@ -122,14 +122,27 @@ def voyage(
     max_length_m: Annotated[
         float, typer.Option("--max-length-m", help="longest simulated field per period [m]")
     ] = 400.0,
+    hours_per_year: Annotated[
+        float | None, typer.Option("--hours-in-ice-per-year", help="operating profile [h/a]")
+    ] = None,
+    years: Annotated[
+        float | None, typer.Option("--years", help="operating profile: years in service")
+    ] = None,
 ) -> None:
-    """Simulate a voyage from an ice observation log: per-period tables, time-weighted load spectra."""
+    """Simulate a voyage from an ice observation log: per-period tables, time-weighted load spectra, the
+    rule-form fit of the operated loads (extrapolated over the operating profile when given)."""
     from floebreak.io.voyage_log import read_voyage_log
+    from floebreak.propeller.ruleform import OperatingProfile
     from floebreak.studies.executors import make_executor
     from floebreak.studies.voyage import check_out_dir, prepare_voyage, run_voyage
 
     if workers is not None and workers < 1:
         raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
+    if (hours_per_year is None) != (years is None):
+        raise InputError(
+            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
+        )
+    profile = None if years is None else OperatingProfile(hours_per_year, years)
     setup = prepare_voyage(  # everything validated before anything is written or started
         read_voyage_log(log),
         n_fields=n_fields,
@@ -155,7 +168,7 @@ def voyage(
                     info = f"failed {value.failed}, resumed {value.skipped}"
                     bar.update(task, description="runs", total=value.total, completed=value.done, info=info)
 
-            summary = run_voyage(setup, out, executor, progress)
+            summary = run_voyage(setup, out, executor, progress, profile)
     finally:
         executor.close()
     _print_voyage(summary, out)
@@ -204,6 +217,7 @@ def _print_voyage(summary: dict, out: Path) -> None:
         f"tables, spectra and figures in {out / 'results'}",
         soft_wrap=True,
     )
+    _print_rule_form(summary["rule_form"])
     fallback = [index for index, (generator, _) in summary["generators"].items() if generator != "circles"]
     if fallback:
         console.print(f"voronoi fields for periods {', '.join(fallback)} (circles could not; see periods.md)")
@@ -212,3 +226,16 @@ def _print_voyage(summary: dict, out: Path) -> None:
             console.print(f"[yellow]{note}[/]", soft_wrap=True)
     for failure in summary.get("failures", [])[:5]:
         console.print(f"[red]failed[/] {failure['run']}: {failure['error']}")
+
+
+def _print_rule_form(rule_form: dict) -> None:
+    from rich.table import Table
+
+    from floebreak.studies.voyage_results import RULE_FORM_COLUMNS, rule_form_rows
+
+    table = Table(title="rule-form fit of the operated loads (weighted; as recalled, verify with the rule)")
+    for column in RULE_FORM_COLUMNS:
+        table.add_column(column, justify="right")
+    for row in rule_form_rows(rule_form):
+        table.add_row(*row)
+    console.print(table)

@@ -356,8 +356,10 @@ def run_voyage(
     out: str | Path,
     executor=None,
     progress: Callable[[str, Any], None] | None = None,
+    profile=None,
 ) -> dict[str, Any]:
-    """Simulate every period into the voyage directory `out` (resumable) and write its results.
+    """Simulate every period into the voyage directory `out` (resumable) and write its results
+    (`profile`: an `OperatingProfile` for the rule-form extrapolation, or None).
 
     `progress(stage, value)` is called with ("fields", periods whose generator is chosen) and ("runs",
     `StudyProgress`). Returns the results' summary (`write_voyage_results`)."""
@@ -395,6 +397,6 @@ def run_voyage(
     _write_json(out / VOYAGE_FILE, document)
     on_run = (lambda state: progress("runs", state)) if progress else None
     state = run_study(spec, runs, members, out, executor, on_run, run_figures=False)
-    summary = write_voyage_results(out)
+    summary = write_voyage_results(out, profile)
     summary["failures"] = state.failures
     return summary

@@ -53,16 +53,6 @@ def weighted_counts(values: np.ndarray, weights: np.ndarray, edges: np.ndarray) 
     return counts
 
 
-def exceedances(values: np.ndarray, weights: np.ndarray, levels: np.ndarray) -> np.ndarray:
-    """Σ of the weights of the finite values ≥ each level (the voyage's number of exceedances)."""
-    values, weights = np.asarray(values, dtype=float), np.asarray(weights, dtype=float)
-    keep = np.isfinite(values)
-    order = np.argsort(values[keep])
-    v, w = values[keep][order], weights[keep][order]
-    tail = np.concatenate([np.cumsum(w[::-1])[::-1], [0.0]])  # tail[i] = Σ w[i:]
-    return tail[np.searchsorted(v, np.asarray(levels, dtype=float), side="left")]
-
-
 def read_voyage(voyage_dir: Path) -> dict[str, Any]:
     path = voyage_dir / "voyage.json"
     if not path.exists():
@@ -202,14 +192,47 @@ def period_table(periods: list[dict], summaries: dict[str, dict], loads: dict[st
     return rows
 
 
+def cusp_weights(loads: dict[str, Any], rows: list[dict], share: float = 1.0) -> np.ndarray:
+    """Loads on one propeller each simulated cusp stands for: its period's weight w_p × `share`."""
+    weight_of = np.asarray([row["weight"] for row in rows], dtype=float)
+    return share * weight_of[loads["period"]] if loads["period"].size else np.zeros(0)
+
+
+def voyage_rule_form(
+    loads: dict[str, Any], weights: np.ndarray, per_hour: float | None, profile=None
+) -> dict[str, Any]:
+    """Rule-form fit (notes §7.3) of the pooled "operated" |F| [kN] and |Q| [kN·m], each cusp weighted by
+    the loads it stands for (`cusp_weights`; weighted maximum likelihood, intervals from the effective
+    sample size, `fit_rule_form`); x_max per hour at `per_hour` loads and over the operating `profile`
+    (an `OperatingProfile` or None). Rule shape: open propeller (the Agulhas II's, thesis §6.1)."""
+    from floebreak.propeller.iceclass import WEIBULL_SHAPE
+    from floebreak.propeller.summary import rule_form_entry
+
+    operated = loads["cases"]["operated"]
+    out: dict[str, Any] = {
+        "form": "P(X >= x) = exp(-(x/x_max)^k ln N) (notes §7.3, as recalled, verify against the rule text)",
+        "case": "operated",
+        "weights": "period weight D/(n L) × fraction reaching / propellers (loads per simulated cusp)",
+        "n_ice_per_hour": per_hour,
+        "operating_profile": None
+        if profile is None
+        else {"hours_in_ice_per_year": profile.hours_in_ice_per_year, "years": profile.years},
+    }
+    for quantity, key in (("force", "force_kn"), ("torque", "torque_knm")):
+        out[key] = rule_form_entry(
+            operated[quantity], 1.0, per_hour, profile, None, None, WEIBULL_SHAPE["open"], weights=weights
+        )
+    return out
+
+
 def pooled_spectra(loads: dict[str, Any], rows: list[dict], share: float = 1.0) -> dict[str, Any]:
     """Per case and quantity: bin edges, the voyage's expected counts, per hour, per km, density, and the
     exceedances of each lower bin edge — the time-weighted pooling of the module docstring. `share`: loads
     on one propeller per cusp (fraction reaching / number of propellers)."""
+    from floebreak.propeller.rates import weighted_exceedance
     from floebreak.propeller.spectra import bin_edges, fitting_width
 
-    weight_of = np.asarray([row["weight"] for row in rows], dtype=float)
-    weights = share * weight_of[loads["period"]] if loads["period"].size else np.zeros(0)
+    weights = cusp_weights(loads, rows, share)
     simulated = [row for row in rows if row["n_fields_complete"]]  # a period without runs has no loads
     hours = sum(row["duration_h"] for row in simulated)
     km = sum(row["distance_m"] for row in simulated) / 1e3
@@ -228,7 +251,7 @@ def pooled_spectra(loads: dict[str, Any], rows: list[dict], share: float = 1.0) 
                 "per_hour": counts / hours if hours else np.full(counts.size, np.nan),
                 "per_km": counts / km if km else np.full(counts.size, np.nan),
                 "density": counts / (total * width) if total > 0 else np.full(counts.size, np.nan),
-                "exceedances": exceedances(values[quantity], weights, edges[:-1]),  # at lower edges
+                "exceedances": weighted_exceedance(values[quantity], weights, edges[:-1]),  # at lower edges
                 "total": float(total),
             }
     return out
@@ -400,8 +423,9 @@ def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
     return notes
 
 
-def write_voyage_results(voyage_dir: str | Path) -> dict[str, Any]:
-    """(Re)write ``results/`` of a voyage directory from its runs, atomically; returns the summary."""
+def write_voyage_results(voyage_dir: str | Path, profile=None) -> dict[str, Any]:
+    """(Re)write ``results/`` of a voyage directory from its runs, atomically; returns the summary.
+    `profile`: an `OperatingProfile` (hours in ice per year, years) for the rule-form extrapolation."""
     from floebreak.io.atomic import atomic_directory
     from floebreak.io.provenance import provenance
 
@@ -431,10 +455,15 @@ def write_voyage_results(voyage_dir: str | Path) -> dict[str, Any]:
         "notes": notes,
     }
     summary["cusps_per_hour"] = summary["cusps_voyage"] / spectra["hours"] if spectra["hours"] else None
+    weights = cusp_weights(loads, rows, share)
+    summary["rule_form"] = voyage_rule_form(
+        loads, weights, summary["cases"]["operated"]["loads_per_hour"], profile
+    )
     spectrum_rows, exceedance_rows = _spectra_rows(spectra)
     with atomic_directory(voyage_dir / RESULTS_DIR, overwrite=True, field="out") as temp:
         (temp / "periods.csv").write_text(_csv_text(rows, notes), encoding="utf-8")
-        (temp / "periods.md").write_text(_periods_markdown(rows, notes), encoding="utf-8")
+        markdown = _periods_markdown(rows, notes) + _rule_form_markdown(summary["rule_form"])
+        (temp / "periods.md").write_text(markdown, encoding="utf-8")
         for name, table in (("spectra", spectrum_rows), ("exceedance", exceedance_rows)):
             for quantity, quantity_rows in _split_by_quantity(table).items():
                 comment = f"voyage {name} of |{quantity}|, time-weighted over the periods; {notes[0]}"
@@ -442,6 +471,8 @@ def write_voyage_results(voyage_dir: str | Path) -> dict[str, Any]:
                     _csv_text(quantity_rows, [comment]), encoding="utf-8"
                 )
         _figures(temp / "figures", rows, spectra, list(loads["cases"]))
+        _rule_form_figure(temp / "figures", loads, weights, spectra)
+        _write_report(temp, summary, rows, spectra, loads)
         summary["files"] = sorted(p.relative_to(temp).as_posix() for p in temp.rglob("*") if p.is_file())
         summary["files"].append("summary.json")
         (temp / "summary.json").write_text(json.dumps(_json(summary), indent=2) + "\n", encoding="utf-8")
@@ -471,3 +502,138 @@ def _figures(folder: Path, rows: list[dict], spectra: dict[str, Any], cases: lis
     data = {(case, q): spectra[(case, q)] for case in cases for q in QUANTITIES}
     save_figure(figs.plot_exceedance(data, spectra["hours"]), folder / "exceedance.png")
     save_figure(figs.plot_timeline(rows), folder / "timeline.png")
+
+
+RULE_FORM_COLUMNS = (
+    "quantity",
+    "fit k (95 % CI)",
+    "rule k",
+    "λ",
+    "N_ice per hour",
+    "x_max per hour (95 % CI)",
+    "N over the profile",
+    "x_max over the profile (95 % CI)",
+)
+
+
+def _interval_text(entry: dict, key: str, fmt: str) -> str:
+    if key not in entry:
+        return "–"
+    low, high = entry[f"{key}_ci95"]
+    return f"{entry[key]:{fmt}} ({low:{fmt}}–{high:{fmt}})"
+
+
+def rule_form_rows(rule_form: dict[str, Any]) -> list[list[str]]:
+    """Rows of `RULE_FORM_COLUMNS` (text) for the voyage's rule-form fit: periods.md and the terminal."""
+    out = []
+    for key, name in (("force_kn", "|F| [kN]"), ("torque_knm", "|Q| [kN·m]")):
+        entry = rule_form[key]
+        if "k" not in entry:
+            out.append([name, f"no fit: {entry['reason']}", *["–"] * (len(RULE_FORM_COLUMNS) - 2)])
+            continue
+        out.append(
+            [
+                name,
+                _interval_text(entry, "k", ".3f"),
+                f"{entry['rule_k']:g}",
+                f"{entry['scale']:.4g}",
+                _cell(entry.get("n_per_hour"), ".4g") or "–",
+                _interval_text(entry, "x_max_per_hour", ".0f"),
+                _cell(entry.get("n_lifetime"), ".4g") or "–",
+                _interval_text(entry, "x_max_lifetime", ".0f"),
+            ]
+        )
+    return out
+
+
+def _rule_form_markdown(rule_form: dict[str, Any]) -> str:
+    profile = rule_form["operating_profile"]
+    lines = [
+        "",
+        "# Rule-form fit of the operated loads",
+        "",
+        f"- {rule_form['form']}; weights: {rule_form['weights']}",
+        "- 95 % intervals from the effective sample size (Σw)²/Σw² (docs/studies.md, Voyages)",
+        "- operating profile: "
+        + (
+            "none (give --hours-in-ice-per-year and --years)"
+            if profile is None
+            else f"{profile['hours_in_ice_per_year']:g} h in ice per year × {profile['years']:g} years"
+        ),
+        "",
+        "| " + " | ".join(RULE_FORM_COLUMNS) + " |",
+        "|" + "---|" * len(RULE_FORM_COLUMNS),
+    ]
+    lines += [
+        "| " + " | ".join(c.replace("|", "\\|") for c in row) + " |" for row in rule_form_rows(rule_form)
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def _rule_form_figure(folder: Path, loads: dict[str, Any], weights: np.ndarray, spectra: dict) -> None:
+    from floebreak.io.figures import save_figure
+    from floebreak.plotting.propeller import plot_rule_form
+
+    torque = spectra[("operated", "torque")]
+    table = {"level": torque["edges"][:-1], "per_hour": torque["exceedances"] / spectra["hours"]}
+    figure = plot_rule_form(
+        {"operated": loads["cases"]["operated"]["torque"] * 1e3},  # kN·m → N·m
+        {"torque_operated": table} if spectra["hours"] else {},
+        weights={"operated": weights},
+    )
+    save_figure(figure, folder / "rule_form.png")
+
+
+VOYAGE_FIGURES = {
+    "torque_spectrum.png": "Voyage |Q| loads per hour in ice per bin, time-weighted over the periods.",
+    "force_spectrum.png": "Voyage |F| loads per hour in ice per bin, time-weighted over the periods.",
+    "exceedance.png": "Exceedances per hour in ice on one propeller.",
+    "rule_form.png": "Operated |Q|: weighted empirical exceedance, the fitted rule form "
+    "exp(−(x/x_max)^k ln N) and the rule's shape through the same x_max; right: exceedances per hour on "
+    "one propeller.",
+    "timeline.png": "Ice conditions and load rates per period.",
+}
+
+
+def propeller_view(summary: dict[str, Any], rows: list[dict], loads: dict[str, Any]) -> dict[str, Any]:
+    """The voyage's pooled loads in the shape of a propeller summary (warnings, rates, pitches per case,
+    the rule form of "operated") for `floebreak.report.propeller_parts`."""
+    operated = summary["cases"]["operated"]
+    propeller = summary["propeller"]
+    pitches = {}
+    for case, values in loads["cases"].items():
+        beyond = values["beyond_table"]
+        top = summary["cases"][case]["max_torque_knm"]
+        pitches[case] = {
+            "pitch_percent": case if case == "operated" else float(case[1:]),
+            "n_beyond_table": int(beyond.sum()),
+            "fraction_beyond_table": float(beyond.mean()) if beyond.size else 0.0,
+            "torque_range_knm": None if top is None else [0.0, top],
+        }
+    rates = None
+    if summary["hours_in_ice"]:
+        basis = {"fraction_reaching": propeller["fraction_reaching"], "n_propellers": propeller["count"]}
+        rates = {
+            "transit_m": summary["distance_km"] * 1e3,
+            "hours_in_ice": summary["hours_in_ice"],
+            "per_run": {str(r["index"]): {"speed_m_s": r["speed_m_s"], **basis} for r in rows},
+            "loads_per_hour_per_propeller": operated["loads_per_hour"],
+            "loads_per_km_per_propeller": operated["loads_per_km"],
+        }
+    return {
+        "warnings": [
+            note.removeprefix("warning: ") for note in summary["notes"] if note.startswith("warning")
+        ],
+        "rates": rates,
+        "pitches": pitches,
+        "rule_form": {"operated": {"torque_knm": summary["rule_form"]["torque_knm"]}},
+    }
+
+
+def _write_report(temp: Path, summary: dict, rows: list[dict], spectra: dict, loads: dict) -> None:
+    from floebreak.report import render_voyage_report
+
+    title = f"floebreak voyage {summary['provenance'].get('log', '')}"
+    view = propeller_view(summary, rows, loads)
+    text = render_voyage_report(title, summary["notes"], _json(view), temp / "figures", VOYAGE_FIGURES)
+    (temp / "report.html").write_text(text, encoding="utf-8")
