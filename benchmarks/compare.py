@@ -5,19 +5,29 @@ against one from another day. This script checks the other commit out into a tem
 alternates the two versions round by round, each round a child process per version (the default profile on
 the reference field, `simulate` alone, best of `--runs`), so both see the same phase of the machine.
 
-Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]`
-(REV: any git revision, e.g. a commit or `HEAD~3`). The other commit's kernels are compiled once in its
-worktree first (≈ 10 s, not timed).
+With `--end-to-end` each round instead runs the command line as a user does, `floebreak run
+examples/reference.toml --quiet` on the field size given (default then 1 km × 200 m), one child process per
+run (wall time, best of `--runs`): start-up, field, simulation and the whole run directory with figures and
+report. The child starts the console command's entry point of its version (`_floebreak_entry:main` where
+that module exists, else `floebreak.cli:main`); both sides' sources are compiled to bytecode first, as an
+installed copy is.
+
+Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]
+[--end-to-end]` (REV: any git revision, e.g. a commit or `HEAD~3`). Both sides' kernels are compiled
+first (≈ 10 s, not timed).
 """
 
 from __future__ import annotations
 
 import argparse
+import compileall
+import json
 import os
 import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -46,6 +56,40 @@ for _ in range(runs):
 print(best, result.n_breaks)
 """
 
+COMPILE = "from floebreak.mechanics import compile_kernels; compile_kernels()"
+
+END_TO_END = """
+import importlib, sys
+entry, sys.argv = sys.argv[1], ["floebreak", *sys.argv[2:]]
+importlib.import_module(entry).main()
+"""
+
+
+def _run_end_to_end(src: Path, args: argparse.Namespace) -> tuple[float, int]:
+    """Wall time of the best of `args.runs` CLI runs of the 1 km reference (one child process each)."""
+    env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+    # the installed venv may see another checkout's `_floebreak_entry`: choose by this side's files
+    entry = "_floebreak_entry" if (src / "_floebreak_entry.py").exists() else "floebreak.cli"
+    best = float("inf")
+    with tempfile.TemporaryDirectory(prefix="floebreak-compare-run-") as tmp:
+        for run in range(args.runs):
+            out = Path(tmp) / f"run{run}"
+            command = [
+                *("run", str(ROOT / "examples" / "reference.toml"), "--quiet", "--out", str(out)),
+                *("--set", f"field.length_m={args.length_m}", "--set", f"field.width_m={args.width_m}"),
+            ]
+            start = time.perf_counter()
+            subprocess.run(
+                [sys.executable, "-c", END_TO_END, entry, *command],
+                env=env,
+                cwd=src.parent,
+                check=True,
+                capture_output=True,
+            )
+            best = min(best, time.perf_counter() - start)
+            breaks = json.loads((out / "summary.json").read_text())["n_breaks"]
+    return best, breaks
+
 
 def _run(src: Path, args: argparse.Namespace) -> tuple[float, int]:
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
@@ -65,25 +109,35 @@ def main() -> None:
     parser.add_argument("rev", help="the git revision to compare with")
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--runs", type=int, default=5, help="runs per child process (best is kept)")
-    parser.add_argument("--length-m", type=float, default=400.0)
-    parser.add_argument("--width-m", type=float, default=50.0)
+    parser.add_argument("--length-m", type=float, default=None, help="default 400 m (1 000 m end to end)")
+    parser.add_argument("--width-m", type=float, default=None, help="default 50 m (200 m end to end)")
+    parser.add_argument("--end-to-end", action="store_true", help="time the command line's whole run")
     args = parser.parse_args()
+    if args.length_m is None:
+        args.length_m = 1000.0 if args.end_to_end else 400.0
+    if args.width_m is None:
+        args.width_m = 200.0 if args.end_to_end else 50.0
+    run = _run_end_to_end if args.end_to_end else _run
     with tempfile.TemporaryDirectory(prefix="floebreak-compare-") as tmp:
         other = Path(tmp) / "worktree"
         worktree = ["git", "worktree", "add", "--detach", "-q", str(other), args.rev]
         subprocess.run(worktree, cwd=ROOT, check=True)
         try:
             sides = {args.rev: other / "src", "working tree": ROOT / "src"}
-            subprocess.run(  # compile the other commit's kernels before timing
-                [sys.executable, "-c", "from floebreak.mechanics import compile_kernels; compile_kernels()"],
-                env={**os.environ, "PYTHONPATH": str(sides[args.rev])},
-                cwd=other,
-                check=True,
-            )
+            for src in sides.values():  # numba caches per source path: compile both before timing
+                subprocess.run(
+                    [sys.executable, "-c", COMPILE],
+                    env={**os.environ, "PYTHONPATH": str(src)},
+                    cwd=src.parent,
+                    check=True,
+                )
+            if args.end_to_end:  # as an installed copy: no compilation to bytecode at each start
+                for src in sides.values():
+                    compileall.compile_dir(src, quiet=1)
             best: dict[str, list[float]] = {name: [] for name in sides}
             for round_ in range(1, args.rounds + 1):
                 for name, src in sides.items():
-                    seconds, breaks = _run(src, args)
+                    seconds, breaks = run(src, args)
                     best[name].append(seconds)
                     print(f"round {round_}: {name:>14}  {seconds:.3f} s  ({breaks} breaks)", flush=True)
             medians = {name: statistics.median(values) for name, values in best.items()}
