@@ -7,7 +7,6 @@ size-effect law BZ, bow `agulhas_ii`, x_step 0.25 m, profile `default`. Goals: 4
 
 from __future__ import annotations
 
-import gc
 import time
 
 import numpy as np
@@ -48,7 +47,6 @@ if __name__ == "__main__":
     kernel_start = time.perf_counter()
     compile_kernels()  # one-off per process (compiles on a machine's first use, then loads numba's cache)
     print(f"numba kernels ready in {time.perf_counter() - kernel_start:.2f} s (not in the figures below)")
-    gc.freeze()  # as the CLI does at start: full collections in the run skip the imported modules' objects
     run(400.0, 50.0)
     run(400.0, 50.0, profile="thesis")
     run(1000.0, 200.0)

@@ -7,7 +7,6 @@ evaluations per second. Run: `.venv/bin/python benchmarks/contact_engine.py`.
 
 from __future__ import annotations
 
-import gc
 import time
 
 import numpy as np
@@ -45,6 +44,5 @@ if __name__ == "__main__":
     kernel_start = time.perf_counter()
     compile_kernels()  # one-off per process (compiles on a machine's first use, then loads numba's cache)
     print(f"numba kernels ready in {time.perf_counter() - kernel_start:.2f} s (not in the figures below)")
-    gc.freeze()  # as the CLI does at start: full collections in the run skip the imported modules' objects
     run(400.0, 50.0)
     run(1000.0, 200.0)

@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import atexit
-import gc
 import sys
-from contextlib import contextmanager, nullcontext
+from contextlib import nullcontext
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
@@ -201,30 +199,6 @@ def _save_failed_scenario(out: Path, scenario, error: BaseException) -> Path | N
     return path
 
 
-@contextmanager
-def _collector_paused():
-    """The garbage collector off while the block runs, then everything alive frozen out of its reach: for
-    imports and kernel loading, whose objects live as long as the process and which the collector would
-    otherwise walk again and again while they are created (`_floebreak_entry` does the same for the
-    command line's own import; it lies outside the package, so it cannot use this)."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.freeze()
-        if enabled:
-            gc.enable()
-
-
-def _import_engine():
-    """`floebreak.api` and the engine's libraries (numba, scipy.optimize, shapely, pyarrow: ≈ 100 000
-    tracked objects), imported with the collector paused."""
-    with _collector_paused():
-        from floebreak import api
-    return api
-
-
 def _prepare_kernels(quiet: bool) -> None:
     """Load the numba kernels before the progress bar starts: ≈ 0.2 s from numba's on-disk cache, but a
     machine's first run compiles them (≈ 10–20 s), which would otherwise look like a run stuck at 0 %."""
@@ -234,8 +208,8 @@ def _prepare_kernels(quiet: bool) -> None:
 
     message = "loading the compiled kernels (a machine's first run compiles them once, ≈ 10–20 s)"
     started = time.perf_counter()
-    with nullcontext() if quiet else err_console.status(message), _collector_paused():
-        compile_kernels()  # numba's typing registries live as long as the process
+    with nullcontext() if quiet else err_console.status(message):
+        compile_kernels()
     seconds = time.perf_counter() - started
     if seconds > 3.0 and not quiet:
         err_console.print(f"compiled the numba kernels in {seconds:.0f} s (cached for later runs)")
@@ -249,8 +223,8 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     """
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    api = _import_engine()
-    check_output_directory, run_scenario = api.check_output_directory, api.run
+    from floebreak.api import check_output_directory
+    from floebreak.api import run as run_scenario
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
     _prepare_kernels(quiet)
@@ -827,19 +801,12 @@ def _root(
 
 def main() -> None:
     """Entry point. A user error (InputError) prints one line naming the field and exits with code 2."""
-    # At exit, skip the interpreter's final garbage collections over every object still alive (imported
-    # modules, the run's data): ≈ 0.3 s after a 1 km run, and every output file is closed by then.
-    atexit.unregister(gc.freeze)  # registered once, however often main() runs in one process
-    atexit.register(gc.freeze)
-    # Likewise for the imported modules' objects during the command: each full collection would walk them
-    # again (≈ 0.1 s in the simulation and 0.1 s in writing the run directory of a 1 km run).
-    gc.freeze()
-    # A run allocates many short-lived objects and creates few reference cycles: collecting the youngest
-    # generation every 50 000 allocations instead of 700 cuts the collector's time in a 1 km run from
-    # 0.22–0.26 s (310 collections) to 0.11–0.13 s (3), for ≈ 4 MB more peak memory.
-    gc.set_threshold(50_000, 20, 10)
     try:
         app()
     except InputError as error:
         err_console.print(f"[bold red]error:[/] {escape(str(error))}", soft_wrap=True, highlight=False)
         sys.exit(2)
+
+
+if __name__ == "__main__":  # `python -m floebreak.cli`, as the console command
+    main()
