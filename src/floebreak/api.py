@@ -44,7 +44,6 @@ from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.io.atomic import atomic_directory
-from floebreak.io.figures import savefig
 from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, arrow_array, to_json, write_geoparquet
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.results import (
@@ -573,13 +572,8 @@ def _write_contacts(path: Path, contacts: Mapping[str, np.ndarray], metadata: Ma
 
 
 def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
-    savefig(
-        figure,
-        path,
-        format="png",
-        dpi=150,
-        metadata={"Software": f"floebreak {meta['floebreak_version']}", "Description": to_json(dict(meta))},
-    )
+    text = {"Software": f"floebreak {meta['floebreak_version']}", "Description": to_json(dict(meta))}
+    figure.savefig(path, format="png", dpi=150, metadata=text)
 
 
 def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path:
