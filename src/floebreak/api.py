@@ -44,7 +44,7 @@ from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.io.atomic import atomic_directory
-from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, arrow_array, to_json, write_geoparquet
+from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, to_json, write_geoparquet
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.results import (
     ContactRecorder,
@@ -557,13 +557,12 @@ def pieces_table(simulation: SimulationResult, contacts: Mapping[str, np.ndarray
 
 
 def _write_table(path: Path, columns: Mapping[str, Any], metadata: Mapping[str, Any]) -> None:
-    geometry = columns["geometry"]
-    rest = {k: (v.tolist() if v.dtype == object else v) for k, v in columns.items() if k != "geometry"}
-    write_geoparquet(path, geometry, rest, metadata)
+    rest = {k: v for k, v in columns.items() if k != "geometry"}
+    write_geoparquet(path, columns["geometry"], rest, metadata)
 
 
 def _write_contacts(path: Path, contacts: Mapping[str, np.ndarray], metadata: Mapping[str, Any]) -> None:
-    arrays = {k: arrow_array(v) for k, v in contacts.items()}
+    arrays = {k: pa.array(v) for k, v in contacts.items()}
     arrays = {k: (v.cast(pa.string()) if pa.types.is_null(v.type) else v) for k, v in arrays.items()}
     table = pa.table(arrays).replace_schema_metadata(
         {FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode()}
