@@ -15,9 +15,8 @@ with M = −P ℓ ξ W'' and the surface stress σ = −(6 P/(θ h²)) W''. From
 `solve_wedge` solves the boundary-value problem with `scipy.integrate.solve_bvp` (physics-notes §1.2).
 The shipped table `floebreak/data/nevel_table.csv` (written by `scripts/generate_nevel_table.py`) holds
 these four functions on a ρ-grid; the interpolating functions use PCHIP in t = ρ^(1/3), which makes the
-small-ρ behaviour S ≈ 1 − a ρ^(2/3), ξ_σ ≈ c ρ^(1/3) smooth (physics-notes §1.1, §1.2 step 4). The PCHIP
-is `Pchip` (numpy; the same coefficients as scipy's `PchipInterpolator`), and scipy is imported only to
-solve the wedge, so reading the table does not import `scipy.interpolate`/`scipy.integrate` at start-up.
+small-ρ behaviour S ≈ 1 − a ρ^(2/3), ξ_σ ≈ c ρ^(1/3) smooth (physics-notes §1.1, §1.2 step 4), with
+scipy's `PchipInterpolator`.
 
 Out of range: ρ < 0 (and non-finite ρ) raise InputError. ρ = 0 is the analytic point-load limit
 (S = 1, ξ_σ = 0). Beyond the last table point ρ_max the functions continue with the semi-infinite beam
@@ -39,6 +38,9 @@ from typing import Final, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.integrate import solve_bvp
+from scipy.interpolate import PchipInterpolator
+from scipy.optimize import minimize_scalar
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
@@ -136,8 +138,6 @@ def _bc_jacobian(ya: np.ndarray, yb: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 def _refine_max(func, xs: np.ndarray, values: np.ndarray) -> tuple[float, float]:
     """Location and value of max |func| sampled as `values` on `xs`, refined by bounded Brent search."""
-    from scipy.optimize import minimize_scalar  # only for solving (regenerating the table): not at start-up
-
     i = int(np.argmax(np.abs(values)))
     lo = xs[max(i - 1, 0)]
     hi = xs[min(i + 1, xs.size - 1)]
@@ -166,8 +166,6 @@ def solve_wedge(
     with a bounded scalar search. ρ0 = 0 is solved directly (the ξ = 0 limit W'' = u' is built into the
     right-hand side); there S = 1 and ξ_σ = 0 exactly.
     """
-    from scipy.integrate import solve_bvp  # only for solving (regenerating the table): not at start-up
-
     rho = require_range("rho0", rho0, low=0.0, low_inclusive=True, high=1e6)
     require_range("domain_length", domain_length, low=4.0)
     sol = None
@@ -250,86 +248,43 @@ def load_table() -> dict[str, np.ndarray]:
     return table
 
 
-@dataclass(frozen=True, eq=False)
-class Pchip:
-    """Monotone piecewise-cubic Hermite interpolant (Fritsch–Carlson), the same as SciPy's
-    `PchipInterpolator` for 1-D data, without importing `scipy.interpolate` at start-up.
-
-    Derivatives: zero where the neighbouring slopes differ in sign or one is zero, else the weighted
-    harmonic mean of the two slopes (w₁ = 2h_k + h_(k−1), w₂ = h_k + 2h_(k−1)); at the ends the one-sided
-    three-point estimate, set to zero if its sign differs from the end slope's and limited to 3× the end
-    slope where the first two slopes differ in sign (Moler, *Numerical Computing with MATLAB* §3.6; SciPy's
-    `_edge_case`). Coefficients of each interval highest power first (SciPy's `PPoly` layout), computed with
-    the operations of SciPy's `CubicHermiteSpline`, so they are the same floats. Evaluation outside
-    [x₀, x_(n−1)] extrapolates with the end pieces.
-    """
-
-    x: np.ndarray  # breakpoints, strictly increasing, at least three
-    c: np.ndarray  # (4, n − 1): c[0] s³ + c[1] s² + c[2] s + c[3], s = t − x_i on [x_i, x_(i+1))
-
-    @classmethod
-    def fit(cls, x: ArrayLike, y: ArrayLike) -> Pchip:
-        x = np.asarray(x, dtype=float)
-        y = np.asarray(y, dtype=float)
-        if x.ndim != 1 or x.shape != y.shape or x.size < 3:
-            raise ValueError("Pchip.fit needs 1-D x and y of the same length, at least three points")
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-            raise ValueError("Pchip.fit needs finite x and y")
-        h = np.diff(x)
-        if np.any(h <= 0.0):
-            raise ValueError("Pchip.fit needs strictly increasing x")
-        m = (y[1:] - y[:-1]) / h
-        sign = np.sign(m)
-        flat = (sign[1:] != sign[:-1]) | (m[1:] == 0.0) | (m[:-1] == 0.0)
-        w1 = 2.0 * h[1:] + h[:-1]
-        w2 = h[1:] + 2.0 * h[:-1]
-        with np.errstate(divide="ignore", invalid="ignore"):  # only where `flat`, which is not used
-            harmonic = (w1 / m[:-1] + w2 / m[1:]) / (w1 + w2)
-        d = np.zeros_like(y)
-        d[1:-1][~flat] = 1.0 / harmonic[~flat]
-        d[0] = _pchip_end_slope(h[0], h[1], m[0], m[1])
-        d[-1] = _pchip_end_slope(h[-1], h[-2], m[-1], m[-2])
-        t = (d[:-1] + d[1:] - 2.0 * m) / h
-        return cls(x=x, c=np.stack((t / h, (m - d[:-1]) / h - t, d[:-1], y[:-1])))
-
-    def __call__(self, t: ArrayLike) -> np.ndarray:
-        """Values at `t` (array): s = t − x_i in the interval x_i ≤ t < x_(i+1) (the end pieces outside),
-        c[3] + c[2] s + c[1] s² + c[0] s³ summed in that order, as `_pchip_at` and SciPy's `PPoly`."""
-        t = np.asarray(t, dtype=float)
-        i = np.clip(np.searchsorted(self.x, t, side="right") - 1, 0, self.x.size - 2)
-        s = t - self.x[i]
-        s2 = s * s
-        c0, c1, c2, c3 = self.c[:, i]
-        return c3 + c2 * s + c1 * s2 + c0 * (s2 * s)
-
-
-def _pchip_end_slope(h0: float, h1: float, m0: float, m1: float) -> float:
-    """One-sided three-point derivative at an end of a PCHIP, shape-preserving (`Pchip`)."""
-    d = ((2.0 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
-    if np.sign(d) != np.sign(m0):
-        return 0.0
-    if np.sign(m0) != np.sign(m1) and abs(d) > 3.0 * abs(m0):
-        return 3.0 * m0
-    return d
-
-
 @dataclass(frozen=True)
 class _Interpolants:
     rho_max: float
-    stress_factor: Pchip
-    xi_sigma_offset: Pchip  # ξ_σ − ρ
-    max_moment: Pchip
-    xi_m_offset: Pchip  # ξ_M − ρ
+    # PCHIPs in t = ρ^(1/3) of S, ξ_σ − ρ, m_max and ξ_M − ρ
+    stress_factor: PchipInterpolator
+    xi_sigma_offset: PchipInterpolator
+    max_moment: PchipInterpolator
+    xi_m_offset: PchipInterpolator
     # 1/ρ corrections of the beam asymptote, matched at rho_max
     tail_stress: float
     tail_xi_sigma: float
     tail_moment: float
     tail_xi_m: float
-    # the same four PCHIPs as plain floats for one-point evaluation (`_pchip_at`): the breakpoints in
-    # t = ρ^(1/3) (shared) and, per function ("S", "xi_sigma", "m_max", "xi_M"), the cubic coefficients of
-    # each interval, highest power first (scipy's PPoly layout)
-    knots: tuple[float, ...]
-    pieces: dict[str, tuple[tuple[float, float, float, float], ...]]
+
+    def at(self, rho: float, which: str) -> float:
+        """`_evaluate` for one ρ ≥ 0 as a float, for the bending check's hot path: scipy's per-call array
+        overhead there costs > 5 % of a run (benchmarks/README.md, simplification table)."""
+        if rho > self.rho_max:
+            return float(_evaluate(rho, which))
+        pchip = {"S": self.stress_factor, "xi_sigma": self.xi_sigma_offset, "m_max": self.max_moment}.get(
+            which, self.xi_m_offset
+        )
+        value = _cubic_piece(pchip, float(np.cbrt(rho)))
+        if which == "xi_sigma":
+            return 0.0 if rho == 0.0 else rho + value
+        return rho + value if which == "xi_M" else value
+
+
+def _cubic_piece(pchip: PchipInterpolator, t: float) -> float:
+    """``pchip(t)`` for one t inside the breakpoints, from its public coefficients (`PPoly.c`, highest power
+    first) in the order of scipy's evaluation, so the same float."""
+    x = pchip.x
+    i = min(max(bisect.bisect_right(x, t) - 1, 0), len(x) - 2)
+    c0, c1, c2, c3 = pchip.c[:, i].tolist()
+    s = t - float(x[i])
+    s2 = s * s
+    return c3 + c2 * s + c1 * s2 + c0 * (s2 * s)
 
 
 @functools.lru_cache(maxsize=1)
@@ -342,24 +297,16 @@ def _interpolants() -> _Interpolants:
     xs_end = float(table["xi_sigma"][-1]) - rho_max
     m_end = float(table["m_max"][-1])
     xm_end = float(table["xi_M"][-1]) - rho_max
-    interpolants = {
-        "S": Pchip.fit(t, table["stress_factor_S"]),
-        "xi_sigma": Pchip.fit(t, table["xi_sigma"] - rho),
-        "m_max": Pchip.fit(t, table["m_max"]),
-        "xi_M": Pchip.fit(t, table["xi_M"] - rho),
-    }
     return _Interpolants(
         rho_max=rho_max,
-        stress_factor=interpolants["S"],
-        xi_sigma_offset=interpolants["xi_sigma"],
-        max_moment=interpolants["m_max"],
-        xi_m_offset=interpolants["xi_M"],
+        stress_factor=PchipInterpolator(t, table["stress_factor_S"]),
+        xi_sigma_offset=PchipInterpolator(t, table["xi_sigma"] - rho),
+        max_moment=PchipInterpolator(t, table["m_max"]),
+        xi_m_offset=PchipInterpolator(t, table["xi_M"] - rho),
         tail_stress=(rho_max * s_end - BEAM_LIMIT_MAX_MOMENT) * rho_max,
         tail_xi_sigma=(xs_end - BEAM_LIMIT_MAX_MOMENT_OFFSET) * rho_max,
         tail_moment=(m_end - BEAM_LIMIT_MAX_MOMENT) * rho_max,
         tail_xi_m=(xm_end - BEAM_LIMIT_MAX_MOMENT_OFFSET) * rho_max,
-        knots=tuple(float(v) for v in interpolants["S"].x),
-        pieces={name: tuple(map(tuple, pp.c.T.tolist())) for name, pp in interpolants.items()},
     )
 
 
@@ -372,41 +319,8 @@ def _check_rho(rho: ArrayLike) -> np.ndarray:
     return arr
 
 
-def _pchip_at(knots: tuple[float, ...], pieces: tuple[tuple[float, ...], ...], t: float) -> float:
-    """One value of a PCHIP from its cubic pieces: the operations of scipy's `PPoly` evaluation (interval
-    x_i ≤ t < x_(i+1), extrapolating with the end pieces; c3 + c2 s + c1 s² + c0 s³ summed in that order,
-    s = t − x_i), so the float is the same, without scipy's per-call array overhead."""
-    i = min(max(bisect.bisect_right(knots, t) - 1, 0), len(knots) - 2)
-    c0, c1, c2, c3 = pieces[i]
-    s = t - knots[i]
-    s2 = s * s
-    return c3 + c2 * s + c1 * s2 + c0 * (s2 * s)
-
-
-def _evaluate_scalar(rho: float, which: str) -> float:
-    """`_evaluate` for one ρ ≥ 0 given as a float (the hot path of the bending check): the same formulas."""
-    ip = _interpolants()
-    if rho <= ip.rho_max:
-        value = _pchip_at(ip.knots, ip.pieces[which], float(np.cbrt(rho)))
-    elif which == "S":
-        return (BEAM_LIMIT_MAX_MOMENT + ip.tail_stress / rho) / rho
-    elif which == "xi_sigma":
-        value = BEAM_LIMIT_MAX_MOMENT_OFFSET + ip.tail_xi_sigma / rho
-    elif which == "m_max":
-        return BEAM_LIMIT_MAX_MOMENT + ip.tail_moment / rho
-    else:
-        value = BEAM_LIMIT_MAX_MOMENT_OFFSET + ip.tail_xi_m / rho
-    if which == "xi_sigma":
-        return 0.0 if rho == 0.0 else rho + value
-    if which == "xi_M":
-        return rho + value
-    return value
-
-
 def _evaluate(rho: ArrayLike, which: str) -> np.ndarray | float:
     arr = _check_rho(rho)
-    if arr.ndim == 0:
-        return _evaluate_scalar(float(arr), which)
     ip = _interpolants()
     inside = arr <= ip.rho_max
     t = np.cbrt(np.where(inside, arr, ip.rho_max))
@@ -421,7 +335,7 @@ def _evaluate(rho: ArrayLike, which: str) -> np.ndarray | float:
         out = np.where(inside, ip.max_moment(t), BEAM_LIMIT_MAX_MOMENT + ip.tail_moment / big)
     else:
         out = arr + np.where(inside, ip.xi_m_offset(t), BEAM_LIMIT_MAX_MOMENT_OFFSET + ip.tail_xi_m / big)
-    return out
+    return _as_output(out)
 
 
 def stress_factor(rho: ArrayLike) -> np.ndarray | float:
@@ -607,6 +521,6 @@ def capacity_and_breaking_distance(
     else:
         if model == "thesis_per_wedge":
             theta = require_range("wedge_angle_rad", wedge_angle_rad, low=0.0, high=2.0 * math.pi, unit="rad")
-        capacity = sigma_f * theta * (h * h) / (6.0 * _evaluate_scalar(rho, "S"))
-    xi = _evaluate_scalar(rho, "xi_sigma" if mode == "max_stress" else "xi_M")
+        capacity = sigma_f * theta * (h * h) / (6.0 * _interpolants().at(rho, "S"))
+    xi = _interpolants().at(rho, "xi_sigma" if mode == "max_stress" else "xi_M")
     return capacity, xi * ell
