@@ -8,36 +8,46 @@ so a failure leaves nothing; every input is checked before anything is written.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import shutil
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
 from floebreak.errors import InputError, require_range
+from floebreak.io.atomic import atomic_path
 from floebreak.plotting.animation import MAX_FRAMES, Transit, TransitFigure, frame_steps
 
 FORMATS = ("gif", "mp4")
 PIECE_COLUMNS = ("piece_id", "parent_piece_id", "fate", "created_step", "ended_step")
 RERUN_HINT = "a complete run directory written by this version of floebreak"
+Progress = Callable[[int, int], None] | None
 
 
-def _gif_writer(fps: int, view: TransitFigure):
-    from matplotlib.animation import PillowWriter
+def _write_gif(view: TransitFigure, steps: list[int], path: Path, fps: int, progress: Progress) -> None:
+    """Frames as 256-colour palette images (as a GIF stores them; ⅓ of the RGB memory), written by Pillow
+    with the options of matplotlib's PillowWriter."""
     from PIL import Image
 
-    class PalettePillowWriter(PillowWriter):
-        """PillowWriter that grabs the Agg buffer directly (no savefig round trip per frame) and keeps each
-        frame as a 256-colour palette image (GIF stores palette images anyway; ⅓ of the RGB memory)."""
+    frames = []
+    for done, step in enumerate(steps, start=1):
+        view.draw(step)
+        frames.append(Image.fromarray(view.render_rgb()).quantize(256, method=Image.Quantize.FASTOCTREE))
+        if progress is not None:
+            progress(done, len(steps))
+    duration_ms = int(1000 / fps)
+    frames[0].save(path, format="GIF", save_all=True, append_images=frames[1:], duration=duration_ms, loop=0)
 
-        def grab_frame(self, **savefig_kwargs):
-            image = Image.fromarray(view.render_rgb())
-            self._frames.append(image.quantize(256, method=Image.Quantize.FASTOCTREE))
 
-    return PalettePillowWriter(fps=fps)
+def _write_mp4(view: TransitFigure, steps: list[int], path: Path, fps: int, progress: Progress) -> None:
+    writer = _mp4_writer(fps)
+    with writer.saving(view.figure, str(path), dpi=view.figure.dpi):
+        for done, step in enumerate(steps, start=1):
+            view.draw(step)
+            writer.grab_frame()
+            if progress is not None:
+                progress(done, len(steps))
 
 
 def _mp4_writer(fps: int):
@@ -138,25 +148,6 @@ def load_transit(run_dir: str | os.PathLike[str]) -> tuple[Transit, str]:
     return transit, f"{name}, profile {scenario.profile}, seed {scenario.seed}"
 
 
-@contextlib.contextmanager
-def _atomic_file_with_suffix(out: Path):
-    """Like `floebreak.io.atomic.atomic_path`, but the temporary name keeps the suffix: Pillow and ffmpeg
-    choose the file format from it."""
-    handle, name = tempfile.mkstemp(prefix=f".{out.name}.tmp-", suffix=out.suffix, dir=out.parent)
-    os.close(handle)
-    temp = Path(name)
-    try:
-        yield temp
-        umask = os.umask(0)
-        os.umask(umask)
-        temp.chmod(0o666 & ~umask)  # mkstemp makes it private; the animation is an ordinary file
-        os.replace(temp, out)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            temp.unlink()
-        raise
-
-
 def animate_run_directory(
     run_dir: str | os.PathLike[str],
     out: str | os.PathLike[str] | None = None,
@@ -193,12 +184,7 @@ def animate_run_directory(
     if not steps:
         raise InputError("run_dir", "the run has no steps to show", allowed=RERUN_HINT)
     view = TransitFigure(transit, window_m=window_m, title=label)
-    writer = _gif_writer(fps, view) if fmt == "gif" else _mp4_writer(fps)
-    with _atomic_file_with_suffix(out_path) as temp:
-        with writer.saving(view.figure, str(temp), dpi=view.figure.dpi):
-            for done, step in enumerate(steps, start=1):
-                view.draw(step)
-                writer.grab_frame()
-                if progress is not None:
-                    progress(done, len(steps))
+    write = _write_gif if fmt == "gif" else _write_mp4
+    with atomic_path(out_path, field="out", keep_suffix=True) as temp:
+        write(view, steps, temp, fps, progress)
     return out_path, len(steps)

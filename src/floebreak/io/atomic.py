@@ -31,11 +31,17 @@ def _umask() -> int:
 
 
 @contextlib.contextmanager
-def atomic_path(path: str | os.PathLike[str], field: str = "output") -> Iterator[Path]:
-    """Yield a temporary path next to `path`; on success rename it onto `path`, else delete it."""
+def atomic_path(
+    path: str | os.PathLike[str], field: str = "output", keep_suffix: bool = False
+) -> Iterator[Path]:
+    """Yield a temporary path next to `path`; on success rename it onto `path`, else delete it.
+
+    `keep_suffix`: the temporary name ends with `path`'s suffix (for writers that choose the format by it,
+    such as Pillow and ffmpeg)."""
     final = Path(path)
     _check_parent_writable(final, field)
-    handle, temp_name = tempfile.mkstemp(prefix=f".{final.name}.tmp-", dir=final.parent or ".")
+    suffix = final.suffix if keep_suffix else ""
+    handle, temp_name = tempfile.mkstemp(prefix=f".{final.name}.tmp-", suffix=suffix, dir=final.parent or ".")
     os.close(handle)
     temp = Path(temp_name)
     try:
