@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import importlib
 import json
+import os
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -123,6 +125,16 @@ def test_run_directory_contents(small_run):
     assert SUMMARY_KEYS <= set(summary)
     assert summary["floebreak_version"] == floebreak.__version__
     assert summary["provenance"]["scenario"]["seed"] == 1
+
+
+def test_run_directory_is_readable_like_any_other_files(small_run):
+    # temporary files and directories are private (0600/0700); the finished run has the umask's modes
+    _, out = small_run
+    umask = os.umask(0)
+    os.umask(umask)
+    for path in [out, *out.rglob("*")]:
+        expected = (0o777 if path.is_dir() else 0o666) & ~umask
+        assert stat.S_IMODE(path.stat().st_mode) == expected, path
 
 
 def test_parquet_files_are_geoparquet_with_provenance(small_run):

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import os
 import time
 from collections.abc import Iterable, Mapping
@@ -44,7 +43,8 @@ from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.io.atomic import atomic_directory
-from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, to_json, write_geoparquet
+from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, write_geoparquet
+from floebreak.io.jsonable import jsonable, to_json
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.results import (
     ContactRecorder,
@@ -315,19 +315,6 @@ def as_scenario(
 
 
 # --- the result -----------------------------------------------------------------------------------------
-
-
-def _json_safe(value: Any) -> Any:
-    """NaN/inf → None (strict JSON), recursively."""
-    if isinstance(value, float | np.floating):
-        return float(value) if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {k: _json_safe(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_json_safe(v) for v in value]
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
 
 
 @dataclass(frozen=True, eq=False)
@@ -617,7 +604,7 @@ def write_run_directory(
         sim = result.simulation
         stepping = {"x_start_m": sim.params.x_start_m, "step_m": sim.params.step_m, "n_steps": sim.n_steps}
         _write_table(temp / PIECES_FILE, result.pieces, {**result.provenance("pieces"), **stepping})
-        summary_doc = {**_json_safe(result.summary), "provenance": result.provenance("summary")}
+        summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
         (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
         header = (
             f"# resolved scenario written by floebreak {floebreak_version()}; "
@@ -634,14 +621,4 @@ def write_run_directory(
             from floebreak.report import write_report
 
             write_report(temp, directory_name=directory_name or out.name)
-        _normal_permissions(temp)
     return out
-
-
-def _normal_permissions(root: Path) -> None:
-    """Temporary files and directories are private (0600/0700); give the finished run the umask's modes."""
-    umask = os.umask(0)
-    os.umask(umask)
-    root.chmod(0o777 & ~umask)
-    for path in root.rglob("*"):
-        path.chmod((0o777 if path.is_dir() else 0o666) & ~umask)

@@ -12,7 +12,8 @@ import shapely
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField
 from floebreak.io.atomic import atomic_path
-from floebreak.io.geoparquet import read_geoparquet, to_json, write_geoparquet
+from floebreak.io.geoparquet import read_geoparquet, write_geoparquet
+from floebreak.io.jsonable import jsonable
 from floebreak.io.provenance import provenance
 
 _REQUIRED_COLUMNS = ("floe_id", "thickness_m")
@@ -93,7 +94,7 @@ def export_geojson(floe_field: FloeField, path: str | os.PathLike[str], field: s
     document = {
         "type": "FeatureCollection",
         "features": features,
-        "floebreak": json.loads(to_json(provenance(domain_m=list(floe_field.domain_m)))),
+        "floebreak": jsonable(provenance(domain_m=list(floe_field.domain_m))),
     }
     with atomic_path(path, field=field) as temp:
         temp.write_text(json.dumps(document), encoding="utf-8")

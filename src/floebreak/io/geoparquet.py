@@ -20,23 +20,10 @@ import shapely
 
 from floebreak.errors import InputError
 from floebreak.io.atomic import atomic_path
+from floebreak.io.jsonable import to_json
 
 GEO_METADATA_KEY = b"geo"
 FLOEBREAK_METADATA_KEY = b"floebreak"
-
-
-def _json_default(value: Any) -> Any:
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, Path):
-        return str(value)
-    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
-
-
-def to_json(value: Any) -> str:
-    return json.dumps(value, default=_json_default, sort_keys=True)
 
 
 def geoparquet_table(
