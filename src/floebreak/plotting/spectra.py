@@ -3,35 +3,20 @@
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.collections import PolyCollection
 
 from floebreak.plotting.common import CUSP_COLOUR, SPECTRUM_MARGINS_IN, new_figure
 
 
 def _density_bars(ax, values, bin_width, colour, label):
-    """Histogram bars of the probability density of `values` (bins of `bin_width` from 0) with a legend
-    entry `label`. One PolyCollection of the bars, which looks like ``ax.bar`` (faces, black edges, the
-    y axis starting at 0) but is drawn as one artist: ``ax.bar`` makes one patch per bar, ≈ 0.07 s per
-    figure of 100 bars to build and draw."""
+    """Histogram of the probability density of `values` (bins of `bin_width` from 0) as filled stairs,
+    with a legend entry `label`."""
     values = np.asarray(values, dtype=float)
     if values.size == 0:
         ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center")
         return
     top = max(values.max(), bin_width)
-    edges = np.arange(0.0, top + bin_width, bin_width)
-    density, edges = np.histogram(values, bins=edges, density=True)
-    left, right, base = edges[:-1], edges[1:], np.zeros(len(density))
-    corners = [(left, base), (left, density), (right, density), (right, base)]
-    bars = PolyCollection(
-        np.stack([np.stack(corner, axis=1) for corner in corners], axis=1),
-        facecolors=colour,
-        edgecolors="k",
-        linewidths=0.3,
-        label=label,
-    )
-    bars.sticky_edges.y.append(0.0)  # as for bars: no margin below the density axis' zero
-    ax.add_collection(bars)
-    ax.autoscale_view()
+    density, edges = np.histogram(values, bins=np.arange(0.0, top + bin_width, bin_width), density=True)
+    ax.stairs(density, edges, fill=True, facecolor=colour, edgecolor="k", linewidth=0.3, label=label)
 
 
 def plot_crushing_force_spectrum(crushing_force_n, label: str = "floebreak", bin_width_kn: float = 100.0):
