@@ -193,13 +193,6 @@ def test_translated_pieces_are_valid_polygons_of_the_same_area():
     assert not shapely.is_valid(shifted[0])  # pieces not flagged for the check are not looked at
 
 
-def test_the_engine_knows_every_generator():
-    from floebreak.ice.generation import GENERATORS
-    from floebreak.simulation import GENERATED_BY
-
-    assert set(GENERATED_BY) == set(GENERATORS)
-
-
 @pytest.mark.parametrize("generated", [True, False])
 def test_floes_no_generator_made_are_checked_like_broken_pieces(monkeypatch, generated):
     # broken pieces may be nearly degenerate, and so may floes from a user's file or inline floes: those are

@@ -48,6 +48,7 @@ from pydantic_core import PydanticCustomError
 
 from floebreak import constants as c
 from floebreak.errors import InputError
+from floebreak.ship.hulls import HULLS
 
 REFERENCE_OBSERVATION = "2019-12-18T20:20"  # thesis §5.3 reference scenario (Table 1, first row)
 
@@ -81,8 +82,6 @@ size_effect_law = "BZ"               # BZ | BZ1 | BZ2
 Float = Annotated[float, Strict()]
 Int = Annotated[int, Strict()]
 Bool = Annotated[bool, Strict()]
-
-HULL_NAMES = ("agulhas_ii", "polarstern")
 
 
 def _cross(key: str, message: str, allowed: str | None = None) -> PydanticCustomError:
@@ -256,7 +255,7 @@ class IceSection(_Section):
 class ShipSection(_Section):
     """The ship: a built-in parametric hull (physics-notes §6.3) or a bow CSV file; the step (thesis §3.2)."""
 
-    hull: str | None = Field(None, description=f"built-in hull: {', '.join(HULL_NAMES)} (default agulhas_ii)")
+    hull: str | None = Field(None, description=f"built-in hull: {', '.join(HULLS)} (default agulhas_ii)")
     file: Path | None = Field(None, description="bow CSV file (`Bow.from_csv` formats)")
     hull_parameters: dict[str, float | int | str] = Field(
         default_factory=dict, description="keyword overrides of the parametric hull (e.g. beam_m [m])"
@@ -289,11 +288,11 @@ class ShipSection(_Section):
     @field_validator("hull")
     @classmethod
     def _known_hull(cls, value: str | None) -> str | None:
-        if value is not None and value not in HULL_NAMES:
+        if value is not None and value not in HULLS:
             raise PydanticCustomError(
                 "unknown_hull",
                 "unknown hull {value!r}; allowed: {allowed}",
-                {"value": value, "allowed": ", ".join(HULL_NAMES)},
+                {"value": value, "allowed": ", ".join(HULLS)},
             )
         return value
 

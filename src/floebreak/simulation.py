@@ -31,6 +31,7 @@ from floebreak.failure import (
 )
 from floebreak.failure.base import polygon_parts
 from floebreak.ice.field import FloeField
+from floebreak.ice.generation import GENERATORS
 from floebreak.mechanics.classify import Classification, ClassificationParams, classify
 from floebreak.mechanics.contact import (
     BowContactGeometry,
@@ -264,11 +265,6 @@ def _translate(geometry, dx: float):
     return shapely.transform(geometry, lambda xy: xy + np.array([dx, 0.0]))
 
 
-# `floebreak.ice.generation.GENERATORS`, named here so that a run on a given field does not import the
-# packing's scipy.optimize (a test keeps the two equal)
-GENERATED_BY = ("circles", "sqp", "voronoi")
-
-
 def _translate_pieces(polygons: np.ndarray, dx: float, check: np.ndarray | None = None) -> np.ndarray:
     """Pieces moved between the field and the bow frame, each a valid polygon.
 
@@ -369,7 +365,7 @@ def simulate(
     # broken pieces may be nearly degenerate, and so may floes that no generator of ours made (a file, inline
     # floes): those are checked after every translation (`_translate_pieces`); generated floes are not
     n_floes = floe_field.n_floes
-    check_floes = floe_field.metadata.get("generator") not in GENERATED_BY
+    check_floes = floe_field.metadata.get("generator") not in GENERATORS
     emit(RunStarted(n_steps, params.x_start_m, x_end, params.step_m, floe_field.n_floes, shift))
     for step in range(n_steps):
         bow_x = params.x_start_m + step * params.step_m
