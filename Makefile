@@ -9,7 +9,7 @@ STAMP := $(VENV)/.floebreak-installed
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	$(BIN)/python -m pip install --quiet -e ".[dev,cluster]"
 	$(MAKE) --no-print-directory bytecode
 	$(BIN)/python -c "from floebreak.mechanics import compile_kernels; compile_kernels()"
 	touch $(STAMP)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import sys
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -189,8 +190,15 @@ def test_process_pool_and_dask_give_the_serial_results(tmp_path):
 
 
 def test_unreachable_scheduler_is_a_clear_error():
-    with pytest.raises(InputError) as info:
-        DaskExecutor("tcp://127.0.0.1:9")
+    with pytest.raises(InputError, match=r"within 0\.2 s") as info:
+        DaskExecutor("tcp://127.0.0.1:9", timeout_s=0.2)
+    assert info.value.field == "scheduler"
+
+
+def test_a_scheduler_without_dask_installed_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # as if not installed: importing it fails
+    with pytest.raises(InputError, match=r"floebreak\[cluster\]") as info:
+        DaskExecutor("tcp://127.0.0.1:8786")
     assert info.value.field == "scheduler"
 
 

@@ -1,4 +1,5 @@
-"""One executor interface for studies: a local process pool, or a Dask distributed cluster (issue 6 §3).
+"""One executor interface for studies: a local process pool, or a Dask distributed cluster (issue 6 §3;
+Dask is the optional extra ``floebreak[cluster]``).
 
 `Executor.run(fn, items)` yields ``(item, result, error)`` as tasks finish, in completion order. `fn` must be
 a module-level function (picklable); it receives one item and returns a small result. Large outputs never
@@ -69,11 +70,17 @@ class ProcessPoolExecutor:
 class DaskExecutor:
     """Dask distributed: ``address = "local"`` starts a LocalCluster, else ``tcp://host:port`` connects."""
 
-    def __init__(self, address: str, workers: int | None = None):
+    def __init__(self, address: str, workers: int | None = None, timeout_s: float = SCHEDULER_TIMEOUT_S):
         try:
             from distributed import Client, LocalCluster
-        except ImportError as error:  # pragma: no cover - dask[distributed] is a dependency
-            raise InputError("scheduler", f"dask.distributed is not installed: {error}") from None
+        except ImportError:
+            raise InputError(
+                "scheduler",
+                f"{address!r} needs Dask distributed, which is not installed",
+                value=address,
+                allowed="no --scheduler (local process pool), or install the extra: "
+                "pip install 'floebreak[cluster]'",
+            ) from None
         self._cluster = None
         if address == "local":
             self._cluster = LocalCluster(
@@ -85,11 +92,11 @@ class DaskExecutor:
             self._client = Client(self._cluster)
         else:
             try:
-                self._client = Client(address, timeout=SCHEDULER_TIMEOUT_S)
+                self._client = Client(address, timeout=timeout_s)
             except (OSError, TimeoutError) as error:
                 raise InputError(
                     "scheduler",
-                    f"cannot reach the Dask scheduler at {address!r} within {SCHEDULER_TIMEOUT_S:g} s "
+                    f"cannot reach the Dask scheduler at {address!r} within {timeout_s:g} s "
                     f"({error})",
                     value=address,
                     allowed="tcp://HOST:PORT of a running `dask scheduler`, or 'local'",
