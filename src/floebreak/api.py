@@ -43,7 +43,7 @@ from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.io.atomic import atomic_directory
-from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, write_geoparquet
+from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, with_units, write_geoparquet
 from floebreak.io.jsonable import jsonable, to_json
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.results import (
@@ -554,6 +554,7 @@ def _write_contacts(path: Path, contacts: Mapping[str, np.ndarray], metadata: Ma
     table = pa.table(arrays).replace_schema_metadata(
         {FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode()}
     )
+    table = with_units(table)
     pq.write_table(table, path)
 
 

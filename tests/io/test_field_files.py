@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -12,7 +13,7 @@ import shapely
 from floebreak.errors import InputError
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
-from floebreak.io.field_files import export_geojson, load_field, save_field
+from floebreak.io.field_files import DOMAIN_RULE, FieldFileWarning, export_geojson, load_field, save_field
 
 
 @pytest.fixture(scope="module")
@@ -52,3 +53,28 @@ def test_unwritable_output_leaves_nothing(tmp_path, floe_field):
     with pytest.raises(InputError):
         save_field(floe_field, tmp_path / "missing-dir" / "field.parquet")
     assert list(tmp_path.iterdir()) == []
+
+
+def _without_floebreak_metadata(path, out):
+    """The file as another tool (e.g. geopandas) writes it back: the `geo` metadata, no `floebreak` key."""
+    table = pq.read_table(path)
+    metadata = {k: v for k, v in table.schema.metadata.items() if k != b"floebreak"}
+    pq.write_table(table.replace_schema_metadata(metadata), out)
+    return out
+
+
+def test_a_file_without_domain_metadata_warns_and_takes_the_floes_bounds(tmp_path, floe_field):
+    path = _without_floebreak_metadata(save_field(floe_field, tmp_path / "f.parquet"), tmp_path / "g.parquet")
+    with pytest.warns(FieldFileWarning, match="no floebreak domain metadata"):
+        loaded = load_field(path)
+    bounds = shapely.total_bounds(floe_field.polygons)
+    assert loaded.domain_m == tuple(bounds)
+    assert loaded.domain_m != floe_field.domain_m  # the generated domain is larger than the floes' box
+    assert loaded.metadata["domain_rule"] == DOMAIN_RULE
+
+
+def test_a_file_floebreak_wrote_loads_without_warning(tmp_path, floe_field):
+    path = save_field(floe_field, tmp_path / "f.parquet")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert "domain_rule" not in load_field(path).metadata

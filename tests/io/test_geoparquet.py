@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
@@ -41,3 +43,43 @@ def test_a_file_that_is_not_geoparquet_is_refused_naming_the_field(tmp_path):
     pq.write_table(pa.table({"x": [1.0]}), path)
     with pytest.raises(InputError, match=r"field\.file"):
         read_geoparquet(path, field="field.file")
+
+
+def _geo(path) -> dict:
+    return json.loads(pq.read_schema(path).metadata[b"geo"])["columns"]["geometry"]
+
+
+def test_geo_metadata_follows_geoparquet_1_1(tmp_path):
+    polygons = np.array([shapely.box(-1.0, 0.5, 2.0, 3.0), shapely.MultiPolygon([shapely.box(4, 4, 5, 6)])])
+    path = write_geoparquet(tmp_path / "t.parquet", polygons, {"area_m2": shapely.area(polygons)}, {})
+    column = _geo(path)
+    assert column["encoding"] == "WKB" and column["crs"] is None and column["edges"] == "planar"
+    assert column["geometry_types"] == ["MultiPolygon", "Polygon"]
+    assert column["bbox"] == [-1.0, 0.5, 5.0, 6.0]  # [xmin, ymin, xmax, ymax] of both polygons
+
+
+@pytest.mark.parametrize(
+    ("geometry", "types"),
+    [
+        (shapely.Point(1, 2), ["Point"]),
+        (shapely.LineString([(0, 0), (1, 1)]), ["LineString"]),
+        (shapely.LinearRing([(0, 0), (1, 0), (1, 1)]), []),  # no GeoParquet name: "any type"
+    ],
+)
+def test_geometry_types_are_geoparquet_names_or_empty(tmp_path, geometry, types):
+    path = write_geoparquet(tmp_path / "t.parquet", np.array([geometry]), {}, {})
+    assert _geo(path)["geometry_types"] == types
+
+
+def test_an_empty_table_has_no_types_and_no_bbox(tmp_path):
+    path = write_geoparquet(tmp_path / "t.parquet", np.array([], dtype=object), {"area_m2": np.zeros(0)}, {})
+    column = _geo(path)
+    assert column["geometry_types"] == [] and "bbox" not in column
+
+
+def test_units_are_arrow_field_metadata(tmp_path):
+    columns = {"area_m2": np.ones(1), "f_c_n": np.ones(1), "psi_deg": np.ones(1), "step": np.arange(1)}
+    path = write_geoparquet(tmp_path / "t.parquet", np.array([shapely.box(0, 0, 1, 1)]), columns, {})
+    schema = pq.read_schema(path)
+    units = {name: (schema.field(name).metadata or {}).get(b"unit") for name in columns}
+    assert units == {"area_m2": b"m2", "f_c_n": b"N", "psi_deg": b"deg", "step": None}

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +18,11 @@ from floebreak.io.jsonable import jsonable
 from floebreak.io.provenance import provenance
 
 _REQUIRED_COLUMNS = ("floe_id", "thickness_m")
+DOMAIN_RULE = "the bounding box of the floes"
+
+
+class FieldFileWarning(UserWarning):
+    """A field file was loaded, but not exactly as floebreak wrote it (e.g. its domain was inferred)."""
 
 
 def field_columns(floe_field: FloeField) -> dict[str, np.ndarray]:
@@ -35,7 +41,14 @@ def save_field(floe_field: FloeField, path: str | os.PathLike[str], field: str =
 
 
 def load_field(path: str | os.PathLike[str], field: str = "field.file") -> FloeField:
-    """Read a field written by `save_field` (or any GeoParquet with floe_id and thickness_m columns)."""
+    """Read a field written by `save_field` (or any GeoParquet with floe_id and thickness_m columns).
+
+    The domain (x_min, y_min, x_max, y_max) comes from the file's floebreak metadata (``domain_m``). A file
+    without it (another tool's, or one that went through geopandas, which drops that metadata) is loaded with
+    the domain `DOMAIN_RULE`, a `FieldFileWarning`, and ``metadata["domain_rule"]`` recording it: the
+    bounding box of the floes is usually smaller than the generated domain, which moves the bow's start and
+    end (``x_end``) and so changes the results.
+    """
     geometries, columns, meta = read_geoparquet(path, field=field)
     missing = [name for name in _REQUIRED_COLUMNS if name not in columns]
     if missing:
@@ -53,10 +66,18 @@ def load_field(path: str | os.PathLike[str], field: str = "field.file") -> FloeF
     if not np.all(np.isfinite(thickness) & (thickness > 0)):
         bad = int(np.flatnonzero(~(np.isfinite(thickness) & (thickness > 0)))[0])
         raise InputError(field, f"row {bad}: thickness_m = {thickness[bad]!r}", allowed="> 0 m")
+    metadata = {**meta.get("field", {}), "source_file": Path(path).name}
     if "domain_m" in meta:
         domain = tuple(float(v) for v in meta["domain_m"])
     else:
         domain = tuple(float(v) for v in shapely.total_bounds(geometries))
+        metadata["domain_rule"] = DOMAIN_RULE
+        warnings.warn(
+            f"{field}: {str(path)!r} has no floebreak domain metadata (written by another tool, or "
+            f"round-tripped through one); the domain is {DOMAIN_RULE}: {list(domain)} m",
+            FieldFileWarning,
+            stacklevel=2,
+        )
     diameter = columns.get("diameter_class_m", np.full(len(geometries), np.nan))
     return FloeField(
         polygons=geometries,
@@ -64,7 +85,7 @@ def load_field(path: str | os.PathLike[str], field: str = "field.file") -> FloeF
         diameter_class_m=np.asarray(diameter, dtype=float),
         floe_id=np.asarray(columns["floe_id"], dtype=np.int64),
         domain_m=domain,  # type: ignore[arg-type]
-        metadata={**meta.get("field", {}), "source_file": Path(path).name},
+        metadata=metadata,
     )
 
 

@@ -1,8 +1,11 @@
 """GeoParquet 1.1 read/write with pyarrow + shapely WKB.
 
-Coordinates are metres in the ship frame, not a geographic CRS, hence ``"crs": null``. Provenance
-(versions, parameters, seed) is stored as JSON under the schema metadata key ``floebreak``. WKB keeps
-float64 coordinates bit for bit, so a write/read round trip is exact.
+Coordinates are metres in the ship frame, not a geographic CRS, hence ``"crs": null``. The ``geo`` metadata
+names the geometry types present (an empty list where a type has no GeoParquet name, which the
+specification reads as "any type") and the file's bounding box (``bbox``, omitted for an empty table). Each
+column whose name ends in a unit (``area_m2``, ``f_c_n``, `UNIT_SUFFIXES`) carries it as Arrow field metadata
+``unit``. Provenance (versions, parameters, seed) is stored as JSON under the schema metadata key
+``floebreak``. WKB keeps float64 coordinates bit for bit, so a write/read round trip is exact.
 """
 
 from __future__ import annotations
@@ -26,32 +29,75 @@ GEO_METADATA_KEY = b"geo"
 FLOEBREAK_METADATA_KEY = b"floebreak"
 
 
+# shapely's geometry type ids → GeoParquet geometry type names (LinearRing, id 2, has none)
+GEOMETRY_TYPE_NAMES = {
+    0: "Point",
+    1: "LineString",
+    3: "Polygon",
+    4: "MultiPoint",
+    5: "MultiLineString",
+    6: "MultiPolygon",
+    7: "GeometryCollection",
+}
+# column-name suffix → unit (UCUM symbols), the longest suffix first
+UNIT_SUFFIXES = {
+    "_n_m": "N.m",
+    "_knm": "kN.m",
+    "_m_s": "m/s",
+    "_m2": "m2",
+    "_m3": "m3",
+    "_kn": "kN",
+    "_pa": "Pa",
+    "_deg": "deg",
+    "_rad": "rad",
+    "_m": "m",
+    "_n": "N",
+    "_s": "s",
+}
+
+
+def column_unit(name: str) -> str | None:
+    """The unit a column name ends in (`UNIT_SUFFIXES`), or None."""
+    return next((unit for suffix, unit in UNIT_SUFFIXES.items() if name.endswith(suffix)), None)
+
+
+def with_units(table: pa.Table) -> pa.Table:
+    """`table` with each column's unit (`column_unit`) as Arrow field metadata ``unit``."""
+    fields = []
+    for field in table.schema:
+        unit = column_unit(field.name)
+        fields.append(field.with_metadata({"unit": unit}) if unit else field)
+    return table.cast(pa.schema(fields, metadata=table.schema.metadata))
+
+
+def geo_metadata(geometries: np.ndarray) -> dict[str, Any]:
+    """The GeoParquet 1.1 ``geo`` metadata of a WKB column ``geometry`` holding `geometries`."""
+    type_ids = set(shapely.get_type_id(geometries).tolist())
+    known = type_ids <= set(GEOMETRY_TYPE_NAMES)
+    column: dict[str, Any] = {
+        "encoding": "WKB",
+        "geometry_types": sorted(GEOMETRY_TYPE_NAMES[t] for t in type_ids) if known else [],
+        "crs": None,
+        "edges": "planar",
+    }
+    if len(geometries):
+        column["bbox"] = [float(v) for v in shapely.total_bounds(geometries)]
+    return {"version": "1.1.0", "primary_column": "geometry", "columns": {"geometry": column}}
+
+
 def geoparquet_table(
     geometries: np.ndarray, columns: Mapping[str, Any], metadata: Mapping[str, Any]
 ) -> pa.Table:
-    """An Arrow table with a WKB ``geometry`` column first, then `columns`, GeoParquet metadata attached."""
+    """An Arrow table with a WKB ``geometry`` column first, then `columns` (with units), GeoParquet metadata
+    attached."""
     geometries = np.asarray(geometries, dtype=object)
     wkb = shapely.to_wkb(geometries, output_dimension=2) if len(geometries) else np.array([], dtype=object)
     table = pa.table({"geometry": pa.array(wkb, type=pa.binary()), **columns})
-    types = sorted({t for t in shapely.get_type_id(geometries).tolist()}) if len(geometries) else []
-    type_names = {3: "Polygon", 6: "MultiPolygon", 1: "Point", 2: "LineString", 5: "MultiLineString"}
-    geo = {
-        "version": "1.1.0",
-        "primary_column": "geometry",
-        "columns": {
-            "geometry": {
-                "encoding": "WKB",
-                "geometry_types": [type_names.get(t, "Unknown") for t in types],
-                "crs": None,
-                "edges": "planar",
-            }
-        },
-    }
     schema_metadata = {
-        GEO_METADATA_KEY: json.dumps(geo).encode(),
+        GEO_METADATA_KEY: json.dumps(geo_metadata(geometries)).encode(),
         FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode(),
     }
-    return table.replace_schema_metadata(schema_metadata)
+    return with_units(table.replace_schema_metadata(schema_metadata))
 
 
 def write_geoparquet(
