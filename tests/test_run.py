@@ -6,8 +6,6 @@ import importlib
 import json
 import os
 import stat
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -428,16 +426,3 @@ def test_public_names_are_the_api_modules():
     ) <= set(dir(floebreak))
     with pytest.raises(AttributeError, match="no_such_name"):
         floebreak.no_such_name  # noqa: B018
-
-
-def test_importing_the_package_and_its_command_line_leaves_the_engine_unloaded():
-    # `floebreak --help`, `schema`, `observations`, `report` must not pay for the engine's libraries
-    # (numba, scipy.optimize, pyarrow: ≈ 0.5 s and 220 MB); a fresh interpreter tells what one import loads
-    code = (
-        "import sys, floebreak, floebreak.cli, floebreak.scenario\n"
-        "heavy = ('numba', 'scipy.optimize', 'pyarrow', 'matplotlib', 'floebreak.api',\n"
-        "         'floebreak.simulation')\n"
-        "print(','.join(name for name in heavy if name in sys.modules))"
-    )
-    loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert loaded.stdout.strip() == ""
