@@ -22,54 +22,12 @@ from floebreak.failure.bending import BendingCheck, split_by_radius
 from floebreak.failure.cracking import split_by_line
 from floebreak.failure.local_cracking import local_crack_line
 from floebreak.mechanics.wedge_fan import WedgeFan
+from floebreak.testing import angles_rad, floe_polygons, points_near
 
 SETTINGS = settings(
     max_examples=50, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
 )
 PHI_RAD = math.radians(5.0)
-
-coordinate = st.floats(-60.0, 60.0, allow_nan=False)
-angle = st.floats(0.0, 2.0 * math.pi, allow_nan=False, exclude_max=True)
-
-
-@st.composite
-def star_polygons(draw):
-    """Star-shaped (generally concave) polygons about a random centre: simple by construction."""
-    n = draw(st.integers(3, 40))
-    angles = np.sort(np.array(draw(st.lists(angle, min_size=n, max_size=n, unique=True))))
-    gaps = np.diff(np.concatenate([angles, [angles[0] + 2.0 * math.pi]]))
-    if gaps.min() < 1e-3 or gaps.max() > math.pi - 1e-3:
-        angles = np.linspace(0.0, 2.0 * math.pi, n, endpoint=False) + angles[0]
-    radii = np.array(draw(st.lists(st.floats(0.5, 25.0), min_size=n, max_size=n)))
-    centre = np.array([draw(coordinate), draw(coordinate)])
-    ring = centre + radii[:, None] * np.stack([np.cos(angles), np.sin(angles)], axis=1)
-    return shapely.Polygon(ring)
-
-
-@st.composite
-def circles(draw):
-    centre = (draw(coordinate), draw(coordinate))
-    return shapely.Point(centre).buffer(draw(st.floats(0.5, 30.0)), quad_segs=draw(st.integers(2, 32)))
-
-
-@st.composite
-def boxes(draw):
-    x0, y0 = draw(coordinate), draw(coordinate)
-    box = shapely.box(x0, y0, x0 + draw(st.floats(0.5, 40.0)), y0 + draw(st.floats(0.5, 40.0)))
-    rotation = draw(st.floats(0.0, 180.0))
-    return shapely.affinity.rotate(box, rotation, origin="centroid")
-
-
-polygons = st.one_of(star_polygons(), circles(), boxes())
-
-
-@st.composite
-def point_near(draw, polygon, spread: float = 1.2):
-    """A point in the polygon's bounding box enlarged by `spread` (mostly cuts, sometimes misses)."""
-    x0, y0, x1, y1 = polygon.bounds
-    cx, cy, hx, hy = (x0 + x1) / 2, (y0 + y1) / 2, spread * (x1 - x0) / 2, spread * (y1 - y0) / 2
-    return np.array([draw(st.floats(cx - hx, cx + hx)), draw(st.floats(cy - hy, cy + hy))])
-
 
 def assert_partition(parent, pieces) -> None:
     assert all(shapely.get_type_id(p) == 3 and p.is_valid and p.area > 0 for p in pieces)
@@ -80,10 +38,10 @@ def assert_partition(parent, pieces) -> None:
 
 
 @SETTINGS
-@given(data=st.data(), polygon=polygons, direction_angle=angle)
+@given(data=st.data(), polygon=floe_polygons(), direction_angle=angles_rad)
 def test_split_by_line_partitions_the_floe(data, polygon, direction_angle):
     assert polygon.is_valid
-    point = data.draw(point_near(polygon))
+    point = data.draw(points_near(polygon))
     direction = np.array([math.cos(direction_angle), math.sin(direction_angle)])
     left, right = split_by_line(polygon, point, direction)
     assert_partition(polygon, [*left, *right])
@@ -98,13 +56,13 @@ def test_split_by_line_partitions_the_floe(data, polygon, direction_angle):
 @SETTINGS
 @given(
     data=st.data(),
-    polygon=polygons,
-    centre_angle=angle,
+    polygon=floe_polygons(),
+    centre_angle=angles_rad,
     n_wedges=st.integers(1, 72),
     radius=st.floats(0.2, 40.0),
 )
 def test_split_by_radius_partitions_the_floe(data, polygon, centre_angle, n_wedges, radius):
-    origin = data.draw(point_near(polygon))
+    origin = data.draw(points_near(polygon))
     fan = WedgeFan(origin, centre_angle, n_wedges * PHI_RAD, PHI_RAD, 0.5)
     check = BendingCheck(fan, 11.62, 1.0, 2.0, radius)
     near, far = split_by_radius(polygon, check)
@@ -116,13 +74,13 @@ def test_split_by_radius_partitions_the_floe(data, polygon, centre_angle, n_wedg
 @SETTINGS
 @given(
     data=st.data(),
-    polygon=polygons,
-    normal_angle=angle,
+    polygon=floe_polygons(),
+    normal_angle=angles_rad,
     radius=st.floats(1.0, 15.0),
     ell=st.floats(3.0, 15.0),
 )
 def test_local_cracking_cutter_partitions_the_floe(data, polygon, normal_angle, radius, ell):
-    origin = data.draw(point_near(polygon, spread=1.0))
+    origin = data.draw(points_near(polygon, spread=1.0))
     normal = np.array([math.cos(normal_angle), math.sin(normal_angle)])
     frontmost = origin + data.draw(st.floats(-2.0, 2.0)) * np.array([-normal[1], normal[0]])
     line = local_crack_line(origin, normal, frontmost, radius, ell, PHI_RAD)

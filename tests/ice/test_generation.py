@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 from floebreak.errors import InputError
 from floebreak.ice.generation import ConcentrationError, floe_counts, generate_field, largest_remainder
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
+from floebreak.testing import observations
 
 # Circles reach every Table 1 row; the 89 % one (7.5/15/60 m) needs the corner-insertion fallback.
 CIRCLE_ROWS = list(thesis_observations())
@@ -136,15 +137,8 @@ def test_bad_input_names_the_field(kwargs, field):
 
 
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(
-    concentration=st.floats(0.05, 0.7),
-    shares=st.lists(st.integers(0, 10), min_size=3, max_size=3).filter(lambda s: sum(s) > 0),
-    seed=st.integers(0, 2**16),
-)
-def test_random_valid_observations_give_valid_fields(concentration, shares, seed):
-    total = sum(shares)
-    percentages = [100.0 * s / total for s in shares]
-    obs = Observation(concentration, 0.5, (2.5, 5.0, 10.0), tuple(percentages))
+@given(obs=observations(), seed=st.integers(0, 2**16))
+def test_random_valid_observations_give_valid_fields(obs, seed):
     try:
         floe_field = generate_field(obs, 120.0, 60.0, np.random.default_rng(seed))
     except InputError as error:  # only the documented refusal: too few floes to represent c within 1 pp
