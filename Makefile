@@ -21,9 +21,9 @@ lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks scripts validation
 
 # one BLAS/OpenMP thread per process: the physics is not BLAS-bound, and extra threads only oversubscribe the cores
-# (pytest-xdist workers, benchmarks measured on one core)
+# (pytest-xdist workers, one per core; benchmarks measured on one core)
 test: $(STAMP) lint
-	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q
+	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -n auto
 
 test-slow: $(STAMP)
 	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m slow
