@@ -7,14 +7,15 @@ the reference field, `simulate` alone, best of `--runs`), so both see the same p
 
 With `--end-to-end` each round instead runs the command line as a user does, `floebreak run
 examples/reference.toml --quiet` on the field size given (default then 1 km × 200 m), one child process per
-run (wall time, best of `--runs`): start-up, field, simulation and the whole run directory with figures and
-report. The child starts the console command's entry point of its version (`_floebreak_entry:main` where
-that module exists, else `floebreak.cli:main`); both sides' sources are compiled to bytecode first, as an
+run (CPU time of the child, user + system, best of `--runs`: on a shared machine wall time follows the
+other processes' load): start-up, field, simulation and the whole run directory with figures and report.
+The child starts the console command's entry point of its version (`_floebreak_entry:main` where that
+module exists, else `floebreak.cli:main`); both sides' sources are compiled to bytecode first, as an
 installed copy is.
 
 Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]
-[--end-to-end]` (REV: any git revision, e.g. a commit or `HEAD~3`). Both sides' kernels are compiled
-first (≈ 10 s, not timed).
+[--end-to-end] [--against REV2]` (REV: any git revision, e.g. a commit or `HEAD~3`; `--against` compares
+with REV2 instead of the working tree). Both sides' kernels are compiled first (≈ 10 s, not timed).
 """
 
 from __future__ import annotations
@@ -27,7 +28,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -65,7 +65,8 @@ importlib.import_module(entry).main()
 
 
 def _run_end_to_end(src: Path, args: argparse.Namespace) -> tuple[float, int]:
-    """Wall time of the best of `args.runs` CLI runs of the 1 km reference (one child process each)."""
+    """CPU time (user + system) of the best of `args.runs` CLI runs (one child process each): on a shared
+    machine it follows the code's work, where wall time follows the other processes' load."""
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
     # the installed venv may see another checkout's `_floebreak_entry`: choose by this side's files
     entry = "_floebreak_entry" if (src / "_floebreak_entry.py").exists() else "floebreak.cli"
@@ -77,15 +78,18 @@ def _run_end_to_end(src: Path, args: argparse.Namespace) -> tuple[float, int]:
                 *("run", str(ROOT / "examples" / "reference.toml"), "--quiet", "--out", str(out)),
                 *("--set", f"field.length_m={args.length_m}", "--set", f"field.width_m={args.width_m}"),
             ]
-            start = time.perf_counter()
-            subprocess.run(
+            child = subprocess.Popen(
                 [sys.executable, "-c", END_TO_END, entry, *command],
                 env=env,
                 cwd=src.parent,
-                check=True,
-                capture_output=True,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
             )
-            best = min(best, time.perf_counter() - start)
+            _, status, usage = os.wait4(child.pid, 0)  # the rusage of that one child
+            child.returncode = os.waitstatus_to_exitcode(status)
+            if child.returncode != 0:
+                sys.exit(f"the run of {src} failed with exit code {child.returncode}")
+            best = min(best, usage.ru_utime + usage.ru_stime)
             breaks = json.loads((out / "summary.json").read_text())["n_breaks"]
     return best, breaks
 
@@ -111,43 +115,47 @@ def main() -> None:
     parser.add_argument("--length-m", type=float, default=None, help="default 400 m (1 000 m end to end)")
     parser.add_argument("--width-m", type=float, default=None, help="default 50 m (200 m end to end)")
     parser.add_argument("--end-to-end", action="store_true", help="time the command line's whole run")
+    parser.add_argument("--against", help="compare with this revision instead of the working tree")
     args = parser.parse_args()
     if args.length_m is None:
         args.length_m = 1000.0 if args.end_to_end else 400.0
     if args.width_m is None:
         args.width_m = 200.0 if args.end_to_end else 50.0
     run = _run_end_to_end if args.end_to_end else _run
+    new = args.against or "working tree"
     with tempfile.TemporaryDirectory(prefix="floebreak-compare-") as tmp:
-        other = Path(tmp) / "worktree"
-        worktree = ["git", "worktree", "add", "--detach", "-q", str(other), args.rev]
-        subprocess.run(worktree, cwd=ROOT, check=True)
+        trees = {args.rev: Path(tmp) / "old"} | ({new: Path(tmp) / "new"} if args.against else {})
+        for rev, tree in trees.items():
+            subprocess.run(["git", "worktree", "add", "--detach", "-q", str(tree), rev], cwd=ROOT, check=True)
         try:
-            sides = {args.rev: other / "src", "working tree": ROOT / "src"}
-            for src in sides.values():  # numba caches per source path: compile both before timing
-                subprocess.run(
-                    [sys.executable, "-c", COMPILE],
-                    env={**os.environ, "PYTHONPATH": str(src)},
-                    cwd=src.parent,
-                    check=True,
-                )
-            if args.end_to_end:  # as an installed copy: no compilation to bytecode at each start
-                for src in sides.values():
-                    compileall.compile_dir(src, quiet=1)
-            best: dict[str, list[float]] = {name: [] for name in sides}
-            for round_ in range(1, args.rounds + 1):
-                for name, src in sides.items():
-                    seconds, breaks = run(src, args)
-                    best[name].append(seconds)
-                    print(f"round {round_}: {name:>14}  {seconds:.3f} s  ({breaks} breaks)", flush=True)
-            medians = {name: statistics.median(values) for name, values in best.items()}
-            print(
-                f"{args.length_m:.0f} m × {args.width_m:.0f} m, median of the rounds' best: "
-                + ", ".join(f"{name} {value:.3f} s" for name, value in medians.items())
-                + f"; ratio {medians[args.rev] / medians['working tree']:.2f}"
-            )
+            sides = {args.rev: trees[args.rev] / "src", new: trees.get(new, ROOT) / "src"}
+            _compare(sides, run, args)
         finally:
-            subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT, check=True)
+            for tree in trees.values():
+                subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT, check=True)
 
+
+def _compare(sides: dict[str, Path], run, args: argparse.Namespace) -> None:
+    for src in sides.values():  # numba caches per source path: compile both before timing
+        env = {**os.environ, "PYTHONPATH": str(src)}
+        subprocess.run([sys.executable, "-c", COMPILE], env=env, cwd=src.parent, check=True)
+    if args.end_to_end:  # as an installed copy: no compilation to bytecode at each start
+        for src in sides.values():
+            compileall.compile_dir(src, quiet=1)
+    unit = "s CPU" if args.end_to_end else "s"
+    best: dict[str, list[float]] = {name: [] for name in sides}
+    for round_ in range(1, args.rounds + 1):
+        for name, src in sides.items():
+            seconds, breaks = run(src, args)
+            best[name].append(seconds)
+            print(f"round {round_}: {name:>14}  {seconds:.3f} {unit}  ({breaks} breaks)", flush=True)
+    medians = {name: statistics.median(values) for name, values in best.items()}
+    old, new = sides
+    print(
+        f"{args.length_m:.0f} m × {args.width_m:.0f} m, median of the rounds' best: "
+        + ", ".join(f"{name} {value:.3f} {unit}" for name, value in medians.items())
+        + f"; ratio {medians[old] / medians[new]:.2f}"
+    )
 
 if __name__ == "__main__":
     main()
