@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import atexit
+import gc
 import sys
 from contextlib import nullcontext
 from enum import StrEnum
@@ -228,6 +230,7 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
     _prepare_kernels(quiet)
+    gc.freeze()  # the engine's libraries live as long as the process: keep them out of the collector's walks
     try:
         progress = Progress(
             TextColumn("[progress.description]{task.description}"),
@@ -801,6 +804,11 @@ def _root(
 
 def main() -> None:
     """Entry point. A user error (InputError) prints one line naming the field and exits with code 2."""
+    # a run creates many long-lived objects and few reference cycles: a lazier collector, and none over
+    # everything alive at exit (it pays, benchmarks/README.md "Simple over clever")
+    gc.set_threshold(50_000, 20, 10)
+    atexit.unregister(gc.freeze)  # registered once, however often main() runs in one process
+    atexit.register(gc.freeze)
     try:
         app()
     except InputError as error:
