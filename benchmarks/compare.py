@@ -3,7 +3,8 @@
 The development VM's speed drifts by up to ≈ 40 % over minutes, so a figure measured today cannot be set
 against one from another day. This script checks the other commit out into a temporary git worktree and
 alternates the two versions round by round, each round a child process per version (the default profile on
-the reference field, `simulate` alone, best of `--runs`), so both see the same phase of the machine.
+the reference field, `simulate` alone, its CPU time, best of `--runs`), so both see the same phase of the
+machine.
 
 With `--end-to-end` each round instead runs the command line as a user does, `floebreak run
 examples/reference.toml --quiet` on the field size given (default then 1 km × 200 m), one child process per
@@ -49,9 +50,9 @@ field = generate_field(
 model, bow = build_model("default"), agulhas_ii(ice_thickness_m=1.0)
 best = float("inf")
 for _ in range(runs):
-    start = time.perf_counter()
+    start = time.process_time()
     result = simulate(field, bow, model, SimulationParams(step_m=0.25))
-    best = min(best, time.perf_counter() - start)
+    best = min(best, time.process_time() - start)
 print(best, result.n_breaks)
 """
 
