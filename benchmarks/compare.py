@@ -143,7 +143,7 @@ def _compare(sides: dict[str, Path], run, args: argparse.Namespace) -> None:
     if args.end_to_end:  # as an installed copy: no compilation to bytecode at each start
         for src in sides.values():
             compileall.compile_dir(src, quiet=1)
-    unit = "s CPU" if args.end_to_end else "s"
+    unit = "s CPU"
     best: dict[str, list[float]] = {name: [] for name in sides}
     for round_ in range(1, args.rounds + 1):
         for name, src in sides.items():
