@@ -43,7 +43,7 @@ from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.io.atomic import atomic_directory
-from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, with_units, write_geoparquet
+from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, arrow_array, with_units, write_geoparquet
 from floebreak.io.jsonable import jsonable, to_json
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.results import (
@@ -549,7 +549,7 @@ def _write_table(path: Path, columns: Mapping[str, Any], metadata: Mapping[str, 
 
 
 def _write_contacts(path: Path, contacts: Mapping[str, np.ndarray], metadata: Mapping[str, Any]) -> None:
-    arrays = {k: pa.array(v) for k, v in contacts.items()}
+    arrays = {k: arrow_array(v) for k, v in contacts.items()}
     arrays = {k: (v.cast(pa.string()) if pa.types.is_null(v.type) else v) for k, v in arrays.items()}
     table = pa.table(arrays).replace_schema_metadata(
         {FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode()}

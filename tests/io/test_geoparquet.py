@@ -1,4 +1,5 @@
-"""GeoParquet files: an exact round trip of geometries, columns and metadata."""
+"""GeoParquet files: an exact round trip of geometries, columns and metadata; GeoParquet 1.1 metadata;
+Arrow columns built from buffers equal to what ``pa.array`` gives."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import pytest
 import shapely
 
 from floebreak.errors import InputError
-from floebreak.io.geoparquet import read_geoparquet, write_geoparquet
+from floebreak.io.geoparquet import arrow_array, read_geoparquet, write_geoparquet
 
 
 def test_round_trip_is_exact(tmp_path):
@@ -83,3 +84,37 @@ def test_units_are_arrow_field_metadata(tmp_path):
     schema = pq.read_schema(path)
     units = {name: (schema.field(name).metadata or {}).get(b"unit") for name in columns}
     assert units == {"area_m2": b"m2", "f_c_n": b"N", "psi_deg": b"deg", "step": None}
+
+
+COLUMNS = [
+    np.arange(7, dtype=np.int64),
+    np.array([0.5, np.nan, -0.0, np.inf, 1e300]),
+    np.arange(10, dtype=np.int32)[::3],  # not contiguous
+    np.array([True, False, True, True, False, False, False, False, True, True]),
+    np.zeros(0),
+    np.zeros(0, dtype=bool),
+    np.array(["cusp", "flipped", "", "bending>cracking", "ü"], dtype=object),
+    ["remaining", "cusp"],
+    [],  # pa.array([]) is of type null
+    np.array([], dtype=object),
+    ["a", None],  # nulls: left to pa.array
+    [1, 2],  # not str: left to pa.array
+]
+
+
+@pytest.mark.parametrize("values", COLUMNS, ids=range(len(COLUMNS)))
+def test_arrow_array_is_what_pa_array_gives(values):
+    built, expected = arrow_array(values), pa.array(values)
+    assert built.type == expected.type
+    assert built.null_count == expected.null_count
+    assert repr(built.to_pylist()) == repr(expected.to_pylist())  # repr: NaN == NaN, -0.0 kept
+
+
+@pytest.mark.parametrize("values", [[b"\x01\x03", b"", b"wkb"], []])
+def test_arrow_array_binary(values):
+    assert arrow_array(values, binary=True).equals(pa.array(values, type=pa.binary()))
+
+
+def test_big_endian_numbers_are_left_to_pa_array():
+    with pytest.raises(pa.ArrowNotImplementedError):  # as pa.array: "Byte-swapped arrays not supported"
+        arrow_array(np.arange(4.0).astype(">f8"))

@@ -29,6 +29,47 @@ GEO_METADATA_KEY = b"geo"
 FLOEBREAK_METADATA_KEY = b"floebreak"
 
 
+def _variable_width(items: list[bytes], arrow_type: pa.DataType) -> pa.Array | None:
+    """A string or binary Arrow array of encoded items without nulls (offsets + data buffers), or None if
+    the data exceed 32-bit offsets."""
+    offsets = np.zeros(len(items) + 1, dtype=np.int64)
+    np.cumsum(np.fromiter(map(len, items), dtype=np.int64, count=len(items)), out=offsets[1:])
+    if offsets[-1] >= 2**31:
+        return None
+    buffers = [None, pa.py_buffer(offsets.astype(np.int32)), pa.py_buffer(b"".join(items))]
+    return pa.Array.from_buffers(arrow_type, len(items), buffers, null_count=0)
+
+
+def arrow_array(values: Any, binary: bool = False) -> pa.Array:
+    """`values` as the Arrow array ``pa.array(values)`` gives (``pa.array(values, pa.binary())`` with
+    `binary`).
+
+    Built from buffers for numeric and bool numpy arrays and for lists of str (bytes with `binary`), because
+    ``pa.array`` imports pandas on its first call, which costs > 5 % of a run (benchmarks/README.md, "Simple
+    over clever"). Anything else (None values, mixed types, huge text) goes to ``pa.array``.
+    """
+    if isinstance(values, pa.Array):
+        return values
+    numeric = type(values) is np.ndarray and values.dtype.kind in "biuf" and values.dtype.isnative
+    if numeric and values.ndim == 1:
+        if values.dtype.kind == "b":  # Arrow booleans are bits, least significant first
+            buffer = pa.py_buffer(np.packbits(values, bitorder="little"))
+            return pa.Array.from_buffers(pa.bool_(), len(values), [None, buffer], null_count=0)
+        data = np.ascontiguousarray(values)
+        arrow_type = pa.from_numpy_dtype(data.dtype)
+        return pa.Array.from_buffers(arrow_type, len(data), [None, pa.py_buffer(data)], null_count=0)
+    items = values.tolist() if type(values) is np.ndarray else values
+    if isinstance(items, list):
+        kind, arrow_type = (bytes, pa.binary()) if binary else (str, pa.string())
+        if not items:  # pa.array([]) is of type null
+            return _variable_width([], arrow_type) if binary else pa.nulls(0)
+        if all(type(v) is kind for v in items):
+            array = _variable_width(items if binary else [v.encode("utf-8") for v in items], arrow_type)
+            if array is not None:
+                return array
+    return pa.array(values, type=pa.binary()) if binary else pa.array(values)
+
+
 # shapely's geometry type ids → GeoParquet geometry type names (LinearRing, id 2, has none)
 GEOMETRY_TYPE_NAMES = {
     0: "Point",
@@ -92,7 +133,8 @@ def geoparquet_table(
     attached."""
     geometries = np.asarray(geometries, dtype=object)
     wkb = shapely.to_wkb(geometries, output_dimension=2) if len(geometries) else np.array([], dtype=object)
-    table = pa.table({"geometry": pa.array(wkb, type=pa.binary()), **columns})
+    arrays = {"geometry": arrow_array(list(wkb), binary=True)}
+    table = pa.table(arrays | {name: arrow_array(values) for name, values in columns.items()})
     schema_metadata = {
         GEO_METADATA_KEY: json.dumps(geo_metadata(geometries)).encode(),
         FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode(),
