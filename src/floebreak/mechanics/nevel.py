@@ -29,7 +29,6 @@ Capacity models (physics-notes §1.5, errata 11 and 13): see `bearing_capacity_n
 
 from __future__ import annotations
 
-import bisect
 import functools
 import importlib.resources
 import math
@@ -261,30 +260,6 @@ class _Interpolants:
     tail_xi_sigma: float
     tail_moment: float
     tail_xi_m: float
-
-    def at(self, rho: float, which: str) -> float:
-        """`_evaluate` for one ρ ≥ 0 as a float, for the bending check's hot path: scipy's per-call array
-        overhead there costs > 5 % of a run (benchmarks/README.md, simplification table)."""
-        if rho > self.rho_max:
-            return float(_evaluate(rho, which))
-        pchip = {"S": self.stress_factor, "xi_sigma": self.xi_sigma_offset, "m_max": self.max_moment}.get(
-            which, self.xi_m_offset
-        )
-        value = _cubic_piece(pchip, float(np.cbrt(rho)))
-        if which == "xi_sigma":
-            return 0.0 if rho == 0.0 else rho + value
-        return rho + value if which == "xi_M" else value
-
-
-def _cubic_piece(pchip: PchipInterpolator, t: float) -> float:
-    """``pchip(t)`` for one t inside the breakpoints, from its public coefficients (`PPoly.c`, highest power
-    first) in the order of scipy's evaluation, so the same float."""
-    x = pchip.x
-    i = min(max(bisect.bisect_right(x, t) - 1, 0), len(x) - 2)
-    c0, c1, c2, c3 = pchip.c[:, i].tolist()
-    s = t - float(x[i])
-    s2 = s * s
-    return c3 + c2 * s + c1 * s2 + c0 * (s2 * s)
 
 
 @functools.lru_cache(maxsize=1)
@@ -521,6 +496,6 @@ def capacity_and_breaking_distance(
     else:
         if model == "thesis_per_wedge":
             theta = require_range("wedge_angle_rad", wedge_angle_rad, low=0.0, high=2.0 * math.pi, unit="rad")
-        capacity = sigma_f * theta * (h * h) / (6.0 * _interpolants().at(rho, "S"))
-    xi = _interpolants().at(rho, "xi_sigma" if mode == "max_stress" else "xi_M")
+        capacity = sigma_f * theta * (h * h) / (6.0 * _evaluate(rho, "S"))
+    xi = _evaluate(rho, "xi_sigma" if mode == "max_stress" else "xi_M")
     return capacity, xi * ell
