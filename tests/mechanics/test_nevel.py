@@ -379,7 +379,7 @@ def test_other_bad_inputs_raise():
 
 
 # --------------------------------------------------------------------------------------------------
-# Scalar fast path (the bending check's hot path) against scipy's PCHIP and the array functions
+# Scalar evaluation (the bending check) against a PCHIP built here from the table, and the array functions
 # --------------------------------------------------------------------------------------------------
 
 
