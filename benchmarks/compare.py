@@ -34,7 +34,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 CHILD = """
-import sys, time
+import gc, sys, time
 import numpy as np
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
@@ -43,6 +43,7 @@ from floebreak.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.simulation import SimulationParams, simulate
 compile_kernels()
+gc.freeze()  # as the CLI does after loading the engine
 length_m, width_m, runs = float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
 field = generate_field(
     get_observation("2019-12-18T20:20"), length_m, width_m, np.random.default_rng(1), thickness_m=1.0

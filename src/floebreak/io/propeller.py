@@ -20,6 +20,7 @@ import numpy as np
 from floebreak.errors import InputError
 from floebreak.io.atomic import atomic_directory
 from floebreak.io.figures import save_figure
+from floebreak.io.jsonable import jsonable
 from floebreak.io.provenance import provenance
 from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, spectrum_edges
@@ -46,23 +47,6 @@ def write_csv(path: Path, columns: dict[str, Any], comments=()) -> None:
                 else:
                     row.append(str(value))
             writer.writerow(row)
-
-
-def json_clean(value: Any) -> Any:
-    """`value` with numpy types, tuples and paths made JSON types and non-finite floats None."""
-    if isinstance(value, dict):
-        return {str(k): json_clean(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [json_clean(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return json_clean(value.tolist())
-    if isinstance(value, np.generic):
-        return json_clean(value.item())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, Path):
-        return str(value)
-    return value
 
 
 def write_netcdf(ds, path: Path) -> str:
@@ -222,7 +206,7 @@ def write_propeller(
 ) -> Path:
     """Write `result` to the new directory `out_dir` atomically and return it. `record` adds to the
     provenance (e.g. the input files)."""
-    prov = provenance(command="propeller_analysis", **json_clean(result.options), **(record or {}))
+    prov = provenance(command="propeller_analysis", **jsonable(result.options), **(record or {}))
     ds = result.spectra.copy()
     ds.attrs.update(
         {
@@ -233,7 +217,7 @@ def write_propeller(
             "interpolation": result.options["interpolation"],
             "beyond_table": result.options["beyond"],
             "volume_basis": result.options["volume_basis"],
-            "provenance": json.dumps(json_clean(prov), sort_keys=True),
+            "provenance": json.dumps(jsonable(prov), sort_keys=True),
         }
     )
     summary = {"provenance": prov, **result.summary}
@@ -244,7 +228,7 @@ def write_propeller(
         _write_figures(result, tmp / "figures")
         written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
         summary["files"] = [*written, "summary.json"]
-        text = json.dumps(json_clean(summary), indent=2, sort_keys=True) + "\n"
+        text = json.dumps(jsonable(summary), indent=2, sort_keys=True) + "\n"
         (tmp / "summary.json").write_text(text, encoding="utf-8")
     return Path(out_dir)
 
@@ -282,7 +266,7 @@ def propeller_analysis(
         if inputs.missing_transit:
             record["no_transit_distance"] = list(inputs.missing_transit)
     fem = options.get("fem_table")
-    record["fem_tables"] = None if fem is None else json_clean(fem if isinstance(fem, dict) else str(fem))
+    record["fem_tables"] = None if fem is None else jsonable(fem if isinstance(fem, dict) else str(fem))
     record["torque_csv"] = None if options.get("torque_csv") is None else str(options["torque_csv"])
     result = analyse_propeller(cusps, **options)
     return write_propeller(result, out_dir, overwrite=overwrite, record=record)

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from floebreak.errors import InputError
+from floebreak.io.jsonable import jsonable
 from floebreak.studies.voyage import FIELD_MARGIN_M
 
 RESULTS_DIR = "results"
@@ -475,20 +476,8 @@ def write_voyage_results(voyage_dir: str | Path, profile=None) -> dict[str, Any]
         _write_report(temp, summary, rows, spectra, loads)
         summary["files"] = sorted(p.relative_to(temp).as_posix() for p in temp.rglob("*") if p.is_file())
         summary["files"].append("summary.json")
-        (temp / "summary.json").write_text(json.dumps(_json(summary), indent=2) + "\n", encoding="utf-8")
+        (temp / "summary.json").write_text(json.dumps(jsonable(summary), indent=2) + "\n", encoding="utf-8")
     return summary
-
-
-def _json(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {str(k): _json(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_json(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 def _figures(folder: Path, rows: list[dict], spectra: dict[str, Any], cases: list[str]) -> None:
