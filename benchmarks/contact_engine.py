@@ -44,7 +44,7 @@ def run(length_m: float, width_m: float, seed: int = 1, repeats: int = REPEATS) 
 if __name__ == "__main__":
     kernel_start = time.perf_counter()
     compile_kernels()  # one-off per process (compiles on a machine's first use, then loads numba's cache)
-    gc.freeze()  # as the CLI does after loading the engine: collections in the run skip the libraries' objects
+    gc.freeze()  # as the CLI does after loading the engine
     print(f"numba kernels ready in {time.perf_counter() - kernel_start:.2f} s (not in the figures below)")
     run(400.0, 50.0)
     run(1000.0, 200.0)
