@@ -624,5 +624,5 @@ def _write_report(temp: Path, summary: dict, rows: list[dict], spectra: dict, lo
 
     title = f"floebreak voyage {summary['provenance'].get('log', '')}"
     view = propeller_view(summary, rows, loads)
-    text = render_voyage_report(title, summary["notes"], _json(view), temp / "figures", VOYAGE_FIGURES)
+    text = render_voyage_report(title, summary["notes"], jsonable(view), temp / "figures", VOYAGE_FIGURES)
     (temp / "report.html").write_text(text, encoding="utf-8")
