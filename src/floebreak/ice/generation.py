@@ -36,7 +36,6 @@ from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.ice.observations import Observation
 from floebreak.ice.packing import Packing, relax_circles, sqp_circles
 from floebreak.ice.thickness import bounded_random_thickness_m
-from floebreak.io.provenance import floebreak_version
 
 CONCENTRATION_TOLERANCE = 0.01  # ±1 percentage point (issue requirement)
 SQP_MAX_FLOES = 400  # beyond this SLSQP's dense O(n²) constraint Jacobian is impractical
@@ -276,7 +275,6 @@ def generate_field(
         floe_id=np.arange(n, dtype=np.int64),
         domain_m=domain,
         metadata={
-            "floebreak_version": floebreak_version(),
             "generator": generator,
             "observation": observation.key,
             "target_concentration": observation.concentration,
