@@ -9,11 +9,14 @@ directory atomically (temporary sibling, renamed when complete; a failed run lea
   simulated, i.e. after any shift for no initial contact): GeoParquet, ``"crs": null``, one row per piece;
 - ``contacts.parquet``: one row per floe–panel contact evaluation (`floebreak.results.CONTACT_COLUMNS`);
 - ``pieces.parquet``: every piece that existed in the run (initial floes, broken pieces, cusps, flipped and
-  remaining pieces; GeoParquet, field frame) with ``piece_id``, ``parent_piece_id`` (−1 for initial floes),
-  ``parent_floe_id``, ``fate`` (``broken``/``cusp``/``flipped``/``remaining``), ``created_step`` (−1 for
-  initial floes), ``ended_step`` (the step it broke or left the field; −1 if it remains), ``thickness_m``,
-  ``area_m2``, ``failure_chain``; the metadata adds ``x_start_m``, ``step_m``, ``n_steps`` (bow x at step s
-  = x_start_m + s·step_m). Enough to replay the transit (``floebreak animate``);
+  remaining pieces; GeoParquet, field frame; the geometry is empty for a piece created and broken at one bow
+  position, which is never in the field between two steps) with ``piece_id``, ``parent_piece_id`` (−1 for
+  initial floes), ``parent_floe_id``, ``fate`` (``broken``/``cusp``/``flipped``/``remaining``),
+  ``created_step`` (−1 for initial floes), ``ended_step`` (the step it broke or left the field; −1 if it
+  remains), ``thickness_m``, ``area_m2``, ``ended_by`` (the failure mode that broke the piece or took it out
+  whole, "" if none; `floebreak.results.failure_chain` rebuilds a piece's chain); the metadata adds
+  ``x_start_m``, ``step_m``, ``n_steps`` (bow x at step s = x_start_m + s·step_m). Enough to replay the
+  transit (``floebreak animate``);
 - ``scenario.resolved.toml`` (every default filled in), ``figures/*.png``, ``report.html``.
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
@@ -487,7 +490,7 @@ def run(
 
 
 def field_table(floe_field: FloeField) -> dict[str, Any]:
-    """Columns of the initial field in the layout of the piece tables (step −1, no failure chain)."""
+    """Columns of the initial field in the layout of the piece tables (step −1, no failure mode)."""
     polygons = floe_field.polygons
     area = floe_field.area_m2
     length, width = oriented_box_dimensions_m(polygons)
@@ -507,7 +510,8 @@ def field_table(floe_field: FloeField) -> dict[str, Any]:
         "step": np.full(n, -1, dtype=np.int64),
         "bow_x_m": np.full(n, np.nan),
         "parent_floe_id": floe_field.floe_id,
-        "failure_chain": np.array([""] * n, dtype=object),
+        "parent_piece_id": np.full(n, -1, dtype=np.int64),
+        "failure_mode": np.array([""] * n, dtype=object),
     }
 
 
@@ -552,8 +556,8 @@ def pieces_table(simulation: SimulationResult, contacts: Mapping[str, np.ndarray
         "created_step": created,
         "ended_step": ended,
         "thickness_m": simulation.thickness_m,
-        "area_m2": shapely.area(polygons) if n else np.zeros(0),
-        "failure_chain": np.array([">".join(chain) for chain in simulation.failure_chain], dtype=object),
+        "area_m2": simulation.piece_area_m2,
+        "ended_by": simulation.ended_by,
     }
 
 

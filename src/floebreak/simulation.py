@@ -147,11 +147,12 @@ class SimulationResult:
     x_end_m: float
     n_steps: int
     piece_id: np.ndarray
-    polygon: np.ndarray
+    polygon: np.ndarray  # empty for a transient piece (created and broken at one bow position, see `_Pieces`)
+    piece_area_m2: np.ndarray  # every piece's area, transient ones included
     thickness_m: np.ndarray
     parent_floe_id: np.ndarray
     parent_piece_id: np.ndarray
-    failure_chain: tuple[tuple[str, ...], ...]
+    ended_by: np.ndarray  # mode that broke the piece or took it out whole; "" if none (see `failure_chain`)
     fate: np.ndarray
     step: np.ndarray
     bow_x_m: np.ndarray
@@ -161,6 +162,18 @@ class SimulationResult:
 
     def mask(self, fate: str) -> np.ndarray:
         return self.fate == fate
+
+    def failure_chain(self, piece: int) -> tuple[str, ...]:
+        """The failure modes from the initial floe to `piece`: the mode that broke each ancestor, then the
+        mode that ended `piece` (broke it or took it out whole), if one did. Rebuilt from the parent ids:
+        lineage is stored once (``parent_piece_id``, ``ended_by``), not as a per-piece history whose length
+        grows with the number of breaks (thin ice: thousands of entries per cusp)."""
+        return lineage_chain(piece, self.parent_piece_id, self.ended_by)
+
+    @property
+    def failure_mode(self) -> np.ndarray:
+        """Per piece, the last entry of its failure chain ("" for an initial floe never touched)."""
+        return last_failure_mode(self.parent_piece_id, self.ended_by)
 
     def area_m2(self, fate: str) -> float:
         return float(shapely.area(self.polygon[self.mask(fate)]).sum())
@@ -175,6 +188,27 @@ class SimulationResult:
         initial = self.initial_ice_area_m2
         final = self.area_m2("cusp") + self.area_m2("flipped") + self.area_m2("remaining")
         return abs(initial - final) / initial if initial > 0 else 0.0
+
+
+def lineage_chain(piece: int, parent_piece_id, ended_by) -> tuple[str, ...]:
+    """The failure chain of `piece` from the lineage columns (see `SimulationResult.failure_chain`)."""
+    chain = [ended_by[piece]] if ended_by[piece] else []
+    parent = int(parent_piece_id[piece])
+    while parent >= 0:
+        chain.append(ended_by[parent])
+        parent = int(parent_piece_id[parent])
+    return tuple(reversed(chain))
+
+
+def last_failure_mode(parent_piece_id: np.ndarray, ended_by: np.ndarray) -> np.ndarray:
+    """Per piece, the last entry of its failure chain: the mode that ended it, else the mode that broke its
+    parent ("" for an initial floe that nothing ended)."""
+    parents = np.asarray(parent_piece_id, dtype=np.int64)
+    own = np.asarray(ended_by, dtype=object)
+    last = own.copy()
+    inherit = (own == "") & (parents >= 0)
+    last[inherit] = own[parents[inherit]]
+    return last
 
 
 # --- the engine --------------------------------------------------------------------------------------
@@ -193,10 +227,11 @@ class _Pieces:
     def __init__(self, floe_field: FloeField, y_range: tuple[float, float]):
         n = floe_field.n_floes
         self.polygon: list[shapely.Geometry] = list(floe_field.polygons)
+        self.area: list[float] = floe_field.area_m2.tolist()
         self.thickness: list[float] = floe_field.thickness_m.tolist()
         self.parent_floe: list[int] = floe_field.floe_id.tolist()
         self.parent_piece: list[int] = [-1] * n
-        self.chain: list[tuple[str, ...]] = [()] * n
+        self.ended_by: list[str] = [""] * n
         self.crack_count: list[int] = [0] * n
         self.fate: list[str] = ["remaining"] * n
         self.step: list[int] = [-1] * n
@@ -210,13 +245,14 @@ class _Pieces:
         self._next_waiting = 0
         self.active: dict[int, tuple[float, float, float, float]] = {}
 
-    def add(self, polygon, thickness, parent: int, chain, crack_count: int, step: int, bow_x: float) -> int:
+    def add(self, polygon, thickness, parent: int, crack_count: int, step: int, bow_x: float) -> int:
         pid = len(self.polygon)
         self.polygon.append(polygon)
+        self.area.append(float(shapely.area(polygon)))
         self.thickness.append(thickness)
         self.parent_floe.append(self.parent_floe[parent])
         self.parent_piece.append(parent)
-        self.chain.append(chain)
+        self.ended_by.append("")
         self.crack_count.append(crack_count)
         self.fate.append("remaining")
         self.step.append(step)
@@ -228,6 +264,8 @@ class _Pieces:
     def retire(self, pid: int, fate: str, step: int, bow_x: float) -> None:
         self.fate[pid] = fate
         self.active.pop(pid, None)
+        if fate == "broken" and self.step[pid] == step:  # transient (initial floes have step −1)
+            self.polygon[pid] = _EMPTY
         if fate != "broken":
             self.step[pid] = step
             self.bow_x[pid] = bow_x
@@ -253,6 +291,9 @@ class _Pieces:
     def prune_behind(self, x_min: float) -> None:
         for pid in [pid for pid, bounds in self.active.items() if bounds[2] < x_min]:
             del self.active[pid]
+
+
+_EMPTY = shapely.Polygon()
 
 
 def _overlaps(bounds: tuple[float, float, float, float], x0: float, y0: float, x1: float, y1: float) -> bool:
@@ -438,17 +479,17 @@ def simulate(
                 if len(outcome.pieces) == 1 and outcome.pieces[0].fate != Fate.FLOE:
                     # the piece leaves the field whole (direct rotation)
                     fate = str(outcome.pieces[0].fate)
-                    pieces.chain[pid] = (*pieces.chain[pid], outcome.mode)
+                    pieces.ended_by[pid] = outcome.mode
                     pieces.retire(pid, fate, step, bow_x)
                     counters["cusps" if fate == "cusp" else "flipped"] += 1
                     continue
                 counters["breaks"] += 1
                 pieces.retire(pid, "broken", step, bow_x)
-                chain = (*pieces.chain[pid], outcome.mode)
+                pieces.ended_by[pid] = outcome.mode
                 in_bow = np.array([new.polygon for new in outcome.pieces], dtype=object)
                 worlds = _translate_pieces(in_bow, bow_x)
                 for new, child_world in zip(outcome.pieces, worlds, strict=True):
-                    child = pieces.add(child_world, thickness, pid, chain, new.crack_count, step, bow_x)
+                    child = pieces.add(child_world, thickness, pid, new.crack_count, step, bow_x)
                     if new.fate == Fate.FLOE:
                         if evaluations < params.max_evaluations_per_floe_step:
                             queue.append((child, new.polygon))
@@ -467,10 +508,11 @@ def simulate(
         n_steps=n_steps,
         piece_id=np.arange(len(pieces.polygon)),
         polygon=np.array(pieces.polygon, dtype=object),
+        piece_area_m2=np.array(pieces.area, dtype=float),
         thickness_m=np.array(pieces.thickness, dtype=float),
         parent_floe_id=np.array(pieces.parent_floe, dtype=np.int64),
         parent_piece_id=np.array(pieces.parent_piece, dtype=np.int64),
-        failure_chain=tuple(pieces.chain),
+        ended_by=np.array(pieces.ended_by, dtype=object),
         fate=np.array(pieces.fate, dtype=object),
         step=np.array(pieces.step, dtype=np.int64),
         bow_x_m=np.array(pieces.bow_x, dtype=float),
