@@ -58,7 +58,14 @@ from floebreak.results import (
     summary,
 )
 from floebreak.scenario import Scenario
-from floebreak.simulation import Callback, Model, SimulationParams, SimulationResult, simulate
+from floebreak.simulation import (
+    MAX_PIECES_DEFAULT,
+    Callback,
+    Model,
+    SimulationParams,
+    SimulationResult,
+    simulate,
+)
 
 PIECE_FILES = {"cusp": "cusps.parquet", "flipped": "flipped.parquet", "remaining": "remaining.parquet"}
 PIECES_FILE = "pieces.parquet"  # every piece with its life span (replay / `floebreak animate`)
@@ -76,6 +83,7 @@ _GENERATION_KEYS = {
     "thickness_min_m": "ice.thickness_range_m",
     "thickness_max_m": "ice.thickness_range_m",
     "thickness_summands": "ice.thickness_summands",
+    "max_floes": "simulation.max_pieces",
 }
 
 
@@ -192,6 +200,7 @@ def build_field(scenario: Scenario, rng: np.random.Generator) -> FloeField:
                 floe_area_factor=spec.floe_area_factor or switches.floe_area_factor,
                 clustering=spec.clustering,
                 seed=scenario.seed,
+                max_floes=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
             )
         except InputError as error:
             if error.field.startswith(("field.", "ice.")):
@@ -466,6 +475,7 @@ def run(
         x_start_m=ship.x_start_m,
         x_end_m=ship.x_end_m,
         initial_contact=ship.initial_contact,
+        max_pieces=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
     )
     recorder = ContactRecorder()
     simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *callbacks])

@@ -46,10 +46,28 @@ AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overl
 # closer than the clearance [m] are evaluated every step.
 QUIET_MARGIN_M = 1e-6
 QUIET_CLEARANCE_M = 1e-9
+# Every piece a run creates (initial floes, broken, transient) costs memory until the run ends: ≈ 0.3–1 kB
+# for a kept polygon with its lineage and contact rows (benchmarks/README.md, memory), so two million pieces
+# stay below ≈ 1–2 GB. A 100 km × 200 m transit of the reference ice makes ≈ 0.3 million.
+MAX_PIECES_DEFAULT = 2_000_000
 
 
 class AreaBalanceError(RuntimeError):
     """Initial ice area ≠ cusps + flipped + remaining: a bug, never a user error."""
+
+
+class PieceBudgetError(InputError):
+    """The run would create more pieces than `SimulationParams.max_pieces` (memory guard; a user choice)."""
+
+    def __init__(self, max_pieces: int, bow_x_m: float, thickness_m: float):
+        super().__init__(
+            "simulation.max_pieces",
+            f"the ice breaks into more than {max_pieces:,} pieces (bow at x = {bow_x_m:.2f} m; a floe "
+            f"{thickness_m:g} m thick is breaking; thin ice breaks into many small pieces, and each piece "
+            "is kept in memory until the run ends)",
+            value=max_pieces,
+            allowed="raise simulation.max_pieces, or use a shorter field or thicker ice",
+        )
 
 
 @dataclass(frozen=True)
@@ -63,6 +81,7 @@ class SimulationParams:
     initial_contact: Literal["shift_field", "shift_floes"] = "shift_field"
     initial_clearance_m: float = 1e-3
     max_evaluations_per_floe_step: int = 256  # guard against endless re-breaking at one position
+    max_pieces: int = MAX_PIECES_DEFAULT  # memory guard: `PieceBudgetError` beyond this many pieces
 
     def __post_init__(self) -> None:
         require_range("ship.step_m", self.step_m, low=0.0, unit="m")
@@ -224,8 +243,15 @@ class _Pieces:
     field size.
     """
 
-    def __init__(self, floe_field: FloeField, y_range: tuple[float, float]):
+    def __init__(self, floe_field: FloeField, y_range: tuple[float, float], max_pieces: int):
         n = floe_field.n_floes
+        self.max_pieces = max_pieces
+        if n > max_pieces:
+            raise InputError(
+                "simulation.max_pieces",
+                f"the field has {n:,} floes, more than the budget of {max_pieces:,} pieces",
+                allowed="raise simulation.max_pieces, or use a smaller field",
+            )
         self.polygon: list[shapely.Geometry] = list(floe_field.polygons)
         self.area: list[float] = floe_field.area_m2.tolist()
         self.thickness: list[float] = floe_field.thickness_m.tolist()
@@ -247,6 +273,8 @@ class _Pieces:
 
     def add(self, polygon, thickness, parent: int, crack_count: int, step: int, bow_x: float) -> int:
         pid = len(self.polygon)
+        if pid >= self.max_pieces:
+            raise PieceBudgetError(self.max_pieces, bow_x, thickness)
         self.polygon.append(polygon)
         self.area.append(float(shapely.area(polygon)))
         self.thickness.append(thickness)
@@ -396,7 +424,7 @@ def simulate(
         x_end = field_x_max - hull_x0  # the aft end of the modelled hull passes the end of the field
     n_steps = int(np.floor((x_end - params.x_start_m) / params.step_m + 1e-9)) + 1
     d = params.dist_bow_max_m
-    pieces = _Pieces(floe_field, (hull_y0 - d, hull_y1 + d))
+    pieces = _Pieces(floe_field, (hull_y0 - d, hull_y1 + d), params.max_pieces)
     context = FailureContext(bow=bow, bow_geometry=geometry)
     hull_rings = geometry.hull_rings
     bow_length = float(getattr(bow, "length_bow_m", -hull_x0))

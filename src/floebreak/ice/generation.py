@@ -223,13 +223,15 @@ def generate_field(
     clustering: float = 0.05,
     vertices: int = c.CIRCLE_POLYGON_VERTICES,
     seed: int | None = None,
+    max_floes: int | None = None,
 ) -> FloeField:
     """A random floe field for `observation` in x ∈ [0, L], y ∈ [−W/2, W/2] (thesis §2.1).
 
     Thickness: `thickness_m` for every floe, or bounded random in `thickness_range_m` (thesis §5.3.3,
     Bates with `thickness_summands`), or the observation's mean thickness. `seed` is only recorded in the
     metadata; the randomness comes from `rng`. Raises InputError (or its subclass ConcentrationError) when
-    the request cannot be met.
+    the request cannot be met, or when the field would hold more than `max_floes` floes (checked before
+    anything is placed).
     """
     require_range("length_m", length_m, low=0.0, unit="m")
     require_range("width_m", width_m, low=0.0, unit="m")
@@ -238,6 +240,14 @@ def generate_field(
     require_range("clustering", clustering, low=0.0, low_inclusive=True)
     domain = (0.0, -width_m / 2.0, float(length_m), width_m / 2.0)
     counts = floe_counts(observation, length_m * width_m, floe_area_factor)
+    if max_floes is not None and counts.total > max_floes:
+        raise InputError(
+            "max_floes",
+            f"a {length_m:g} m × {width_m:g} m field of this observation holds {counts.total:,} floes, more "
+            f"than {max_floes:,}",
+            value=counts.total,
+            allowed=f"≤ {max_floes:,} floes: a smaller field, or a larger budget",
+        )
     present = [d for d, k in zip(counts.diameter_classes_m, counts.counts, strict=True) if k > 0]
     if generator != "voronoi" and present and max(present) > min(length_m, width_m):
         raise InputError(
