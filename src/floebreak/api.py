@@ -50,6 +50,7 @@ from floebreak.io.atomic import atomic_directory
 from floebreak.io.figures import savefig
 from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, arrow_array, to_json, write_geoparquet
 from floebreak.io.provenance import floebreak_version, provenance
+from floebreak.io.storage import as_storage_error, probe_directory
 from floebreak.results import (
     ContactRecorder,
     crushing_force_per_evaluation_n,
@@ -597,7 +598,8 @@ def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
 
 
 def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path:
-    """Refuse (InputError on key "out") an existing `out` without `overwrite`, or an unwritable parent."""
+    """Refuse (InputError on key "out") an existing `out` without `overwrite` or a missing parent; raise
+    StorageError if the parent cannot be written (full, read-only, no permission)."""
     out = Path(out)
     if out.exists() and not overwrite:
         raise InputError("out", f"{str(out)!r} exists", allowed="a new path, or pass --overwrite")
@@ -606,8 +608,7 @@ def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path
     parent = out.parent if str(out.parent) else Path(".")
     if not parent.is_dir():
         raise InputError("out", f"directory {str(parent)!r} does not exist", allowed="an existing directory")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError("out", f"directory {str(parent)!r} is not writable", allowed="a writable directory")
+    probe_directory(parent, out)  # a full, read-only or pseudo file system: StorageError before the run
     return out
 
 
@@ -624,6 +625,19 @@ def write_run_directory(
     `figures=False` skips ``figures/`` (and the report then has none): for large studies and tests.
     """
     out = check_output_directory(out, overwrite)
+    try:
+        _write_run_files(result, out, overwrite, report, figures, directory_name)
+    except OSError as error:
+        storage = as_storage_error(error, out)
+        if storage is None:
+            raise
+        raise storage from None
+    return out
+
+
+def _write_run_files(
+    result: Result, out: Path, overwrite: bool, report: bool, figures: bool, directory_name: str | None
+) -> None:
     with atomic_directory(out, overwrite=overwrite, field="out") as temp:
         field_meta = {
             **result.provenance("floe_field"),
@@ -656,7 +670,6 @@ def write_run_directory(
 
             write_report(temp, directory_name=directory_name or out.name)
         _normal_permissions(temp)
-    return out
 
 
 def _normal_permissions(root: Path) -> None:

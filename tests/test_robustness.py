@@ -1,0 +1,177 @@
+"""Regression tests of issue 20: what a user types must not crash the program, exhaust the machine or lose a
+result. Each test is one failure the issue's campaigns found (bad numbers, environment errors, Ctrl-C,
+memory on thin ice); the fuzz harness (`floebreak.testing.fuzz`, `make fuzz`) keeps looking for more."""
+
+from __future__ import annotations
+
+import errno
+import importlib
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import floebreak
+from floebreak.cli import main
+from floebreak.errors import InputError
+from floebreak.io.storage import StorageError, probe_directory
+from floebreak.simulation import PieceBudgetError
+
+SMALL = ["field.length_m=60.0"]
+
+
+def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
+    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
+    with pytest.raises(SystemExit) as info:
+        main()
+    captured = capsys.readouterr()
+    return info.value.code, captured.out, captured.err
+
+
+def _scenario(tmp_path: Path, text: str = "[field]\nlength_m = 60.0\n") -> str:
+    path = tmp_path / "s.toml"
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+# --- inputs: non-finite and absurd numbers (issue 20, failure 3) ---------------------------------------
+
+ISSUE_INPUTS = [
+    ("ice.youngs_modulus_pa=inf", "ice.youngs_modulus_pa"),
+    ("ship.x_start_m=nan", "ship.x_start_m"),
+    ("ice.crushing_strength_pa=inf", "ice.crushing_strength_pa"),
+    ("field.length_m=inf", "field.length_m"),
+    ("ice.thickness_range_m=[1e-9, 1e9]", "ice.thickness_range_m[0]"),
+    ("ice.fracture_toughness_pa_sqrt_m=inf", "ice.fracture_toughness_pa_sqrt_m"),
+    ("ship.step_m=inf", "ship.step_m"),
+]
+
+
+@pytest.mark.parametrize(("override", "key"), ISSUE_INPUTS, ids=[i[1] for i in ISSUE_INPUTS])
+def test_non_finite_or_absurd_numbers_exit_2_naming_the_key(tmp_path, monkeypatch, capsys, override, key):
+    out = tmp_path / "out"
+    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "--set", override)
+    assert code == 2, err
+    assert err.strip().startswith(f"error: {key}:") and err.strip().count("\n") == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_schema_states_the_ranges():
+    schema = floebreak.Scenario.model_json_schema()
+    ice = schema["$defs"]["IceSection"]["properties"]
+    thickness = next(option for option in ice["thickness_m"]["anyOf"] if option.get("type") == "number")
+    assert thickness["minimum"] == 0.01 and thickness["maximum"] == 10.0
+    assert ice["youngs_modulus_pa"]["minimum"] > 0 and np.isfinite(ice["youngs_modulus_pa"]["maximum"])
+
+
+# --- memory: the piece budget and lineage (failure 1) --------------------------------------------------
+
+
+def test_piece_budget_stops_the_run_with_exit_2_naming_the_key(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "out"
+    args = ("run", _scenario(tmp_path), "--out", str(out), "-q", "--set", "simulation.max_pieces=40")
+    code, _, err = cli(monkeypatch, capsys, *args)
+    assert code == 2 and "error: simulation.max_pieces:" in err and "more than 40 pieces" in err
+    assert not out.exists() and not (tmp_path / "out.failed-scenario.toml").exists()
+
+
+def test_piece_budget_error_from_the_python_api():
+    with pytest.raises(PieceBudgetError) as info:
+        floebreak.run(overrides=[*SMALL, "simulation.max_pieces=40"])
+    assert info.value.field == "simulation.max_pieces"
+
+
+def test_a_generated_field_over_the_budget_is_refused_before_it_is_placed():
+    # 1000 km × 10 km of the reference observation: ≈ 4.9e7 floes (c·A / Ā, thesis §2.1), never generated
+    with pytest.raises(InputError) as info:
+        floebreak.run(overrides=["field.length_m=1e6", "field.width_m=1e4"])
+    assert info.value.field == "simulation.max_pieces"
+
+
+def test_an_inline_field_over_the_budget_is_refused():
+    floes = (
+        "[" + ", ".join(f"{{x_m = {20.0 + 3.0 * i}, y_m = 0.0, diameter_m = 2.0}}" for i in range(5)) + "]"
+    )
+    scenario = floebreak.Scenario.from_toml_text(
+        f"[field]\nfloes = {floes}\n[ice]\nthickness_m = 1.0\n[simulation]\nmax_pieces = 4\n"
+    )
+    with pytest.raises(InputError) as info:
+        floebreak.run(scenario)
+    assert info.value.field == "simulation.max_pieces" and "5 floes" in str(info.value)
+
+
+def test_failure_chain_is_rebuilt_from_parent_ids():
+    """Lineage is stored once (parent ids + the mode that ended each piece): a cusp's chain has one entry per
+    ancestor, each the mode that broke it, and the modes of all broken pieces add up to the break counters."""
+    result = floebreak.run(overrides=SMALL)
+    sim = result.simulation
+    broken = sim.fate == "broken"
+    modes, counts = np.unique(sim.ended_by[broken].astype(str), return_counts=True)
+    by_mode = dict(zip(modes.tolist(), counts.tolist(), strict=True))
+    whole = (sim.fate != "broken") & (sim.ended_by != "")
+    assert sum(by_mode.values()) == sim.n_breaks
+    assert sum(by_mode.values()) + int(whole.sum()) == sum(sim.breaks_by_mode.values())
+    for i in np.flatnonzero(sim.fate == "cusp")[:50]:
+        depth, parent = 0, int(sim.parent_piece_id[i])
+        while parent >= 0:
+            depth, parent = depth + 1, int(sim.parent_piece_id[parent])
+        chain = sim.failure_chain(int(i))
+        assert len(chain) == depth + (1 if sim.ended_by[i] else 0)
+        assert chain[-1] == result.cusps["failure_mode"][list(result.cusps["piece_id"]).index(i)]
+
+
+# --- environment and interruption (failure 4) ----------------------------------------------------------
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
+def test_a_pseudo_file_system_is_refused_before_the_run(tmp_path, monkeypatch, capsys):
+    api = importlib.import_module("floebreak.api")
+    monkeypatch.setattr(api, "simulate", lambda *a, **k: pytest.fail("the run started"))
+    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", "/proc/floebreak-run", "-q")
+    assert code == 3 and "/proc/floebreak-run" in err and "internal error" not in err
+
+
+def test_disk_full_while_writing_exits_3_and_leaves_nothing(tmp_path, monkeypatch, capsys):
+    geoparquet = importlib.import_module("floebreak.api")
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(geoparquet, "write_geoparquet", full)
+    out = tmp_path / "out"
+    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
+    assert code == 3 and "No space left on device" in err and str(out) in err
+    assert "report this bug" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no run, no temporary, no 0-byte file
+
+
+def test_probe_reports_the_os_error(tmp_path, monkeypatch):
+    def refuse(*args, **kwargs):
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr("tempfile.mkstemp", refuse)
+    with pytest.raises(StorageError) as info:
+        probe_directory(tmp_path, tmp_path / "out")
+    assert info.value.errno == errno.EROFS and "Read-only file system" in str(info.value)
+
+
+@pytest.mark.parametrize("inside_kernel", [False, True])
+def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeypatch, capsys, inside_kernel):
+    api = importlib.import_module("floebreak.api")
+
+    def interrupted(*args, **kwargs):
+        if not inside_kernel:
+            raise KeyboardInterrupt
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as error:  # how numba reports it: a SystemError with the interrupt set
+            raise SystemError(
+                "CPUDispatcher(<function zone_rows>) returned a result with an exception set"
+            ) from error
+
+    monkeypatch.setattr(api, "simulate", interrupted)
+    out = tmp_path / "out"
+    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
+    assert code == 130 and err.strip().count("\n") == 0 and "interrupted" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
