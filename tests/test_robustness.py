@@ -175,3 +175,63 @@ def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeyp
     code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
     assert code == 130 and err.strip().count("\n") == 0 and "interrupted" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+# --- exact geometry (failure 2) ------------------------------------------------------------------------
+
+# a crescent 0.7 mm wide between two bending arcs (from the issue's AreaBalanceError case, seed 9 below),
+# bow frame; moved to the field frame at bow x = 179.0814 m its ends cross within rounding
+CRESCENT_XY_M = [
+    (-8.344472466178557, -12.292066799138839),
+    (-8.380454579083722, -12.26954830937957),
+    (-8.392388385519642, -12.262079840289811),
+    (-8.400693662717273, -12.256882193892121),
+    (-8.401842405106285, -12.256163282698909),
+    (-8.563515984523598, -12.154983986973587),
+    (-8.748865863824488, -12.038987481434297),
+    (-9.783753258001948, -11.258029162148434),
+    (-10.746637590831192, -10.389846245545488),
+    (-11.63019073113394, -9.441046127843986),
+    (-12.427688306008504, -8.418849750840819),
+    (-12.656569500259831, -8.065873220953558),
+    (-12.656643497194652, -8.065148819620664),
+    (-12.42702231659368, -8.41926654336929),
+    (-11.629524741719116, -9.441462920372457),
+    (-10.745971601416368, -10.39026303807396),
+    (-9.783087268587124, -11.258445954676905),
+    (-8.748199874409664, -12.039404273962768),
+    (-8.341065077721355, -12.294199226500222),
+]
+
+
+def test_a_crescent_made_invalid_by_translation_keeps_its_area():
+    import shapely
+
+    from floebreak.simulation import _translate_pieces
+
+    crescent = shapely.Polygon(CRESCENT_XY_M)
+    assert crescent.is_valid
+    moved = _translate_pieces(np.array([crescent], dtype=object), 179.0814)[0]
+    assert moved.is_valid
+    # the shoelace area of the given ring, independent of the engine
+    x, y = np.array(CRESCENT_XY_M).T
+    shoelace = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    assert moved.area == pytest.approx(shoelace, rel=1e-9)
+
+
+@pytest.mark.parametrize("seed", [2, 9, 11])
+def test_issue_area_balance_case_conserves_area_with_valid_pieces(seed):
+    """Thesis profile, voronoi, Polarstern, obs 2019-12-19T04:40, 3 floes in 264 m × 256 m, h = 0.7028 m,
+    step 1.8462 m, flexural_stress, BZ2: seed 9 raised AreaBalanceError (1.9e-8), seeds 2, 11 lost 2.5e-11."""
+    import shapely
+
+    scenario = floebreak.Scenario.from_toml_text(
+        'profile = "thesis"\n[field]\nobservation = "2019-12-19T04:40"\nlength_m = 264.0\nwidth_m = 256.0\n'
+        'generator = "voronoi"\n[ice]\nthickness_m = 0.7028\n[ship]\nhull = "polarstern"\nstep_m = 1.8462\n'
+        '[failure]\ncrack_criterion = "flexural_stress"\nsize_effect_law = "BZ2"\n',
+        overrides=[f"seed={seed}"],
+    )
+    result = floebreak.run(scenario)
+    assert result.summary["area_balance_rel_error"] <= 1e-12
+    for table in (result.cusps, result.flipped, result.remaining, result.pieces):
+        assert shapely.is_valid(np.asarray(table["geometry"], dtype=object)).all()
