@@ -12,6 +12,7 @@ before any code inside it.
 from __future__ import annotations
 
 import gc
+import sys
 
 
 def main() -> None:
@@ -19,6 +20,9 @@ def main() -> None:
     gc.disable()
     try:
         from floebreak.cli import main as cli_main
+    except KeyboardInterrupt:  # Ctrl-C before the command line is loaded: as `floebreak.cli.main` reports it
+        print("interrupted (Ctrl-C); nothing half-written was kept", file=sys.stderr)
+        sys.exit(130)
     finally:
         gc.freeze()
         if enabled:

@@ -22,6 +22,7 @@ import resource
 import time
 import traceback
 from concurrent.futures import ProcessPoolExecutor
+from contextlib import nullcontext
 from pathlib import Path
 from typing import Any
 
@@ -98,7 +99,7 @@ def _field(draw) -> dict[str, Any]:
     else:
         k = draw(st.integers(1, 3))
         field["diameter_classes_m"] = sorted(
-            draw(st.lists(_edge_or_inside(1.0, 30.0), min_size=k, max_size=k))
+            draw(st.lists(_edge_or_inside(1.0, 30.0), min_size=k, max_size=k, unique=True))
         )
         shares = draw(st.lists(st.integers(1, 10), min_size=k, max_size=k))
         field["percentages"] = [100.0 * s / sum(shares) for s in shares]
@@ -209,8 +210,11 @@ def run_campaign(n: int, campaign_seed: int, jobs: int, out: Path, max_rss_mb: f
     scenarios = draw_scenarios(n, campaign_seed)
     counts = {"runs": 0, "ok": 0, "refused": 0, "crash": 0, "violations": 0, "over_memory": 0}
     worst = {"area_balance_rel_error": 0.0, "peak_rss_mb": 0.0, "seconds": 0.0}
-    with ProcessPoolExecutor(max_workers=jobs, max_tasks_per_child=100) as pool:
-        for i, record in enumerate(pool.map(check_one, scenarios)):
+    # jobs = 0: in this process (the sample of the test suite); else worker processes, renewed every 100
+    # scenarios so that one worker's peak memory covers few runs
+    with ProcessPoolExecutor(max_workers=jobs, max_tasks_per_child=100) if jobs else nullcontext() as pool:
+        records = pool.map(check_one, scenarios) if jobs else map(check_one, scenarios)
+        for i, record in enumerate(records):
             counts["runs"] += 1
             counts[record["status"]] += 1
             counts["violations"] += bool(record["problems"])
