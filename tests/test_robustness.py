@@ -235,3 +235,40 @@ def test_issue_area_balance_case_conserves_area_with_valid_pieces(seed):
     assert result.summary["area_balance_rel_error"] <= 1e-12
     for table in (result.cusps, result.flipped, result.remaining, result.pieces):
         assert shapely.is_valid(np.asarray(table["geometry"], dtype=object)).all()
+
+
+# --- the field command and CSV errors (failure 7) ------------------------------------------------------
+
+
+def test_field_refuses_an_unknown_figure_format_before_writing(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "f.parquet"
+    args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60", "--figure")
+    code, _, err = cli(monkeypatch, capsys, *args, str(tmp_path / "fig.xyz"))
+    assert code == 2 and "error: figure:" in err and "png" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_field_refuses_an_existing_output_without_overwrite(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "f.parquet"
+    out.write_bytes(b"keep me")
+    args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60")
+    code, _, err = cli(monkeypatch, capsys, *args)
+    assert code == 2 and "error: out:" in err and "--overwrite" in err and out.read_bytes() == b"keep me"
+    code, _, err = cli(monkeypatch, capsys, *args, "--overwrite")
+    assert code == 0, err
+    assert out.read_bytes()[:4] == b"PAR1"
+
+
+@pytest.mark.parametrize(("option", "value"), [("--length", "inf"), ("--thickness", "nan")])
+def test_field_refuses_non_finite_numbers(tmp_path, monkeypatch, capsys, option, value):
+    args = ("field", "--out", str(tmp_path / "f.parquet"), "--obs", "2019-12-18T20:20", option, value)
+    code, _, err = cli(monkeypatch, capsys, *args)
+    assert code == 2 and f"error: {option.lstrip('-')}:" in err and "finite" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bow_csv_errors_keep_file_and_row(tmp_path, monkeypatch, capsys):
+    (tmp_path / "bow.csv").write_text("x_m,y_m,line\n0,0,upper\n1,2\n", encoding="utf-8")
+    scenario = _scenario(tmp_path, '[ship]\nfile = "bow.csv"\n[field]\nlength_m = 60.0\n')
+    code, _, err = cli(monkeypatch, capsys, "run", scenario, "--out", str(tmp_path / "out"))
+    assert code == 2 and f"error: ship.file: {tmp_path / 'bow.csv'} row 3:" in err

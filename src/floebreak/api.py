@@ -265,8 +265,12 @@ def build_bow(scenario: Scenario, floe_field: FloeField | None = None):
 
         try:
             return Bow.from_csv(ship.file)
-        except InputError as error:
-            raise _prefixed("ship.file", error) from None
+        except InputError as error:  # keep the file and row the bow's reader names ("bow.csv row 7")
+            where = error.field.replace(Path(ship.file).name, str(ship.file), 1)
+            message = str(error).removeprefix(f"{error.field}: ")
+            raise InputError(
+                "ship.file", f"{where}: {message}", value=error.value, allowed=error.allowed
+            ) from None
     from floebreak.ship.hulls import get_hull
 
     try:

@@ -84,6 +84,7 @@ def field(
     ] = None,
     figure: Annotated[Path | None, typer.Option("--figure", help="also write a figure (PNG/PDF/SVG)")] = None,
     geojson: Annotated[Path | None, typer.Option("--geojson", help="also write GeoJSON")] = None,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help="replace existing output files")] = False,
 ) -> None:
     """Generate a random floe field from an ice observation and save it as GeoParquet."""
     from floebreak.ice.generation import generate_field
@@ -95,11 +96,8 @@ def field(
         raise InputError(
             "thickness_range", f"{thickness_range!r} needs two values MIN,MAX", allowed="MIN,MAX [m]"
         )
-    for path, name in ((out, "out"), (figure, "figure"), (geojson, "geojson")):
-        if path is not None and not path.parent.exists():
-            raise InputError(
-                name, f"directory {str(path.parent)!r} does not exist", allowed="an existing directory"
-            )
+    _check_field_options(length, width, thickness, trange)
+    _check_field_outputs({"out": out, "figure": figure, "geojson": geojson}, overwrite)
     floe_field = generate_field(
         observation,
         length_m=length,
@@ -125,6 +123,50 @@ def field(
         f"{floe_field.n_floes} floes, concentration {100 * floe_field.concentration:.2f} % "
         f"(target {100 * observation.concentration:g} %) → {', '.join(written)}"
     )
+
+
+def _check_field_options(length: float, width: float, thickness, thickness_range) -> None:
+    """The scenario's ranges (`floebreak.scenario`, one place) for the options, named as options."""
+    from floebreak.scenario import Scenario
+
+    options = {"field.length_m": "length", "field.width_m": "width", "ice.thickness_m": "thickness"}
+    data = {"field": {"length_m": length, "width_m": width}, "ice": {}}
+    if thickness is not None:
+        data["ice"]["thickness_m"] = thickness
+    if thickness_range is not None:
+        data["ice"]["thickness_range_m"] = list(thickness_range)
+    try:
+        Scenario.from_dict(data)
+    except InputError as error:
+        key = options.get(error.field, "thickness_range" if "thickness_range" in error.field else error.field)
+        message = str(error).split(": ", 1)[1]
+        raise InputError(key, message, value=error.value, allowed=error.allowed) from None
+
+
+def _check_field_outputs(paths: dict[str, Path | None], overwrite: bool) -> None:
+    """Refuse, before anything is generated, an existing output without --overwrite, a missing directory,
+    an unknown figure format; StorageError (exit 3) for a directory the machine will not write."""
+    from matplotlib.figure import Figure
+
+    from floebreak.io.storage import probe_directory
+
+    for name, path in paths.items():
+        if path is None:
+            continue
+        if path.exists() and not overwrite:
+            raise InputError(name, f"{str(path)!r} exists", allowed="a new path, or pass --overwrite")
+        if not path.parent.is_dir():
+            raise InputError(
+                name, f"directory {str(path.parent)!r} does not exist", allowed="an existing directory"
+            )
+        probe_directory(path.parent, path)
+    figure = paths.get("figure")
+    if figure is not None:
+        formats = Figure().canvas.get_supported_filetypes()
+        if (figure.suffix.lstrip(".").lower() or "png") not in formats:
+            raise InputError(
+                "figure", f"unknown figure format {figure.suffix!r}", allowed=", ".join(sorted(formats))
+            )
 
 
 def _observation_from_options(obs, concentration, mean_thickness, diameters, percentages) -> Observation:
