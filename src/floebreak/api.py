@@ -678,7 +678,30 @@ def _write_run_files(
             from floebreak.report import write_report
 
             write_report(temp, directory_name=directory_name or out.name)
+        summary_doc["files"] = file_checksums(temp)  # a resumed study re-runs a run whose files differ
+        (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
         _normal_permissions(temp)
+
+
+def file_checksums(run_dir: Path, names: Iterable[str] | None = None) -> dict[str, str]:
+    """SHA-256 of the files `names` (relative paths; default: every file but the top ``summary.json``,
+    which records them) of a run directory; a missing file gets "missing"."""
+    run_dir = Path(run_dir)
+    if names is None:
+        files = (p for p in run_dir.rglob("*") if p.is_file() and p != run_dir / "summary.json")
+        names = [p.relative_to(run_dir).as_posix() for p in files]
+    sums = {}
+    for name in sorted(names):
+        digest = hashlib.sha256()
+        try:
+            with (run_dir / name).open("rb") as file:
+                for block in iter(lambda: file.read(1 << 20), b""):
+                    digest.update(block)
+        except FileNotFoundError:
+            sums[name] = "missing"
+            continue
+        sums[name] = digest.hexdigest()
+    return sums
 
 
 def _normal_permissions(root: Path) -> None:
