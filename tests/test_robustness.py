@@ -272,3 +272,41 @@ def test_bow_csv_errors_keep_file_and_row(tmp_path, monkeypatch, capsys):
     scenario = _scenario(tmp_path, '[ship]\nfile = "bow.csv"\n[field]\nlength_m = 60.0\n')
     code, _, err = cli(monkeypatch, capsys, "run", scenario, "--out", str(tmp_path / "out"))
     assert code == 2 and f"error: ship.file: {tmp_path / 'bow.csv'} row 3:" in err
+
+
+# --- scale (failure 7) ---------------------------------------------------------------------------------
+
+
+def test_field_generation_reports_progress_and_the_field_is_unchanged():
+    import shapely
+
+    from floebreak.ice.generation import generate_field
+    from floebreak.ice.observations import get_observation
+
+    calls = []
+    observation = get_observation("2019-12-18T20:20")
+    args = (observation, 200.0, 50.0)
+    quiet = generate_field(*args, np.random.default_rng(3))
+    told = generate_field(*args, np.random.default_rng(3), progress=lambda *a: calls.append(a))
+    assert shapely.equals_exact(quiet.polygons, told.polygons, tolerance=0.0).all()
+    assert calls[0][0].startswith(f"placing {quiet.n_floes:,} floes") and calls[-1][0].endswith("placed")
+    rounds = [(done, most) for stage, done, most in calls[1:-1]]
+    assert rounds and all(0 < done <= most for done, most in rounds)
+    assert [done for done, _ in rounds] == list(range(1, len(rounds) + 1))
+
+
+def test_ten_thousand_inline_floes_are_checked_for_overlap_by_index():
+    """10 000 floes in a grid (3 m apart, 2 m wide): no overlap; one moved onto its neighbour: named."""
+    from floebreak import api
+
+    floes = [
+        {"x_m": 20.0 + 3.0 * (i // 50), "y_m": -75.0 + 3.0 * (i % 50), "diameter_m": 2.0}
+        for i in range(10_000)
+    ]
+    scenario = floebreak.Scenario.from_dict({"field": {"floes": floes}, "ice": {"thickness_m": 1.0}})
+    assert api.build_field(scenario, np.random.default_rng(1)).n_floes == 10_000
+    floes[777] = {**floes[776], "y_m": floes[776]["y_m"] + 1.0}
+    scenario = floebreak.Scenario.from_dict({"field": {"floes": floes}, "ice": {"thickness_m": 1.0}})
+    with pytest.raises(InputError) as info:
+        api.build_field(scenario, np.random.default_rng(1))
+    assert info.value.field == "field.floes[777]" and "field.floes[776]" in str(info.value)

@@ -98,16 +98,18 @@ def field(
         )
     _check_field_options(length, width, thickness, trange)
     _check_field_outputs({"out": out, "figure": figure, "geojson": geojson}, overwrite)
-    floe_field = generate_field(
-        observation,
-        length_m=length,
-        width_m=width,
-        rng=np.random.default_rng(seed),
-        generator=generator.value,
-        thickness_m=thickness,
-        thickness_range_m=trange,
-        seed=seed,
-    )
+    with _generation_progress() as progress:
+        floe_field = generate_field(
+            observation,
+            length_m=length,
+            width_m=width,
+            rng=np.random.default_rng(seed),
+            generator=generator.value,
+            thickness_m=thickness,
+            thickness_range_m=trange,
+            seed=seed,
+            progress=progress,
+        )
     save_field(floe_field, out, field="out")
     written = [str(out)]
     if geojson is not None:
@@ -123,6 +125,21 @@ def field(
         f"{floe_field.n_floes} floes, concentration {100 * floe_field.concentration:.2f} % "
         f"(target {100 * observation.concentration:g} %) → {', '.join(written)}"
     )
+
+
+@contextmanager
+def _generation_progress():
+    """A progress display for `generate_field` (stage and relaxation rounds; large fields take minutes)."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=err_console, transient=True) as bar:
+        task = bar.add_task("field", total=None)
+
+        def progress(stage: str, done: int, most: int) -> None:
+            bar.update(task, description=stage, completed=done, total=most or None)
+
+        yield progress
 
 
 def _check_field_options(length: float, width: float, thickness, thickness_range) -> None:
