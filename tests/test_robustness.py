@@ -45,6 +45,8 @@ ISSUE_INPUTS = [
     ("ice.thickness_range_m=[1e-9, 1e9]", "ice.thickness_range_m[0]"),
     ("ice.fracture_toughness_pa_sqrt_m=inf", "ice.fracture_toughness_pa_sqrt_m"),
     ("ship.step_m=inf", "ship.step_m"),
+    ("failure.bending.kashtelyan_coefficient=inf", "failure.bending.kashtelyan_coefficient"),
+    ("failure.cracking.total_porosity_ppt=nan", "failure.cracking.total_porosity_ppt"),
 ]
 
 

@@ -489,7 +489,7 @@ def _table_model(spec: Any) -> type[BaseModel]:
         if item.name in spec.table_keys():
             default = item.default if item.default is not dataclasses.MISSING else item.default_factory()
             fields[item.name] = (hints[item.name], Field(default, description=docs.get(item.name)))
-    config = ConfigDict(extra="forbid", strict=True, frozen=True)
+    config = ConfigDict(extra="forbid", strict=True, frozen=True, allow_inf_nan=False)  # finite, as Float
     return create_model(f"failure.{spec.name}", __config__=config, **fields)
 
 
