@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import resource
+import sys
 import time
 import traceback
 from concurrent.futures import ProcessPoolExecutor
@@ -222,6 +223,8 @@ def run_campaign(n: int, campaign_seed: int, jobs: int, out: Path, max_rss_mb: f
             counts["over_memory"] += over
             for key in worst:
                 worst[key] = max(worst[key], record.get(key) or 0.0)
+            if (i + 1) % 50 == 0:
+                print(f"{i + 1} of {n}: {counts}", file=sys.stderr, flush=True)
             if record["status"] == "crash" or record["problems"] or over:
                 text = "".join(
                     f"# {line}\n" for line in json.dumps(record, default=str, indent=1).splitlines()
