@@ -46,10 +46,11 @@ AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overl
 # closer than the clearance [m] are evaluated every step.
 QUIET_MARGIN_M = 1e-6
 QUIET_CLEARANCE_M = 1e-9
-# Every piece a run creates (initial floes, broken, transient) costs memory until the run ends: ≈ 0.3–1 kB
-# for a kept polygon with its lineage and contact rows (benchmarks/README.md, memory), so two million pieces
-# stay below ≈ 1–2 GB. A 100 km × 200 m transit of the reference ice makes ≈ 0.3 million.
-MAX_PIECES_DEFAULT = 2_000_000
+# Every piece a run creates (initial floes, broken, transient) costs memory until the run ends: ≈ 4 kB per
+# piece in a long transit, with its contact rows and its share of the tables and figures written
+# (benchmarks/README.md, memory), so a million pieces stay within ≈ 4 GB. A 100 km × 200 m transit of the
+# reference ice makes ≈ 0.4 million; runaway breaking of very thin ice is stopped.
+MAX_PIECES_DEFAULT = 1_000_000
 
 
 class AreaBalanceError(RuntimeError):
