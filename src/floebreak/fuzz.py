@@ -23,7 +23,6 @@ import sys
 import time
 import traceback
 from concurrent.futures import ProcessPoolExecutor
-from contextlib import nullcontext
 from pathlib import Path
 from typing import Any
 
@@ -203,6 +202,21 @@ def check_one(data: dict[str, Any]) -> dict[str, Any]:
     return record
 
 
+WORKER_SCENARIOS = 100  # scenarios per pool of fresh workers (a worker's peak memory covers few runs)
+
+
+def _records(scenarios: list[dict[str, Any]], jobs: int):
+    """The check records in order: in this process (jobs = 0, the test suite's sample), else in pools of
+    `jobs` fresh workers, one pool per `WORKER_SCENARIOS` (not ``max_tasks_per_child``: Python 3.11's
+    executor hangs when a worker retires)."""
+    if not jobs:
+        yield from map(check_one, scenarios)
+        return
+    for start in range(0, len(scenarios), WORKER_SCENARIOS):
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            yield from pool.map(check_one, scenarios[start : start + WORKER_SCENARIOS])
+
+
 def run_campaign(n: int, campaign_seed: int, jobs: int, out: Path, max_rss_mb: float) -> dict[str, Any]:
     """Draw and check `n` scenarios; write violations and ``summary.json`` into `out`; return the summary."""
     import tomli_w
@@ -211,27 +225,21 @@ def run_campaign(n: int, campaign_seed: int, jobs: int, out: Path, max_rss_mb: f
     scenarios = draw_scenarios(n, campaign_seed)
     counts = {"runs": 0, "ok": 0, "refused": 0, "crash": 0, "violations": 0, "over_memory": 0}
     worst = {"area_balance_rel_error": 0.0, "peak_rss_mb": 0.0, "seconds": 0.0}
-    # jobs = 0: in this process (the sample of the test suite); else worker processes, renewed every 100
-    # scenarios so that one worker's peak memory covers few runs
-    with ProcessPoolExecutor(max_workers=jobs, max_tasks_per_child=100) if jobs else nullcontext() as pool:
-        records = pool.map(check_one, scenarios) if jobs else map(check_one, scenarios)
-        for i, record in enumerate(records):
-            counts["runs"] += 1
-            counts[record["status"]] += 1
-            counts["violations"] += bool(record["problems"])
-            over = record["peak_rss_mb"] > max_rss_mb
-            counts["over_memory"] += over
-            for key in worst:
-                worst[key] = max(worst[key], record.get(key) or 0.0)
-            if (i + 1) % 50 == 0:
-                print(f"{i + 1} of {n}: {counts}", file=sys.stderr, flush=True)
-            if record["status"] == "crash" or record["problems"] or over:
-                text = "".join(
-                    f"# {line}\n" for line in json.dumps(record, default=str, indent=1).splitlines()
-                )
-                (out / f"case-{i:05d}.toml").write_text(
-                    text + tomli_w.dumps(record["scenario"]), encoding="utf-8"
-                )
+    for i, record in enumerate(_records(scenarios, jobs)):
+        counts["runs"] += 1
+        counts[record["status"]] += 1
+        counts["violations"] += bool(record["problems"])
+        over = record["peak_rss_mb"] > max_rss_mb
+        counts["over_memory"] += over
+        for key in worst:
+            worst[key] = max(worst[key], record.get(key) or 0.0)
+        if (i + 1) % 25 == 0:
+            print(f"{i + 1} of {n}: {counts}", file=sys.stderr, flush=True)
+        if record["status"] == "crash" or record["problems"] or over:
+            text = "".join(f"# {line}\n" for line in json.dumps(record, default=str, indent=1).splitlines())
+            (out / f"case-{i:05d}.toml").write_text(
+                text + tomli_w.dumps(record["scenario"]), encoding="utf-8"
+            )
     summary = {"n": n, "seed": campaign_seed, **counts, "worst": worst, "max_rss_mb": max_rss_mb}
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
