@@ -312,3 +312,21 @@ def test_ten_thousand_inline_floes_are_checked_for_overlap_by_index():
     with pytest.raises(InputError) as info:
         api.build_field(scenario, np.random.default_rng(1))
     assert info.value.field == "field.floes[777]" and "field.floes[776]" in str(info.value)
+
+
+def test_failure_chain_from_the_written_pieces_file(tmp_path):
+    import pyarrow.parquet as pq
+
+    from floebreak.results import failure_chain
+
+    result = floebreak.run(overrides=SMALL)
+    result.write(tmp_path / "run", figures=False, report=False)
+    table = pq.read_table(
+        tmp_path / "run" / "pieces.parquet", columns=["piece_id", "parent_piece_id", "ended_by"]
+    )
+    columns = {name: table.column(name).to_numpy(zero_copy_only=False) for name in table.column_names}
+    cusps = np.flatnonzero(result.simulation.fate == "cusp")
+    assert cusps.size
+    for i in cusps[:: max(1, cusps.size // 20)]:
+        assert failure_chain(columns, int(i)) == ">".join(result.simulation.failure_chain(int(i)))
+        assert failure_chain(columns, int(i))  # a cusp was made by a break or a rotation
