@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.floebreak-installed
 
-.PHONY: demo test lint bench test-slow validate clean bytecode
+.PHONY: demo test lint bench test-slow validate clean bytecode fuzz
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -41,6 +41,14 @@ bytecode:
 
 bench: $(STAMP) bytecode
 	@for script in $(filter-out benchmarks/compare.py,$(wildcard benchmarks/*.py)); do echo "== $$script"; OMP_NUM_THREADS=1 $(BIN)/python $$script || exit 1; done
+
+# fuzz campaign (issue 20): N random valid scenarios from SEED, checked for internal errors, area balance,
+# valid polygons and peak memory; violations saved in fuzz-report/ (benchmarks/README.md, fuzz)
+N ?= 200
+SEED ?= 1
+JOBS ?= 1
+fuzz: $(STAMP)
+	OMP_NUM_THREADS=1 $(BIN)/python -m floebreak.fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --out fuzz-report
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache

@@ -347,7 +347,7 @@ def test_unwritable_output_directory(tmp_path, monkeypatch, capsys):
         code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(locked / "out"))
     finally:
         locked.chmod(0o700)
-    assert code == 2 and "not writable" in err
+    assert code == 3 and "Permission denied" in err and str(locked / "out") in err
 
 
 def test_internal_error_exit_1_saves_the_scenario(tmp_path, monkeypatch, capsys):

@@ -30,7 +30,8 @@ PIECE_COLUMNS = {
     "step",
     "bow_x_m",
     "parent_floe_id",
-    "failure_chain",
+    "parent_piece_id",
+    "failure_mode",
 }
 CONTACT_COLUMNS = {
     "step",
@@ -299,7 +300,7 @@ def test_a_field_built_beforehand_gives_the_same_run():
     scenario = floebreak.Scenario.reference([*SMALL, "seed=3"]).resolved()
     built = run_module.build_field(scenario, np.random.default_rng(scenario.seed))
     given, alone = floebreak.run(scenario, floe_field=built), floebreak.run(scenario)
-    for column in ("area_m2", "bow_x_m", "step", "failure_chain"):
+    for column in ("area_m2", "bow_x_m", "step", "failure_mode"):
         assert list(given.cusps[column]) == list(alone.cusps[column]), column
     assert shapely.equals_exact(given.cusps["geometry"], alone.cusps["geometry"], tolerance=0.0).all()
     assert len(given.contacts["step"]) == len(alone.contacts["step"])

@@ -55,8 +55,26 @@ def test_pieces_file_is_geoparquet_with_provenance_and_stepping(pieces_run):
         "area_m2",
     } <= set(table.column_names)
     assert np.all(shapely.is_valid(geometry))
-    np.testing.assert_allclose(columns["area_m2"], shapely.area(geometry), rtol=1e-12)
+    kept = ~shapely.is_empty(geometry)
+    np.testing.assert_allclose(columns["area_m2"][kept], shapely.area(geometry[kept]), rtol=1e-12)
     assert set(columns["fate"]) <= {"broken", "cusp", "flipped", "remaining"}
+
+
+def test_only_transient_pieces_lack_geometry_and_their_area_is_their_childrens(pieces_run):
+    """A piece created and broken at one bow position is never in the field between two steps: its polygon
+    is not kept (memory), its area is, and it equals the sum of its children's areas."""
+    _, _, columns, geometry, _ = pieces_run
+    empty = shapely.is_empty(geometry)
+    transient = (columns["fate"] == "broken") & (columns["created_step"] == columns["ended_step"])
+    assert transient.any()  # the run chips floes more than once at a position
+    np.testing.assert_array_equal(empty, transient)
+    children_area = np.zeros(len(geometry))
+    np.add.at(
+        children_area,
+        columns["parent_piece_id"][columns["parent_piece_id"] >= 0],
+        columns["area_m2"][columns["parent_piece_id"] >= 0],
+    )
+    np.testing.assert_allclose(children_area[transient], columns["area_m2"][transient], rtol=1e-9)
 
 
 def test_initial_floes_are_the_field(pieces_run):

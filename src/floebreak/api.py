@@ -9,11 +9,14 @@ directory atomically (temporary sibling, renamed when complete; a failed run lea
   simulated, i.e. after any shift for no initial contact): GeoParquet, ``"crs": null``, one row per piece;
 - ``contacts.parquet``: one row per floe–panel contact evaluation (`floebreak.results.CONTACT_COLUMNS`);
 - ``pieces.parquet``: every piece that existed in the run (initial floes, broken pieces, cusps, flipped and
-  remaining pieces; GeoParquet, field frame) with ``piece_id``, ``parent_piece_id`` (−1 for initial floes),
-  ``parent_floe_id``, ``fate`` (``broken``/``cusp``/``flipped``/``remaining``), ``created_step`` (−1 for
-  initial floes), ``ended_step`` (the step it broke or left the field; −1 if it remains), ``thickness_m``,
-  ``area_m2``, ``failure_chain``; the metadata adds ``x_start_m``, ``step_m``, ``n_steps`` (bow x at step s
-  = x_start_m + s·step_m). Enough to replay the transit (``floebreak animate``);
+  remaining pieces; GeoParquet, field frame; the geometry is empty for a piece created and broken at one bow
+  position, which is never in the field between two steps) with ``piece_id``, ``parent_piece_id`` (−1 for
+  initial floes), ``parent_floe_id``, ``fate`` (``broken``/``cusp``/``flipped``/``remaining``),
+  ``created_step`` (−1 for initial floes), ``ended_step`` (the step it broke or left the field; −1 if it
+  remains), ``thickness_m``, ``area_m2``, ``ended_by`` (the failure mode that broke the piece or took it out
+  whole, "" if none; `floebreak.results.failure_chain` rebuilds a piece's chain); the metadata adds
+  ``x_start_m``, ``step_m``, ``n_steps`` (bow x at step s = x_start_m + s·step_m). Enough to replay the
+  transit (``floebreak animate``);
 - ``scenario.resolved.toml`` (every default filled in), ``figures/*.png``, ``report.html``.
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
@@ -46,6 +49,7 @@ from floebreak.io.atomic import atomic_directory
 from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, arrow_array, with_units, write_geoparquet
 from floebreak.io.jsonable import jsonable, to_json
 from floebreak.io.provenance import floebreak_version, provenance
+from floebreak.io.storage import as_storage_error, probe_directory
 from floebreak.results import (
     ContactRecorder,
     crushing_force_per_evaluation_n,
@@ -54,7 +58,14 @@ from floebreak.results import (
     summary,
 )
 from floebreak.scenario import Scenario
-from floebreak.simulation import Callback, Model, SimulationParams, SimulationResult, simulate
+from floebreak.simulation import (
+    MAX_PIECES_DEFAULT,
+    Callback,
+    Model,
+    SimulationParams,
+    SimulationResult,
+    simulate,
+)
 
 PIECE_FILES = {"cusp": "cusps.parquet", "flipped": "flipped.parquet", "remaining": "remaining.parquet"}
 PIECES_FILE = "pieces.parquet"  # every piece with its life span (replay / `floebreak animate`)
@@ -72,6 +83,7 @@ _GENERATION_KEYS = {
     "thickness_min_m": "ice.thickness_range_m",
     "thickness_max_m": "ice.thickness_range_m",
     "thickness_summands": "ice.thickness_summands",
+    "max_floes": "simulation.max_pieces",
 }
 
 
@@ -188,6 +200,7 @@ def build_field(scenario: Scenario, rng: np.random.Generator) -> FloeField:
                 floe_area_factor=spec.floe_area_factor or switches.floe_area_factor,
                 clustering=spec.clustering,
                 seed=scenario.seed,
+                max_floes=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
             )
         except InputError as error:
             if error.field.startswith(("field.", "ice.")):
@@ -214,14 +227,19 @@ def _inline_field(scenario: Scenario) -> FloeField:
     centres = np.array([[f.x_m, f.y_m] for f in floes], dtype=float)
     radii = np.array([0.5 * f.diameter_m for f in floes], dtype=float)
     polygons = circle_polygons(centres, radii, c.CIRCLE_POLYGON_VERTICES)
-    for i in range(len(floes)):
-        for j in range(i + 1, len(floes)):
-            if shapely.intersection(polygons[i], polygons[j]).area > 0.0:
-                raise InputError(
-                    f"field.floes[{j}]",
-                    f"overlaps field.floes[{i}]",
-                    allowed="floes that do not overlap (distance between centres ≥ sum of radii)",
-                )
+    # candidate pairs from a spatial index (10 000 floes: pairs that touch, not all 5e7 pairs)
+    first, second = shapely.STRtree(polygons).query(polygons, predicate="intersects")
+    pairs = first < second
+    first, second = first[pairs], second[pairs]
+    overlap = shapely.area(shapely.intersection(polygons[first], polygons[second])) > 0.0
+    if overlap.any():
+        order = np.lexsort((first[overlap], second[overlap]))[0]  # the first pair a loop over j, i would meet
+        i, j = int(first[overlap][order]), int(second[overlap][order])
+        raise InputError(
+            f"field.floes[{j}]",
+            f"overlaps field.floes[{i}]",
+            allowed="floes that do not overlap (distance between centres ≥ sum of radii)",
+        )
     fallback = scenario.ice.thickness_m
     thickness = []
     for i, floe in enumerate(floes):
@@ -251,8 +269,12 @@ def build_bow(scenario: Scenario, floe_field: FloeField | None = None):
 
         try:
             return Bow.from_csv(ship.file)
-        except InputError as error:
-            raise _prefixed("ship.file", error) from None
+        except InputError as error:  # keep the file and row the bow's reader names ("bow.csv row 7")
+            where = error.field.replace(Path(ship.file).name, str(ship.file), 1)
+            message = str(error).removeprefix(f"{error.field}: ")
+            raise InputError(
+                "ship.file", f"{where}: {message}", value=error.value, allowed=error.allowed
+            ) from None
     from floebreak.ship.hulls import get_hull
 
     try:
@@ -449,6 +471,7 @@ def run(
         x_start_m=ship.x_start_m,
         x_end_m=ship.x_end_m,
         initial_contact=ship.initial_contact,
+        max_pieces=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
     )
     recorder = ContactRecorder()
     simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *callbacks])
@@ -473,7 +496,7 @@ def run(
 
 
 def field_table(floe_field: FloeField) -> dict[str, Any]:
-    """Columns of the initial field in the layout of the piece tables (step −1, no failure chain)."""
+    """Columns of the initial field in the layout of the piece tables (step −1, no failure mode)."""
     polygons = floe_field.polygons
     area = floe_field.area_m2
     length, width = oriented_box_dimensions_m(polygons)
@@ -493,7 +516,8 @@ def field_table(floe_field: FloeField) -> dict[str, Any]:
         "step": np.full(n, -1, dtype=np.int64),
         "bow_x_m": np.full(n, np.nan),
         "parent_floe_id": floe_field.floe_id,
-        "failure_chain": np.array([""] * n, dtype=object),
+        "parent_piece_id": np.full(n, -1, dtype=np.int64),
+        "failure_mode": np.array([""] * n, dtype=object),
     }
 
 
@@ -538,8 +562,8 @@ def pieces_table(simulation: SimulationResult, contacts: Mapping[str, np.ndarray
         "created_step": created,
         "ended_step": ended,
         "thickness_m": simulation.thickness_m,
-        "area_m2": shapely.area(polygons) if n else np.zeros(0),
-        "failure_chain": np.array([">".join(chain) for chain in simulation.failure_chain], dtype=object),
+        "area_m2": simulation.piece_area_m2,
+        "ended_by": simulation.ended_by,
     }
 
 
@@ -564,7 +588,8 @@ def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
 
 
 def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path:
-    """Refuse (InputError on key "out") an existing `out` without `overwrite`, or an unwritable parent."""
+    """Refuse (InputError on key "out") an existing `out` without `overwrite` or a missing parent; raise
+    StorageError if the parent cannot be written (full, read-only, no permission)."""
     out = Path(out)
     if out.exists() and not overwrite:
         raise InputError("out", f"{str(out)!r} exists", allowed="a new path, or pass --overwrite")
@@ -573,8 +598,7 @@ def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path
     parent = out.parent if str(out.parent) else Path(".")
     if not parent.is_dir():
         raise InputError("out", f"directory {str(parent)!r} does not exist", allowed="an existing directory")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError("out", f"directory {str(parent)!r} is not writable", allowed="a writable directory")
+    probe_directory(parent, out)  # a full, read-only or pseudo file system: StorageError before the run
     return out
 
 
@@ -591,6 +615,19 @@ def write_run_directory(
     `figures=False` skips ``figures/`` (and the report then has none): for large studies and tests.
     """
     out = check_output_directory(out, overwrite)
+    try:
+        _write_run_files(result, out, overwrite, report, figures, directory_name)
+    except OSError as error:
+        storage = as_storage_error(error, out)
+        if storage is None:
+            raise
+        raise storage from None
+    return out
+
+
+def _write_run_files(
+    result: Result, out: Path, overwrite: bool, report: bool, figures: bool, directory_name: str | None
+) -> None:
     with atomic_directory(out, overwrite=overwrite, field="out") as temp:
         field_meta = {
             **result.provenance("floe_field"),
@@ -622,4 +659,26 @@ def write_run_directory(
             from floebreak.report import write_report
 
             write_report(temp, directory_name=directory_name or out.name)
-    return out
+        summary_doc["files"] = file_checksums(temp)  # a resumed study re-runs a run whose files differ
+        (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
+
+
+def file_checksums(run_dir: Path, names: Iterable[str] | None = None) -> dict[str, str]:
+    """SHA-256 of the files `names` (relative paths; default: every file but the top ``summary.json``,
+    which records them) of a run directory; a missing file gets "missing"."""
+    run_dir = Path(run_dir)
+    if names is None:
+        files = (p for p in run_dir.rglob("*") if p.is_file() and p != run_dir / "summary.json")
+        names = [p.relative_to(run_dir).as_posix() for p in files]
+    sums = {}
+    for name in sorted(names):
+        digest = hashlib.sha256()
+        try:
+            with (run_dir / name).open("rb") as file:
+                for block in iter(lambda: file.read(1 << 20), b""):
+                    digest.update(block)
+        except FileNotFoundError:
+            sums[name] = "missing"
+            continue
+        sums[name] = digest.hexdigest()
+    return sums

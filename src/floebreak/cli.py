@@ -5,7 +5,7 @@ from __future__ import annotations
 import atexit
 import gc
 import sys
-from contextlib import nullcontext
+from contextlib import contextmanager, nullcontext
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
@@ -84,6 +84,7 @@ def field(
     ] = None,
     figure: Annotated[Path | None, typer.Option("--figure", help="also write a figure (PNG/PDF/SVG)")] = None,
     geojson: Annotated[Path | None, typer.Option("--geojson", help="also write GeoJSON")] = None,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help="replace existing output files")] = False,
 ) -> None:
     """Generate a random floe field from an ice observation and save it as GeoParquet."""
     from floebreak.ice.generation import generate_field
@@ -95,21 +96,20 @@ def field(
         raise InputError(
             "thickness_range", f"{thickness_range!r} needs two values MIN,MAX", allowed="MIN,MAX [m]"
         )
-    for path, name in ((out, "out"), (figure, "figure"), (geojson, "geojson")):
-        if path is not None and not path.parent.exists():
-            raise InputError(
-                name, f"directory {str(path.parent)!r} does not exist", allowed="an existing directory"
-            )
-    floe_field = generate_field(
-        observation,
-        length_m=length,
-        width_m=width,
-        rng=np.random.default_rng(seed),
-        generator=generator.value,
-        thickness_m=thickness,
-        thickness_range_m=trange,
-        seed=seed,
-    )
+    _check_field_options(length, width, thickness, trange)
+    _check_field_outputs({"out": out, "figure": figure, "geojson": geojson}, overwrite)
+    with _generation_progress() as progress:
+        floe_field = generate_field(
+            observation,
+            length_m=length,
+            width_m=width,
+            rng=np.random.default_rng(seed),
+            generator=generator.value,
+            thickness_m=thickness,
+            thickness_range_m=trange,
+            seed=seed,
+            progress=progress,
+        )
     save_field(floe_field, out, field="out")
     written = [str(out)]
     if geojson is not None:
@@ -125,6 +125,65 @@ def field(
         f"{floe_field.n_floes} floes, concentration {100 * floe_field.concentration:.2f} % "
         f"(target {100 * observation.concentration:g} %) → {', '.join(written)}"
     )
+
+
+@contextmanager
+def _generation_progress():
+    """A progress display for `generate_field` (stage and relaxation rounds; large fields take minutes)."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=err_console, transient=True) as bar:
+        task = bar.add_task("field", total=None)
+
+        def progress(stage: str, done: int, most: int) -> None:
+            bar.update(task, description=stage, completed=done, total=most or None)
+
+        yield progress
+
+
+def _check_field_options(length: float, width: float, thickness, thickness_range) -> None:
+    """The scenario's ranges (`floebreak.scenario`, one place) for the options, named as options."""
+    from floebreak.scenario import Scenario
+
+    options = {"field.length_m": "length", "field.width_m": "width", "ice.thickness_m": "thickness"}
+    data = {"field": {"length_m": length, "width_m": width}, "ice": {}}
+    if thickness is not None:
+        data["ice"]["thickness_m"] = thickness
+    if thickness_range is not None:
+        data["ice"]["thickness_range_m"] = list(thickness_range)
+    try:
+        Scenario.from_dict(data)
+    except InputError as error:
+        key = options.get(error.field, "thickness_range" if "thickness_range" in error.field else error.field)
+        message = str(error).split(": ", 1)[1]
+        raise InputError(key, message, value=error.value, allowed=error.allowed) from None
+
+
+def _check_field_outputs(paths: dict[str, Path | None], overwrite: bool) -> None:
+    """Refuse, before anything is generated, an existing output without --overwrite, a missing directory,
+    an unknown figure format; StorageError (exit 3) for a directory the machine will not write."""
+    from matplotlib.figure import Figure
+
+    from floebreak.io.storage import probe_directory
+
+    for name, path in paths.items():
+        if path is None:
+            continue
+        if path.exists() and not overwrite:
+            raise InputError(name, f"{str(path)!r} exists", allowed="a new path, or pass --overwrite")
+        if not path.parent.is_dir():
+            raise InputError(
+                name, f"directory {str(path.parent)!r} does not exist", allowed="an existing directory"
+            )
+        probe_directory(path.parent, path)
+    figure = paths.get("figure")
+    if figure is not None:
+        formats = Figure().canvas.get_supported_filetypes()
+        if (figure.suffix.lstrip(".").lower() or "png") not in formats:
+            raise InputError(
+                "figure", f"unknown figure format {figure.suffix!r}", allowed=", ".join(sorted(formats))
+            )
 
 
 def _observation_from_options(obs, concentration, mean_thickness, diameters, percentages) -> Observation:
@@ -182,23 +241,43 @@ def _failed_scenario_path(out: Path) -> Path:
 
 
 def _save_failed_scenario(out: Path, scenario, error: BaseException) -> Path | None:
-    """Write the scenario and the traceback next to `out` for a bug report (best effort)."""
+    """Write the scenario and the traceback next to `out` for a bug report (best effort, atomic: a full disk
+    leaves no empty file)."""
     import traceback
+
+    from floebreak.io.atomic import atomic_path
 
     path = _failed_scenario_path(out)
     lines = traceback.format_exception(type(error), error, error.__traceback__)
     comment = "".join("# " + line + "\n" for line in "".join(lines).rstrip().splitlines())
+    text = "# floebreak internal error — please attach this file to a bug report\n" + comment + "\n"
     try:
-        path.write_text(
-            "# floebreak internal error — please attach this file to a bug report\n"
-            + comment
-            + "\n"
-            + scenario.to_toml(),
-            encoding="utf-8",
-        )
-    except OSError:
+        with atomic_path(path, field="out") as temp:
+            temp.write_text(text + scenario.to_toml(), encoding="utf-8")
+    except (OSError, InputError):
         return None
     return path
+
+
+def _interrupted(error: BaseException) -> bool:
+    """Whether `error` is, or was raised while handling, a KeyboardInterrupt (Ctrl-C inside a numba kernel
+    surfaces as ``SystemError: CPUDispatcher(...) returned a result with an exception set``)."""
+    seen: set[int] = set()
+    while error is not None and id(error) not in seen:
+        if isinstance(error, KeyboardInterrupt):
+            return True
+        seen.add(id(error))
+        error = error.__cause__ or error.__context__
+    return False
+
+
+def _not_a_bug(error: BaseException, out: Path) -> BaseException | None:
+    """What to report instead of an internal error: Ctrl-C, or a problem of the machine (StorageError)."""
+    from floebreak.io.storage import as_storage_error
+
+    if _interrupted(error):
+        return KeyboardInterrupt()
+    return as_storage_error(error, out)
 
 
 def _prepare_kernels(quiet: bool) -> None:
@@ -257,6 +336,9 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     except InputError:
         raise
     except Exception as error:
+        instead = _not_a_bug(error, out)
+        if instead is not None:
+            raise instead from None
         saved = _save_failed_scenario(out, resolved, error)
         where = f"; scenario and traceback saved to {saved}" if saved else ""
         err_console.print(
@@ -809,11 +891,31 @@ def main() -> None:
     gc.set_threshold(50_000, 20, 10)
     atexit.unregister(gc.freeze)  # registered once, however often main() runs in one process
     atexit.register(gc.freeze)
+    from floebreak.io.storage import StorageError
+
     try:
         app()
     except InputError as error:
         err_console.print(f"[bold red]error:[/] {escape(str(error))}", soft_wrap=True, highlight=False)
         sys.exit(2)
+    except StorageError as error:
+        err_console.print(f"[bold red]error:[/] {escape(error.strerror)}", soft_wrap=True, highlight=False)
+        sys.exit(EXIT_STORAGE)
+    except KeyboardInterrupt:
+        _report_interrupt()
+    except SystemExit as exit_:
+        if exit_.code == EXIT_INTERRUPTED:  # typer turns a KeyboardInterrupt into exit code 130, silently
+            _report_interrupt()
+        raise
+
+
+EXIT_STORAGE = 3  # disk full, permission denied, read-only or pseudo file system (README, exit codes)
+EXIT_INTERRUPTED = 130  # Ctrl-C (128 + SIGINT, the shells' convention)
+
+
+def _report_interrupt() -> None:
+    err_console.print("interrupted (Ctrl-C); nothing half-written was kept", highlight=False)
+    sys.exit(EXIT_INTERRUPTED)
 
 
 if __name__ == "__main__":  # `python -m floebreak.cli`, as the console command

@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 
 from floebreak.failure import Fate
-from floebreak.simulation import ContactEvaluated, Event, SimulationResult
+from floebreak.simulation import ContactEvaluated, Event, SimulationResult, lineage_chain
 
 CONTACT_COLUMNS = (
     "step",
@@ -43,16 +43,36 @@ def outcome_label(event: ContactEvaluated) -> str:
     return outcome.mode
 
 
+_ZONE_SCALARS = (
+    "step",
+    "bow_x_m",
+    "floe_id",
+    "piece_id",
+    "zone",
+    "a_u_m2",
+    "a_l_m2",
+    "failure_class",
+    "outcome",
+)
+_ZONE_SCALAR_TYPES = (np.int64, float, np.int64, np.int64, np.int64, float, float, object, object)
+_PANEL_ARRAYS = ("panel", "a_h_m2", "a_c_m2", "psi_deg", "f_c_n", "f_v_n", "f_h_n")
+
+
 class ContactRecorder:
     """Callback for `simulate`: one row per floe–panel pair of every contact evaluation.
 
     Zone-level quantities (A_u, A_l) repeat on each panel row of the zone; per panel, Σ a_h = a_u − a_l.
+    Only numbers are kept, never the zones themselves (a zone references the evaluated floe's polygon:
+    keeping zones kept a copy of every evaluated floe alive), and every `chunk_zones` zones are packed into
+    numpy columns, ≈ 130 bytes per row. Per-row Python work is avoided (it was a measurable share of the
+    stepping engine's time): the columns are built per chunk.
     """
 
-    def __init__(self) -> None:
-        # one entry per zone; the columns are assembled once, in `table` (per-row Python work during the run
-        # was a measurable share of the stepping engine's time)
-        self._zones: list[tuple] = []
+    def __init__(self, chunk_zones: int = 4096) -> None:
+        self._chunk_zones = chunk_zones
+        self._scalars: list[tuple] = []
+        self._panels: list[tuple[np.ndarray, ...]] = []
+        self._chunks: list[dict[str, np.ndarray]] = []
         self._n_rows = 0
 
     def __call__(self, event: Event) -> None:
@@ -61,43 +81,56 @@ class ContactRecorder:
         label = outcome_label(event)
         failure_class = event.classification.failure_class
         for zone in event.contact.zones:
-            self._zones.append(
-                (event.step, event.bow_x_m, event.parent_floe_id, event.piece_id, zone, failure_class, label)
+            self._scalars.append(
+                (
+                    event.step,
+                    event.bow_x_m,
+                    event.parent_floe_id,
+                    event.piece_id,
+                    zone.zone,
+                    zone.a_u_m2,
+                    zone.a_l_m2,
+                    failure_class,
+                    label,
+                )
+            )
+            self._panels.append(
+                (zone.panels, zone.a_h_m2, zone.a_c_m2, zone.psi_rad, zone.f_c_n, zone.f_v_n, zone.f_h_n)
             )
             self._n_rows += len(zone.panels)
+        if len(self._scalars) >= self._chunk_zones:
+            self._pack()
 
     def __len__(self) -> int:
         return self._n_rows
 
-    def table(self) -> dict[str, np.ndarray]:
-        """The records as numpy columns (empty columns if there was no contact)."""
-        zones = [entry[4] for entry in self._zones]
-        counts = np.array([len(zone.panels) for zone in zones], dtype=np.int64)
-
-        def repeated(index: int, dtype) -> np.ndarray:
-            return np.repeat(np.array([entry[index] for entry in self._zones], dtype=dtype), counts)
-
-        def joined(values, dtype=float) -> np.ndarray:
-            return np.concatenate(values).astype(dtype, copy=False) if values else np.zeros(0, dtype=dtype)
-
-        return {
-            "step": repeated(0, np.int64),
-            "bow_x_m": repeated(1, float),
-            "floe_id": repeated(2, np.int64),
-            "piece_id": repeated(3, np.int64),
-            "zone": np.repeat(np.array([zone.zone for zone in zones], dtype=np.int64), counts),
-            "panel": joined([zone.panels for zone in zones], np.int64),
-            "a_u_m2": np.repeat(np.array([zone.a_u_m2 for zone in zones], dtype=float), counts),
-            "a_l_m2": np.repeat(np.array([zone.a_l_m2 for zone in zones], dtype=float), counts),
-            "a_h_m2": joined([zone.a_h_m2 for zone in zones]),
-            "a_c_m2": joined([zone.a_c_m2 for zone in zones]),
-            "psi_deg": np.degrees(joined([zone.psi_rad for zone in zones])),
-            "f_c_n": joined([zone.f_c_n for zone in zones]),
-            "f_v_n": joined([zone.f_v_n for zone in zones]),
-            "f_h_n": joined([zone.f_h_n for zone in zones]),
-            "failure_class": repeated(5, object),
-            "outcome": repeated(6, object),
+    def _pack(self) -> None:
+        """Move the pending zones into one chunk of numpy columns."""
+        if not self._scalars:
+            return
+        counts = np.array([len(arrays[0]) for arrays in self._panels], dtype=np.int64)
+        chunk = {
+            name: np.repeat(np.array([row[k] for row in self._scalars], dtype=dtype), counts)
+            for k, (name, dtype) in enumerate(zip(_ZONE_SCALARS, _ZONE_SCALAR_TYPES, strict=True))
         }
+        for k, name in enumerate(_PANEL_ARRAYS):
+            column = np.concatenate([arrays[k] for arrays in self._panels])
+            chunk[name] = column.astype(np.int64 if name == "panel" else float, copy=True)
+        chunk["psi_deg"] = np.degrees(chunk["psi_deg"])
+        self._chunks.append(chunk)
+        self._scalars, self._panels = [], []
+
+    def table(self) -> dict[str, np.ndarray]:
+        """The records as numpy columns in the order of `CONTACT_COLUMNS` (empty if there was no contact)."""
+        self._pack()
+        if not self._chunks:
+            types = dict(zip(_ZONE_SCALARS, _ZONE_SCALAR_TYPES, strict=True)) | {"panel": np.int64}
+            return {name: np.zeros(0, dtype=types.get(name, float)) for name in CONTACT_COLUMNS}
+        if len(self._chunks) > 1:  # one chunk from here on (repeated calls do not concatenate again)
+            self._chunks = [
+                {name: np.concatenate([c[name] for c in self._chunks]) for name in self._chunks[0]}
+            ]
+        return {name: self._chunks[0][name] for name in CONTACT_COLUMNS}
 
 
 def crushing_force_per_evaluation_n(contacts: dict[str, np.ndarray]) -> np.ndarray:
@@ -150,9 +183,8 @@ def piece_table(result: SimulationResult, fate: str) -> dict[str, Any]:
         "step": result.step[mask],
         "bow_x_m": result.bow_x_m[mask],
         "parent_floe_id": result.parent_floe_id[mask],
-        "failure_chain": np.array(
-            [">".join(result.failure_chain[i]) for i in np.flatnonzero(mask)], dtype=object
-        ),
+        "parent_piece_id": result.parent_piece_id[mask],
+        "failure_mode": result.failure_mode[mask],
     }
 
 
@@ -183,3 +215,18 @@ def summary(result: SimulationResult, contacts: dict[str, np.ndarray] | None = N
         forces = crushing_force_per_evaluation_n(contacts)
         out["crushing_force_max_n"] = float(forces.max()) if len(forces) else 0.0
     return out
+
+
+def failure_chain(pieces: dict[str, Any], piece_id: int) -> str:
+    """The failure chain of a piece of a run's ``pieces.parquet`` (columns ``piece_id``, ``parent_piece_id``,
+    ``ended_by``), as "mode>mode>…" from the initial floe on (`SimulationResult.failure_chain`).
+
+    Runs store lineage once (parent ids) rather than a chain per piece, whose length grows with the
+    number of breaks (thin ice: thousands of entries per cusp); this rebuilds the chain when needed.
+    """
+    ids = np.asarray(pieces["piece_id"], dtype=np.int64)
+    row = np.full(int(ids.max()) + 1, -1, dtype=np.int64)
+    row[ids] = np.arange(ids.size)
+    parents = np.asarray(pieces["parent_piece_id"], dtype=np.int64)[row]  # indexed by piece id
+    ended_by = np.asarray(pieces["ended_by"], dtype=object)[row]
+    return ">".join(lineage_chain(piece_id, parents, ended_by))

@@ -34,6 +34,7 @@ from typing import Annotated, Any, Literal
 
 import tomli_w
 from pydantic import (
+    AllowInfNan,
     BaseModel,
     ConfigDict,
     Field,
@@ -78,10 +79,22 @@ crack_criterion = "tensile_stress"   # point_load | line_load | tensile_stress |
 size_effect_law = "BZ"               # BZ | BZ1 | BZ2
 """
 
-# strict scalars: TOML gives real types, so "1.0" (a string) is a type error, not a number
-Float = Annotated[float, Strict()]
+# strict scalars: TOML gives real types, so "1.0" (a string) is a type error, not a number; TOML's inf and
+# nan are refused (every number of a scenario is finite)
+Float = Annotated[float, Strict(), AllowInfNan(False)]
 Int = Annotated[int, Strict()]
 Bool = Annotated[bool, Strict()]
+
+# Physical ranges of the scenario's numbers, all in this one place (the physics trusts validated input).
+# They are wide — what the models can be asked, not what is typical — and each excludes values that only
+# a typo gives and that would exhaust the machine or break the geometry:
+POSITION_LIMIT_M = 1.0e6  # |x|, |y| of floes and the bow ≤ 1 000 km
+THICKNESS_M = (0.01, 10.0)  # level sea ice: from nilas (centimetres) to multi-year ice (metres)
+DIAMETER_M = (0.01, 10_000.0)  # floe diameters
+FIELD_LENGTH_M = (1.0, 1.0e6)  # generated field length (the floe count is bounded by simulation.max_pieces)
+FIELD_WIDTH_M = (1.0, 1.0e5)
+STEP_M = (1.0e-3, 10.0)  # bow advance per step: below 1 mm a transit takes millions of steps
+Thickness = Annotated[Float, Field(ge=THICKNESS_M[0], le=THICKNESS_M[1])]
 
 
 def _cross(key: str, message: str, allowed: str | None = None) -> PydanticCustomError:
@@ -106,11 +119,20 @@ def _resolve_path(value: Path | None, info: ValidationInfo) -> Path | None:
 class InlineFloe(_Section):
     """A circular floe given in the scenario file (becomes a 64-gon inscribed in the circle)."""
 
-    x_m: Float = Field(description="centre x in the field frame [m] (bow stem tip at x = 0 at the start)")
-    y_m: Float = Field(description="centre y in the field frame [m] (to port)")
-    diameter_m: Float = Field(gt=0.0, description="diameter [m]")
+    x_m: Float = Field(
+        ge=-POSITION_LIMIT_M,
+        le=POSITION_LIMIT_M,
+        description="centre x in the field frame [m] (bow stem tip at x = 0 at the start)",
+    )
+    y_m: Float = Field(
+        ge=-POSITION_LIMIT_M, le=POSITION_LIMIT_M, description="centre y in the field frame [m] (to port)"
+    )
+    diameter_m: Float = Field(ge=DIAMETER_M[0], le=DIAMETER_M[1], description="diameter [m]")
     thickness_m: Float | None = Field(
-        None, gt=0.0, description="thickness [m]; default: ice.thickness_m (or ice.thickness_range_m)"
+        None,
+        ge=THICKNESS_M[0],
+        le=THICKNESS_M[1],
+        description="thickness [m]; default: ice.thickness_m (or ice.thickness_range_m)",
     )
 
 
@@ -130,27 +152,38 @@ class FieldSection(_Section):
         le=1.0,
         description="ice concentration, fraction in (0, 1]; overrides the observation's (thesis §2.1)",
     )
-    diameter_classes_m: list[Annotated[float, Strict(), Field(gt=0.0)]] | None = Field(
+    diameter_classes_m: list[Annotated[Float, Field(ge=DIAMETER_M[0], le=DIAMETER_M[1])]] | None = Field(
         None, description="user observation: equivalent-diameter classes [m]"
     )
-    percentages: list[Annotated[float, Strict(), Field(ge=0.0, le=100.0)]] | None = Field(
+    percentages: list[Annotated[Float, Field(ge=0.0, le=100.0)]] | None = Field(
         None, description="user observation: share of floes per diameter class [%], summing to 100"
     )
     file: Path | None = Field(None, description="GeoParquet floe field (columns floe_id, thickness_m)")
     floes: list[InlineFloe] | None = Field(None, description="inline circular floes")
     length_m: Float | None = Field(
-        None, gt=0.0, description="generated field length along x [m] (default 400)"
+        None,
+        ge=FIELD_LENGTH_M[0],
+        le=FIELD_LENGTH_M[1],
+        description="generated field length along x [m] (default 400)",
     )
-    width_m: Float | None = Field(None, gt=0.0, description="generated field width along y [m] (default 50)")
+    width_m: Float | None = Field(
+        None,
+        ge=FIELD_WIDTH_M[0],
+        le=FIELD_WIDTH_M[1],
+        description="generated field width along y [m] (default 50)",
+    )
     generator: Literal["circles", "voronoi", "sqp"] = Field(
         "circles", description="floe placement: circles (relaxation), voronoi (angular), sqp (thesis)"
     )
     floe_area_factor: Float | None = Field(
         None,
         gt=0.0,
+        le=1.0,
         description="mean floe area A = factor · π d² (default 0.25; thesis profile 0.5, erratum 1) [-]",
     )
-    clustering: Float = Field(0.05, ge=0.0, description="clustering tendency of the circle placement [-]")
+    clustering: Float = Field(
+        0.05, ge=0.0, le=10.0, description="clustering tendency of the circle placement [-]"
+    )
 
     _resolve_file = field_validator("file")(_resolve_path)
 
@@ -217,28 +250,47 @@ class IceSection(_Section):
     """Ice thickness and material (thesis §2.1, §4; physics-notes §0 for values the thesis does not give)."""
 
     thickness_m: Float | None = Field(
-        None, gt=0.0, description="thickness of every floe [m]; default: the observation's mean thickness"
+        None,
+        ge=THICKNESS_M[0],
+        le=THICKNESS_M[1],
+        description="thickness of every floe [m]; default: the observation's mean thickness",
     )
-    thickness_range_m: tuple[Float, Float] | None = Field(
+    thickness_range_m: tuple[Thickness, Thickness] | None = Field(
         None, description="bounded random thickness [h_min, h_max] [m] (thesis §5.3.3, Bates distribution)"
     )
     thickness_summands: Int | None = Field(
-        None, ge=1, description="p_h of the Bates thickness (default 12; thesis profile 1180, erratum 6) [-]"
+        None,
+        ge=1,
+        le=100_000,
+        description="p_h of the Bates thickness (default 12; thesis profile 1180, erratum 6) [-]",
     )
     fracture_toughness_pa_sqrt_m: Float = Field(
-        c.FRACTURE_TOUGHNESS_PA_SQRT_M, gt=0.0, description="K_Ic [Pa·√m] (thesis Table 4)"
+        c.FRACTURE_TOUGHNESS_PA_SQRT_M,
+        ge=1.0e3,
+        le=1.0e7,
+        description="K_Ic [Pa·√m] (thesis Table 4; sea ice ≈ 50–300 kPa·√m)",
     )
     flexural_strength_pa: Float = Field(
-        c.FLEXURAL_STRENGTH_PA, gt=0.0, description="σ_f [Pa] (physics-notes §0; not given in the thesis)"
+        c.FLEXURAL_STRENGTH_PA,
+        ge=1.0e3,
+        le=1.0e8,
+        description="σ_f [Pa] (physics-notes §0; not given in the thesis; sea ice ≈ 0.3–0.7 MPa)",
     )
     crushing_strength_pa: Float = Field(
-        c.CRUSHING_STRENGTH_PA, gt=0.0, description="σ_c [Pa] (thesis Alg. 3: 1280 kPa)"
+        c.CRUSHING_STRENGTH_PA,
+        ge=1.0e3,
+        le=1.0e8,
+        description="σ_c [Pa] (thesis Alg. 3: 1280 kPa; sea ice ≈ 1–10 MPa)",
     )
-    contact_coefficient: Float = Field(c.CONTACT_COEFFICIENT, gt=0.0, description="k_c (thesis Alg. 3) [-]")
+    contact_coefficient: Float = Field(
+        c.CONTACT_COEFFICIENT, gt=0.0, le=10.0, description="k_c (thesis Alg. 3) [-]"
+    )
     friction_coefficient: Float = Field(
-        c.FRICTION_COEFFICIENT, ge=0.0, description="μ ice–hull (thesis Alg. 3) [-]"
+        c.FRICTION_COEFFICIENT, ge=0.0, le=2.0, description="μ ice–hull (thesis Alg. 3) [-]"
     )
-    youngs_modulus_pa: Float = Field(c.YOUNGS_MODULUS_PA, gt=0.0, description="E [Pa] (thesis §4.1.1)")
+    youngs_modulus_pa: Float = Field(
+        c.YOUNGS_MODULUS_PA, ge=1.0e6, le=1.0e11, description="E [Pa] (thesis §4.1.1; sea ice ≈ 1–10 GPa)"
+    )
     poisson_ratio: Float = Field(c.POISSON_RATIO, gt=0.0, lt=0.5, description="ν (thesis §4.1.1) [-]")
 
     @model_validator(mode="after")
@@ -257,7 +309,7 @@ class ShipSection(_Section):
 
     hull: str | None = Field(None, description=f"built-in hull: {', '.join(HULLS)} (default agulhas_ii)")
     file: Path | None = Field(None, description="bow CSV file (`Bow.from_csv` formats)")
-    hull_parameters: dict[str, float | int | str] = Field(
+    hull_parameters: dict[str, Annotated[float, AllowInfNan(False)] | int | str] = Field(
         default_factory=dict, description="keyword overrides of the parametric hull (e.g. beam_m [m])"
     )
     waterlines: Literal["follow_thickness", "fixed"] | None = Field(
@@ -266,12 +318,22 @@ class ShipSection(_Section):
         "at waterline_ice_thickness_m (thesis profile; thesis §3.1, Table 2)",
     )
     waterline_ice_thickness_m: Float = Field(
-        1.0, gt=0.0, description="ice thickness the fixed waterlines are built for [m] (thesis §5.3: 1.0 m)"
+        1.0,
+        ge=THICKNESS_M[0],
+        le=THICKNESS_M[1],
+        description="ice thickness the fixed waterlines are built for [m] (thesis §5.3: 1.0 m)",
     )
-    step_m: Float = Field(0.25, gt=0.0, description="bow advance per step [m] (thesis §3.2)")
-    x_start_m: Float = Field(0.0, description="stem tip position at the start [m]")
+    step_m: Float = Field(
+        0.25, ge=STEP_M[0], le=STEP_M[1], description="bow advance per step [m] (thesis §3.2)"
+    )
+    x_start_m: Float = Field(
+        0.0, ge=-POSITION_LIMIT_M, le=POSITION_LIMIT_M, description="stem tip position at the start [m]"
+    )
     x_end_m: Float | None = Field(
-        None, description="stem tip position at the end [m]; default: the hull has passed the field"
+        None,
+        ge=-POSITION_LIMIT_M,
+        le=POSITION_LIMIT_M,
+        description="stem tip position at the end [m]; default: the hull has passed the field",
     )
     initial_contact: Literal["shift_field", "shift_floes"] = Field(
         "shift_field", description="how floes touching the bow at the start are moved ahead (thesis §3.2)"
@@ -426,7 +488,7 @@ def _table_model(spec: Any) -> type[BaseModel]:
         if item.name in spec.table_keys():
             default = item.default if item.default is not dataclasses.MISSING else item.default_factory()
             fields[item.name] = (hints[item.name], Field(default, description=docs.get(item.name)))
-    config = ConfigDict(extra="forbid", strict=True, frozen=True)
+    config = ConfigDict(extra="forbid", strict=True, frozen=True, allow_inf_nan=False)  # finite, as Float
     return create_model(f"failure.{spec.name}", __config__=config, **fields)
 
 
@@ -490,6 +552,18 @@ class PropellerSection(_Section):
     )
 
 
+class SimulationSection(_Section):
+    """Guards of the stepping engine (not physics)."""
+
+    max_pieces: Int | None = Field(
+        None,
+        ge=1,
+        le=100_000_000,
+        description="most pieces a run may create, initial floes included; beyond it the run stops with "
+        "exit code 2 (default 1 000 000: ≈ 4 GB of memory; thin ice breaks into many small pieces) [-]",
+    )
+
+
 class Scenario(_Section):
     """A complete run description: profile, seed and the field / ice / ship / failure sections."""
 
@@ -504,6 +578,7 @@ class Scenario(_Section):
     ship: ShipSection = Field(default_factory=ShipSection)
     failure: FailureSection = Field(default_factory=FailureSection)
     propeller: PropellerSection = Field(default_factory=PropellerSection)
+    simulation: SimulationSection = Field(default_factory=SimulationSection)
 
     # --- construction -----------------------------------------------------------------------------
     @classmethod
@@ -580,8 +655,12 @@ class Scenario(_Section):
         )
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-compatible dict without unset (None) keys."""
-        return self.model_dump(mode="json", exclude_none=True)
+        """JSON-compatible dict without unset (None) keys; an all-default [simulation] section is left out
+        (scenario hashes stay those of the versions without it)."""
+        data = self.model_dump(mode="json", exclude_none=True)
+        if not data.get("simulation"):
+            data.pop("simulation", None)
+        return data
 
     def to_toml(self) -> str:
         return tomli_w.dumps(self.to_dict())

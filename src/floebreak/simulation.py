@@ -47,10 +47,29 @@ AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overl
 # closer than the clearance [m] are evaluated every step.
 QUIET_MARGIN_M = 1e-6
 QUIET_CLEARANCE_M = 1e-9
+# Every piece a run creates (initial floes, broken, transient) costs memory until the run ends: ≈ 4 kB per
+# piece in a long transit, with its contact rows and its share of the tables and figures written
+# (benchmarks/README.md, memory), so a million pieces stay within ≈ 4 GB. A 100 km × 200 m transit of the
+# reference ice makes ≈ 0.4 million; runaway breaking of very thin ice is stopped.
+MAX_PIECES_DEFAULT = 1_000_000
 
 
 class AreaBalanceError(RuntimeError):
     """Initial ice area ≠ cusps + flipped + remaining: a bug, never a user error."""
+
+
+class PieceBudgetError(InputError):
+    """The run would create more pieces than `SimulationParams.max_pieces` (memory guard; a user choice)."""
+
+    def __init__(self, max_pieces: int, bow_x_m: float, thickness_m: float):
+        super().__init__(
+            "simulation.max_pieces",
+            f"the ice breaks into more than {max_pieces:,} pieces (bow at x = {bow_x_m:.2f} m; a floe "
+            f"{thickness_m:g} m thick is breaking; thin ice breaks into many small pieces, and each piece "
+            "is kept in memory until the run ends)",
+            value=max_pieces,
+            allowed="raise simulation.max_pieces, or use a shorter field or thicker ice",
+        )
 
 
 @dataclass(frozen=True)
@@ -64,6 +83,7 @@ class SimulationParams:
     initial_contact: Literal["shift_field", "shift_floes"] = "shift_field"
     initial_clearance_m: float = 1e-3
     max_evaluations_per_floe_step: int = 256  # guard against endless re-breaking at one position
+    max_pieces: int = MAX_PIECES_DEFAULT  # memory guard: `PieceBudgetError` beyond this many pieces
 
     def __post_init__(self) -> None:
         require_range("ship.step_m", self.step_m, low=0.0, unit="m")
@@ -148,11 +168,12 @@ class SimulationResult:
     x_end_m: float
     n_steps: int
     piece_id: np.ndarray
-    polygon: np.ndarray
+    polygon: np.ndarray  # empty for a transient piece (created and broken at one bow position, see `_Pieces`)
+    piece_area_m2: np.ndarray  # every piece's area, transient ones included
     thickness_m: np.ndarray
     parent_floe_id: np.ndarray
     parent_piece_id: np.ndarray
-    failure_chain: tuple[tuple[str, ...], ...]
+    ended_by: np.ndarray  # mode that broke the piece or took it out whole; "" if none (see `failure_chain`)
     fate: np.ndarray
     step: np.ndarray
     bow_x_m: np.ndarray
@@ -162,6 +183,18 @@ class SimulationResult:
 
     def mask(self, fate: str) -> np.ndarray:
         return self.fate == fate
+
+    def failure_chain(self, piece: int) -> tuple[str, ...]:
+        """The failure modes from the initial floe to `piece`: the mode that broke each ancestor, then the
+        mode that ended `piece` (broke it or took it out whole), if one did. Rebuilt from the parent ids:
+        lineage is stored once (``parent_piece_id``, ``ended_by``), not as a per-piece history whose length
+        grows with the number of breaks (thin ice: thousands of entries per cusp)."""
+        return lineage_chain(piece, self.parent_piece_id, self.ended_by)
+
+    @property
+    def failure_mode(self) -> np.ndarray:
+        """Per piece, the last entry of its failure chain ("" for an initial floe never touched)."""
+        return last_failure_mode(self.parent_piece_id, self.ended_by)
 
     def area_m2(self, fate: str) -> float:
         return float(shapely.area(self.polygon[self.mask(fate)]).sum())
@@ -178,6 +211,27 @@ class SimulationResult:
         return abs(initial - final) / initial if initial > 0 else 0.0
 
 
+def lineage_chain(piece: int, parent_piece_id, ended_by) -> tuple[str, ...]:
+    """The failure chain of `piece` from the lineage columns (see `SimulationResult.failure_chain`)."""
+    chain = [ended_by[piece]] if ended_by[piece] else []
+    parent = int(parent_piece_id[piece])
+    while parent >= 0:
+        chain.append(ended_by[parent])
+        parent = int(parent_piece_id[parent])
+    return tuple(reversed(chain))
+
+
+def last_failure_mode(parent_piece_id: np.ndarray, ended_by: np.ndarray) -> np.ndarray:
+    """Per piece, the last entry of its failure chain: the mode that ended it, else the mode that broke its
+    parent ("" for an initial floe that nothing ended)."""
+    parents = np.asarray(parent_piece_id, dtype=np.int64)
+    own = np.asarray(ended_by, dtype=object)
+    last = own.copy()
+    inherit = (own == "") & (parents >= 0)
+    last[inherit] = own[parents[inherit]]
+    return last
+
+
 # --- the engine --------------------------------------------------------------------------------------
 
 
@@ -191,13 +245,21 @@ class _Pieces:
     field size.
     """
 
-    def __init__(self, floe_field: FloeField, y_range: tuple[float, float]):
+    def __init__(self, floe_field: FloeField, y_range: tuple[float, float], max_pieces: int):
         n = floe_field.n_floes
+        self.max_pieces = max_pieces
+        if n > max_pieces:
+            raise InputError(
+                "simulation.max_pieces",
+                f"the field has {n:,} floes, more than the budget of {max_pieces:,} pieces",
+                allowed="raise simulation.max_pieces, or use a smaller field",
+            )
         self.polygon: list[shapely.Geometry] = list(floe_field.polygons)
+        self.area: list[float] = floe_field.area_m2.tolist()
         self.thickness: list[float] = floe_field.thickness_m.tolist()
         self.parent_floe: list[int] = floe_field.floe_id.tolist()
         self.parent_piece: list[int] = [-1] * n
-        self.chain: list[tuple[str, ...]] = [()] * n
+        self.ended_by: list[str] = [""] * n
         self.crack_count: list[int] = [0] * n
         self.fate: list[str] = ["remaining"] * n
         self.step: list[int] = [-1] * n
@@ -211,13 +273,16 @@ class _Pieces:
         self._next_waiting = 0
         self.active: dict[int, tuple[float, float, float, float]] = {}
 
-    def add(self, polygon, thickness, parent: int, chain, crack_count: int, step: int, bow_x: float) -> int:
+    def add(self, polygon, thickness, parent: int, crack_count: int, step: int, bow_x: float) -> int:
         pid = len(self.polygon)
+        if pid >= self.max_pieces:
+            raise PieceBudgetError(self.max_pieces, bow_x, thickness)
         self.polygon.append(polygon)
+        self.area.append(float(shapely.area(polygon)))
         self.thickness.append(thickness)
         self.parent_floe.append(self.parent_floe[parent])
         self.parent_piece.append(parent)
-        self.chain.append(chain)
+        self.ended_by.append("")
         self.crack_count.append(crack_count)
         self.fate.append("remaining")
         self.step.append(step)
@@ -229,6 +294,8 @@ class _Pieces:
     def retire(self, pid: int, fate: str, step: int, bow_x: float) -> None:
         self.fate[pid] = fate
         self.active.pop(pid, None)
+        if fate == "broken" and self.step[pid] == step:  # transient (initial floes have step −1)
+            self.polygon[pid] = _EMPTY
         if fate != "broken":
             self.step[pid] = step
             self.bow_x[pid] = bow_x
@@ -256,6 +323,9 @@ class _Pieces:
             del self.active[pid]
 
 
+_EMPTY = shapely.Polygon()
+
+
 def _overlaps(bounds: tuple[float, float, float, float], x0: float, y0: float, x1: float, y1: float) -> bool:
     a, b, cc, d = bounds
     return a < x1 and cc > x0 and b < y1 and d > y0
@@ -265,15 +335,19 @@ def _translate(geometry, dx: float):
     return shapely.transform(geometry, lambda xy: xy + np.array([dx, 0.0]))
 
 
+
+
 def _translate_pieces(polygons: np.ndarray, dx: float, check: np.ndarray | None = None) -> np.ndarray:
     """Pieces moved between the field and the bow frame, each a valid polygon.
 
     The translation rounds every coordinate; a valid but nearly degenerate piece (a thin crescent between
     two bending arcs whose ends cross within rounding) can come out self-intersecting, and GEOS overlays on
     an invalid polygon raise or, worse, return wrong areas. Such a piece is replaced by the largest part of
-    its repair (`make_valid`): what is dropped is the sliver of the self-intersection, of rounding size
-    (3.8e-16 m² in the case that showed it). Costs `is_valid` per piece, ≈ 10 µs, so only the pieces
-    flagged in `check` are looked at (default all): a generated floe is far from degenerate.
+    its repair: what is dropped is the tiny loop of the self-intersection, of rounding size. The repair
+    re-nodes the outline (``make_valid`` "linework"): the "structure" method rebuilds the area from the ring's
+    orientation, which for a crescent 0.7 mm wide crossed at one end kept 1e-16 of its 1e-3 m² (issue 20:
+    AreaBalanceError 1.9e-8). Costs `is_valid` per piece, ≈ 10 µs, so only the pieces flagged in `check`
+    are looked at (default all): a generated floe is far from degenerate.
     """
     moved = _translate(polygons, dx)
     looked_at = np.arange(len(moved)) if check is None else np.flatnonzero(check)
@@ -281,7 +355,7 @@ def _translate_pieces(polygons: np.ndarray, dx: float, check: np.ndarray | None 
         return moved
     invalid = looked_at[~shapely.is_valid(moved[looked_at])]
     for i in invalid.tolist():
-        repaired = polygon_parts(shapely.make_valid(moved[i], method="structure", keep_collapsed=False))
+        repaired = polygon_parts(shapely.make_valid(moved[i], method="linework"))
         if repaired:
             moved[i] = max(repaired, key=shapely.area)
     return moved
@@ -331,152 +405,197 @@ def simulate(
     params: SimulationParams | None = None,
     callbacks: Iterable[Callback] = (),
 ) -> SimulationResult:
-    """Run the bow through `floe_field` and return every piece with its fate.
+    """Run the bow through `floe_field` and return every piece with its fate (thesis Fig. 4).
 
     `bow` is a `floebreak.ship.bow.Bow` (bow frame: upper stem tip at the origin at x_start = 0).
     """
     model = model or Model()
     params = params or SimulationParams()
-    callbacks = tuple(callbacks)
-    geometry = BowContactGeometry.from_bow(bow)
     floe_field, shift = clear_initial_contact(
         floe_field, bow.hull_upper, params.x_start_m, params.initial_contact, params.initial_clearance_m
     )
-    hull_x0, hull_y0, hull_x1, hull_y1 = shapely.bounds(bow.hull_upper).tolist()
-    x_end = params.x_end_m
-    if x_end is None:
-        field_x_max = floe_field.domain_m[2]
-        if floe_field.n_floes:
-            field_x_max = max(field_x_max, float(shapely.total_bounds(floe_field.polygons)[2]))
-        x_end = field_x_max - hull_x0  # the aft end of the modelled hull passes the end of the field
-    n_steps = int(np.floor((x_end - params.x_start_m) / params.step_m + 1e-9)) + 1
-    d = params.dist_bow_max_m
-    pieces = _Pieces(floe_field, (hull_y0 - d, hull_y1 + d))
-    context = FailureContext(bow=bow, bow_geometry=geometry)
-    hull_rings = geometry.hull_rings
-    bow_length = float(getattr(bow, "length_bow_m", -hull_x0))
-    counters = {"contacts": 0, "breaks": 0, "cusps": 0, "flipped": 0}
-    breaks_by_mode: dict[str, int] = {}
-
-    def emit(event: Event) -> None:
-        for callback in callbacks:
-            callback(event)
-
-    # broken pieces may be nearly degenerate, and so may floes that no generator of ours made (a file, inline
-    # floes): those are checked after every translation (`_translate_pieces`); generated floes are not
-    n_floes = floe_field.n_floes
-    check_floes = floe_field.metadata.get("generator") not in GENERATORS
-    emit(RunStarted(n_steps, params.x_start_m, x_end, params.step_m, floe_field.n_floes, shift))
-    for step in range(n_steps):
-        bow_x = params.x_start_m + step * params.step_m
-        box = (bow_x + hull_x0 - d, hull_y0 - d, bow_x + hull_x1 + d, hull_y1 + d)
-        candidates = pieces.candidates(box)
-        # only pieces whose box overlaps the hull's box can share area with it, and a piece found out of
-        # contact cannot touch the hull before the bow reaches its `quiet_until`: the others have no contact
-        # (neither path counts an overlap of zero area), so they are neither translated nor evaluated
-        touching = pieces.due(candidates, (bow_x + hull_x0, hull_y0, bow_x + hull_x1, hull_y1), bow_x)
-        if touching:
-            in_field = np.array([pieces.polygon[i] for i in touching], dtype=object)
-            polygons_bf = _translate_pieces(in_field, -bow_x, (np.array(touching) >= n_floes) | check_floes)
-            queue = deque(zip(touching, polygons_bf, strict=True))
-            # contact is evaluated in batches (vectorised GEOS calls): the floes queued at the start of the
-            # step, then, whenever the queue reaches pieces not evaluated yet, all pieces queued by then. A
-            # piece's contact depends only on its own polygon and the bow position: batching changes nothing.
-            batch: deque[Contact] = deque()
-            evaluations = len(candidates) - len(touching)  # the guard below counts every candidate
-            while queue:
-                if not batch:
-                    batch.extend(
-                        evaluate_contacts(
-                            np.array([poly for _, poly in queue], dtype=object),
-                            [pieces.thickness[pid] for pid, _ in queue],
-                            geometry,
-                            model.contact,
-                        )
-                    )
-                pid, polygon_bf = queue.popleft()
-                contact = batch.popleft()
-                evaluations += 1
-                thickness = pieces.thickness[pid]
-                if not contact.in_contact:
-                    if hull_rings is not None:
-                        pieces.quiet_until[pid] = (
-                            bow_x
-                            + advance_to_contact(*ring_arrays(polygon_bf), *hull_rings, QUIET_CLEARANCE_M)
-                            - QUIET_MARGIN_M
-                        )
-                    continue
-                zone = contact.dominant
-                classification = classify(
-                    polygon_bf,
-                    thickness,
-                    zone.centre_normal,
-                    model.classification,
-                    zone.floe_extent_m,
-                    contact.floe_area_m2,
-                )
-                region = bow_region(
-                    float(zone.centre_xy_m[0]), bow_length, model.failure.shoulder_region_start
-                )
-                inp = FailureInput(
-                    polygon_bf, thickness, pieces.crack_count[pid], classification, contact, zone, region
-                )
-                outcome = resolve_failure(model.failure, inp, context)
-                counters["contacts"] += 1
-                emit(
-                    ContactEvaluated(
-                        step, bow_x, pid, pieces.parent_floe[pid], thickness, contact, classification, outcome
-                    )
-                )
-                if not outcome.failed:
-                    continue
-                breaks_by_mode[outcome.mode] = breaks_by_mode.get(outcome.mode, 0) + 1
-                if len(outcome.pieces) == 1 and outcome.pieces[0].fate != Fate.FLOE:
-                    # the piece leaves the field whole (direct rotation)
-                    fate = str(outcome.pieces[0].fate)
-                    pieces.chain[pid] = (*pieces.chain[pid], outcome.mode)
-                    pieces.retire(pid, fate, step, bow_x)
-                    counters["cusps" if fate == "cusp" else "flipped"] += 1
-                    continue
-                counters["breaks"] += 1
-                pieces.retire(pid, "broken", step, bow_x)
-                chain = (*pieces.chain[pid], outcome.mode)
-                in_bow = np.array([new.polygon for new in outcome.pieces], dtype=object)
-                worlds = _translate_pieces(in_bow, bow_x)
-                for new, child_world in zip(outcome.pieces, worlds, strict=True):
-                    child = pieces.add(child_world, thickness, pid, chain, new.crack_count, step, bow_x)
-                    if new.fate == Fate.FLOE:
-                        if evaluations < params.max_evaluations_per_floe_step:
-                            queue.append((child, new.polygon))
-                    else:
-                        pieces.retire(child, str(new.fate), step, bow_x)
-                        counters["cusps" if new.fate == Fate.CUSP else "flipped"] += 1
-        pieces.prune_behind(bow_x + hull_x0 - d)
-        emit(StepDone(step, bow_x, len(candidates), counters["cusps"], counters["flipped"]))
-
-    result = SimulationResult(
-        field=floe_field,
-        bow=bow,
-        model=model,
-        params=params,
-        x_end_m=float(x_end),
-        n_steps=n_steps,
-        piece_id=np.arange(len(pieces.polygon)),
-        polygon=np.array(pieces.polygon, dtype=object),
-        thickness_m=np.array(pieces.thickness, dtype=float),
-        parent_floe_id=np.array(pieces.parent_floe, dtype=np.int64),
-        parent_piece_id=np.array(pieces.parent_piece, dtype=np.int64),
-        failure_chain=tuple(pieces.chain),
-        fate=np.array(pieces.fate, dtype=object),
-        step=np.array(pieces.step, dtype=np.int64),
-        bow_x_m=np.array(pieces.bow_x, dtype=float),
-        n_contacts=counters["contacts"],
-        n_breaks=counters["breaks"],
-        breaks_by_mode=dict(breaks_by_mode),
-    )
+    run = _Run(floe_field, bow, model, params, tuple(callbacks))
+    run.emit(RunStarted(run.n_steps, params.x_start_m, run.x_end, params.step_m, floe_field.n_floes, shift))
+    for step in range(run.n_steps):
+        run.advance(step)
+    result = run.result()
     if result.area_balance_rel_error > AREA_BALANCE_TOLERANCE:
         raise AreaBalanceError(
             f"ice area not conserved: relative error {result.area_balance_rel_error:.3e} "
             f"> {AREA_BALANCE_TOLERANCE:g} (initial {result.initial_ice_area_m2:.6f} m²)"
         )
     return result
+
+
+def _transit_end_m(floe_field: FloeField, params: SimulationParams, hull_x0: float) -> float:
+    """Stem position of the last step: `x_end_m`, or where the aft end of the modelled hull has passed the
+    field (thesis §3.2)."""
+    if params.x_end_m is not None:
+        return params.x_end_m
+    field_x_max = floe_field.domain_m[2]
+    if floe_field.n_floes:
+        field_x_max = max(field_x_max, float(shapely.total_bounds(floe_field.polygons)[2]))
+    return field_x_max - hull_x0
+
+
+class _Run:
+    """One transit, step by step as the thesis' Fig. 4: advance the bow, gather the pieces near it, and for
+    each piece in contact: contact → classification → failure → new pieces, re-evaluated at the same bow
+    position (internal; `simulate` is the entry point)."""
+
+    def __init__(self, floe_field: FloeField, bow, model: Model, params: SimulationParams, callbacks):
+        self.field, self.bow, self.model, self.params, self.callbacks = (
+            floe_field,
+            bow,
+            model,
+            params,
+            callbacks,
+        )
+        self.geometry = BowContactGeometry.from_bow(bow)
+        self.hull_box = tuple(shapely.bounds(bow.hull_upper).tolist())
+        self.x_end = _transit_end_m(floe_field, params, self.hull_box[0])
+        self.n_steps = int(np.floor((self.x_end - params.x_start_m) / params.step_m + 1e-9)) + 1
+        d = params.dist_bow_max_m
+        self.pieces = _Pieces(floe_field, (self.hull_box[1] - d, self.hull_box[3] + d), params.max_pieces)
+        self.context = FailureContext(bow=bow, bow_geometry=self.geometry)
+        self.bow_length = float(getattr(bow, "length_bow_m", -self.hull_box[0]))
+        self.counters = {"contacts": 0, "breaks": 0, "cusps": 0, "flipped": 0}
+        self.breaks_by_mode: dict[str, int] = {}
+        # broken pieces may be nearly degenerate, and so may floes that no generator of ours made (a file,
+        # inline floes): those are checked after every translation (`_translate_pieces`); generated ones not
+        self.check_floes = floe_field.metadata.get("generator") not in GENERATORS
+
+    def emit(self, event: Event) -> None:
+        for callback in self.callbacks:
+            callback(event)
+
+    # --- one step: the bow at x_start + step·Δx ------------------------------------------------------
+    def advance(self, step: int) -> None:
+        bow_x = self.params.x_start_m + step * self.params.step_m
+        x0, y0, x1, y1 = self.hull_box
+        d = self.params.dist_bow_max_m
+        candidates = self.pieces.candidates((bow_x + x0 - d, y0 - d, bow_x + x1 + d, y1 + d))
+        # only pieces whose box overlaps the hull's box can share area with it, and a piece found out of
+        # contact cannot touch the hull before the bow reaches its `quiet_until`: the others have no contact
+        # (neither path counts an overlap of zero area), so they are neither translated nor evaluated
+        touching = self.pieces.due(candidates, (bow_x + x0, y0, bow_x + x1, y1), bow_x)
+        if touching:
+            self._evaluate_queue(step, bow_x, touching, len(candidates) - len(touching))
+        self.pieces.prune_behind(bow_x + x0 - d)
+        self.emit(StepDone(step, bow_x, len(candidates), self.counters["cusps"], self.counters["flipped"]))
+
+    def _evaluate_queue(self, step: int, bow_x: float, touching: list[int], evaluations: int) -> None:
+        """Evaluate the pieces in contact, then the new pieces of their breaks, until nothing more fails.
+
+        Contact is evaluated in batches (vectorised GEOS calls): the floes queued at the start of the step,
+        then, whenever the queue reaches pieces not evaluated yet, all pieces queued by then. A piece's
+        contact depends only on its own polygon and the bow position: batching changes nothing.
+        `evaluations` starts at the candidates not in contact (the guard counts every candidate).
+        """
+        pieces = self.pieces
+        in_field = np.array([pieces.polygon[i] for i in touching], dtype=object)
+        check = (np.array(touching) >= self.field.n_floes) | self.check_floes
+        queue = deque(zip(touching, _translate_pieces(in_field, -bow_x, check), strict=True))
+        batch: deque[Contact] = deque()
+        while queue:
+            if not batch:
+                polygons = np.array([poly for _, poly in queue], dtype=object)
+                thickness = [pieces.thickness[pid] for pid, _ in queue]
+                batch.extend(evaluate_contacts(polygons, thickness, self.geometry, self.model.contact))
+            pid, polygon_bf = queue.popleft()
+            evaluations += 1
+            children = self._evaluate_piece(step, bow_x, pid, polygon_bf, batch.popleft())
+            if evaluations < self.params.max_evaluations_per_floe_step:
+                queue.extend(children)
+
+    # --- one piece: contact → classification → failure (thesis Fig. 4, inner loop) ---------------------
+    def _evaluate_piece(self, step: int, bow_x: float, pid: int, polygon_bf, contact: Contact) -> list:
+        """Classify a piece, let the failure mode act, apply the outcome; the new floe pieces to evaluate
+        at this bow position, as (piece id, bow-frame polygon)."""
+        if not contact.in_contact:
+            self._quiet(pid, polygon_bf, bow_x)
+            return []
+        thickness = self.pieces.thickness[pid]
+        zone = contact.dominant
+        classification = classify(
+            polygon_bf,
+            thickness,
+            zone.centre_normal,
+            self.model.classification,
+            zone.floe_extent_m,
+            contact.floe_area_m2,
+        )
+        region = bow_region(
+            float(zone.centre_xy_m[0]), self.bow_length, self.model.failure.shoulder_region_start
+        )
+        inp = FailureInput(
+            polygon_bf, thickness, self.pieces.crack_count[pid], classification, contact, zone, region
+        )
+        outcome = resolve_failure(self.model.failure, inp, self.context)
+        self.counters["contacts"] += 1
+        parent_floe = self.pieces.parent_floe[pid]
+        self.emit(
+            ContactEvaluated(step, bow_x, pid, parent_floe, thickness, contact, classification, outcome)
+        )
+        if not outcome.failed:
+            return []
+        self.breaks_by_mode[outcome.mode] = self.breaks_by_mode.get(outcome.mode, 0) + 1
+        if len(outcome.pieces) == 1 and outcome.pieces[0].fate != Fate.FLOE:
+            self._leave_whole(pid, outcome, step, bow_x)
+            return []
+        return self._break(pid, outcome, thickness, step, bow_x)
+
+    def _quiet(self, pid: int, polygon_bf, bow_x: float) -> None:
+        """Out of contact: skip the piece until the bow could first touch it."""
+        hull_rings = self.geometry.hull_rings
+        if hull_rings is not None:
+            advance = advance_to_contact(*ring_arrays(polygon_bf), *hull_rings, QUIET_CLEARANCE_M)
+            self.pieces.quiet_until[pid] = bow_x + advance - QUIET_MARGIN_M
+
+    def _leave_whole(self, pid: int, outcome: Outcome, step: int, bow_x: float) -> None:
+        """The piece leaves the field whole (direct rotation) as a cusp or flipped floe."""
+        fate = str(outcome.pieces[0].fate)
+        self.pieces.ended_by[pid] = outcome.mode
+        self.pieces.retire(pid, fate, step, bow_x)
+        self.counters["cusps" if fate == "cusp" else "flipped"] += 1
+
+    def _break(self, pid: int, outcome: Outcome, thickness: float, step: int, bow_x: float) -> list:
+        """Replace the piece by its children: cusps and flipped pieces leave, floes stay (returned)."""
+        pieces = self.pieces
+        self.counters["breaks"] += 1
+        pieces.retire(pid, "broken", step, bow_x)
+        pieces.ended_by[pid] = outcome.mode
+        worlds = _translate_pieces(np.array([new.polygon for new in outcome.pieces], dtype=object), bow_x)
+        stay = []
+        for new, child_world in zip(outcome.pieces, worlds, strict=True):
+            child = pieces.add(child_world, thickness, pid, new.crack_count, step, bow_x)
+            if new.fate == Fate.FLOE:
+                stay.append((child, new.polygon))
+            else:
+                pieces.retire(child, str(new.fate), step, bow_x)
+                self.counters["cusps" if new.fate == Fate.CUSP else "flipped"] += 1
+        return stay
+
+    def result(self) -> SimulationResult:
+        pieces = self.pieces
+        return SimulationResult(
+            field=self.field,
+            bow=self.bow,
+            model=self.model,
+            params=self.params,
+            x_end_m=float(self.x_end),
+            n_steps=self.n_steps,
+            piece_id=np.arange(len(pieces.polygon)),
+            polygon=np.array(pieces.polygon, dtype=object),
+            piece_area_m2=np.array(pieces.area, dtype=float),
+            thickness_m=np.array(pieces.thickness, dtype=float),
+            parent_floe_id=np.array(pieces.parent_floe, dtype=np.int64),
+            parent_piece_id=np.array(pieces.parent_piece, dtype=np.int64),
+            ended_by=np.array(pieces.ended_by, dtype=object),
+            fate=np.array(pieces.fate, dtype=object),
+            step=np.array(pieces.step, dtype=np.int64),
+            bow_x_m=np.array(pieces.bow_x, dtype=float),
+            n_contacts=self.counters["contacts"],
+            n_breaks=self.counters["breaks"],
+            breaks_by_mode=dict(self.breaks_by_mode),
+        )

@@ -171,7 +171,7 @@ def test_whole_run_conserves_area(profile):
 def test_cusps_from_direct_rotation_are_unbreakable_by_size(profile):
     result = single_floe_run(profile)
     rotated = [
-        i for i in np.flatnonzero(result.mask("cusp")) if result.failure_chain[i][-1:] == ("rotation",)
+        i for i in np.flatnonzero(result.mask("cusp")) if result.failure_chain(i)[-1:] == ("rotation",)
     ]
     assert all(result.polygon[i].area <= UNBREAKABLE_AREA_M2 for i in rotated)
 
@@ -182,7 +182,7 @@ def test_every_cusp_is_unbreakable_by_the_classification_rule(profile):
     cusps = result.polygon[result.mask("cusp")]
     assert len(cusps) >= 1
     too_big = [
-        (p.area, result.failure_chain[i])
+        (p.area, result.failure_chain(i))
         for i, p in zip(np.flatnonzero(result.mask("cusp")), cusps, strict=True)
         if p.area > UNBREAKABLE_AREA_M2
     ]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import shutil
 import sys
+from pathlib import Path
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -236,3 +237,80 @@ def test_study_cli_runs_and_resumes(tmp_path):
         timeout=300,
     )
     assert bad.returncode == 2 and "study" in bad.stderr and not (tmp_path / "x").exists()
+
+
+# --- issue 20: damaged runs, relative paths, failed runs, temporary folders ----------------------------
+
+
+class RecordingExecutor(SerialExecutor):
+    """Serial, and remembers the tasks it was given (what a remote worker would receive)."""
+
+    def __init__(self):
+        self.tasks = []
+
+    def run(self, fn, items):
+        items = list(items)
+        self.tasks.extend(items)
+        yield from super().run(fn, items)
+
+
+def test_a_damaged_run_is_run_again(tmp_path):
+    spec = small_study(n_fields=1, sweeps=[])
+    runs, members = expand(spec)
+    run_study(spec, runs, members, tmp_path)
+    cusps = tmp_path / "runs" / "run-00000" / "cusps.parquet"
+    intact = cusps.read_bytes()
+    cusps.write_bytes(intact[: len(intact) // 2])  # truncated next to an intact summary.json
+    again = run_study(spec, runs, members, tmp_path)
+    assert again.skipped == 0 and again.failed == 0
+    assert cusps.read_bytes() == intact  # the same run, written again
+    assert aggregate(tmp_path)["complete"] == 1
+    assert run_study(spec, runs, members, tmp_path).skipped == 1  # and now trusted
+
+
+def test_paths_reach_workers_absolute(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    spec = small_study(n_fields=1, sweeps=[])
+    runs, members = expand(spec)
+    executor = RecordingExecutor()
+    state = run_study(spec, runs, members, Path("relative"), executor)
+    assert state.failed == 0 and executor.tasks
+    for task in executor.tasks:
+        assert task["run_dir"].startswith(str(tmp_path)) and task["field_file"].startswith(str(tmp_path))
+
+
+def test_temporary_run_folders_are_removed_when_the_study_ends(tmp_path):
+    spec = small_study(n_fields=1, sweeps=[])
+    runs, members = expand(spec)
+
+    class KilledWorker(SerialExecutor):  # a worker killed mid-write leaves its temporary folder
+        def run(self, fn, items):
+            (tmp_path / "runs" / ".run-00000.tmp-killed").mkdir(parents=True)
+            yield from super().run(fn, items)
+
+    run_study(spec, runs, members, tmp_path, KilledWorker())
+    assert [p.name for p in (tmp_path / "runs").iterdir()] == ["run-00000"]
+
+
+def test_a_study_with_failed_runs_exits_4_and_says_how_many(tmp_path, monkeypatch, capsys):
+    import sys
+
+    from floebreak.cli import main
+    from floebreak.studies import runner
+
+    def broken(task):
+        raise RuntimeError("worker lost")
+
+    monkeypatch.setattr(runner, "execute_run", broken)
+    study_file = tmp_path / "study.toml"
+    study_file.write_text(
+        'name = "f"\nn_fields = 2\n[base]\nseed = 1\n[base.field]\nobservation = "2019-12-18T20:20"\n'
+        "length_m = 50.0\nwidth_m = 30.0\n",
+        encoding="utf-8",
+    )
+    args = ["floebreak", "study", str(study_file), "--out", str(tmp_path / "out"), "--workers", "1"]
+    monkeypatch.setattr(sys, "argv", args)
+    with pytest.raises(SystemExit) as info:
+        main()
+    out = capsys.readouterr().out.replace("\n", " ")
+    assert info.value.code == 4 and "2 of 2 runs failed" in out

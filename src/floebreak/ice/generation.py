@@ -109,11 +109,14 @@ def floe_counts(
 # --- generators: (radii per floe, domain, rng, options) → centres ---------------------------------------
 
 
-def _place_circles(radii, domain, rng, clustering: float) -> Packing:
-    return relax_circles(radii, domain, rng, clustering=clustering, growth_start=_growth_start(radii, domain))
+def _place_circles(radii, domain, rng, clustering: float, on_round=None) -> Packing:
+    growth_start = _growth_start(radii, domain)
+    return relax_circles(
+        radii, domain, rng, clustering=clustering, growth_start=growth_start, on_round=on_round
+    )
 
 
-def _place_sqp(radii, domain, rng, clustering: float) -> Packing:
+def _place_sqp(radii, domain, rng, clustering: float, on_round=None) -> Packing:
     if len(radii) > SQP_MAX_FLOES:
         raise InputError(
             "generator",
@@ -134,11 +137,13 @@ CIRCLE_GENERATORS: dict[str, Callable[..., Packing]] = {"circles": _place_circle
 GENERATORS = ("circles", "sqp", "voronoi")
 
 
-def _circle_field(counts: FloeCounts, domain, rng, generator: str, clustering: float, vertices: int):
+def _circle_field(
+    counts: FloeCounts, domain, rng, generator: str, clustering: float, vertices: int, on_round=None
+):
     diameters = np.repeat(np.asarray(counts.diameter_classes_m), counts.counts)
     order = np.argsort(-diameters, kind="stable")  # ids: largest floes first
     diameters = diameters[order]
-    packing = CIRCLE_GENERATORS[generator](diameters / 2.0, domain, rng, clustering)
+    packing = CIRCLE_GENERATORS[generator](diameters / 2.0, domain, rng, clustering, on_round)
     if not packing.overlap_free:
         reached = _best_subset_concentration(packing, domain)
         failed = (
@@ -222,13 +227,17 @@ def generate_field(
     clustering: float = 0.05,
     vertices: int = c.CIRCLE_POLYGON_VERTICES,
     seed: int | None = None,
+    max_floes: int | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> FloeField:
     """A random floe field for `observation` in x ∈ [0, L], y ∈ [−W/2, W/2] (thesis §2.1).
 
     Thickness: `thickness_m` for every floe, or bounded random in `thickness_range_m` (thesis §5.3.3,
     Bates with `thickness_summands`), or the observation's mean thickness. `seed` is only recorded in the
     metadata; the randomness comes from `rng`. Raises InputError (or its subclass ConcentrationError) when
-    the request cannot be met.
+    the request cannot be met, or when the field would hold more than `max_floes` floes (checked before
+    anything is placed). `progress(stage, done, most)`, if given, is told what is being done: the placement
+    ("placing N floes", relaxation rounds done of at most `most`), then the polygons; for progress displays.
     """
     require_range("length_m", length_m, low=0.0, unit="m")
     require_range("width_m", width_m, low=0.0, unit="m")
@@ -237,6 +246,14 @@ def generate_field(
     require_range("clustering", clustering, low=0.0, low_inclusive=True)
     domain = (0.0, -width_m / 2.0, float(length_m), width_m / 2.0)
     counts = floe_counts(observation, length_m * width_m, floe_area_factor)
+    if max_floes is not None and counts.total > max_floes:
+        raise InputError(
+            "max_floes",
+            f"a {length_m:g} m × {width_m:g} m field of this observation holds {counts.total:,} floes, more "
+            f"than {max_floes:,}",
+            value=counts.total,
+            allowed=f"≤ {max_floes:,} floes: a smaller field, or a larger budget",
+        )
     present = [d for d, k in zip(counts.diameter_classes_m, counts.counts, strict=True) if k > 0]
     if generator != "voronoi" and present and max(present) > min(length_m, width_m):
         raise InputError(
@@ -255,10 +272,18 @@ def generate_field(
                 f"{100 * observation.concentration:g} %",
                 allowed="a larger field (length_m × width_m)",
             )
+    stage = f"placing {counts.total:,} floes ({generator})"
+    report = (lambda done, most: progress(stage, done, most)) if progress else None
+    if report:
+        report(0, 0)
     if generator == "voronoi":
         polygons, diameter_class, info = _voronoi_field(counts, observation.concentration, domain, rng)
     else:
-        polygons, diameter_class, info = _circle_field(counts, domain, rng, generator, clustering, vertices)
+        polygons, diameter_class, info = _circle_field(
+            counts, domain, rng, generator, clustering, vertices, report
+        )
+    if progress:
+        progress(f"{counts.total:,} floes placed", 1, 1)
     n = len(polygons)
     if thickness_range_m is not None:
         if thickness_m is not None:

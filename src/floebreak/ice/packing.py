@@ -24,6 +24,7 @@ every circle's nearest gap towards zero (floes conglomerate, thesis §2.1 citing
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numba
@@ -230,8 +231,12 @@ def relax_circles(
     growth_rounds: int = GROWTH_ROUNDS,
     clustering_rounds: int = CLUSTERING_ROUNDS,
     max_polish_rounds: int = 60,
+    on_round: Callable[[int, int], None] | None = None,
 ) -> Packing:
     """Place circles without overlap by soft-disk relaxation (module docstring). Large circles first.
+
+    `on_round(done, most)`, if given, is called after each relaxation round (`most`: the rounds at most,
+    the polish stops early once the exact check passes); for progress displays.
 
     Above `DENSE_COVER`, when the relaxation jams before every circle fits, `corner_circles` (dense
     corner insertion) is tried. Returns the best packing found; `Packing.overlap_free` tells whether it
@@ -261,6 +266,9 @@ def relax_circles(
         return packing
     xy = random_centers_m(r, domain, rng)
     iterations = 0
+    growth = max(1, growth_rounds) if growth_start < 1.0 else 0
+    most_rounds = growth + (clustering_rounds if clustering > 0.0 else 0) + max_polish_rounds
+    rounds = [0]
     middle = np.array([(domain[0] + domain[2]) / 2.0, (domain[1] + domain[3]) / 2.0])
 
     def run(current, lam, maxiter):
@@ -282,6 +290,9 @@ def relax_circles(
         )
         iterations += int(result.nit)
         xy = result.x.reshape(n, 2)
+        rounds[0] += 1
+        if on_round is not None:
+            on_round(rounds[0], most_rounds)
 
     # 1. compression: grow the radii from `growth_start` to full size (dense targets need it)
     for factor in np.linspace(growth_start, 1.0, max(1, growth_rounds)) if growth_start < 1.0 else []:

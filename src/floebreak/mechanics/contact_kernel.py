@@ -396,82 +396,33 @@ def contact_batch(
     panel (the classification box of thesis Alg. 2); per row (zone, panel, A_h,i, length of the panel's
     waterline segment inside the floe), rows ordered by zone then panel.
     """
-    # each floe's open ring (closing vertex dropped), copied into contiguous scratch arrays below
     floe_start, floe_count, max_n = _ring_layout(floe_index, n_floes)
     n_panels = quad_x.shape[0]
-    m = hull_x.shape[0]
     status = np.zeros(n_floes, dtype=np.int8)
-    a_u = np.zeros(n_floes)
-    centre = np.zeros((n_floes, 2))
-    centre_panel = np.zeros(n_floes, dtype=np.int64)
-    floe_area = np.zeros(n_floes)
-    extent = np.zeros((n_floes, 2))
-    row_floe = np.empty(n_floes * n_panels, dtype=np.int64)
-    row_panel = np.empty(n_floes * n_panels, dtype=np.int64)
-    row_a_h = np.empty(n_floes * n_panels)
+    a_u, centre, centre_panel = np.zeros(n_floes), np.zeros((n_floes, 2)), np.zeros(n_floes, dtype=np.int64)
+    floe_area, extent = np.zeros(n_floes), np.zeros((n_floes, 2))
+    rows = (np.empty(n_floes * n_panels, dtype=np.int64), np.empty(n_floes * n_panels, dtype=np.int64),
+            np.empty(n_floes * n_panels))
     row_overlap = np.empty(n_floes * n_panels)
-    # a half-plane adds at most one vertex to a convex polygon, more to a non-convex one: generous scratch
-    # space, and a floe that would exceed it goes to GEOS
-    capacity = 4 * (max_n + m) + 16
-    zx, zy = np.empty(capacity), np.empty(capacity)
-    qx, qy = np.empty(capacity), np.empty(capacity)
-    tx, ty = np.empty(capacity), np.empty(capacity)
-    hits = np.empty(max_n + 1)
+    scratch = _batch_scratch(max_n, hull_x.shape[0], n_panels)
     ring_x, ring_y = np.empty(max_n), np.empty(max_n)
-    hx, hy = hull_x, hull_y
-    hull_x0, hull_x1 = hx.min(), hx.max()
-    hull_y0, hull_y1 = hy.min(), hy.max()
-    seg_overlap = np.empty(n_panels)
-    part_from, part_to = np.empty(n_panels * (max_n + 2)), np.empty(n_panels * (max_n + 2))
-    scratch = (qx, qy, tx, ty)
-    rows = (row_floe, row_panel, row_a_h)
+    hull_box = (hull_x.min(), hull_x.max(), hull_y.min(), hull_y.max())
     n_rows = 0
     for i in range(n_floes):
         s, n = floe_start[i], floe_count[i]
         if n < 3:
             continue
-        for v in range(n):
+        for v in range(n):  # the open ring (closing vertex dropped), copied into contiguous scratch
             ring_x[v] = floe_coords[s + v, 0]
             ring_y[v] = floe_coords[s + v, 1]
         px, py = ring_x[:n], ring_y[:n]
-        if px.max() <= hull_x0 or px.min() >= hull_x1 or py.max() <= hull_y0 or py.min() >= hull_y1:
-            continue  # at most touching: no area in common
-        signed_area = _signed_area(px, py, n)
-        orientation = 1.0 if signed_area > 0.0 else -1.0
-        convex = _is_convex(px, py, n, orientation)
-        # F ∩ H_u is one zone if F is convex, or if the two boundaries cross at most twice (one arc of ∂F
-        # inside H_u closes with one arc of ∂H_u inside F); anything else is left to GEOS
-        if not convex:
-            crossings = _crossings(px, py, n, hx, hy, m)
-            if crossings < 0 or crossings > 2:
-                status[i] = FALLBACK
-                continue
-        k = _clip_convex(px, py, n, hx, hy, m, zx, zy, tx, ty, capacity)
-        if k < 0:
-            status[i] = FALLBACK
-            continue
-        area = abs(_signed_area(zx, zy, k)) if k >= 3 else 0.0
-        if not area > min_overlap:
-            continue
-        # the waterline inside F, split where it meets F's boundary (as GEOS does): the longest part (first
-        # on a tie, in waterline order) and, per segment, the length inside F
-        n_parts = _waterline_parts(
-            px, py, n, waterline_xy, node_distance, hits, seg_overlap, part_from, part_to
+        state, k, area, middle, signed_area = _floe_zone(
+            px, py, n, hull_x, hull_y, hull_box, waterline_xy, node_distance, min_overlap, scratch
         )
-        if n_parts < 0:
-            status[i] = FALLBACK
+        if state != CONTACT:
+            status[i] = state
             continue
-        best_length, best_from, best_to = -1.0, 0.0, 0.0
-        for q in range(n_parts):
-            if part_to[q] - part_from[q] > best_length:
-                best_length, best_from, best_to = part_to[q] - part_from[q], part_from[q], part_to[q]
-        if best_length > 0.0:
-            middle = 0.5 * (best_from + best_to)
-        elif convex:  # a zone clear of the waterline (a piece already inside the hull): the nearest point
-            middle = _nearest_on_waterline(zx, zy, k, waterline_xy, node_distance)
-        else:  # the clipped outline of a non-convex floe may carry zero-width bridges: GEOS finds the point
-            status[i] = FALLBACK
-            continue
+        zx, zy, seg_overlap = scratch[0], scratch[1], scratch[9]
         status[i] = CONTACT
         a_u[i] = area
         centre[i, 0], centre[i, 1], panel = _waterline_point(middle, waterline_xy, node_distance)
@@ -481,32 +432,86 @@ def contact_batch(
         normal_x, normal_y = panel_normals[panel, 0] / norm, panel_normals[panel, 1] / norm
         extent[i, 0], extent[i, 1] = box_extents(px, py, n, normal_x, normal_y)
         first_row = n_rows
-        n_rows = _panel_rows(zx, zy, k, i, quad_x, quad_y, quad_bounds, min_overlap, scratch, rows, n_rows)
+        n_rows = _panel_rows(
+            zx, zy, k, i, quad_x, quad_y, quad_bounds, min_overlap, scratch[2:6], rows, n_rows
+        )
         if n_rows < 0:  # scratch space exhausted: drop this floe's rows, GEOS takes it
             n_rows = first_row
             status[i] = FALLBACK
             continue
         for r in range(first_row, n_rows):
-            row_overlap[r] = seg_overlap[row_panel[r]]
-    zone_of_floe = np.full(n_floes, -1, dtype=np.int64)
+            row_overlap[r] = seg_overlap[rows[1][r]]
     owner = np.flatnonzero(status == CONTACT)
+    row_zone = _zone_of_rows(status, owner, rows[0], n_rows)
+    return (status, owner, a_u[owner], centre[owner], centre_panel[owner], floe_area[owner], extent[owner],
+            row_zone, rows[1][:n_rows], rows[2][:n_rows], row_overlap[:n_rows])
+
+
+@numba.njit(cache=True, nogil=True)
+def _batch_scratch(max_n, m, n_panels):
+    """Scratch arrays of `contact_batch`: (zx, zy, qx, qy, tx, ty, hits, part_from, part_to, seg_overlap).
+    A half-plane adds at most one vertex to a convex polygon, more to a non-convex one: generous space, and a
+    floe that would exceed it goes to GEOS."""
+    capacity = 4 * (max_n + m) + 16
+    return (
+        np.empty(capacity), np.empty(capacity), np.empty(capacity), np.empty(capacity),
+        np.empty(capacity), np.empty(capacity), np.empty(max_n + 1),
+        np.empty(n_panels * (max_n + 2)), np.empty(n_panels * (max_n + 2)), np.empty(n_panels),
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _floe_zone(px, py, n, hx, hy, hull_box, waterline_xy, node_distance, min_overlap, scratch):
+    """The contact zone Z = F ∩ H_u of one floe ring (px, py)[:n], left in scratch (zx, zy)[:k]:
+    (state, k, A_u, waterline position of the zone centre, signed floe area); state NO_CONTACT, CONTACT or
+    FALLBACK (GEOS decides)."""
+    zx, zy, _, _, tx, ty, hits, part_from, part_to, seg_overlap = scratch
+    capacity = zx.shape[0]
+    m = hx.shape[0]
+    hull_x0, hull_x1, hull_y0, hull_y1 = hull_box
+    if px.max() <= hull_x0 or px.min() >= hull_x1 or py.max() <= hull_y0 or py.min() >= hull_y1:
+        return NO_CONTACT, 0, 0.0, 0.0, 0.0  # at most touching: no area in common
+    signed_area = _signed_area(px, py, n)
+    orientation = 1.0 if signed_area > 0.0 else -1.0
+    convex = _is_convex(px, py, n, orientation)
+    # F ∩ H_u is one zone if F is convex, or if the two boundaries cross at most twice (one arc of ∂F
+    # inside H_u closes with one arc of ∂H_u inside F); anything else is left to GEOS
+    if not convex:
+        crossings = _crossings(px, py, n, hx, hy, m)
+        if crossings < 0 or crossings > 2:
+            return FALLBACK, 0, 0.0, 0.0, signed_area
+    k = _clip_convex(px, py, n, hx, hy, m, zx, zy, tx, ty, capacity)
+    if k < 0:
+        return FALLBACK, 0, 0.0, 0.0, signed_area
+    area = abs(_signed_area(zx, zy, k)) if k >= 3 else 0.0
+    if not area > min_overlap:
+        return NO_CONTACT, k, area, 0.0, signed_area
+    # the waterline inside F, split where it meets F's boundary (as GEOS does): the longest part (first
+    # on a tie, in waterline order) and, per segment, the length inside F
+    n_parts = _waterline_parts(px, py, n, waterline_xy, node_distance, hits, seg_overlap, part_from, part_to)
+    if n_parts < 0:
+        return FALLBACK, k, area, 0.0, signed_area
+    best_length, best_from, best_to = -1.0, 0.0, 0.0
+    for q in range(n_parts):
+        if part_to[q] - part_from[q] > best_length:
+            best_length, best_from, best_to = part_to[q] - part_from[q], part_from[q], part_to[q]
+    if best_length > 0.0:
+        return CONTACT, k, area, 0.5 * (best_from + best_to), signed_area
+    if convex:  # a zone clear of the waterline (a piece already inside the hull): the nearest point
+        return CONTACT, k, area, _nearest_on_waterline(zx, zy, k, waterline_xy, node_distance), signed_area
+    # the clipped outline of a non-convex floe may carry zero-width bridges: GEOS finds the point
+    return FALLBACK, k, area, 0.0, signed_area
+
+
+@numba.njit(cache=True, nogil=True)
+def _zone_of_rows(status, owner, row_floe, n_rows):
+    """The zone index (among the floes with status CONTACT) of each row."""
+    zone_of_floe = np.full(status.shape[0], -1, dtype=np.int64)
     zone_of_floe[owner] = np.arange(owner.shape[0])
     row_zone = np.empty(n_rows, dtype=np.int64)
     for r in range(n_rows):
         row_zone[r] = zone_of_floe[row_floe[r]]
-    return (
-        status,
-        owner,
-        a_u[owner],
-        centre[owner],
-        centre_panel[owner],
-        floe_area[owner],
-        extent[owner],
-        row_zone,
-        row_panel[:n_rows],
-        row_a_h[:n_rows],
-        row_overlap[:n_rows],
-    )
+    return row_zone
 
 
 @numba.njit(cache=True, nogil=True)

@@ -88,42 +88,87 @@ def parametric_bow(
     Δz = `ice_thickness_m` (z_u = (1 − ρ_i/ρ_w) h, z_l = −(ρ_i/ρ_w) h). `stem_angle_deg` is φ_s from the
     HORIZONTAL; see `stem_angle_from_thesis` for the thesis's angles from the vertical.
     """
-    beam = require_range("beam_m", beam_m, low=0.0, unit="m")
-    alpha0_deg = require_range(
-        "waterline_entrance_half_angle_deg",
+    v = _checked_bow_parameters(
+        beam_m,
         waterline_entrance_half_angle_deg,
-        low=0.0,
-        high=90.0,
-        high_inclusive=False,
-        unit="deg",
-    )
-    phi_deg = require_range("stem_angle_deg", stem_angle_deg, low=0.0, high=90.0, unit="deg")
-    beta_sh_deg = require_range(
-        "shoulder_frame_angle_deg",
+        stem_angle_deg,
         shoulder_frame_angle_deg,
-        low=0.0,
-        high=90.0,
-        low_inclusive=True,
-        high_inclusive=False,
-        unit="deg",
+        shape_exponent,
+        flare_exponent,
+        ice_thickness_m,
+        n_panels_per_side,
+        midbody_length_m,
+        midbody_frame_angle_deg,
     )
-    p = require_range("shape_exponent", shape_exponent, low=1.0, low_inclusive=True)
-    q = require_range("flare_exponent", flare_exponent, low=0.0)
-    h = require_range("ice_thickness_m", ice_thickness_m, low=0.0, unit="m")
-    midbody = require_range("midbody_length_m", midbody_length_m, low=0.0, low_inclusive=True, unit="m")
-    beta_mid_deg = (
-        beta_sh_deg
-        if midbody_frame_angle_deg is None
-        else require_range(
-            "midbody_frame_angle_deg",
-            midbody_frame_angle_deg,
-            low=0.0,
-            high=90.0,
-            low_inclusive=True,
-            high_inclusive=False,
-            unit="deg",
-        )
-    )
+    alpha0, phi = math.radians(v["waterline_entrance_half_angle_deg"]), math.radians(v["stem_angle_deg"])
+    length_bow = v["shape_exponent"] * (v["beam_m"] / 2.0) / math.tan(alpha0)
+    beta0 = math.atan(math.tan(alpha0) / math.tan(phi))
+    s, y, alpha, beta = _stations(v, alpha0, beta0, length_bow)
+    psi = np.arctan(np.tan(beta) * np.cos(alpha))
+    z_upper, z_lower = ice_waterline_heights(v["ice_thickness_m"])
+    dz = z_upper - z_lower
+    tip_x = -dz / math.tan(phi)
+    upper, lower = mirror_lines(np.column_stack([-s, y]), alpha, psi, dz, tip_x)
+    parameters: dict[str, Any] = {
+        "model": "parametric_bow (physics-notes §6.3)",
+        **v,
+        "length_bow_m": length_bow,
+        "frame_angle_stem_deg": math.degrees(beta0),
+        "psi_stem_deg": math.degrees(math.atan(math.tan(beta0) * math.cos(alpha0))),
+        "psi_shoulder_deg": v["shoulder_frame_angle_deg"],
+        "lower_tip_x_m": tip_x,
+    }
+    return Bow(name, upper, lower, z_upper, z_lower, parameters)
+
+
+def _stations(v: dict[str, Any], alpha0: float, beta0: float, length_bow: float):
+    """Upper-waterline stations (physics-notes §6.3): distance aft s, half breadth y, waterline angle α and
+    frame angle β per node; nodes dense at the stem, plus the midbody's aft end."""
+    n, p, q = v["n_panels_per_side"], v["shape_exponent"], v["flare_exponent"]
+    half_beam = v["beam_m"] / 2.0
+    beta_sh = math.radians(v["shoulder_frame_angle_deg"])
+    s = length_bow * (1.0 - np.cos(np.pi * np.arange(n + 1) / (2 * n)))
+    s[-1] = length_bow
+    u = s / length_bow
+    y = half_beam * (1.0 - (1.0 - u) ** p)
+    alpha = np.arctan(math.tan(alpha0) * (1.0 - u) ** (p - 1.0))
+    beta = beta0 + (beta_sh - beta0) * u**q
+    if v["midbody_length_m"] > 0.0:
+        s = np.append(s, length_bow + v["midbody_length_m"])
+        y = np.append(y, half_beam)
+        alpha = np.append(alpha, 0.0)
+        beta = np.append(beta, math.radians(v["midbody_frame_angle_deg"]))
+    return s, y, alpha, beta
+
+
+def _checked_bow_parameters(
+    beam_m,
+    alpha0_deg,
+    stem_angle_deg,
+    shoulder_frame_angle_deg,
+    shape_exponent,
+    flare_exponent,
+    ice_thickness_m,
+    n_panels_per_side,
+    midbody_length_m,
+    midbody_frame_angle_deg,
+) -> dict[str, Any]:
+    """The parameters of `parametric_bow`, range-checked, by name (InputError names the parameter)."""
+    angle = {"low": 0.0, "high": 90.0, "unit": "deg"}
+    half_open = {**angle, "low_inclusive": True, "high_inclusive": False}
+    values = {
+        "beam_m": require_range("beam_m", beam_m, low=0.0, unit="m"),
+        "waterline_entrance_half_angle_deg": require_range(
+            "waterline_entrance_half_angle_deg", alpha0_deg, **angle, high_inclusive=False
+        ),
+        "stem_angle_deg": require_range("stem_angle_deg", stem_angle_deg, **angle),
+        "shoulder_frame_angle_deg": require_range(
+            "shoulder_frame_angle_deg", shoulder_frame_angle_deg, **half_open
+        ),
+        "shape_exponent": require_range("shape_exponent", shape_exponent, low=1.0, low_inclusive=True),
+        "flare_exponent": require_range("flare_exponent", flare_exponent, low=0.0),
+        "ice_thickness_m": require_range("ice_thickness_m", ice_thickness_m, low=0.0, unit="m"),
+    }
     if (
         isinstance(n_panels_per_side, bool)
         or not isinstance(n_panels_per_side, int | np.integer)
@@ -132,50 +177,15 @@ def parametric_bow(
         raise InputError(
             "n_panels_per_side", f"must be an integer ≥ 2, got {n_panels_per_side!r}", value=n_panels_per_side
         )
-    n = int(n_panels_per_side)
-
-    alpha0 = math.radians(alpha0_deg)
-    phi = math.radians(phi_deg)
-    half_beam = beam / 2.0
-    length_bow = p * half_beam / math.tan(alpha0)
-    beta0 = math.atan(math.tan(alpha0) / math.tan(phi))
-    beta_sh = math.radians(beta_sh_deg)
-
-    s = length_bow * (1.0 - np.cos(np.pi * np.arange(n + 1) / (2 * n)))
-    s[-1] = length_bow
-    u = s / length_bow
-    y = half_beam * (1.0 - (1.0 - u) ** p)
-    alpha = np.arctan(math.tan(alpha0) * (1.0 - u) ** (p - 1.0))
-    beta = beta0 + (beta_sh - beta0) * u**q
-    if midbody > 0.0:
-        s = np.append(s, length_bow + midbody)
-        y = np.append(y, half_beam)
-        alpha = np.append(alpha, 0.0)
-        beta = np.append(beta, math.radians(beta_mid_deg))
-    psi = np.arctan(np.tan(beta) * np.cos(alpha))
-    z_upper, z_lower = ice_waterline_heights(h)
-    dz = z_upper - z_lower
-    tip_x = -dz / math.tan(phi)
-    upper, lower = mirror_lines(np.column_stack([-s, y]), alpha, psi, dz, tip_x)
-    parameters: dict[str, Any] = {
-        "model": "parametric_bow (physics-notes §6.3)",
-        "beam_m": beam,
-        "waterline_entrance_half_angle_deg": alpha0_deg,
-        "stem_angle_deg": phi_deg,
-        "shoulder_frame_angle_deg": beta_sh_deg,
-        "shape_exponent": p,
-        "flare_exponent": q,
-        "ice_thickness_m": h,
-        "n_panels_per_side": n,
-        "midbody_length_m": midbody,
-        "midbody_frame_angle_deg": beta_mid_deg,
-        "length_bow_m": length_bow,
-        "frame_angle_stem_deg": math.degrees(beta0),
-        "psi_stem_deg": math.degrees(math.atan(math.tan(beta0) * math.cos(alpha0))),
-        "psi_shoulder_deg": beta_sh_deg,
-        "lower_tip_x_m": tip_x,
-    }
-    return Bow(name, upper, lower, z_upper, z_lower, parameters)
+    values["n_panels_per_side"] = int(n_panels_per_side)
+    midbody = require_range("midbody_length_m", midbody_length_m, low=0.0, low_inclusive=True, unit="m")
+    values["midbody_length_m"] = midbody
+    values["midbody_frame_angle_deg"] = (
+        values["shoulder_frame_angle_deg"]
+        if midbody_frame_angle_deg is None
+        else require_range("midbody_frame_angle_deg", midbody_frame_angle_deg, **half_open)
+    )
+    return values
 
 
 def _ship(

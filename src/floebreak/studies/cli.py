@@ -54,6 +54,7 @@ def study(
     else:
         study_spec, base_dir = load_study(spec)
     runs, members = expand(study_spec, base_dir)  # validates every combination before anything runs
+    out = out.absolute()  # the runs' directories reach workers, whose working directory may be another
     if out.exists() and not (out / "study.json").exists() and any(out.iterdir()):
         raise InputError(
             "out", f"{str(out)!r} exists and is not a study directory", allowed="a new or study directory"
@@ -89,6 +90,16 @@ def study(
     )
     for failure in state.failures[:5]:
         console.print(f"[red]failed[/] {failure['run']}: {failure['error']}")
+    if counts["failed"]:
+        console.print(
+            f"[bold red]{counts['failed']} of {len(runs)} runs failed[/] (records in {out}/failed/; "
+            "running the study again retries them)",
+            soft_wrap=True,
+        )
+        raise typer.Exit(EXIT_RUNS_FAILED)
+
+
+EXIT_RUNS_FAILED = 4  # a study finished, but some of its runs failed (README, exit codes)
 
 
 def aggregate_command(

@@ -102,7 +102,7 @@ def load_study(path: str | Path) -> tuple[StudySpec, Path]:
         ) from None
     except tomllib.TOMLDecodeError as error:
         raise InputError("study", f"{path}: malformed TOML: {error}", allowed="a TOML file") from None
-    return study_from_dict(data), path.parent
+    return study_from_dict(data), path.absolute().parent  # absolute: workers may run elsewhere
 
 
 def study_from_dict(data: Mapping[str, Any]) -> StudySpec:

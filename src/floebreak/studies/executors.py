@@ -45,6 +45,18 @@ class SerialExecutor:
         pass
 
 
+# Each worker runs one thread: the workers already occupy the cores, and a worker whose BLAS / OpenMP / numba
+# started one thread per core oversubscribed them (a user's explicit setting is kept). Set before the worker
+# imports numpy: this module imports none.
+WORKER_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
+
+
+def one_thread_per_worker() -> None:
+    """Worker initializer: one BLAS / OpenMP / numba thread per worker process."""
+    for name in WORKER_THREAD_VARIABLES:
+        os.environ.setdefault(name, "1")
+
+
 class ProcessPoolExecutor:
     """A local pool of worker processes (default: one per core)."""
 
@@ -54,7 +66,9 @@ class ProcessPoolExecutor:
             raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
         self.description = f"local process pool ({self.workers} workers)"
         # spawn: safe with threads in the parent (rich progress, BLAS) on every platform
-        self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+        self._pool = cf.ProcessPoolExecutor(
+            self.workers, mp_context=multiprocessing.get_context("spawn"), initializer=one_thread_per_worker
+        )
 
     def run(self, fn, items):
         futures = {self._pool.submit(fn, item): item for item in items}

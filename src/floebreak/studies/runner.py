@@ -14,10 +14,12 @@ of that field reads them: the design points then see the same fields even when t
 CPUs make OpenBLAS pick other kernels, with which the packing would generate other fields from the same
 seed (docs/model.md §4, Reproducibility), and a run's result does not depend on where it ran.
 
-Resume: a run is complete when ``runs/<name>/summary.json`` exists with the scenario hash of the run;
-since run directories appear only by an atomic rename, a study killed at any moment (even SIGKILL)
-resumes with no run lost or duplicated. Left-over temporary directories of killed runs are removed at
-the start.
+Resume: a run is complete when ``runs/<name>/summary.json`` exists with the scenario hash of the run and
+every file it lists (``files``: SHA-256 per file, `floebreak.api.file_checksums`) is there with that
+checksum: a damaged run (a truncated Parquet file) is run again. Since run directories appear only by an
+atomic rename, a study killed at any moment (even SIGKILL) resumes with no run lost or duplicated.
+Left-over temporary directories of killed runs (or of killed workers) are removed at the start and at the
+end. Paths are made absolute before they reach workers, whose working directory may be another.
 """
 
 from __future__ import annotations
@@ -53,13 +55,26 @@ def scenario_hash(scenario: dict[str, Any]) -> str:
 
 
 def is_complete(run_dir: Path, expected_hash: str) -> bool:
+    """Whether `run_dir` holds the finished run of `expected_hash` with every file intact (checksums)."""
+    from floebreak.api import file_checksums
+
     summary = run_dir / "summary.json"
     if not summary.exists():
         return False
     try:
-        return json.loads(summary.read_text(encoding="utf-8")).get("scenario_hash") == expected_hash
+        doc = json.loads(summary.read_text(encoding="utf-8"))
+        if doc.get("scenario_hash") != expected_hash or not isinstance(doc.get("files"), dict):
+            return False
+        return file_checksums(run_dir, doc["files"]) == doc["files"]
     except (OSError, json.JSONDecodeError):
         return False
+
+
+def remove_temporary_runs(runs_dir: Path) -> None:
+    """Remove temporary run directories left by killed runs or workers (nothing reads them)."""
+    for pattern in (".run-*.tmp-*", ".run-*.old-*"):
+        for stale in runs_dir.glob(pattern):
+            shutil.rmtree(stale, ignore_errors=True)
 
 
 def execute_run(task: dict[str, Any]) -> dict[str, Any]:
@@ -125,14 +140,11 @@ def run_study(
 
     `run_figures=False`: the run directories get no figures/ (a voyage reads only their tables)."""
     executor = executor or SerialExecutor()
-    out_dir = Path(out_dir)
+    out_dir = Path(out_dir).absolute()  # workers (Dask) may have another working directory
     runs_dir, failed_dir = out_dir / "runs", out_dir / "failed"
     runs_dir.mkdir(parents=True, exist_ok=True)
     failed_dir.mkdir(exist_ok=True)
-    for stale in runs_dir.glob(".run-*.tmp-*"):  # a run killed mid-write
-        shutil.rmtree(stale, ignore_errors=True)
-    for stale in runs_dir.glob(".run-*.old-*"):
-        shutil.rmtree(stale, ignore_errors=True)
+    remove_temporary_runs(runs_dir)
     study_doc = {
         "spec": spec.model_dump(mode="json"),
         "runs": [
@@ -195,4 +207,5 @@ def run_study(
             _atomic_write_text(failure_file, json.dumps(record, indent=2, default=str) + "\n")
         if progress:
             progress(state)
+    remove_temporary_runs(runs_dir)  # e.g. of a worker killed mid-write whose run was redone elsewhere
     return state

@@ -1,0 +1,332 @@
+"""Regression tests of issue 20: what a user types must not crash the program, exhaust the machine or lose a
+result. Each test is one failure the issue's campaigns found (bad numbers, environment errors, Ctrl-C,
+memory on thin ice); the fuzz harness (`floebreak.testing.fuzz`, `make fuzz`) keeps looking for more."""
+
+from __future__ import annotations
+
+import errno
+import importlib
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import floebreak
+from floebreak.cli import main
+from floebreak.errors import InputError
+from floebreak.io.storage import StorageError, probe_directory
+from floebreak.simulation import PieceBudgetError
+
+SMALL = ["field.length_m=60.0"]
+
+
+def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
+    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
+    with pytest.raises(SystemExit) as info:
+        main()
+    captured = capsys.readouterr()
+    return info.value.code, captured.out, captured.err
+
+
+def _scenario(tmp_path: Path, text: str = "[field]\nlength_m = 60.0\n") -> str:
+    path = tmp_path / "s.toml"
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+# --- inputs: non-finite and absurd numbers (issue 20, failure 3) ---------------------------------------
+
+ISSUE_INPUTS = [
+    ("ice.youngs_modulus_pa=inf", "ice.youngs_modulus_pa"),
+    ("ship.x_start_m=nan", "ship.x_start_m"),
+    ("ice.crushing_strength_pa=inf", "ice.crushing_strength_pa"),
+    ("field.length_m=inf", "field.length_m"),
+    ("ice.thickness_range_m=[1e-9, 1e9]", "ice.thickness_range_m[0]"),
+    ("ice.fracture_toughness_pa_sqrt_m=inf", "ice.fracture_toughness_pa_sqrt_m"),
+    ("ship.step_m=inf", "ship.step_m"),
+    ("failure.bending.kashtelyan_coefficient=inf", "failure.bending.kashtelyan_coefficient"),
+    ("failure.cracking.total_porosity_ppt=nan", "failure.cracking.total_porosity_ppt"),
+]
+
+
+@pytest.mark.parametrize(("override", "key"), ISSUE_INPUTS, ids=[i[1] for i in ISSUE_INPUTS])
+def test_non_finite_or_absurd_numbers_exit_2_naming_the_key(tmp_path, monkeypatch, capsys, override, key):
+    out = tmp_path / "out"
+    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "--set", override)
+    assert code == 2, err
+    assert err.strip().startswith(f"error: {key}:") and err.strip().count("\n") == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_schema_states_the_ranges():
+    schema = floebreak.Scenario.model_json_schema()
+    ice = schema["$defs"]["IceSection"]["properties"]
+    thickness = next(option for option in ice["thickness_m"]["anyOf"] if option.get("type") == "number")
+    assert thickness["minimum"] == 0.01 and thickness["maximum"] == 10.0
+    assert ice["youngs_modulus_pa"]["minimum"] > 0 and np.isfinite(ice["youngs_modulus_pa"]["maximum"])
+
+
+# --- memory: the piece budget and lineage (failure 1) --------------------------------------------------
+
+
+def test_piece_budget_stops_the_run_with_exit_2_naming_the_key(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "out"
+    args = ("run", _scenario(tmp_path), "--out", str(out), "-q", "--set", "simulation.max_pieces=40")
+    code, _, err = cli(monkeypatch, capsys, *args)
+    assert code == 2 and "error: simulation.max_pieces:" in err and "more than 40 pieces" in err
+    assert not out.exists() and not (tmp_path / "out.failed-scenario.toml").exists()
+
+
+def test_piece_budget_error_from_the_python_api():
+    with pytest.raises(PieceBudgetError) as info:
+        floebreak.run(overrides=[*SMALL, "simulation.max_pieces=40"])
+    assert info.value.field == "simulation.max_pieces"
+
+
+def test_a_generated_field_over_the_budget_is_refused_before_it_is_placed():
+    # 1000 km × 10 km of the reference observation: ≈ 4.9e7 floes (c·A / Ā, thesis §2.1), never generated
+    with pytest.raises(InputError) as info:
+        floebreak.run(overrides=["field.length_m=1e6", "field.width_m=1e4"])
+    assert info.value.field == "simulation.max_pieces"
+
+
+def test_an_inline_field_over_the_budget_is_refused():
+    floes = (
+        "[" + ", ".join(f"{{x_m = {20.0 + 3.0 * i}, y_m = 0.0, diameter_m = 2.0}}" for i in range(5)) + "]"
+    )
+    scenario = floebreak.Scenario.from_toml_text(
+        f"[field]\nfloes = {floes}\n[ice]\nthickness_m = 1.0\n[simulation]\nmax_pieces = 4\n"
+    )
+    with pytest.raises(InputError) as info:
+        floebreak.run(scenario)
+    assert info.value.field == "simulation.max_pieces" and "5 floes" in str(info.value)
+
+
+def test_failure_chain_is_rebuilt_from_parent_ids():
+    """Lineage is stored once (parent ids + the mode that ended each piece): a cusp's chain has one entry per
+    ancestor, each the mode that broke it, and the modes of all broken pieces add up to the break counters."""
+    result = floebreak.run(overrides=SMALL)
+    sim = result.simulation
+    broken = sim.fate == "broken"
+    modes, counts = np.unique(sim.ended_by[broken].astype(str), return_counts=True)
+    by_mode = dict(zip(modes.tolist(), counts.tolist(), strict=True))
+    whole = (sim.fate != "broken") & (sim.ended_by != "")
+    assert sum(by_mode.values()) == sim.n_breaks
+    assert sum(by_mode.values()) + int(whole.sum()) == sum(sim.breaks_by_mode.values())
+    for i in np.flatnonzero(sim.fate == "cusp")[:50]:
+        depth, parent = 0, int(sim.parent_piece_id[i])
+        while parent >= 0:
+            depth, parent = depth + 1, int(sim.parent_piece_id[parent])
+        chain = sim.failure_chain(int(i))
+        assert len(chain) == depth + (1 if sim.ended_by[i] else 0)
+        assert chain[-1] == result.cusps["failure_mode"][list(result.cusps["piece_id"]).index(i)]
+
+
+# --- environment and interruption (failure 4) ----------------------------------------------------------
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
+def test_a_pseudo_file_system_is_refused_before_the_run(tmp_path, monkeypatch, capsys):
+    api = importlib.import_module("floebreak.api")
+    monkeypatch.setattr(api, "simulate", lambda *a, **k: pytest.fail("the run started"))
+    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", "/proc/floebreak-run", "-q")
+    assert code == 3 and "/proc/floebreak-run" in err and "internal error" not in err
+
+
+def test_disk_full_while_writing_exits_3_and_leaves_nothing(tmp_path, monkeypatch, capsys):
+    geoparquet = importlib.import_module("floebreak.api")
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(geoparquet, "write_geoparquet", full)
+    out = tmp_path / "out"
+    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
+    assert code == 3 and "No space left on device" in err and str(out) in err
+    assert "report this bug" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no run, no temporary, no 0-byte file
+
+
+def test_probe_reports_the_os_error(tmp_path, monkeypatch):
+    def refuse(*args, **kwargs):
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr("tempfile.mkstemp", refuse)
+    with pytest.raises(StorageError) as info:
+        probe_directory(tmp_path, tmp_path / "out")
+    assert info.value.errno == errno.EROFS and "Read-only file system" in str(info.value)
+
+
+@pytest.mark.parametrize("inside_kernel", [False, True])
+def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeypatch, capsys, inside_kernel):
+    api = importlib.import_module("floebreak.api")
+
+    def interrupted(*args, **kwargs):
+        if not inside_kernel:
+            raise KeyboardInterrupt
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as error:  # how numba reports it: a SystemError with the interrupt set
+            raise SystemError(
+                "CPUDispatcher(<function zone_rows>) returned a result with an exception set"
+            ) from error
+
+    monkeypatch.setattr(api, "simulate", interrupted)
+    out = tmp_path / "out"
+    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
+    assert code == 130 and err.strip().count("\n") == 0 and "interrupted" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+# --- exact geometry (failure 2) ------------------------------------------------------------------------
+
+# a crescent 0.7 mm wide between two bending arcs (from the issue's AreaBalanceError case, seed 9 below),
+# bow frame; moved to the field frame at bow x = 179.0814 m its ends cross within rounding
+CRESCENT_XY_M = [
+    (-8.344472466178557, -12.292066799138839),
+    (-8.380454579083722, -12.26954830937957),
+    (-8.392388385519642, -12.262079840289811),
+    (-8.400693662717273, -12.256882193892121),
+    (-8.401842405106285, -12.256163282698909),
+    (-8.563515984523598, -12.154983986973587),
+    (-8.748865863824488, -12.038987481434297),
+    (-9.783753258001948, -11.258029162148434),
+    (-10.746637590831192, -10.389846245545488),
+    (-11.63019073113394, -9.441046127843986),
+    (-12.427688306008504, -8.418849750840819),
+    (-12.656569500259831, -8.065873220953558),
+    (-12.656643497194652, -8.065148819620664),
+    (-12.42702231659368, -8.41926654336929),
+    (-11.629524741719116, -9.441462920372457),
+    (-10.745971601416368, -10.39026303807396),
+    (-9.783087268587124, -11.258445954676905),
+    (-8.748199874409664, -12.039404273962768),
+    (-8.341065077721355, -12.294199226500222),
+]
+
+
+def test_a_crescent_made_invalid_by_translation_keeps_its_area():
+    import shapely
+
+    from floebreak.simulation import _translate_pieces
+
+    crescent = shapely.Polygon(CRESCENT_XY_M)
+    assert crescent.is_valid
+    moved = _translate_pieces(np.array([crescent], dtype=object), 179.0814)[0]
+    assert moved.is_valid
+    # the shoelace area of the given ring, independent of the engine
+    x, y = np.array(CRESCENT_XY_M).T
+    shoelace = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    assert moved.area == pytest.approx(shoelace, rel=1e-9)
+
+
+@pytest.mark.parametrize("seed", [2, 9, 11])
+def test_issue_area_balance_case_conserves_area_with_valid_pieces(seed):
+    """Thesis profile, voronoi, Polarstern, obs 2019-12-19T04:40, 3 floes in 264 m × 256 m, h = 0.7028 m,
+    step 1.8462 m, flexural_stress, BZ2: seed 9 raised AreaBalanceError (1.9e-8), seeds 2, 11 lost 2.5e-11."""
+    import shapely
+
+    scenario = floebreak.Scenario.from_toml_text(
+        'profile = "thesis"\n[field]\nobservation = "2019-12-19T04:40"\nlength_m = 264.0\nwidth_m = 256.0\n'
+        'generator = "voronoi"\n[ice]\nthickness_m = 0.7028\n[ship]\nhull = "polarstern"\nstep_m = 1.8462\n'
+        '[failure]\ncrack_criterion = "flexural_stress"\nsize_effect_law = "BZ2"\n',
+        overrides=[f"seed={seed}"],
+    )
+    result = floebreak.run(scenario)
+    assert result.summary["area_balance_rel_error"] <= 1e-12
+    for table in (result.cusps, result.flipped, result.remaining, result.pieces):
+        assert shapely.is_valid(np.asarray(table["geometry"], dtype=object)).all()
+
+
+# --- the field command and CSV errors (failure 7) ------------------------------------------------------
+
+
+def test_field_refuses_an_unknown_figure_format_before_writing(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "f.parquet"
+    args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60", "--figure")
+    code, _, err = cli(monkeypatch, capsys, *args, str(tmp_path / "fig.xyz"))
+    assert code == 2 and "error: figure:" in err and "png" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_field_refuses_an_existing_output_without_overwrite(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "f.parquet"
+    out.write_bytes(b"keep me")
+    args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60")
+    code, _, err = cli(monkeypatch, capsys, *args)
+    assert code == 2 and "error: out:" in err and "--overwrite" in err and out.read_bytes() == b"keep me"
+    code, _, err = cli(monkeypatch, capsys, *args, "--overwrite")
+    assert code == 0, err
+    assert out.read_bytes()[:4] == b"PAR1"
+
+
+@pytest.mark.parametrize(("option", "value"), [("--length", "inf"), ("--thickness", "nan")])
+def test_field_refuses_non_finite_numbers(tmp_path, monkeypatch, capsys, option, value):
+    args = ("field", "--out", str(tmp_path / "f.parquet"), "--obs", "2019-12-18T20:20", option, value)
+    code, _, err = cli(monkeypatch, capsys, *args)
+    assert code == 2 and f"error: {option.lstrip('-')}:" in err and "finite" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bow_csv_errors_keep_file_and_row(tmp_path, monkeypatch, capsys):
+    (tmp_path / "bow.csv").write_text("x_m,y_m,line\n0,0,upper\n1,2\n", encoding="utf-8")
+    scenario = _scenario(tmp_path, '[ship]\nfile = "bow.csv"\n[field]\nlength_m = 60.0\n')
+    code, _, err = cli(monkeypatch, capsys, "run", scenario, "--out", str(tmp_path / "out"))
+    assert code == 2 and f"error: ship.file: {tmp_path / 'bow.csv'} row 3:" in err
+
+
+# --- scale (failure 7) ---------------------------------------------------------------------------------
+
+
+def test_field_generation_reports_progress_and_the_field_is_unchanged():
+    import shapely
+
+    from floebreak.ice.generation import generate_field
+    from floebreak.ice.observations import get_observation
+
+    calls = []
+    observation = get_observation("2019-12-18T20:20")
+    args = (observation, 200.0, 50.0)
+    quiet = generate_field(*args, np.random.default_rng(3))
+    told = generate_field(*args, np.random.default_rng(3), progress=lambda *a: calls.append(a))
+    assert shapely.equals_exact(quiet.polygons, told.polygons, tolerance=0.0).all()
+    assert calls[0][0].startswith(f"placing {quiet.n_floes:,} floes") and calls[-1][0].endswith("placed")
+    rounds = [(done, most) for stage, done, most in calls[1:-1]]
+    assert rounds and all(0 < done <= most for done, most in rounds)
+    assert [done for done, _ in rounds] == list(range(1, len(rounds) + 1))
+
+
+def test_ten_thousand_inline_floes_are_checked_for_overlap_by_index():
+    """10 000 floes in a grid (3 m apart, 2 m wide): no overlap; one moved onto its neighbour: named."""
+    from floebreak import api
+
+    floes = [
+        {"x_m": 20.0 + 3.0 * (i // 50), "y_m": -75.0 + 3.0 * (i % 50), "diameter_m": 2.0}
+        for i in range(10_000)
+    ]
+    scenario = floebreak.Scenario.from_dict({"field": {"floes": floes}, "ice": {"thickness_m": 1.0}})
+    assert api.build_field(scenario, np.random.default_rng(1)).n_floes == 10_000
+    floes[777] = {**floes[776], "y_m": floes[776]["y_m"] + 1.0}
+    scenario = floebreak.Scenario.from_dict({"field": {"floes": floes}, "ice": {"thickness_m": 1.0}})
+    with pytest.raises(InputError) as info:
+        api.build_field(scenario, np.random.default_rng(1))
+    assert info.value.field == "field.floes[777]" and "field.floes[776]" in str(info.value)
+
+
+def test_failure_chain_from_the_written_pieces_file(tmp_path):
+    import pyarrow.parquet as pq
+
+    from floebreak.results import failure_chain
+
+    result = floebreak.run(overrides=SMALL)
+    result.write(tmp_path / "run", figures=False, report=False)
+    table = pq.read_table(
+        tmp_path / "run" / "pieces.parquet", columns=["piece_id", "parent_piece_id", "ended_by"]
+    )
+    columns = {name: table.column(name).to_numpy(zero_copy_only=False) for name in table.column_names}
+    cusps = np.flatnonzero(result.simulation.fate == "cusp")
+    assert cusps.size
+    for i in cusps[:: max(1, cusps.size // 20)]:
+        assert failure_chain(columns, int(i)) == ">".join(result.simulation.failure_chain(int(i)))
+        assert failure_chain(columns, int(i))  # a cusp was made by a break or a rotation
