@@ -21,19 +21,23 @@ from floebreak.errors import InputError
 
 console = Console()
 
+# the options every command that runs a study shares (study, voyage, validate)
+WorkersOption = Annotated[
+    int | None, typer.Option("--workers", help="local worker processes (default: cores)")
+]
+SchedulerOption = Annotated[
+    str | None,
+    typer.Option("--scheduler", help="Dask scheduler tcp://HOST:PORT, or 'local' (LocalCluster)"),
+]
+
 
 def study(
     spec: Annotated[
         str, typer.Argument(help="study TOML file, or 'thesis' for the built-in thesis §5.3 study")
     ],
     out: Annotated[Path, typer.Option("--out", help="study directory (re-running resumes it)")],
-    workers: Annotated[
-        int | None, typer.Option("--workers", help="local worker processes (default: cores)")
-    ] = None,
-    scheduler: Annotated[
-        str | None,
-        typer.Option("--scheduler", help="Dask scheduler tcp://HOST:PORT, or 'local' (LocalCluster)"),
-    ] = None,
+    workers: WorkersOption = None,
+    scheduler: SchedulerOption = None,
     n_fields: Annotated[int, typer.Option("--n-fields", help="random fields per point (thesis study)")] = 4,
     profile: Annotated[str, typer.Option("--profile", help="default | thesis (thesis study)")] = "default",
 ) -> None:
@@ -115,13 +119,8 @@ def voyage(
     log: Annotated[Path, typer.Argument(help="ice observation log CSV (docs/studies.md, Voyages)")],
     out: Annotated[Path, typer.Option("--out", help="voyage directory (re-running resumes it)")],
     n_fields: Annotated[int, typer.Option("--n-fields", help="random fields per period")] = 4,
-    workers: Annotated[
-        int | None, typer.Option("--workers", help="local worker processes (default: cores)")
-    ] = None,
-    scheduler: Annotated[
-        str | None,
-        typer.Option("--scheduler", help="Dask scheduler tcp://HOST:PORT, or 'local' (LocalCluster)"),
-    ] = None,
+    workers: WorkersOption = None,
+    scheduler: SchedulerOption = None,
     seed: Annotated[int, typer.Option("--seed", help="root seed of the fields")] = 2023,
     overrides: Annotated[
         list[str] | None, typer.Option("--set", help="scenario override KEY=VALUE (repeatable)")

@@ -14,6 +14,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from floebreak.errors import InputError
+from floebreak.studies.cli import SchedulerOption, WorkersOption
 
 console = Console()
 
@@ -21,12 +22,6 @@ OutOption = Annotated[Path, typer.Option("--out", help="output directory (re-run
 ProfileOption = Annotated[str, typer.Option("--profile", help="default | thesis | both")]
 FieldsOption = Annotated[int, typer.Option("--n-fields", help="common random fields per design point (≥ 1)")]
 SeedOption = Annotated[int, typer.Option("--seed", help="root seed of the fields")]
-WorkersOption = Annotated[
-    int | None, typer.Option("--workers", help="local worker processes (default: cores)")
-]
-SchedulerOption = Annotated[
-    str | None, typer.Option("--scheduler", help="Dask scheduler tcp://HOST:PORT, or 'local'")
-]
 SetOption = Annotated[
     list[str] | None,
     typer.Option("--set", help="override a scenario key for every run, KEY=VALUE (repeatable)"),
