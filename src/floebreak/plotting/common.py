@@ -2,10 +2,6 @@
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")  # figures are written to files; never needs a display
-
 import numpy as np
 import shapely
 from matplotlib.collections import PolyCollection
