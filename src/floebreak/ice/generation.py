@@ -213,38 +213,25 @@ def _voronoi_field(counts: FloeCounts, concentration: float, domain, rng):
     return polygons[order], nearest[order], {}
 
 
-def generate_field(
+def _checked_floe_counts(
     observation: Observation,
     length_m: float,
     width_m: float,
-    rng: np.random.Generator,
-    *,
-    generator: str = "circles",
-    thickness_m: float | None = None,
-    thickness_range_m: tuple[float, float] | None = None,
-    thickness_summands: int = c.THICKNESS_SUMMANDS_DEFAULT,
-    floe_area_factor: float = c.FLOE_AREA_FACTOR,
-    clustering: float = 0.05,
-    vertices: int = c.CIRCLE_POLYGON_VERTICES,
-    seed: int | None = None,
-    max_floes: int | None = None,
-    progress: Callable[[str, int, int], None] | None = None,
-) -> FloeField:
-    """A random floe field for `observation` in x ∈ [0, L], y ∈ [−W/2, W/2] (thesis §2.1).
+    generator: str,
+    clustering: float,
+    floe_area_factor: float,
+    max_floes: int | None,
+) -> FloeCounts:
+    """The floe counts of the requested field, after checking that the request can be met.
 
-    Thickness: `thickness_m` for every floe, or bounded random in `thickness_range_m` (thesis §5.3.3,
-    Bates with `thickness_summands`), or the observation's mean thickness. `seed` is only recorded in the
-    metadata; the randomness comes from `rng`. Raises InputError (or its subclass ConcentrationError) when
-    the request cannot be met, or when the field would hold more than `max_floes` floes (checked before
-    anything is placed). `progress(stage, done, most)`, if given, is told what is being done: the placement
-    ("placing N floes", relaxation rounds done of at most `most`), then the polygons; for progress displays.
+    Raises InputError for a bad size, generator or clustering, too many floes, a field smaller than its
+    largest floe, or a field too small for the diameter distribution to give the target concentration.
     """
     require_range("length_m", length_m, low=0.0, unit="m")
     require_range("width_m", width_m, low=0.0, unit="m")
     if generator not in GENERATORS:
         raise InputError("generator", f"unknown generator {generator!r}", allowed=", ".join(GENERATORS))
     require_range("clustering", clustering, low=0.0, low_inclusive=True)
-    domain = (0.0, -width_m / 2.0, float(length_m), width_m / 2.0)
     counts = floe_counts(observation, length_m * width_m, floe_area_factor)
     if max_floes is not None and counts.total > max_floes:
         raise InputError(
@@ -272,6 +259,59 @@ def generate_field(
                 f"{100 * observation.concentration:g} %",
                 allowed="a larger field (length_m × width_m)",
             )
+    return counts
+
+
+def _floe_thicknesses_m(
+    observation: Observation,
+    n: int,
+    rng: np.random.Generator,
+    thickness_m: float | None,
+    thickness_range_m: tuple[float, float] | None,
+    thickness_summands: int,
+) -> np.ndarray:
+    """The thickness of each of the `n` floes: bounded random in a range (thesis §5.3.3), or constant."""
+    if thickness_range_m is not None:
+        if thickness_m is not None:
+            raise InputError("thickness_m", "give either a thickness or a thickness range, not both")
+        return bounded_random_thickness_m(
+            rng, thickness_range_m[0], thickness_range_m[1], n, thickness_summands
+        )
+    value = observation.mean_thickness_m if thickness_m is None else thickness_m
+    require_range("thickness_m", value, low=0.0, unit="m")
+    return np.full(n, float(value))
+
+
+def generate_field(
+    observation: Observation,
+    length_m: float,
+    width_m: float,
+    rng: np.random.Generator,
+    *,
+    generator: str = "circles",
+    thickness_m: float | None = None,
+    thickness_range_m: tuple[float, float] | None = None,
+    thickness_summands: int = c.THICKNESS_SUMMANDS_DEFAULT,
+    floe_area_factor: float = c.FLOE_AREA_FACTOR,
+    clustering: float = 0.05,
+    vertices: int = c.CIRCLE_POLYGON_VERTICES,
+    seed: int | None = None,
+    max_floes: int | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
+) -> FloeField:
+    """A random floe field for `observation` in x ∈ [0, L], y ∈ [−W/2, W/2] (thesis §2.1).
+
+    Thickness: `thickness_m` for every floe, or bounded random in `thickness_range_m` (thesis §5.3.3,
+    Bates with `thickness_summands`), or the observation's mean thickness. `seed` is only recorded in the
+    metadata; the randomness comes from `rng`. Raises InputError (or its subclass ConcentrationError) when
+    the request cannot be met, or when the field would hold more than `max_floes` floes (checked before
+    anything is placed). `progress(stage, done, most)`, if given, is told what is being done: the placement
+    ("placing N floes", relaxation rounds done of at most `most`), then the polygons; for progress displays.
+    """
+    counts = _checked_floe_counts(
+        observation, length_m, width_m, generator, clustering, floe_area_factor, max_floes
+    )
+    domain = (0.0, -width_m / 2.0, float(length_m), width_m / 2.0)
     stage = f"placing {counts.total:,} floes ({generator})"
     report = (lambda done, most: progress(stage, done, most)) if progress else None
     if report:
@@ -285,14 +325,7 @@ def generate_field(
     if progress:
         progress(f"{counts.total:,} floes placed", 1, 1)
     n = len(polygons)
-    if thickness_range_m is not None:
-        if thickness_m is not None:
-            raise InputError("thickness_m", "give either a thickness or a thickness range, not both")
-        h = bounded_random_thickness_m(rng, thickness_range_m[0], thickness_range_m[1], n, thickness_summands)
-    else:
-        value = observation.mean_thickness_m if thickness_m is None else thickness_m
-        require_range("thickness_m", value, low=0.0, unit="m")
-        h = np.full(n, float(value))
+    h = _floe_thicknesses_m(observation, n, rng, thickness_m, thickness_range_m, thickness_summands)
     field = FloeField(
         polygons=polygons,
         thickness_m=h,
