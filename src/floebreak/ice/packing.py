@@ -220,6 +220,32 @@ def random_centers_m(
     return np.stack([x, y], axis=1)
 
 
+def _in_mean_radius_units(
+    radii: np.ndarray, domain_m: tuple[float, float, float, float], gap_m: float
+) -> tuple[float, np.ndarray, tuple[float, float, float, float], float]:
+    """(scale, radii, domain, gap) in units of the mean radius: the energy is O(1) per contact."""
+    scale = float(np.mean(radii))
+    r = radii / scale
+    x0, y0, x1, y1 = domain_m
+    margin = 0.5 * gap_m  # walls keep half the floe gap: polygons stay strictly inside
+    domain = ((x0 + margin) / scale, (y0 + margin) / scale, (x1 - margin) / scale, (y1 - margin) / scale)
+    return scale, r, domain, gap_m / scale
+
+
+def _dense_packing(
+    radii, domain_m, gap_m, r, scale, domain, groups, rng, clustering, gap, max_polish_rounds
+) -> Packing:
+    """Above `DENSE_COVER`: hierarchical relaxation, else (when it jams) corner insertion if better."""
+    packing = _relax_hierarchical(r, scale, domain, groups, rng, clustering, gap, max_polish_rounds)
+    if packing.overlap_free or len(np.unique(radii)) > CORNER_MAX_CLASSES:
+        return packing
+    # the relaxation jams before the target (e.g. 89 % with 7.5/15/60 m floes): corner insertion
+    dense = corner_circles(radii, domain_m, rng, gap_m=gap_m)
+    if dense.overlap_free or _placed_cover(dense) > _placed_cover(packing):
+        return dense
+    return packing
+
+
 def relax_circles(
     radii_m: np.ndarray,
     domain_m: tuple[float, float, float, float],
@@ -244,26 +270,16 @@ def relax_circles(
     """
     radii = np.asarray(radii_m, dtype=float)
     n = len(radii)
-    scale = float(np.mean(radii))  # work in units of the mean radius: the energy is O(1) per contact
-    r = radii / scale
-    x0, y0, x1, y1 = domain_m
-    margin = 0.5 * gap_m  # walls keep half the floe gap: polygons stay strictly inside
-    domain = ((x0 + margin) / scale, (y0 + margin) / scale, (x1 - margin) / scale, (y1 - margin) / scale)
-    gap = gap_m / scale
+    scale, r, domain, gap = _in_mean_radius_units(radii, domain_m, gap_m)
     if n < 2:
         return Packing(random_centers_m(r, domain, rng) * scale, radii, -np.inf, 0, "relax")
     x0s, y0s, x1s, y1s = domain
     cover = float(np.sum(np.pi * r**2)) / ((x1s - x0s) * (y1s - y0s))
     groups = _size_groups(r)[::-1]  # largest first
     if cover > DENSE_COVER and len(groups) > 1:
-        packing = _relax_hierarchical(r, scale, domain, groups, rng, clustering, gap, max_polish_rounds)
-        if packing.overlap_free or len(np.unique(radii)) > CORNER_MAX_CLASSES:
-            return packing
-        # the relaxation jams before the target (e.g. 89 % with 7.5/15/60 m floes): corner insertion
-        dense = corner_circles(radii, domain_m, rng, gap_m=gap_m)
-        if dense.overlap_free or _placed_cover(dense) > _placed_cover(packing):
-            return dense
-        return packing
+        return _dense_packing(
+            radii, domain_m, gap_m, r, scale, domain, groups, rng, clustering, gap, max_polish_rounds
+        )
     xy = random_centers_m(r, domain, rng)
     iterations = 0
     growth = max(1, growth_rounds) if growth_start < 1.0 else 0
