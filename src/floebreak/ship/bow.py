@@ -171,6 +171,96 @@ def _check_lines(upper: np.ndarray, lower: np.ndarray) -> dict[str, Any]:
     return {"stem": stem, "tol": tol, "hull_upper": hull_upper, "hull_lower": hull_lower}
 
 
+def _checked_node_arrays(upper_xy_m, lower_xy_m) -> tuple[np.ndarray, np.ndarray]:
+    """The two waterlines as read-only float (n_nodes ≥ 3, 2) arrays of equal shape, else InputError."""
+    arrays = {}
+    for line, raw in (("upper", upper_xy_m), ("lower", lower_xy_m)):
+        key = f"{line}_xy_m"
+        try:
+            xy = np.array(raw, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(key, "must be a numeric (n_nodes, 2) array") from None
+        if xy.ndim != 2 or xy.shape[1] != 2 or xy.shape[0] < 3:
+            raise InputError(key, f"must have shape (n_nodes ≥ 3, 2), got {xy.shape}", value=xy.shape)
+        xy.setflags(write=False)
+        arrays[line] = xy
+    upper, lower = arrays["upper"], arrays["lower"]
+    if lower.shape != upper.shape:
+        raise InputError(
+            "lower_xy_m", f"must have as many nodes as upper_xy_m ({len(upper)}), got {len(lower)}"
+        )
+    return upper, lower
+
+
+def _panels(
+    upper: np.ndarray, lower: np.ndarray, dz: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Panel normals, panel angles ψ_v (physics-notes §2.1), upper midpoints and plan-view footprints."""
+    n_panels = len(upper) - 1
+    tangents = np.diff(upper, axis=0)
+    panel_normals = np.column_stack([-tangents[:, 1], tangents[:, 0]])
+    panel_normals /= np.linalg.norm(panel_normals, axis=1, keepdims=True)
+    upper_mid = 0.5 * (upper[:-1] + upper[1:])
+    lower_mid = 0.5 * (lower[:-1] + lower[1:])
+    d_n = np.einsum("ij,ij->i", upper_mid - lower_mid, panel_normals)  # inward offset of the lower panel
+    psi = np.arctan2(np.maximum(d_n, 0.0), dz)
+    footprints = np.empty(n_panels, dtype=object)
+    for i in range(n_panels):
+        footprints[i] = _footprint(np.array([upper[i], upper[i + 1], lower[i + 1], lower[i]]))
+    return panel_normals, psi, upper_mid, footprints
+
+
+def _split_csv_text(text: str) -> tuple[dict[str, str], list[str] | None, int, list[tuple[int, list[str]]]]:
+    """(``# key = value`` metadata, header cells or None, header row, [(row number, cells)]) of a bow CSV."""
+    meta: dict[str, str] = {}
+    header: list[str] | None = None
+    header_row = 0
+    rows: list[tuple[int, list[str]]] = []
+    for row_number, raw in enumerate(text.splitlines(), start=1):
+        stripped = raw.strip()
+        if not stripped:
+            continue
+        if stripped.startswith("#"):
+            body = stripped.lstrip("#").strip()
+            if "=" in body:
+                key, value = (part.strip() for part in body.split("=", 1))
+                if key in CSV_KEYS:
+                    meta[key] = value
+            continue
+        cells = [cell.strip() for cell in next(csv.reader([raw]))]
+        if header is None:
+            header, header_row = cells, row_number
+        else:
+            rows.append((row_number, cells))
+    return meta, header, header_row, rows
+
+
+def _csv_format(
+    header: list[str] | None, header_row: int, rows: list[tuple[int, list[str]]], where: str
+) -> str:
+    """The CSV format from the header, "lines" (a) or "stations" (b); InputError for a bad header or row."""
+    if header is None:
+        raise InputError(where, "no header row found", allowed=_formats_text())
+    if sorted(header) == sorted(LINES_COLUMNS):
+        fmt = "lines"
+    elif sorted(header) == sorted(STATIONS_COLUMNS):
+        fmt = "stations"
+    else:
+        raise InputError(
+            f"{where} row {header_row}",
+            f"unexpected columns {header}",
+            value=header,
+            allowed=_formats_text(),
+        )
+    for row_number, cells in rows:
+        if len(cells) != len(header):
+            raise InputError(
+                f"{where} row {row_number}",
+                f"has {len(cells)} values, the header has {len(header)} columns",
+            )
+    return fmt
+
+
 @dataclass(frozen=True, eq=False)
 class Bow:
     """Two ice waterlines of a bow with derived panels, normals and panel angles (thesis §3.1).
@@ -210,22 +300,7 @@ class Bow:
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
             raise InputError("name", "must be a non-empty string", value=self.name)
-        arrays = {}
-        for line in ("upper", "lower"):
-            key = f"{line}_xy_m"
-            try:
-                xy = np.array(getattr(self, key), dtype=float)
-            except (TypeError, ValueError):
-                raise InputError(key, "must be a numeric (n_nodes, 2) array") from None
-            if xy.ndim != 2 or xy.shape[1] != 2 or xy.shape[0] < 3:
-                raise InputError(key, f"must have shape (n_nodes ≥ 3, 2), got {xy.shape}", value=xy.shape)
-            xy.setflags(write=False)
-            arrays[line] = xy
-        upper, lower = arrays["upper"], arrays["lower"]
-        if lower.shape != upper.shape:
-            raise InputError(
-                "lower_xy_m", f"must have as many nodes as upper_xy_m ({len(upper)}), got {len(lower)}"
-            )
+        upper, lower = _checked_node_arrays(self.upper_xy_m, self.lower_xy_m)
         z_u, z_l = float(self.z_upper_m), float(self.z_lower_m)
         if not (math.isfinite(z_u) and math.isfinite(z_l)) or not z_u > z_l:
             raise InputError(
@@ -246,16 +321,7 @@ class Bow:
         setattr_(self, "parameters", MappingProxyType(dict(self.parameters)))
 
         n_panels = len(upper) - 1
-        tangents = np.diff(upper, axis=0)
-        panel_normals = np.column_stack([-tangents[:, 1], tangents[:, 0]])
-        panel_normals /= np.linalg.norm(panel_normals, axis=1, keepdims=True)
-        upper_mid = 0.5 * (upper[:-1] + upper[1:])
-        lower_mid = 0.5 * (lower[:-1] + lower[1:])
-        d_n = np.einsum("ij,ij->i", upper_mid - lower_mid, panel_normals)  # inward offset of the lower panel
-        psi = np.arctan2(np.maximum(d_n, 0.0), dz)
-        footprints = np.empty(n_panels, dtype=object)
-        for i in range(n_panels):
-            footprints[i] = _footprint(np.array([upper[i], upper[i + 1], lower[i + 1], lower[i]]))
+        panel_normals, psi, upper_mid, footprints = _panels(upper, lower, dz)
         node_normals = _outward_normals(upper)
 
         stem = basics["stem"]
@@ -342,46 +408,9 @@ class Bow:
             raise InputError(
                 "bow_csv", f"cannot read {path}: {error.strerror or error}", value=str(path)
             ) from None
-        meta: dict[str, str] = {}
-        header: list[str] | None = None
-        header_row = 0
-        rows: list[tuple[int, list[str]]] = []
-        for row_number, raw in enumerate(text.splitlines(), start=1):
-            stripped = raw.strip()
-            if not stripped:
-                continue
-            if stripped.startswith("#"):
-                body = stripped.lstrip("#").strip()
-                if "=" in body:
-                    key, value = (part.strip() for part in body.split("=", 1))
-                    if key in CSV_KEYS:
-                        meta[key] = value
-                continue
-            cells = [cell.strip() for cell in next(csv.reader([raw]))]
-            if header is None:
-                header, header_row = cells, row_number
-            else:
-                rows.append((row_number, cells))
+        meta, header, header_row, rows = _split_csv_text(text)
         where = f"{path.name}"
-        if header is None:
-            raise InputError(where, "no header row found", allowed=_formats_text())
-        if sorted(header) == sorted(LINES_COLUMNS):
-            fmt = "lines"
-        elif sorted(header) == sorted(STATIONS_COLUMNS):
-            fmt = "stations"
-        else:
-            raise InputError(
-                f"{where} row {header_row}",
-                f"unexpected columns {header}",
-                value=header,
-                allowed=_formats_text(),
-            )
-        for row_number, cells in rows:
-            if len(cells) != len(header):
-                raise InputError(
-                    f"{where} row {row_number}",
-                    f"has {len(cells)} values, the header has {len(header)} columns",
-                )
+        fmt = _csv_format(header, header_row, rows, where)
         records = [(row_number, dict(zip(header, cells, strict=True))) for row_number, cells in rows]
         z_upper, z_lower, thickness_note = _read_heights(meta, where, fmt)
         bow_name = name or meta.get("name") or path.stem
