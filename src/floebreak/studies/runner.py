@@ -127,6 +127,44 @@ def _atomic_write_text(path: Path, text: str) -> None:
     temp.replace(path)
 
 
+def _study_document(spec: StudySpec, runs: list[RunSpec], members: list[Membership]) -> dict[str, Any]:
+    """The content of study.json: the spec, every run and every group membership."""
+    return {
+        "spec": spec.model_dump(mode="json"),
+        "runs": [
+            {
+                "index": r.index,
+                "name": r.run_name,
+                "group": r.group,
+                "point": r.point,
+                "field_index": r.field_index,
+                "seed": r.seed,
+            }
+            for r in runs
+        ],
+        "members": [
+            {"group": m.group, "point": m.point, "field_index": m.field_index, "run": m.run_name}
+            for m in members
+        ],
+    }
+
+
+def _record_failure(
+    state: StudyProgress, failure_file: Path, name: str, scenario: dict[str, Any], error: BaseException
+) -> None:
+    """Count a failed run and write its error, traceback and scenario to `failure_file`."""
+    state.failed += 1
+    record = {
+        "run": name,
+        "status": "failed",
+        "error": f"{type(error).__name__}: {error}",
+        "traceback": "".join(traceback.format_exception(error)),
+        "scenario": scenario,
+    }
+    state.failures.append(record)
+    _atomic_write_text(failure_file, json.dumps(record, indent=2, default=str) + "\n")
+
+
 def run_study(
     spec: StudySpec,
     runs: list[RunSpec],
@@ -145,24 +183,7 @@ def run_study(
     runs_dir.mkdir(parents=True, exist_ok=True)
     failed_dir.mkdir(exist_ok=True)
     remove_temporary_runs(runs_dir)
-    study_doc = {
-        "spec": spec.model_dump(mode="json"),
-        "runs": [
-            {
-                "index": r.index,
-                "name": r.run_name,
-                "group": r.group,
-                "point": r.point,
-                "field_index": r.field_index,
-                "seed": r.seed,
-            }
-            for r in runs
-        ],
-        "members": [
-            {"group": m.group, "point": m.point, "field_index": m.field_index, "run": m.run_name}
-            for m in members
-        ],
-    }
+    study_doc = _study_document(spec, runs, members)
     _atomic_write_text(out_dir / "study.json", json.dumps(study_doc, indent=2) + "\n")
     state = StudyProgress(total=len(runs))
     todo, fields_ready = [], set()
@@ -195,16 +216,7 @@ def run_study(
         if error is None:
             failure_file.unlink(missing_ok=True)
         else:
-            state.failed += 1
-            record = {
-                "run": name,
-                "status": "failed",
-                "error": f"{type(error).__name__}: {error}",
-                "traceback": "".join(traceback.format_exception(error)),
-                "scenario": task["scenario"],
-            }
-            state.failures.append(record)
-            _atomic_write_text(failure_file, json.dumps(record, indent=2, default=str) + "\n")
+            _record_failure(state, failure_file, name, task["scenario"], error)
         if progress:
             progress(state)
     remove_temporary_runs(runs_dir)  # e.g. of a worker killed mid-write whose run was redone elsewhere
