@@ -691,71 +691,78 @@ def _sn_curve(text: str):
     return BasquinCurve(m, amplitude * 1e3, cycles, quantity=parts[0].strip().lower())
 
 
+# the `propeller` command's options (named here so that its signature stays readable)
+_FemTableOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--fem-table",
+        help="own FEM table CSV as PITCH=FILE (pitch in %; repeatable, one per pitch); FILE alone if it "
+        "has a '# pitch_percent:' line",
+    ),
+]
+_PolarClassOption = Annotated[str | None, typer.Option("--polar-class", help="IACS polar class, e.g. PC5")]
+_BeyondOption = Annotated[str, typer.Option("--beyond", help="power_law | clamp | extrapolate | flag")]
+_PoolOption = Annotated[
+    bool, typer.Option("--pool", help="pool runs whose scenarios differ in more than seed and field")
+]
+_SpeedOption = Annotated[
+    float | None, typer.Option("--speed-m-s", help="ship speed in ice [m/s] (default: the scenario's)")
+]
+_FractionReachingOption = Annotated[
+    float | None,
+    typer.Option("--fraction-reaching", help="fraction of cusps reaching a propeller (0, 1]"),
+]
+_HoursPerYearOption = Annotated[
+    float | None, typer.Option("--hours-in-ice-per-year", help="operating profile [h/a]")
+]
+_YearsOption = Annotated[float | None, typer.Option("--years", help="operating profile: years in service")]
+_SnCurveOption = Annotated[
+    str | None,
+    typer.Option(
+        "--sn-curve",
+        help="Basquin S–N curve for Miner's sum, QUANTITY,M,AMPLITUDE,CYCLES, e.g. torque,5,1000,1e7 "
+        "(N = CYCLES·(AMPLITUDE/x)^M; amplitude in kN·m for torque, kN for force)",
+    ),
+]
+_ShaftLineOption = Annotated[
+    str | None,
+    typer.Option("--shaft-line", help="shaft torque too (OUT/shaft/): agulhas_ii or FILE.toml"),
+]
+_StationOption = Annotated[
+    str | None, typer.Option("--station", help="shaft measurement station (default: the line's)")
+]
+_RpmOption = Annotated[float | None, typer.Option("--rpm", help="propeller speed [1/min] (shaft analysis)")]
+_MeanTorqueOption = Annotated[
+    float | None, typer.Option("--mean-torque-knm", help="mean hydrodynamic torque [kN m] (shaft)")
+]
+_ExcitationCasesOption = Annotated[
+    str, typer.Option("--excitation-cases", help="ice excitation cases, first plotted, e.g. 1,2,3,4")
+]
+
+
 @app.command()
 def propeller(
     run_or_study_dir: Annotated[Path, typer.Argument(help="a run directory or a study directory")],
     out: Annotated[Path, typer.Option("--out", help="output directory")],
-    fem_table: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--fem-table",
-            help="own FEM table CSV as PITCH=FILE (pitch in %; repeatable, one per pitch); FILE alone if it "
-            "has a '# pitch_percent:' line",
-        ),
-    ] = None,
+    fem_table: _FemTableOption = None,
     torque_csv: Annotated[Path | None, typer.Option("--torque-csv", help="measured shaft torque CSV")] = None,
-    polar_class: Annotated[
-        str | None, typer.Option("--polar-class", help="IACS polar class, e.g. PC5")
-    ] = None,
+    polar_class: _PolarClassOption = None,
     interpolation: Annotated[str, typer.Option("--interpolation", help="newton | pchip")] = "newton",
-    beyond: Annotated[
-        str, typer.Option("--beyond", help="power_law | clamp | extrapolate | flag")
-    ] = "power_law",
-    pool: Annotated[
-        bool, typer.Option("--pool", help="pool runs whose scenarios differ in more than seed and field")
-    ] = False,
-    speed: Annotated[
-        float | None, typer.Option("--speed-m-s", help="ship speed in ice [m/s] (default: the scenario's)")
-    ] = None,
-    fraction_reaching: Annotated[
-        float | None,
-        typer.Option("--fraction-reaching", help="fraction of cusps reaching a propeller (0, 1]"),
-    ] = None,
+    beyond: _BeyondOption = "power_law",
+    pool: _PoolOption = False,
+    speed: _SpeedOption = None,
+    fraction_reaching: _FractionReachingOption = None,
     propellers: Annotated[int | None, typer.Option("--propellers", help="number of propellers")] = None,
-    hours_per_year: Annotated[
-        float | None, typer.Option("--hours-in-ice-per-year", help="operating profile [h/a]")
-    ] = None,
-    years: Annotated[
-        float | None, typer.Option("--years", help="operating profile: years in service")
-    ] = None,
-    sn_curve: Annotated[
-        str | None,
-        typer.Option(
-            "--sn-curve",
-            help="Basquin S–N curve for Miner's sum, QUANTITY,M,AMPLITUDE,CYCLES, e.g. torque,5,1000,1e7 "
-            "(N = CYCLES·(AMPLITUDE/x)^M; amplitude in kN·m for torque, kN for force)",
-        ),
-    ] = None,
-    overwrite: Annotated[
-        bool, typer.Option("--overwrite", help="replace an existing output directory")
-    ] = False,
+    hours_per_year: _HoursPerYearOption = None,
+    years: _YearsOption = None,
+    sn_curve: _SnCurveOption = None,
+    overwrite: OverwriteOption = False,
     quiet: QuietOption = False,
-    shaft_line: Annotated[
-        str | None,
-        typer.Option("--shaft-line", help="shaft torque too (OUT/shaft/): agulhas_ii or FILE.toml"),
-    ] = None,
-    station: Annotated[
-        str | None, typer.Option("--station", help="shaft measurement station (default: the line's)")
-    ] = None,
-    rpm: Annotated[
-        float | None, typer.Option("--rpm", help="propeller speed [1/min] (shaft analysis)")
-    ] = None,
-    mean_torque_knm: Annotated[
-        float | None, typer.Option("--mean-torque-knm", help="mean hydrodynamic torque [kN m] (shaft)")
-    ] = None,
-    cases: Annotated[
-        str, typer.Option("--excitation-cases", help="ice excitation cases, first plotted, e.g. 1,2,3,4")
-    ] = "1,2,3,4",
+    shaft_line: _ShaftLineOption = None,
+    station: _StationOption = None,
+    rpm: _RpmOption = None,
+    mean_torque_knm: _MeanTorqueOption = None,
+    cases: _ExcitationCasesOption = "1,2,3,4",
 ) -> None:
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
