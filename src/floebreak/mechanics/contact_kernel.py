@@ -515,6 +515,32 @@ def _zone_of_rows(status, owner, row_floe, n_rows):
 
 
 @numba.njit(cache=True, nogil=True)
+def _longest_part_of_zone(
+    zx, zy, k, several, part_from, part_to, n_parts, waterline_xy, node_distance, limit
+):
+    """(length, from, to) of the longest of the floe's `n_parts` waterline parts (first on a tie); with
+    `several` zones in the floe, only parts whose middle lies within √limit of the zone ring (zx, zy)[:k]
+    count. Length −1 when none does."""
+    best_length, best_from, best_to = -1.0, 0.0, 0.0
+    for q in range(n_parts):
+        length = part_to[q] - part_from[q]
+        if not length > best_length:
+            continue
+        if several:  # several zones: the part must lie on this zone's boundary
+            middle = 0.5 * (part_from[q] + part_to[q])
+            mx, my, _ = _waterline_point(middle, waterline_xy, node_distance)
+            nearest = np.inf
+            for v in range(k):
+                w = v + 1 if v + 1 < k else 0
+                d2, _ = _project(mx, my, zx[v], zy[v], zx[w], zy[w])
+                nearest = min(nearest, d2)
+            if nearest > limit:
+                continue
+        best_length, best_from, best_to = length, part_from[q], part_to[q]
+    return best_length, best_from, best_to
+
+
+@numba.njit(cache=True, nogil=True)
 def zone_rows(
     zone_coords, zone_index, n_zones, zone_floe, floe_coords, floe_index, n_floes, quad_x, quad_y,
     quad_bounds, waterline_xy, node_distance, min_overlap, on_boundary,
@@ -574,22 +600,10 @@ def zone_rows(
             break
         for r in range(first_row, n_rows):
             row_overlap[r] = seg_overlap[f, row_panel[r]]
-        best_length, best_from, best_to = -1.0, 0.0, 0.0
-        for q in range(n_parts[f]):
-            length = part_to[f, q] - part_from[f, q]
-            if not length > best_length:
-                continue
-            if zones_of_floe[f] > 1:  # several zones: the part must lie on this zone's boundary
-                middle = 0.5 * (part_from[f, q] + part_to[f, q])
-                mx, my, _ = _waterline_point(middle, waterline_xy, node_distance)
-                nearest = np.inf
-                for v in range(k):
-                    w = v + 1 if v + 1 < k else 0
-                    d2, _ = _project(mx, my, zx[v], zy[v], zx[w], zy[w])
-                    nearest = min(nearest, d2)
-                if nearest > limit:
-                    continue
-            best_length, best_from, best_to = length, part_from[f, q], part_to[f, q]
+        best_length, best_from, best_to = _longest_part_of_zone(
+            zx, zy, k, zones_of_floe[f] > 1, part_from[f], part_to[f], n_parts[f], waterline_xy,
+            node_distance, limit,
+        )
         if best_length > 0.0:
             centre[z, 0], centre[z, 1], centre_panel[z] = _waterline_point(
                 0.5 * (best_from + best_to), waterline_xy, node_distance
