@@ -131,7 +131,9 @@ def split_parts(*sides, thickness_m: float = 0.0) -> tuple[list, ...]:
     of ice, but its area must not vanish either (area conservation, thesis §3.2): it is merged into the
     non-sliver part, of either side, with which it shares the longest stretch of boundary. A sliver that
     shares no boundary with any larger part (or whose union would not be one polygon) stays a piece of its
-    own; so do the parts of a split in which every part is a sliver.
+    own; so do the parts of a split in which every part is a sliver. A cut that leaves every piece of ice on
+    one side separates nothing: the other sides come back empty and the slivers unmerged — every mode then
+    keeps the floe whole, so the parts returned are not pieces (and their areas need not add up).
     """
     parts = [polygon_parts(side) for side in sides]
     labelled = [(k, p) for k, side in enumerate(parts) for p in side]
@@ -139,6 +141,10 @@ def split_parts(*sides, thickness_m: float = 0.0) -> tuple[list, ...]:
     if not slivers or len(slivers) == len(labelled):
         return tuple(parts)
     result = [[p for p in side if not is_sliver(p, thickness_m)] for side in parts]
+    if sum(1 for side in result if side) == 1:
+        # every piece of ice lies on one side: the cut separates nothing, and the modes treat a split with an
+        # empty side as no split, so the slivers need not be merged back (that union is the floe itself)
+        return tuple(result)
     for side, sliver in slivers:
         owners = [(k, i) for k, ps in enumerate(result) for i in range(len(ps))]
         bigs = np.array([result[k][i] for k, i in owners], dtype=object)
