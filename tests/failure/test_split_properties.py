@@ -129,8 +129,8 @@ def test_bending_disk_just_below_a_spike_tip_keeps_all_the_area():
 @pytest.mark.parametrize(("cut_y_m", "thickness_m", "separate"), [(0.3, 1.0, False), (0.6, 1.0, True)])
 def test_a_strip_thinner_than_the_ice_is_no_piece(cut_y_m, thickness_m, separate):
     """A cut parallel to an edge of a 10 m × 10 m floe leaves a 10 m strip of width w: its hydraulic diameter
-    4A/P = 4·10w/(20 + 2w) is below h for w = 0.3 m (0.59 m < 1 m: rubble, no piece of its own, so the cut separates nothing) and above it
-    for w = 0.6 m (1.13 m: a piece of ice of its own)."""
+    4A/P = 4·10w/(20 + 2w) is below h for w = 0.3 m (0.59 m < 1 m: rubble, no piece of its own, so the cut
+    separates nothing) and above it for w = 0.6 m (1.13 m: a piece of ice of its own)."""
     floe = shapely.box(0.0, 0.0, 10.0, 10.0)
     strip = shapely.box(0.0, 0.0, 10.0, cut_y_m)
     near, far = split_parts(
