@@ -5,7 +5,8 @@ r = √(2 A_h/Θ); Nevel's narrow-wedge capacity P_f(h, r, Θ) = σ_f Θ h² / (
 F_v > P_f. The bending line is the arc of breaking points B_k = O + ξ_σ(r/ℓ) ℓ U_k (maximum-stress distance
 by default; maximum-moment distance as the thesis' wording), extended along the arc to the floe boundary:
 the floe is split into the part within that radius of O and the rest. If the whole floe lies within the
-radius, it cannot bend: the mode passes it on to the dispatch policy's next mode (cracking).
+radius, it cannot bend: the mode passes it on to the dispatch policy's next mode (cracking in the default
+policy; rotation — flipped whole — in the thesis profile's, docs/model.md §11).
 """
 
 from __future__ import annotations

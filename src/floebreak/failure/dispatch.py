@@ -9,7 +9,8 @@ documented choice, docs/model.md §10):
 - "bending" → `bending` at the stem region, `local_cracking` at the shoulder region (the thesis' breaking
   patterns show local cracking on bent floes near the bow side and shoulder, §4.3, Figs. 15–16); a floe that
   lies wholly within the breaking radius (no bending line crosses it) is passed on to `cracking` (it is not
-  pushed under whole — cusps are the unbreakable pieces, thesis §3.2);
+  pushed under whole — cusps are the unbreakable pieces, thesis §3.2; the thesis profile rotates it whole
+  instead, `profiles.THESIS_POLICY`, docs/model.md §11);
 - "cracking" → `cracking`; at the shoulder, a floe in which no crack starts is passed on to `rotation`:
   rotated aside by its position → flipped (thesis §4.4, second case; `flip_uncracked_at_shoulder`).
 
