@@ -30,16 +30,15 @@ from floebreak.studies.statements import (
 FORCE_BAND_KN = 2500.0  # thesis §5.1: "mainly in the range F_c = [0 kN, 2500 kN]"
 POLARSTERN_BAND_KN = 3000.0  # thesis §5.1 (Erceg et al.): "most of the forces below F_c = 3000 kN"
 SMALL_CUSP_M3, LARGE_CUSP_M3 = 4.0, 11.0  # thesis §5.3.1, Fig. 17
-SUMMARY_METRICS = (
+TABLE_OUTPUTS = (  # the columns of thesis Tables 5–8, in their order
     "mean_cusp_volume_m3",
     "mean_cusp_area_m2",
     "n_cusps",
     "n_flipped",
     "cusp_area_m2",
     "flipped_area_m2",
-    "remaining_ice_area_m2",
-    "initial_ice_area_m2",
 )
+SUMMARY_METRICS = (*TABLE_OUTPUTS, "remaining_ice_area_m2", "initial_ice_area_m2")
 
 
 def summary_metrics(summary: dict[str, Any]) -> dict[str, float]:

@@ -22,6 +22,7 @@ from floebreak.studies.design import StudySpec, expand
 from floebreak.studies.executors import Executor
 from floebreak.studies.runner import StudyProgress, run_study
 from floebreak.studies.scoreboard import (
+    TABLE_OUTPUTS,
     must_hold_counts,
     per_100m_lines,
     run_metrics,
@@ -214,14 +215,6 @@ FIGURE_GROUPS = {
     "fig21_ice_thickness": ("h0.8", "reference", "h1.2", "h_random"),
     "fig23_size_effect_law": ("reference", "BZ1", "BZ2"),
 }
-TREND_OUTPUTS = (
-    "mean_cusp_volume_m3",
-    "mean_cusp_area_m2",
-    "n_cusps",
-    "n_flipped",
-    "cusp_area_m2",
-    "flipped_area_m2",
-)
 TREND_LABELS = ("V̄_cusp", "Ā_cusp", "n_cusp", "n_flip", "A_cusp^tot", "A_flip^tot")
 THESIS_ROWS = {  # Tables 5–8: V̄, Ā, n_cusp, n_flip, A_cusp^tot, A_flip^tot
     "reference": (8.14, 8.14, 125, 83, 1019.48, 2426.90),
@@ -241,7 +234,7 @@ def _paired_changes(data: dict[str, dict[int, dict[str, float]]], point: str) ->
     from floebreak.studies.statements import paired_relative_change
 
     out = {}
-    for key, label in zip(TREND_OUTPUTS, TREND_LABELS, strict=True):
+    for key, label in zip(TABLE_OUTPUTS, TREND_LABELS, strict=True):
         values = {i: m[key] for i, m in data.get(point, {}).items()}
         reference = {i: m[key] for i, m in data.get("reference", {}).items()}
         out[label] = paired_relative_change(values, reference)[0]
