@@ -219,3 +219,38 @@ def test_floes_no_generator_made_are_checked_like_broken_pieces(monkeypatch, gen
     flags = np.concatenate(flags)
     assert result.n_breaks > 0 and flags.any()  # broken pieces are checked either way
     assert flags.all() != generated  # and every floe too when no generator made them
+
+
+def test_a_floe_cracked_at_first_touch_leaves_its_outer_part_in_the_field():
+    """Why the affected area A_cusp + A_flip is not constant over the crack criteria (docs/model.md §12;
+    thesis §5.3.2 says it is): floes keep their positions (thesis §3.1), so a floe that cracks at its first
+    touch leaves its part away from the hull in the field, where a floe that does not crack is pushed along
+    the bow and taken out whole. A 15 m floe whose inner edge lies 0.95 m inside the half-beam (B/2 = 10.85 m,
+    thesis §3.1) meets the bow at its shoulder."""
+    import floebreak
+
+    diameter_m, y_m, half_beam_m = 15.0, 17.4, 10.85
+    assert y_m - diameter_m / 2 < half_beam_m  # the hull reaches it
+
+    def outcome(criterion):
+        scenario = {
+            "field": {"floes": [{"x_m": 20.0, "y_m": y_m, "diameter_m": diameter_m}]},
+            "ice": {"thickness_m": 1.0},
+            "failure": {"crack_criterion": criterion},
+        }
+        result = floebreak.run(scenario)
+        s = result.summary
+        remaining = np.asarray(result.remaining["geometry"], dtype=object)
+        affected = s["cusp_area_m2"] + s["flipped_area_m2"]
+        total = affected + float(shapely.area(remaining).sum())
+        return s, affected / total, remaining
+
+    tensile, tensile_affected, tensile_remaining = outcome("tensile_stress")
+    assert tensile["breaks_by_mode"].get("cracking", 0) == 0  # no global crack: taken out whole
+    assert tensile_affected == pytest.approx(1.0, rel=1e-9) and len(tensile_remaining) == 0
+
+    line, line_affected, line_remaining = outcome("line_load")
+    assert line["breaks_by_mode"]["cracking"] >= 1  # cracked at the first touch
+    assert line_affected < 0.5  # most of the floe stays in the field
+    # what stays is the floe's outer part: its centroid lies beyond the floe's centre, away from the hull
+    assert shapely.union_all(line_remaining).centroid.y > y_m

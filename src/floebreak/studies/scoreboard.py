@@ -218,7 +218,7 @@ def ours_cell(result: dict[str, Any], st: Statement) -> str:
 
 
 CSV_STATEMENT_COLUMNS = ("id", "source", "quote", "quantity", "unit", "point", "against", "statistic",
-                         "thesis_value", "thesis_text", "tolerance")  # fmt: skip
+                         "thesis_value", "thesis_text", "tolerance", "explained")  # fmt: skip
 
 
 def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
@@ -229,7 +229,7 @@ def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
     for row in rows:
         st: Statement = row["statement"]
         cells = [st.id, st.source, st.quote, st.quantity, st.unit, st.point, st.against or "", st.statistic,
-                 st.thesis_value, st.thesis_text, st.tolerance.describe(st.unit)]  # fmt: skip
+                 st.thesis_value, st.thesis_text, st.tolerance.describe(st.unit), st.explained]  # fmt: skip
         for c in configs:
             r = row[c]
             cells += [r["value"], r["se"], r["n"], r["verdict"], "yes" if r["must_hold"] else "no"]
@@ -252,7 +252,7 @@ def scoreboard_markdown_table(rows: list[dict[str, Any]], configs: list[str]) ->
     ]
     for row in rows:
         st: Statement = row["statement"]
-        must = ", ".join(sorted(st.must_hold)) or "—"
+        must = ", ".join(sorted(st.must_hold)) or ("— (explained below)" if st.explained else "—")
         cells = [f"{ours_cell(row[c], st)} {_verdict_mark(row[c])}" for c in configs]
         unit = "" if st.unit in ("-", "%") or st.thesis_text else f" {st.unit}"
         lines.append(

@@ -26,7 +26,7 @@ profile, whose purpose is to reproduce the published numbers (issue 16 §2).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -89,6 +89,9 @@ class Statement:
     against: str | None = None  # reference point of a change
     unit: str = "-"  # "%" marks a fraction shown in per cent
     thesis_text: str = ""  # the thesis' value in words where it is a band or a direction, not a number
+    # why our model does not hold the statement, where docs/model.md says so and which test shows the
+    # mechanism; an explained statement is must-hold in no profile
+    explained: str = ""
 
 
 def verdict(value: float, thesis_value: float, tolerance: Tolerance) -> Verdict:
@@ -166,6 +169,11 @@ TABLE5_REFERENCE = {  # thesis Table 5, K_Ic = 145.7 kN m^-3/2 (the reference ro
     "flipped_area_m2": 2426.90,
 }
 AFFECTED_AREA_REFERENCE_M2 = 3446.38  # §5.3.3: A_cusp^tot + A_flip^tot at h = 1.0 m
+AFFECTED_AREA_NOT_CONSERVED = (
+    "docs/model.md §12: floes keep their positions (thesis §3.1), so a floe cracked at its first touch "
+    "leaves its outer part in the field; a criterion that cracks earlier affects less area "
+    "(tests/test_simulation.py::test_a_floe_cracked_at_first_touch_leaves_its_outer_part_in_the_field)"
+)
 
 
 def _table5() -> list[Statement]:
@@ -338,17 +346,19 @@ def _criteria() -> list[Statement]:
                 REL15,
                 unit="m³",
             ),
-            _change(
-                f"T6.{name}.dA_aff",
-                "§5.3.2 text",
-                "the total area of affected floes for all parameter "
-                "configurations is nearly constant with a deviation of less than 0.5 %",
-                f"ΔA_affected, {label} vs tensile",
-                "affected_area_m2",
-                name,
-                _rel(a_c + a_f, AFFECTED_AREA_REFERENCE_M2),
-                CONSTANT,
-                BOTH,
+            replace(
+                _change(
+                    f"T6.{name}.dA_aff",
+                    "§5.3.2 text",
+                    "the total area of affected floes for all parameter "
+                    "configurations is nearly constant with a deviation of less than 0.5 %",
+                    f"ΔA_affected, {label} vs tensile",
+                    "affected_area_m2",
+                    name,
+                    _rel(a_c + a_f, AFFECTED_AREA_REFERENCE_M2),
+                    CONSTANT,
+                ),
+                explained=AFFECTED_AREA_NOT_CONSERVED,
             ),
         ]
     return out + _criteria_text()

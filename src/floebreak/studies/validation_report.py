@@ -135,6 +135,10 @@ def write_outputs(
     counts = {name: must_hold_counts(rows, name) for name in names}
     lines = scoreboard_header(configs, settings, elapsed_s, counts, failures)
     lines += scoreboard_markdown_table(rows, names)
+    explained = [st for st in STATEMENTS if st.explained]
+    if explained:
+        lines += ["", "## Deviations explained by a mechanism (must hold in no profile)", ""]
+        lines += [f"- **{st.id}**: {st.explained}" for st in explained]
     lines += ["", "## Totals per 100 m of transit (reference point)", ""]
     lines += per_100m_lines(data, settings.length_m, settings.thesis_length_m)
     lines += ["", "## Torque spectrum at h = 0.4 m (thesis §6.2)", ""]
