@@ -164,3 +164,17 @@ def test_mean_se_by_hand():
     assert (mean, n) == (5.0, 3) and se == pytest.approx(math.sqrt(13 / 3))
     assert mean_se([3.0]) == (3.0, 0.0, 1)
     assert math.isnan(mean_se([])[0])
+
+
+def test_an_explained_deviation_is_must_hold_nowhere_and_names_its_test():
+    """An explained statement points at the docs/model.md section and the test that shows the mechanism."""
+    import pathlib
+
+    root = pathlib.Path(__file__).parents[2]
+    explained = [st for st in STATEMENTS if st.explained]
+    assert {st.id for st in explained} >= {"T6.line_load.dA_aff", "T6.point_load.dA_aff"}
+    for st in explained:
+        assert not st.must_hold, st.id
+        test_file, test_name = st.explained.split("(")[-1].rstrip(")").split("::")
+        assert f"def {test_name}(" in (root / test_file).read_text(encoding="utf-8"), st.id
+        assert "docs/model.md §" in st.explained
