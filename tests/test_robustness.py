@@ -6,27 +6,17 @@ from __future__ import annotations
 
 import errno
 import importlib
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import floebreak
-from floebreak.cli import main
 from floebreak.errors import InputError
 from floebreak.io.storage import StorageError, probe_directory
 from floebreak.simulation import PieceBudgetError
 
 SMALL = ["field.length_m=60.0"]
-
-
-def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
-    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
-    with pytest.raises(SystemExit) as info:
-        main()
-    captured = capsys.readouterr()
-    return info.value.code, captured.out, captured.err
 
 
 def _scenario(tmp_path: Path, text: str = "[field]\nlength_m = 60.0\n") -> str:
@@ -51,9 +41,9 @@ ISSUE_INPUTS = [
 
 
 @pytest.mark.parametrize(("override", "key"), ISSUE_INPUTS, ids=[i[1] for i in ISSUE_INPUTS])
-def test_non_finite_or_absurd_numbers_exit_2_naming_the_key(tmp_path, monkeypatch, capsys, override, key):
+def test_non_finite_or_absurd_numbers_exit_2_naming_the_key(tmp_path, override, key, cli):
     out = tmp_path / "out"
-    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "--set", override)
+    code, _, err = cli("run", _scenario(tmp_path), "--out", str(out), "--set", override)
     assert code == 2, err
     assert err.strip().startswith(f"error: {key}:") and err.strip().count("\n") == 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
@@ -70,10 +60,10 @@ def test_schema_states_the_ranges():
 # --- memory: the piece budget and lineage (failure 1) --------------------------------------------------
 
 
-def test_piece_budget_stops_the_run_with_exit_2_naming_the_key(tmp_path, monkeypatch, capsys):
+def test_piece_budget_stops_the_run_with_exit_2_naming_the_key(tmp_path, cli):
     out = tmp_path / "out"
     args = ("run", _scenario(tmp_path), "--out", str(out), "-q", "--set", "simulation.max_pieces=40")
-    code, _, err = cli(monkeypatch, capsys, *args)
+    code, _, err = cli(*args)
     assert code == 2 and "error: simulation.max_pieces:" in err and "more than 40 pieces" in err
     assert not out.exists() and not (tmp_path / "out.failed-scenario.toml").exists()
 
@@ -127,14 +117,14 @@ def test_failure_chain_is_rebuilt_from_parent_ids():
 
 
 @pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
-def test_a_pseudo_file_system_is_refused_before_the_run(tmp_path, monkeypatch, capsys):
+def test_a_pseudo_file_system_is_refused_before_the_run(tmp_path, monkeypatch, cli):
     api = importlib.import_module("floebreak.api")
     monkeypatch.setattr(api, "simulate", lambda *a, **k: pytest.fail("the run started"))
-    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", "/proc/floebreak-run", "-q")
+    code, _, err = cli("run", _scenario(tmp_path), "--out", "/proc/floebreak-run", "-q")
     assert code == 3 and "/proc/floebreak-run" in err and "internal error" not in err
 
 
-def test_disk_full_while_writing_exits_3_and_leaves_nothing(tmp_path, monkeypatch, capsys):
+def test_disk_full_while_writing_exits_3_and_leaves_nothing(tmp_path, monkeypatch, cli):
     geoparquet = importlib.import_module("floebreak.api")
 
     def full(*args, **kwargs):
@@ -142,7 +132,7 @@ def test_disk_full_while_writing_exits_3_and_leaves_nothing(tmp_path, monkeypatc
 
     monkeypatch.setattr(geoparquet, "write_geoparquet", full)
     out = tmp_path / "out"
-    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
+    code, _, err = cli("run", _scenario(tmp_path), "--out", str(out), "-q")
     assert code == 3 and "No space left on device" in err and str(out) in err
     assert "report this bug" not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no run, no temporary, no 0-byte file
@@ -159,7 +149,7 @@ def test_probe_reports_the_os_error(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize("inside_kernel", [False, True])
-def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeypatch, capsys, inside_kernel):
+def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeypatch, inside_kernel, cli):
     api = importlib.import_module("floebreak.api")
 
     def interrupted(*args, **kwargs):
@@ -174,7 +164,7 @@ def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeyp
 
     monkeypatch.setattr(api, "simulate", interrupted)
     out = tmp_path / "out"
-    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
+    code, _, err = cli("run", _scenario(tmp_path), "--out", str(out), "-q")
     assert code == 130 and err.strip().count("\n") == 0 and "interrupted" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
 
@@ -242,37 +232,37 @@ def test_issue_area_balance_case_conserves_area_with_valid_pieces(seed):
 # --- the field command and CSV errors (failure 7) ------------------------------------------------------
 
 
-def test_field_refuses_an_unknown_figure_format_before_writing(tmp_path, monkeypatch, capsys):
+def test_field_refuses_an_unknown_figure_format_before_writing(tmp_path, cli):
     out = tmp_path / "f.parquet"
     args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60", "--figure")
-    code, _, err = cli(monkeypatch, capsys, *args, str(tmp_path / "fig.xyz"))
+    code, _, err = cli(*args, str(tmp_path / "fig.xyz"))
     assert code == 2 and "error: figure:" in err and "png" in err
     assert list(tmp_path.iterdir()) == []
 
 
-def test_field_refuses_an_existing_output_without_overwrite(tmp_path, monkeypatch, capsys):
+def test_field_refuses_an_existing_output_without_overwrite(tmp_path, cli):
     out = tmp_path / "f.parquet"
     out.write_bytes(b"keep me")
     args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60")
-    code, _, err = cli(monkeypatch, capsys, *args)
+    code, _, err = cli(*args)
     assert code == 2 and "error: out:" in err and "--overwrite" in err and out.read_bytes() == b"keep me"
-    code, _, err = cli(monkeypatch, capsys, *args, "--overwrite")
+    code, _, err = cli(*args, "--overwrite")
     assert code == 0, err
     assert out.read_bytes()[:4] == b"PAR1"
 
 
 @pytest.mark.parametrize(("option", "value"), [("--length", "inf"), ("--thickness", "nan")])
-def test_field_refuses_non_finite_numbers(tmp_path, monkeypatch, capsys, option, value):
+def test_field_refuses_non_finite_numbers(tmp_path, option, value, cli):
     args = ("field", "--out", str(tmp_path / "f.parquet"), "--obs", "2019-12-18T20:20", option, value)
-    code, _, err = cli(monkeypatch, capsys, *args)
+    code, _, err = cli(*args)
     assert code == 2 and f"error: {option.lstrip('-')}:" in err and "finite" in err
     assert list(tmp_path.iterdir()) == []
 
 
-def test_bow_csv_errors_keep_file_and_row(tmp_path, monkeypatch, capsys):
+def test_bow_csv_errors_keep_file_and_row(tmp_path, cli):
     (tmp_path / "bow.csv").write_text("x_m,y_m,line\n0,0,upper\n1,2\n", encoding="utf-8")
     scenario = _scenario(tmp_path, '[ship]\nfile = "bow.csv"\n[field]\nlength_m = 60.0\n')
-    code, _, err = cli(monkeypatch, capsys, "run", scenario, "--out", str(tmp_path / "out"))
+    code, _, err = cli("run", scenario, "--out", str(tmp_path / "out"))
     assert code == 2 and f"error: ship.file: {tmp_path / 'bow.csv'} row 3:" in err
 
 
