@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import errno
 import importlib
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -166,6 +167,42 @@ def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeyp
     out = tmp_path / "out"
     code, _, err = cli("run", _scenario(tmp_path), "--out", str(out), "-q")
     assert code == 130 and err.strip().count("\n") == 0 and "interrupted" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def _console_command() -> list[str]:
+    """The console command `floebreak` as pip's generated script runs it: import the target of
+    pyproject.toml's [project.scripts] and call it (read from the project, not from an installed copy)."""
+    import tomllib
+
+    pyproject = Path(__file__).resolve().parents[1] / "pyproject.toml"
+    target = tomllib.loads(pyproject.read_text(encoding="utf-8"))["project"]["scripts"]["floebreak"]
+    module, function = target.split(":")
+    return [sys.executable, "-c", f"import sys; from {module} import {function}; sys.exit({function}())"]
+
+
+@pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="reads /proc/<pid>/maps (Linux)")
+def test_ctrl_c_while_the_command_line_loads_exits_130_with_one_line(tmp_path):
+    """SIGINT as soon as the console command imports the command line's libraries (numpy's core is mapped
+    into the process: `import floebreak` alone loads no numpy) — before typer, rich and the engine are in."""
+    import signal
+    import subprocess
+    import time
+
+    out = tmp_path / "out"
+    command = [*_console_command(), "run", _scenario(tmp_path), "--out", str(out), "--quiet"]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    maps = Path(f"/proc/{process.pid}/maps")
+    deadline = time.monotonic() + 120.0  # generous: a loaded machine; the poll itself does not sleep
+    try:
+        while "_multiarray_umath" not in maps.read_text():
+            assert process.poll() is None and time.monotonic() < deadline, "never started loading"
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=120)
+    finally:
+        process.kill()
+    assert process.returncode == 130, err
+    assert err == "interrupted (Ctrl-C); nothing half-written was kept\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
 
 
