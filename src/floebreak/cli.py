@@ -17,7 +17,8 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from floebreak.errors import EXIT_INTERRUPTED, INTERRUPTED_MESSAGE, InputError
+from floebreak.__main__ import EXIT_INTERRUPTED, INTERRUPTED_MESSAGE
+from floebreak.errors import InputError
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
 app = typer.Typer(no_args_is_help=True, add_completion=False, help=__doc__, pretty_exceptions_enable=False)

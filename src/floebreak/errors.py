@@ -13,11 +13,6 @@ import typing
 from dataclasses import dataclass
 from typing import Any
 
-# Ctrl-C: 128 + SIGINT, the shells' convention; one line, the same from `floebreak.__main__` (while the
-# command line loads) and `floebreak.cli.main` (after)
-EXIT_INTERRUPTED = 130
-INTERRUPTED_MESSAGE = "interrupted (Ctrl-C); nothing half-written was kept"
-
 
 class InputError(ValueError):
     """A user input is invalid. The message names the field and what is allowed."""
