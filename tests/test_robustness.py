@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import errno
 import importlib
+import re
 import sys
 from pathlib import Path
 
@@ -15,6 +16,7 @@ import pytest
 import floebreak
 from floebreak.errors import InputError
 from floebreak.io.storage import StorageError, probe_directory
+from floebreak.scenario import json_schema
 from floebreak.simulation import PieceBudgetError
 
 SMALL = ["field.length_m=60.0"]
@@ -56,6 +58,114 @@ def test_schema_states_the_ranges():
     thickness = next(option for option in ice["thickness_m"]["anyOf"] if option.get("type") == "number")
     assert thickness["minimum"] == 0.01 and thickness["maximum"] == 10.0
     assert ice["youngs_modulus_pa"]["minimum"] > 0 and np.isfinite(ice["youngs_modulus_pa"]["maximum"])
+
+
+# every number of a scenario file as `floebreak schema` states it (JSON schema walked, $refs followed)
+def _schema_numbers(node, defs, path=()):
+    if "$ref" in node:
+        node = defs[node["$ref"].rsplit("/", 1)[-1]]
+    for option in node.get("anyOf", []):
+        yield from _schema_numbers(option, defs, path)
+    if node.get("type") in ("number", "integer"):
+        yield ".".join(path), node
+    for name, child in node.get("properties", {}).items():
+        yield from _schema_numbers(child, defs, (*path, name))
+    for key, child in (("[]", node.get("items")), ("*", node.get("additionalProperties"))):
+        if isinstance(child, dict):
+            yield from _schema_numbers(child, defs, (*path, key))
+    for i, child in enumerate(node.get("prefixItems", [])):
+        yield from _schema_numbers(child, defs, (*path, f"[{i}]"))
+
+
+SCHEMA = json_schema()
+NUMBERS = list(_schema_numbers(SCHEMA, SCHEMA["$defs"]))
+# ship.hull_parameters is a table of keyword overrides of any name: each is range-checked by the hull
+# (test_new_upper_bounds_exit_2 below), so the schema gives the names and ranges in its description only
+FREE = ("ship.hull_parameters.*",)
+
+
+def test_every_number_of_the_schema_has_a_range():
+    def bounded(node):
+        return {"minimum", "exclusiveMinimum"} & set(node) and {"maximum", "exclusiveMaximum"} & set(node)
+
+    assert len(NUMBERS) > 30  # the walk found the sections, the failure modes' tables included
+    assert [key for key, node in NUMBERS if key not in FREE and not bounded(node)] == []
+
+
+def _edges(node):
+    low = node.get("minimum", node.get("exclusiveMinimum"))
+    high = node.get("maximum", node.get("exclusiveMaximum"))
+    below, above = low - (abs(low) or 1), high + (abs(high) or 1)
+    return [below, above] if node["type"] == "number" else [int(below), int(above)]
+
+
+# one key a scalar can be --set to (list items, tuple items and the free table are tested by hand)
+SCALARS = [
+    (key, value)
+    for key, node in NUMBERS
+    if "[" not in key and "*" not in key
+    for value in _edges(node)
+    if abs(value) < 2**63  # TOML integers are 64 bit: a seed of 2⁶³ cannot even be written
+]
+
+
+@pytest.mark.parametrize(("key", "value"), SCALARS, ids=[f"{k}={v:g}" for k, v in SCALARS])
+def test_a_number_beyond_its_stated_range_exits_2_naming_key_and_range(tmp_path, key, value, cli):
+    out = str(tmp_path / "out")
+    code, _, err = cli("run", _scenario(tmp_path), "--out", out, "--set", f"{key}={value!r}")
+    assert code == 2, err
+    assert err.startswith(f"error: {key}:") and "allowed: " in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+# the bounds added to the failure modes' settings, the ship, the propellers and the hull (physical ranges:
+# see each field's description), by hand
+NEW_BOUNDS = [
+    ("failure.bending.wedge_angle_deg=61.0", "failure.bending.wedge_angle_deg"),
+    ("failure.wedge_angle_deg=0.0", "failure.wedge_angle_deg"),  # the flat spelling
+    ("failure.bending.kashtelyan_coefficient=11.0", "failure.bending.kashtelyan_coefficient"),
+    ("failure.bending.foundation_modulus_n_m3=-5.0", "failure.bending.foundation_modulus_n_m3"),
+    ("failure.bending.foundation_modulus_n_m3=1e6", "failure.bending.foundation_modulus_n_m3"),
+    ("failure.cracking.total_porosity_ppt=1001.0", "failure.cracking.total_porosity_ppt"),
+    ("failure.cracking.tip_angle_deg=180.0", "failure.cracking.tip_angle_deg"),
+    ("failure.cracking.wedge_friction=2.5", "failure.cracking.wedge_friction"),
+    ("failure.next_crack_angle_deg=91.0", "failure.next_crack_angle_deg"),
+    ("ship.speed_m_s=25.0", "ship.speed_m_s"),
+    ("propeller.count=9", "propeller.count"),
+    ("ship.hull_parameters.beam_m=150.0", "ship.hull_parameters.beam_m"),
+    ("ship.hull_parameters.midbody_length_m=1000.0", "ship.hull_parameters.midbody_length_m"),
+    ("ship.hull_parameters.shape_exponent=11.0", "ship.hull_parameters.shape_exponent"),
+    ("ship.hull_parameters.n_panels_per_side=5000", "ship.hull_parameters.n_panels_per_side"),
+]
+
+
+@pytest.mark.parametrize(("override", "key"), NEW_BOUNDS, ids=[o for o, _ in NEW_BOUNDS])
+def test_new_upper_bounds_exit_2(tmp_path, override, key, cli):
+    code, _, err = cli("run", _scenario(tmp_path), "--out", str(tmp_path / "out"), "--set", override)
+    assert code == 2, err
+    assert err.strip().startswith(f"error: {key}:") and re.search(r"[\[(]-?[\d.e+]+, [\d.e+]+[\])]", err), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+@pytest.mark.parametrize("line", ["n_fields = 0", "n_fields = 10001", "root_seed = -1"])
+def test_study_numbers_beyond_their_range_exit_2(tmp_path, line, cli):
+    study = tmp_path / "study.toml"
+    study.write_text(f'name = "s"\n{line}\n[base.field]\nlength_m = 50.0\n', encoding="utf-8")
+    code, _, err = cli("study", str(study), "--out", str(tmp_path / "out"), "--workers", "1")
+    assert code == 2 and err.startswith(f"error: {line.split()[0]}:") and "allowed: " in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+
+
+VOYAGE_OPTIONS = [("--speed-m-s", "25"), ("--max-length-m", "1e7"), ("--n-fields", "0")]
+
+
+@pytest.mark.parametrize(("option", "value"), VOYAGE_OPTIONS)
+def test_voyage_options_beyond_their_range_exit_2(tmp_path, option, value, cli):
+    header = "start_utc,end_utc,concentration_percent,mean_thickness_m,share_d5m_percent,share_d20m_percent"
+    (tmp_path / "log.csv").write_text(f"{header}\n2020-01-01T00:00,2020-01-01T00:10,50,0.5,60,40\n", "utf-8")
+    code, _, err = cli("voyage", tmp_path / "log.csv", "--out", tmp_path / "v", "--workers", 1, option, value)
+    assert code == 2 and err.startswith(f"error: {option[2:].replace('-', '_')}:"), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["log.csv"]
 
 
 # --- memory: the piece budget and lineage (failure 1) --------------------------------------------------
