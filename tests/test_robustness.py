@@ -1,6 +1,8 @@
 """Regression tests of issue 20: what a user types must not crash the program, exhaust the machine or lose a
 result. Each test is one failure the issue's campaigns found (bad numbers, environment errors, Ctrl-C,
-memory on thin ice); the fuzz harness (`floebreak.testing.fuzz`, `make fuzz`) keeps looking for more."""
+memory on thin ice); the fuzz harness (`floebreak.testing.fuzz`, `make fuzz`) keeps looking for more. The
+cases that are one command line and its exit code and message (a pseudo file system, a full disk, a bow
+CSV's bad row, an unknown figure format, the piece budget, …) are rows of tests/test_bad_inputs.py."""
 
 from __future__ import annotations
 
@@ -171,14 +173,6 @@ def test_voyage_options_beyond_their_range_exit_2(tmp_path, option, value, cli):
 # --- memory: the piece budget and lineage (failure 1) --------------------------------------------------
 
 
-def test_piece_budget_stops_the_run_with_exit_2_naming_the_key(tmp_path, cli):
-    out = tmp_path / "out"
-    args = ("run", _scenario(tmp_path), "--out", str(out), "-q", "--set", "simulation.max_pieces=40")
-    code, _, err = cli(*args)
-    assert code == 2 and "error: simulation.max_pieces:" in err and "more than 40 pieces" in err
-    assert not out.exists() and not (tmp_path / "out.failed-scenario.toml").exists()
-
-
 def test_piece_budget_error_from_the_python_api():
     with pytest.raises(PieceBudgetError) as info:
         floebreak.run(overrides=[*SMALL, "simulation.max_pieces=40"])
@@ -225,28 +219,6 @@ def test_failure_chain_is_rebuilt_from_parent_ids():
 
 
 # --- environment and interruption (failure 4) ----------------------------------------------------------
-
-
-@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
-def test_a_pseudo_file_system_is_refused_before_the_run(tmp_path, monkeypatch, cli):
-    api = importlib.import_module("floebreak.api")
-    monkeypatch.setattr(api, "simulate", lambda *a, **k: pytest.fail("the run started"))
-    code, _, err = cli("run", _scenario(tmp_path), "--out", "/proc/floebreak-run", "-q")
-    assert code == 3 and "/proc/floebreak-run" in err and "internal error" not in err
-
-
-def test_disk_full_while_writing_exits_3_and_leaves_nothing(tmp_path, monkeypatch, cli):
-    geoparquet = importlib.import_module("floebreak.api")
-
-    def full(*args, **kwargs):
-        raise OSError(errno.ENOSPC, "No space left on device")
-
-    monkeypatch.setattr(geoparquet, "write_geoparquet", full)
-    out = tmp_path / "out"
-    code, _, err = cli("run", _scenario(tmp_path), "--out", str(out), "-q")
-    assert code == 3 and "No space left on device" in err and str(out) in err
-    assert "report this bug" not in err
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no run, no temporary, no 0-byte file
 
 
 def test_probe_reports_the_os_error(tmp_path, monkeypatch):
@@ -379,14 +351,6 @@ def test_issue_area_balance_case_conserves_area_with_valid_pieces(seed):
 # --- the field command and CSV errors (failure 7) ------------------------------------------------------
 
 
-def test_field_refuses_an_unknown_figure_format_before_writing(tmp_path, cli):
-    out = tmp_path / "f.parquet"
-    args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60", "--figure")
-    code, _, err = cli(*args, str(tmp_path / "fig.xyz"))
-    assert code == 2 and "error: figure:" in err and "png" in err
-    assert list(tmp_path.iterdir()) == []
-
-
 def test_field_refuses_an_existing_output_without_overwrite(tmp_path, cli):
     out = tmp_path / "f.parquet"
     out.write_bytes(b"keep me")
@@ -404,13 +368,6 @@ def test_field_refuses_non_finite_numbers(tmp_path, option, value, cli):
     code, _, err = cli(*args)
     assert code == 2 and f"error: {option.lstrip('-')}:" in err and "finite" in err
     assert list(tmp_path.iterdir()) == []
-
-
-def test_bow_csv_errors_keep_file_and_row(tmp_path, cli):
-    (tmp_path / "bow.csv").write_text("x_m,y_m,line\n0,0,upper\n1,2\n", encoding="utf-8")
-    scenario = _scenario(tmp_path, '[ship]\nfile = "bow.csv"\n[field]\nlength_m = 60.0\n')
-    code, _, err = cli("run", scenario, "--out", str(tmp_path / "out"))
-    assert code == 2 and f"error: ship.file: {tmp_path / 'bow.csv'} row 3:" in err
 
 
 # --- scale (failure 7) ---------------------------------------------------------------------------------
