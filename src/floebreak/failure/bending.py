@@ -44,8 +44,8 @@ class BendingSettings:
     """Parameters of the bending model (SI; angles in degrees); scenario table ``[failure.bending]``."""
 
     wedge_angle_deg: Annotated[float, Bounds(0.0, 60.0, low_inclusive=False, unit="deg")] = c.WEDGE_ANGLE_DEG
-    """bending wedge angle φ [deg] (thesis §4.1.2: 5°), in (0, 60]: six wedges of 60° already fill the
-    half-plane in front of the contact"""
+    """bending wedge angle φ [deg] (thesis §4.1.2: 5°), in (0, 60]: Nevel's narrow-wedge solution holds
+    below φ_crit = 60° (Erceg et al., thesis §4.1.2)"""
     flexural_strength_pa: float = c.FLEXURAL_STRENGTH_PA
     """σ_f [Pa] (from [ice])"""
     capacity_model: CapacityModel = "nevel_narrow"
