@@ -88,7 +88,7 @@ class CrackingSettings:
     waterline entrance angle of a bow"""
     wedge_friction: Annotated[float, Bounds(0.0, 2.0)] = 0.0
     """friction μ of the wedge-splitting fraction; κ with μ = 0 is the thesis' 1/(2 tan(α/2)) [-], in [0, 2]:
-    as ice.friction_coefficient (ice on steel 0.05–0.3, ice on ice ≤ 1)"""
+    the range of ice.friction_coefficient, a friction coefficient well above any measured for ice"""
     line_load_divide_by_thickness: bool = True
     """line load F_h/h in K_I (erratum 17; the thesis omits /h)"""
     line_load_crack_length: LineLoadCrackLength = "strip_critical"
