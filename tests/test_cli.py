@@ -13,7 +13,6 @@ from pathlib import Path
 
 import pytest
 
-from floebreak.cli import main
 from floebreak.io.field_files import load_field
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -214,13 +213,13 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
     assert "propeller spectra" in stdout and f"{prop}" in stdout
 
 
-def test_demo_without_propeller_overwrite_and_failure(tmp_path, monkeypatch, capsys):
+def test_demo_without_propeller_overwrite_and_failure(tmp_path, monkeypatch, cli):
     """A short reference field: --no-propeller skips OUT/propeller/; a failing propeller step leaves nothing
     (not even the run) and exit 1; --overwrite replaces an earlier demo as a whole."""
     pipeline = importlib.import_module("floebreak.propeller.pipeline")
     out = tmp_path / "demo"
     short = ("--set", "field.length_m=60.0", "-q")
-    code, stdout, err = cli(monkeypatch, capsys, "demo", "--out", str(out), *short, "--no-propeller")
+    code, stdout, err = cli("demo", "--out", str(out), *short, "--no-propeller")
     assert code == 0, err
     assert (out / "cusps.parquet").is_file() and not (out / "propeller").exists()
     assert "spectra.nc" not in stdout
@@ -230,47 +229,39 @@ def test_demo_without_propeller_overwrite_and_failure(tmp_path, monkeypatch, cap
 
     with monkeypatch.context() as patch:
         patch.setattr(pipeline, "analyse_propeller", broken)
-        code, _, err = cli(monkeypatch, capsys, "demo", "--out", str(tmp_path / "failed"), *short)
+        code, _, err = cli("demo", "--out", str(tmp_path / "failed"), *short)
     assert code == 1 and "ZeroDivisionError" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["demo", "failed.failed-scenario.toml"]
 
-    code, stdout, err = cli(monkeypatch, capsys, "demo", "--out", str(out), *short, "--overwrite")
+    code, stdout, err = cli("demo", "--out", str(out), *short, "--overwrite")
     assert code == 0, err
     assert (out / "propeller" / "spectra.nc").is_file() and f"{out / 'propeller'}" in stdout
     assert sorted(p.name for p in tmp_path.iterdir()) == ["demo", "failed.failed-scenario.toml"]
 
 
-def test_run_report_and_schema_commands(tmp_path, monkeypatch, capsys):
+def test_run_report_and_schema_commands(tmp_path, cli):
     out = tmp_path / "run"
     args = ("run", str(EXAMPLES / "random_thickness.toml"), "--out", str(out), "--set", "field.length_m=60.0")
-    code, stdout, err = cli(monkeypatch, capsys, *args)
+    code, stdout, err = cli(*args)
     assert code == 0, err
     assert "cusps" in stdout and "written" in stdout
     resolved = tomllib.loads((out / "scenario.resolved.toml").read_text())
     assert resolved["field"]["length_m"] == 60.0 and resolved["ice"]["thickness_range_m"] == [0.75, 1.25]
     # a second run into the same directory is refused (exit 2, nothing changed)
-    code, _, err = cli(monkeypatch, capsys, "run", str(EXAMPLES / "single_floe.toml"), "--out", str(out))
+    code, _, err = cli("run", str(EXAMPLES / "single_floe.toml"), "--out", str(out))
     assert code == 2 and "error: out:" in err and "--overwrite" in err
     (out / "report.html").unlink()
-    code, _, err = cli(monkeypatch, capsys, "report", str(out))
+    code, _, err = cli("report", str(out))
     assert code == 0, err
     assert (out / "report.html").read_text().count("data:image/png;base64,") == 4
-    code, schema, _ = cli(monkeypatch, capsys, "schema")
+    code, schema, _ = cli("schema")
     assert code == 0
     assert "fracture_toughness_pa_sqrt_m" in json.loads(schema)["$defs"]["IceSection"]["properties"]
-    code, _, err = cli(monkeypatch, capsys, "report", str(tmp_path))
+    code, _, err = cli("report", str(tmp_path))
     assert code == 2 and "error: run_dir:" in err
 
 
 # --- in-process CLI calls for the many bad inputs (fast) --------------------------------------------
-
-
-def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
-    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
-    with pytest.raises(SystemExit) as info:
-        main()
-    captured = capsys.readouterr()
-    return info.value.code, captured.out, captured.err
 
 
 BAD_RUNS = [
@@ -304,53 +295,53 @@ BAD_RUNS = [
 @pytest.mark.parametrize(
     ("text", "args", "key"), BAD_RUNS, ids=[f"{i}-{b[2]}" for i, b in enumerate(BAD_RUNS)]
 )
-def test_bad_run_input_exit_2_one_line_nothing_written(tmp_path, monkeypatch, capsys, text, args, key):
+def test_bad_run_input_exit_2_one_line_nothing_written(tmp_path, text, args, key, cli):
     (tmp_path / "corrupt.parquet").write_bytes(b"PAR1 garbage")
     (tmp_path / "corrupt.csv").write_text("line,x_m,y_m\nupper,1,oops\n", encoding="utf-8")
     scenario = tmp_path / "s.toml"
     if text is not None:
         scenario.write_text(text + "[field]\nlength_m = 60.0\n" * (text == ""), encoding="utf-8")
     before = {p.name for p in tmp_path.iterdir()}
-    code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "out"), *args)
+    code, _, err = cli("run", str(scenario), "--out", str(tmp_path / "out"), *args)
     assert code == 2, err
     assert err.strip().count("\n") == 0 and f"error: {key}:" in err
     assert {p.name for p in tmp_path.iterdir()} == before
 
 
-def test_allowed_values_are_listed(tmp_path, monkeypatch, capsys):
+def test_allowed_values_are_listed(tmp_path, cli):
     scenario = tmp_path / "s.toml"
     scenario.write_text("[failure]\ncrack_criterion = 'shear'\n", encoding="utf-8")
-    _, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "out"))
+    _, _, err = cli("run", str(scenario), "--out", str(tmp_path / "out"))
     for name in ("point_load", "line_load", "tensile_stress", "flexural_stress"):
         assert name in err
 
 
-def test_output_directory_problems(tmp_path, monkeypatch, capsys):
+def test_output_directory_problems(tmp_path, cli):
     scenario = tmp_path / "s.toml"
     scenario.write_text("[field]\nlength_m = 60.0\n", encoding="utf-8")
     (tmp_path / "exists").mkdir()
-    code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "exists"))
+    code, _, err = cli("run", str(scenario), "--out", str(tmp_path / "exists"))
     assert code == 2 and "error: out:" in err and "--overwrite" in err
     assert list((tmp_path / "exists").iterdir()) == []
-    code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "no" / "out"))
+    code, _, err = cli("run", str(scenario), "--out", str(tmp_path / "no" / "out"))
     assert code == 2 and "error: out:" in err and not (tmp_path / "no").exists()
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root can write into read-only directories")
-def test_unwritable_output_directory(tmp_path, monkeypatch, capsys):
+def test_unwritable_output_directory(tmp_path, cli):
     scenario = tmp_path / "s.toml"
     scenario.write_text("", encoding="utf-8")
     locked = tmp_path / "locked"
     locked.mkdir()
     locked.chmod(0o500)
     try:
-        code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(locked / "out"))
+        code, _, err = cli("run", str(scenario), "--out", str(locked / "out"))
     finally:
         locked.chmod(0o700)
     assert code == 3 and "Permission denied" in err and str(locked / "out") in err
 
 
-def test_internal_error_exit_1_saves_the_scenario(tmp_path, monkeypatch, capsys):
+def test_internal_error_exit_1_saves_the_scenario(tmp_path, monkeypatch, cli):
     run_module = importlib.import_module("floebreak.api")
 
     def broken(*args, **kwargs):
@@ -359,7 +350,7 @@ def test_internal_error_exit_1_saves_the_scenario(tmp_path, monkeypatch, capsys)
     monkeypatch.setattr(run_module, "simulate", broken)
     scenario = tmp_path / "s.toml"
     scenario.write_text("seed = 9\n[field]\nlength_m = 60.0\n", encoding="utf-8")
-    code, _, err = cli(monkeypatch, capsys, "run", str(scenario), "--out", str(tmp_path / "out"), "-q")
+    code, _, err = cli("run", str(scenario), "--out", str(tmp_path / "out"), "-q")
     assert code == 1
     assert "internal error" in err and "ZeroDivisionError" in err
     saved = tmp_path / "out.failed-scenario.toml"
@@ -369,7 +360,7 @@ def test_internal_error_exit_1_saves_the_scenario(tmp_path, monkeypatch, capsys)
     assert "ZeroDivisionError" in saved.read_text()
 
 
-def test_validate_single_floe_calls_the_study(tmp_path, monkeypatch, capsys):
+def test_validate_single_floe_calls_the_study(tmp_path, monkeypatch, cli):
     study = importlib.import_module("floebreak.studies.single_floe")
     calls = []
 
@@ -378,7 +369,5 @@ def test_validate_single_floe_calls_the_study(tmp_path, monkeypatch, capsys):
         return out_dir
 
     monkeypatch.setattr(study, "write_single_floe_matrix", fake)
-    code, _, _ = cli(
-        monkeypatch, capsys, "validate", "single-floe", "--out", str(tmp_path / "sf"), "--overwrite"
-    )
+    code, _, _ = cli("validate", "single-floe", "--out", str(tmp_path / "sf"), "--overwrite")
     assert code == 0 and calls == [(tmp_path / "sf", True)]

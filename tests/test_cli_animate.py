@@ -7,14 +7,12 @@ import json
 import math
 import os
 import shutil
-import sys
 from pathlib import Path
 
 import pytest
 from PIL import Image
 
 import floebreak
-from floebreak.cli import main
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -27,28 +25,15 @@ def run_dir(tmp_path_factory):
     return out
 
 
-def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
-    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
-    try:
-        main()
-        code = 0
-    except SystemExit as exit_:
-        code = exit_.code or 0
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
-
 def _listing(folder: Path) -> dict[str, int]:
     return {p.name: p.stat().st_mtime_ns for p in folder.iterdir()}
 
 
-def test_animate_writes_a_gif_with_the_expected_frames(run_dir, tmp_path, monkeypatch, capsys):
+def test_animate_writes_a_gif_with_the_expected_frames(run_dir, tmp_path, cli):
     n_steps = json.loads((run_dir / "summary.json").read_text())["n_steps"]
     every, fps = 40, 5
     out = tmp_path / "transit.gif"
     code, stdout, err = cli(
-        monkeypatch,
-        capsys,
         "animate",
         str(run_dir),
         "--out",
@@ -70,9 +55,9 @@ def test_animate_writes_a_gif_with_the_expected_frames(run_dir, tmp_path, monkey
     assert [p.name for p in tmp_path.iterdir()] == ["transit.gif"]  # no temporary leftovers
 
 
-def test_default_output_is_in_the_run_directory(run_dir, monkeypatch, capsys):
+def test_default_output_is_in_the_run_directory(run_dir, cli):
     before = _listing(run_dir)
-    code, _, err = cli(monkeypatch, capsys, "animate", str(run_dir), "--every", "200", "--quiet")
+    code, _, err = cli("animate", str(run_dir), "--every", "200", "--quiet")
     assert code == 0, err
     try:
         assert set(_listing(run_dir)) == set(before) | {"animation.gif"}
@@ -80,7 +65,7 @@ def test_default_output_is_in_the_run_directory(run_dir, monkeypatch, capsys):
             assert image.n_frames == 4  # steps 0, 200, 400 and the last (n_steps ≈ 560)
         # an existing animation is refused without --overwrite, and left as it was
         stamp = (run_dir / "animation.gif").stat().st_mtime_ns
-        code, _, err = cli(monkeypatch, capsys, "animate", str(run_dir), "--every", "200", "--quiet")
+        code, _, err = cli("animate", str(run_dir), "--every", "200", "--quiet")
         assert code == 2 and "--overwrite" in err
         assert (run_dir / "animation.gif").stat().st_mtime_ns == stamp
     finally:
@@ -110,9 +95,7 @@ def old_run_dir(run_dir, tmp_path):
         ("ok", ["--out", "{tmp}/no/such/dir/a.gif"], "out"),
     ],
 )
-def test_bad_input_exits_2_and_writes_nothing(
-    case, args, field, run_dir, old_run_dir, tmp_path, monkeypatch, capsys
-):
+def test_bad_input_exits_2_and_writes_nothing(case, args, field, run_dir, old_run_dir, tmp_path, cli):
     target = {"missing": tmp_path / "nope", "old": old_run_dir, "ok": run_dir}.get(case)
     if case == "corrupt":
         target = tmp_path / "corrupt"
@@ -121,7 +104,7 @@ def test_bad_input_exits_2_and_writes_nothing(
     args = [a.replace("{tmp}", str(tmp_path)) for a in args]
     before_run = _listing(target) if target.exists() else None
     before_tmp = _listing(tmp_path)
-    code, _, err = cli(monkeypatch, capsys, "animate", str(target), *args)
+    code, _, err = cli("animate", str(target), *args)
     assert code == 2
     assert field in err
     if case == "old":
@@ -131,12 +114,12 @@ def test_bad_input_exits_2_and_writes_nothing(
         assert _listing(target) == before_run
 
 
-def test_mp4_without_ffmpeg_is_a_clear_error(run_dir, tmp_path, monkeypatch, capsys):
+def test_mp4_without_ffmpeg_is_a_clear_error(run_dir, tmp_path, monkeypatch, cli):
     monkeypatch.setattr(shutil, "which", lambda name: None)
     before = _listing(run_dir)
-    code, _, err = cli(monkeypatch, capsys, "animate", str(run_dir), "--format", "mp4")
+    code, _, err = cli("animate", str(run_dir), "--format", "mp4")
     assert code == 2 and "ffmpeg" in err and "format" in err
-    code, _, err = cli(monkeypatch, capsys, "animate", str(run_dir), "--out", str(tmp_path / "a.mp4"))
+    code, _, err = cli("animate", str(run_dir), "--out", str(tmp_path / "a.mp4"))
     assert code == 2 and "ffmpeg" in err
     assert _listing(run_dir) == before and list(tmp_path.iterdir()) == []
 
@@ -152,12 +135,11 @@ def ffmpeg_on_path(tmp_path_factory, monkeypatch):
     return imageio_ffmpeg
 
 
-def test_animate_writes_an_mp4_with_ffmpeg(run_dir, tmp_path, monkeypatch, capsys, ffmpeg_on_path):
+def test_animate_writes_an_mp4_with_ffmpeg(run_dir, tmp_path, ffmpeg_on_path, cli):
     n_steps = json.loads((run_dir / "summary.json").read_text())["n_steps"]
     every, fps = 40, 5
     out = tmp_path / "transit.mp4"
-    code, stdout, err = cli(
-        monkeypatch, capsys, "animate", str(run_dir), "--out", str(out), "--every", str(every),
+    code, stdout, err = cli("animate", str(run_dir), "--out", str(out), "--every", str(every),
         "--fps", str(fps),
     )  # fmt: skip
     assert code == 0, err

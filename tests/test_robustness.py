@@ -1,11 +1,14 @@
 """Regression tests of issue 20: what a user types must not crash the program, exhaust the machine or lose a
 result. Each test is one failure the issue's campaigns found (bad numbers, environment errors, Ctrl-C,
-memory on thin ice); the fuzz harness (`floebreak.testing.fuzz`, `make fuzz`) keeps looking for more."""
+memory on thin ice); the fuzz harness (`floebreak.testing.fuzz`, `make fuzz`) keeps looking for more. The
+cases that are one command line and its exit code and message (a pseudo file system, a full disk, a bow
+CSV's bad row, an unknown figure format, the piece budget, …) are rows of tests/test_bad_inputs.py."""
 
 from __future__ import annotations
 
 import errno
 import importlib
+import re
 import sys
 from pathlib import Path
 
@@ -13,20 +16,12 @@ import numpy as np
 import pytest
 
 import floebreak
-from floebreak.cli import main
 from floebreak.errors import InputError
 from floebreak.io.storage import StorageError, probe_directory
+from floebreak.scenario import json_schema
 from floebreak.simulation import PieceBudgetError
 
 SMALL = ["field.length_m=60.0"]
-
-
-def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
-    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
-    with pytest.raises(SystemExit) as info:
-        main()
-    captured = capsys.readouterr()
-    return info.value.code, captured.out, captured.err
 
 
 def _scenario(tmp_path: Path, text: str = "[field]\nlength_m = 60.0\n") -> str:
@@ -51,9 +46,9 @@ ISSUE_INPUTS = [
 
 
 @pytest.mark.parametrize(("override", "key"), ISSUE_INPUTS, ids=[i[1] for i in ISSUE_INPUTS])
-def test_non_finite_or_absurd_numbers_exit_2_naming_the_key(tmp_path, monkeypatch, capsys, override, key):
+def test_non_finite_or_absurd_numbers_exit_2_naming_the_key(tmp_path, override, key, cli):
     out = tmp_path / "out"
-    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "--set", override)
+    code, _, err = cli("run", _scenario(tmp_path), "--out", str(out), "--set", override)
     assert code == 2, err
     assert err.strip().startswith(f"error: {key}:") and err.strip().count("\n") == 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
@@ -67,15 +62,115 @@ def test_schema_states_the_ranges():
     assert ice["youngs_modulus_pa"]["minimum"] > 0 and np.isfinite(ice["youngs_modulus_pa"]["maximum"])
 
 
+# every number of a scenario file as `floebreak schema` states it (JSON schema walked, $refs followed)
+def _schema_numbers(node, defs, path=()):
+    if "$ref" in node:
+        node = defs[node["$ref"].rsplit("/", 1)[-1]]
+    for option in node.get("anyOf", []):
+        yield from _schema_numbers(option, defs, path)
+    if node.get("type") in ("number", "integer"):
+        yield ".".join(path), node
+    for name, child in node.get("properties", {}).items():
+        yield from _schema_numbers(child, defs, (*path, name))
+    for key, child in (("[]", node.get("items")), ("*", node.get("additionalProperties"))):
+        if isinstance(child, dict):
+            yield from _schema_numbers(child, defs, (*path, key))
+    for i, child in enumerate(node.get("prefixItems", [])):
+        yield from _schema_numbers(child, defs, (*path, f"[{i}]"))
+
+
+SCHEMA = json_schema()
+NUMBERS = list(_schema_numbers(SCHEMA, SCHEMA["$defs"]))
+# ship.hull_parameters is a table of keyword overrides of any name: each is range-checked by the hull
+# (test_new_upper_bounds_exit_2 below), so the schema gives the names and ranges in its description only
+FREE = ("ship.hull_parameters.*",)
+
+
+def test_every_number_of_the_schema_has_a_range():
+    def bounded(node):
+        return {"minimum", "exclusiveMinimum"} & set(node) and {"maximum", "exclusiveMaximum"} & set(node)
+
+    assert len(NUMBERS) > 30  # the walk found the sections, the failure modes' tables included
+    assert [key for key, node in NUMBERS if key not in FREE and not bounded(node)] == []
+
+
+def _edges(node):
+    low = node.get("minimum", node.get("exclusiveMinimum"))
+    high = node.get("maximum", node.get("exclusiveMaximum"))
+    below, above = low - (abs(low) or 1), high + (abs(high) or 1)
+    return [below, above] if node["type"] == "number" else [int(below), int(above)]
+
+
+# one key a scalar can be --set to (list items, tuple items and the free table are tested by hand)
+SCALARS = [
+    (key, value)
+    for key, node in NUMBERS
+    if "[" not in key and "*" not in key
+    for value in _edges(node)
+    if abs(value) < 2**63  # TOML integers are 64 bit: a seed of 2⁶³ cannot even be written
+]
+
+
+@pytest.mark.parametrize(("key", "value"), SCALARS, ids=[f"{k}={v:g}" for k, v in SCALARS])
+def test_a_number_beyond_its_stated_range_exits_2_naming_key_and_range(tmp_path, key, value, cli):
+    out = str(tmp_path / "out")
+    code, _, err = cli("run", _scenario(tmp_path), "--out", out, "--set", f"{key}={value!r}")
+    assert code == 2, err
+    assert err.startswith(f"error: {key}:") and "allowed: " in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+# the bounds added to the failure modes' settings, the ship, the propellers and the hull (physical ranges:
+# see each field's description), by hand
+NEW_BOUNDS = [
+    ("failure.bending.wedge_angle_deg=61.0", "failure.bending.wedge_angle_deg"),
+    ("failure.wedge_angle_deg=0.0", "failure.wedge_angle_deg"),  # the flat spelling
+    ("failure.bending.kashtelyan_coefficient=11.0", "failure.bending.kashtelyan_coefficient"),
+    ("failure.bending.foundation_modulus_n_m3=-5.0", "failure.bending.foundation_modulus_n_m3"),
+    ("failure.bending.foundation_modulus_n_m3=1e6", "failure.bending.foundation_modulus_n_m3"),
+    ("failure.cracking.total_porosity_ppt=1001.0", "failure.cracking.total_porosity_ppt"),
+    ("failure.cracking.tip_angle_deg=180.0", "failure.cracking.tip_angle_deg"),
+    ("failure.cracking.wedge_friction=2.5", "failure.cracking.wedge_friction"),
+    ("failure.next_crack_angle_deg=91.0", "failure.next_crack_angle_deg"),
+    ("ship.speed_m_s=25.0", "ship.speed_m_s"),
+    ("propeller.count=9", "propeller.count"),
+    ("ship.hull_parameters.beam_m=150.0", "ship.hull_parameters.beam_m"),
+    ("ship.hull_parameters.midbody_length_m=1000.0", "ship.hull_parameters.midbody_length_m"),
+    ("ship.hull_parameters.shape_exponent=11.0", "ship.hull_parameters.shape_exponent"),
+    ("ship.hull_parameters.n_panels_per_side=5000", "ship.hull_parameters.n_panels_per_side"),
+]
+
+
+@pytest.mark.parametrize(("override", "key"), NEW_BOUNDS, ids=[o for o, _ in NEW_BOUNDS])
+def test_new_upper_bounds_exit_2(tmp_path, override, key, cli):
+    code, _, err = cli("run", _scenario(tmp_path), "--out", str(tmp_path / "out"), "--set", override)
+    assert code == 2, err
+    assert err.strip().startswith(f"error: {key}:") and re.search(r"[\[(]-?[\d.e+]+, [\d.e+]+[\])]", err), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+@pytest.mark.parametrize("line", ["n_fields = 0", "n_fields = 10001", "root_seed = -1"])
+def test_study_numbers_beyond_their_range_exit_2(tmp_path, line, cli):
+    study = tmp_path / "study.toml"
+    study.write_text(f'name = "s"\n{line}\n[base.field]\nlength_m = 50.0\n', encoding="utf-8")
+    code, _, err = cli("study", str(study), "--out", str(tmp_path / "out"), "--workers", "1")
+    assert code == 2 and err.startswith(f"error: {line.split()[0]}:") and "allowed: " in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+
+
+VOYAGE_OPTIONS = [("--speed-m-s", "25"), ("--max-length-m", "1e7"), ("--n-fields", "0")]
+
+
+@pytest.mark.parametrize(("option", "value"), VOYAGE_OPTIONS)
+def test_voyage_options_beyond_their_range_exit_2(tmp_path, option, value, cli):
+    header = "start_utc,end_utc,concentration_percent,mean_thickness_m,share_d5m_percent,share_d20m_percent"
+    (tmp_path / "log.csv").write_text(f"{header}\n2020-01-01T00:00,2020-01-01T00:10,50,0.5,60,40\n", "utf-8")
+    code, _, err = cli("voyage", tmp_path / "log.csv", "--out", tmp_path / "v", "--workers", 1, option, value)
+    assert code == 2 and err.startswith(f"error: {option[2:].replace('-', '_')}:"), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["log.csv"]
+
+
 # --- memory: the piece budget and lineage (failure 1) --------------------------------------------------
-
-
-def test_piece_budget_stops_the_run_with_exit_2_naming_the_key(tmp_path, monkeypatch, capsys):
-    out = tmp_path / "out"
-    args = ("run", _scenario(tmp_path), "--out", str(out), "-q", "--set", "simulation.max_pieces=40")
-    code, _, err = cli(monkeypatch, capsys, *args)
-    assert code == 2 and "error: simulation.max_pieces:" in err and "more than 40 pieces" in err
-    assert not out.exists() and not (tmp_path / "out.failed-scenario.toml").exists()
 
 
 def test_piece_budget_error_from_the_python_api():
@@ -126,28 +221,6 @@ def test_failure_chain_is_rebuilt_from_parent_ids():
 # --- environment and interruption (failure 4) ----------------------------------------------------------
 
 
-@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
-def test_a_pseudo_file_system_is_refused_before_the_run(tmp_path, monkeypatch, capsys):
-    api = importlib.import_module("floebreak.api")
-    monkeypatch.setattr(api, "simulate", lambda *a, **k: pytest.fail("the run started"))
-    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", "/proc/floebreak-run", "-q")
-    assert code == 3 and "/proc/floebreak-run" in err and "internal error" not in err
-
-
-def test_disk_full_while_writing_exits_3_and_leaves_nothing(tmp_path, monkeypatch, capsys):
-    geoparquet = importlib.import_module("floebreak.api")
-
-    def full(*args, **kwargs):
-        raise OSError(errno.ENOSPC, "No space left on device")
-
-    monkeypatch.setattr(geoparquet, "write_geoparquet", full)
-    out = tmp_path / "out"
-    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
-    assert code == 3 and "No space left on device" in err and str(out) in err
-    assert "report this bug" not in err
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no run, no temporary, no 0-byte file
-
-
 def test_probe_reports_the_os_error(tmp_path, monkeypatch):
     def refuse(*args, **kwargs):
         raise OSError(errno.EROFS, "Read-only file system")
@@ -159,7 +232,7 @@ def test_probe_reports_the_os_error(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize("inside_kernel", [False, True])
-def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeypatch, capsys, inside_kernel):
+def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeypatch, inside_kernel, cli):
     api = importlib.import_module("floebreak.api")
 
     def interrupted(*args, **kwargs):
@@ -174,8 +247,44 @@ def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeyp
 
     monkeypatch.setattr(api, "simulate", interrupted)
     out = tmp_path / "out"
-    code, _, err = cli(monkeypatch, capsys, "run", _scenario(tmp_path), "--out", str(out), "-q")
+    code, _, err = cli("run", _scenario(tmp_path), "--out", str(out), "-q")
     assert code == 130 and err.strip().count("\n") == 0 and "interrupted" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def _console_command() -> list[str]:
+    """The console command `floebreak` as pip's generated script runs it: import the target of
+    pyproject.toml's [project.scripts] and call it (read from the project, not from an installed copy)."""
+    import tomllib
+
+    pyproject = Path(__file__).resolve().parents[1] / "pyproject.toml"
+    target = tomllib.loads(pyproject.read_text(encoding="utf-8"))["project"]["scripts"]["floebreak"]
+    module, function = target.split(":")
+    return [sys.executable, "-c", f"import sys; from {module} import {function}; sys.exit({function}())"]
+
+
+@pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="reads /proc/<pid>/maps (Linux)")
+def test_ctrl_c_while_the_command_line_loads_exits_130_with_one_line(tmp_path):
+    """SIGINT as soon as the console command imports the command line's libraries (numpy's core is mapped
+    into the process: `import floebreak` alone loads no numpy) — before typer, rich and the engine are in."""
+    import signal
+    import subprocess
+    import time
+
+    out = tmp_path / "out"
+    command = [*_console_command(), "run", _scenario(tmp_path), "--out", str(out), "--quiet"]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    maps = Path(f"/proc/{process.pid}/maps")
+    deadline = time.monotonic() + 120.0  # generous: a loaded machine; the poll itself does not sleep
+    try:
+        while "_multiarray_umath" not in maps.read_text():
+            assert process.poll() is None and time.monotonic() < deadline, "never started loading"
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=120)
+    finally:
+        process.kill()
+    assert process.returncode == 130, err
+    assert err == "interrupted (Ctrl-C); nothing half-written was kept\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
 
 
@@ -242,38 +351,23 @@ def test_issue_area_balance_case_conserves_area_with_valid_pieces(seed):
 # --- the field command and CSV errors (failure 7) ------------------------------------------------------
 
 
-def test_field_refuses_an_unknown_figure_format_before_writing(tmp_path, monkeypatch, capsys):
-    out = tmp_path / "f.parquet"
-    args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60", "--figure")
-    code, _, err = cli(monkeypatch, capsys, *args, str(tmp_path / "fig.xyz"))
-    assert code == 2 and "error: figure:" in err and "png" in err
-    assert list(tmp_path.iterdir()) == []
-
-
-def test_field_refuses_an_existing_output_without_overwrite(tmp_path, monkeypatch, capsys):
+def test_field_refuses_an_existing_output_without_overwrite(tmp_path, cli):
     out = tmp_path / "f.parquet"
     out.write_bytes(b"keep me")
     args = ("field", "--out", str(out), "--obs", "2019-12-18T20:20", "--length", "60")
-    code, _, err = cli(monkeypatch, capsys, *args)
+    code, _, err = cli(*args)
     assert code == 2 and "error: out:" in err and "--overwrite" in err and out.read_bytes() == b"keep me"
-    code, _, err = cli(monkeypatch, capsys, *args, "--overwrite")
+    code, _, err = cli(*args, "--overwrite")
     assert code == 0, err
     assert out.read_bytes()[:4] == b"PAR1"
 
 
 @pytest.mark.parametrize(("option", "value"), [("--length", "inf"), ("--thickness", "nan")])
-def test_field_refuses_non_finite_numbers(tmp_path, monkeypatch, capsys, option, value):
+def test_field_refuses_non_finite_numbers(tmp_path, option, value, cli):
     args = ("field", "--out", str(tmp_path / "f.parquet"), "--obs", "2019-12-18T20:20", option, value)
-    code, _, err = cli(monkeypatch, capsys, *args)
+    code, _, err = cli(*args)
     assert code == 2 and f"error: {option.lstrip('-')}:" in err and "finite" in err
     assert list(tmp_path.iterdir()) == []
-
-
-def test_bow_csv_errors_keep_file_and_row(tmp_path, monkeypatch, capsys):
-    (tmp_path / "bow.csv").write_text("x_m,y_m,line\n0,0,upper\n1,2\n", encoding="utf-8")
-    scenario = _scenario(tmp_path, '[ship]\nfile = "bow.csv"\n[field]\nlength_m = 60.0\n')
-    code, _, err = cli(monkeypatch, capsys, "run", scenario, "--out", str(tmp_path / "out"))
-    assert code == 2 and f"error: ship.file: {tmp_path / 'bow.csv'} row 3:" in err
 
 
 # --- scale (failure 7) ---------------------------------------------------------------------------------

@@ -18,8 +18,6 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING
 
-from floebreak.io.provenance import floebreak_version
-
 if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` imports them on first use
     from floebreak.api import Result, run
     from floebreak.errors import InputError
@@ -43,8 +41,6 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` impor
     from floebreak.studies.design import load_study, thesis_study
     from floebreak.studies.runner import run_study
     from floebreak.studies.voyage import prepare_voyage, run_voyage
-
-__version__ = floebreak_version()
 
 # public name → the module that defines it ("module:name" where the public name differs)
 _LAZY = {
@@ -126,6 +122,11 @@ __all__ = [
 
 
 def __getattr__(name: str):
+    if name == "__version__":  # from the installed metadata: importlib.metadata takes ≈ 0.1 s to import
+        from floebreak.io.provenance import floebreak_version
+
+        globals()[name] = floebreak_version()
+        return globals()[name]
     target = _LAZY.get(name)
     if target is None:
         raise AttributeError(f"module 'floebreak' has no attribute {name!r}")
@@ -136,4 +137,4 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted({*globals(), *_LAZY})
+    return sorted({*globals(), *_LAZY, "__version__"})

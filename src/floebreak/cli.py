@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import atexit
 import gc
+import signal
 import sys
 from contextlib import contextmanager, nullcontext
 from enum import StrEnum
@@ -16,6 +17,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from floebreak.__main__ import EXIT_INTERRUPTED, INTERRUPTED_MESSAGE
 from floebreak.errors import InputError
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
@@ -892,7 +894,8 @@ def _root(
 
 
 def main() -> None:
-    """Entry point. A user error (InputError) prints one line naming the field and exits with code 2."""
+    """The command line (the console command reaches it through `floebreak.__main__`). A user error
+    (InputError) prints one line naming the field and exits with code 2."""
     # a run creates many long-lived objects and few reference cycles: a lazier collector, and none over
     # everything alive at exit (it pays, benchmarks/README.md "Simple over clever")
     gc.set_threshold(50_000, 20, 10)
@@ -901,6 +904,8 @@ def main() -> None:
     from floebreak.io.storage import StorageError
 
     try:
+        # Ctrl-C raises KeyboardInterrupt from here, reported below (`floebreak.__main__`: while loading)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         app()
     except InputError as error:
         err_console.print(f"[bold red]error:[/] {escape(str(error))}", soft_wrap=True, highlight=False)
@@ -917,11 +922,10 @@ def main() -> None:
 
 
 EXIT_STORAGE = 3  # disk full, permission denied, read-only or pseudo file system (README, exit codes)
-EXIT_INTERRUPTED = 130  # Ctrl-C (128 + SIGINT, the shells' convention)
 
 
 def _report_interrupt() -> None:
-    err_console.print("interrupted (Ctrl-C); nothing half-written was kept", highlight=False)
+    err_console.print(INTERRUPTED_MESSAGE, highlight=False)
     sys.exit(EXIT_INTERRUPTED)
 
 

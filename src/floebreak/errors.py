@@ -7,6 +7,10 @@ the CLI turns it into exit code 2. Everything else is a bug and exits with code 
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+import typing
+from dataclasses import dataclass
 from typing import Any
 
 
@@ -54,3 +58,55 @@ def require_range(
     if not ok:
         raise InputError(field, f"{number:g} is outside {interval}", value=number, allowed=interval)
     return number
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """The allowed interval of a setting, carried in its type: ``x: Annotated[float, Bounds(0.0, 60.0)]``.
+
+    One source for the range check of a settings dataclass (`check_bounds`, from its ``__post_init__``) and
+    for the scenario table built from it (`floebreak.scenario`: validation and ``floebreak schema``).
+    """
+
+    low: float
+    high: float
+    low_inclusive: bool = True
+    high_inclusive: bool = True
+    unit: str = ""
+
+    def check(self, field: str, value: float) -> float:
+        return require_range(
+            field,
+            value,
+            low=self.low,
+            high=self.high,
+            low_inclusive=self.low_inclusive,
+            high_inclusive=self.high_inclusive,
+            unit=self.unit,
+        )
+
+    def pydantic_constraints(self) -> dict[str, float]:
+        """The keyword arguments of ``pydantic.Field`` (ge/gt, le/lt) for this interval."""
+        return {
+            "ge" if self.low_inclusive else "gt": self.low,
+            "le" if self.high_inclusive else "lt": self.high,
+        }
+
+
+@functools.cache
+def field_bounds(cls: type) -> dict[str, Bounds]:
+    """Field name → its `Bounds`, for the fields of dataclass `cls` annotated with one."""
+    hints = typing.get_type_hints(cls, include_extras=True)
+    found = {}
+    for field in dataclasses.fields(cls):
+        for extra in getattr(hints[field.name], "__metadata__", ()):
+            if isinstance(extra, Bounds):
+                found[field.name] = extra
+    return found
+
+
+def check_bounds(settings: Any, prefix: str) -> None:
+    """Range-check every `Bounds`-annotated field of the dataclass instance `settings`; an InputError names
+    ``<prefix>.<field>``, the value and the interval."""
+    for name, bounds in field_bounds(type(settings)).items():
+        bounds.check(f"{prefix}.{name}", getattr(settings, name))

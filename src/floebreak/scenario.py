@@ -48,7 +48,7 @@ from pydantic import (
 from pydantic_core import PydanticCustomError
 
 from floebreak import constants as c
-from floebreak.errors import InputError
+from floebreak.errors import InputError, field_bounds
 from floebreak.ship.hulls import HULLS
 
 REFERENCE_OBSERVATION = "2019-12-18T20:20"  # thesis §5.3 reference scenario (Table 1, first row)
@@ -94,6 +94,9 @@ DIAMETER_M = (0.01, 10_000.0)  # floe diameters
 FIELD_LENGTH_M = (1.0, 1.0e6)  # generated field length (the floe count is bounded by simulation.max_pieces)
 FIELD_WIDTH_M = (1.0, 1.0e5)
 STEP_M = (1.0e-3, 10.0)  # bow advance per step: below 1 mm a transit takes millions of steps
+SPEED_M_S = (0.0, 20.0)  # ship speed: 20 m/s ≈ 39 kn is above any ice-going ship's top speed in open water
+PROPELLER_COUNT = (1, 8)  # ice-going ships have 1–4 propellers (Agulhas II 2, thesis §6.1); 8 leaves room
+SEED_MAX = 2**63 - 1  # seeds are TOML integers: signed 64 bit (TOML 1.0)
 Thickness = Annotated[Float, Field(ge=THICKNESS_M[0], le=THICKNESS_M[1])]
 
 
@@ -310,7 +313,10 @@ class ShipSection(_Section):
     hull: str | None = Field(None, description=f"built-in hull: {', '.join(HULLS)} (default agulhas_ii)")
     file: Path | None = Field(None, description="bow CSV file (`Bow.from_csv` formats)")
     hull_parameters: dict[str, Annotated[float, AllowInfNan(False)] | int | str] = Field(
-        default_factory=dict, description="keyword overrides of the parametric hull (e.g. beam_m [m])"
+        default_factory=dict,
+        description="keyword overrides of the parametric hull (e.g. beam_m [m]); each is range-checked "
+        "(`floebreak.ship.hulls.parametric_bow`: beam_m (0, 100] m, angles in degrees, exponents [1, 10] "
+        "and (0, 10], n_panels_per_side 2 to 1000, midbody_length_m [0, 500] m)",
     )
     waterlines: Literal["follow_thickness", "fixed"] | None = Field(
         None,
@@ -340,9 +346,11 @@ class ShipSection(_Section):
     )
     speed_m_s: Float = Field(
         c.SHIP_SPEED_IN_ICE_M_S,
-        gt=0.0,
+        gt=SPEED_M_S[0],
+        le=SPEED_M_S[1],
         description="ship speed in ice [m/s]: time base of the propeller load rates, not used by the "
-        "quasi-static breaking (default 3 m/s, thesis §6.3 Eq. 28)",
+        "quasi-static breaking (default 3 m/s, thesis §6.3 Eq. 28); at most 20 m/s ≈ 39 kn, above any "
+        "ice-going ship's top speed in open water",
     )
 
     _resolve_file = field_validator("file")(_resolve_path)
@@ -467,7 +475,8 @@ def _validated_table(
         if first["type"] == "extra_forbidden":
             message = f"is read from ice.{setting}" if setting in spec.material else "unknown key"
             raise _cross(key_of(setting), message, ", ".join(spec.table_keys())) from None
-        raise _cross(key_of(setting), f"{first['msg']} (got {first.get('input')!r})") from None
+        interval = allowed_interval(_table_model(spec).model_json_schema(), first["loc"])
+        raise _cross(key_of(setting), f"{first['msg']} (got {first.get('input')!r})", interval) from None
     try:
         spec.make_settings(values)
     except InputError as error:
@@ -483,11 +492,13 @@ def _table_model(spec: Any) -> type[BaseModel]:
     the [ice] material) with their types, defaults and docstrings, strict and closed."""
     hints = typing.get_type_hints(spec.settings)
     docs = attribute_docstrings(spec.settings)
+    bounds = field_bounds(spec.settings)
     fields: dict[str, Any] = {}
     for item in dataclasses.fields(spec.settings):
         if item.name in spec.table_keys():
             default = item.default if item.default is not dataclasses.MISSING else item.default_factory()
-            fields[item.name] = (hints[item.name], Field(default, description=docs.get(item.name)))
+            limits = bounds[item.name].pydantic_constraints() if item.name in bounds else {}
+            fields[item.name] = (hints[item.name], Field(default, description=docs.get(item.name), **limits))
     config = ConfigDict(extra="forbid", strict=True, frozen=True, allow_inf_nan=False)  # finite, as Float
     return create_model(f"failure.{spec.name}", __config__=config, **fields)
 
@@ -547,8 +558,10 @@ class PropellerSection(_Section):
     )
     count: Int = Field(
         c.PROPELLER_COUNT,
-        ge=1,
-        description="number of propellers sharing the cusps (default 2: Agulhas II, thesis §6.1) [-]",
+        ge=PROPELLER_COUNT[0],
+        le=PROPELLER_COUNT[1],
+        description="number of propellers sharing the cusps (default 2: Agulhas II, thesis §6.1) [-], "
+        "1 to 8: ice-going ships have 1 to 4",
     )
 
 
@@ -571,7 +584,12 @@ class Scenario(_Section):
         "default",
         description="model profile: default (corrected physics) or thesis (literal, docs/model.md §11)",
     )
-    seed: Int = Field(1, ge=0, description="seed of numpy.random.default_rng for the field generation")
+    seed: Int = Field(
+        1,
+        ge=0,
+        le=SEED_MAX,
+        description="seed of numpy.random.default_rng for the field generation, 0 to 2⁶³ − 1 (TOML integer)",
+    )
     name: str = Field("", description="free-text name shown in reports")
     field: FieldSection = Field(default_factory=FieldSection)
     ice: IceSection = Field(default_factory=IceSection)
@@ -852,6 +870,8 @@ def input_error_from_validation(error: ValidationError, model: type[BaseModel] =
     elif kind in ("unknown_observation", "unknown_hull"):
         message = f"unknown value {ctx['value']!r}"
         allowed = ctx["allowed"]
+    elif kind in _BOUND_ERRORS:
+        allowed = allowed_interval(json_schema() if model is Scenario else model.model_json_schema(), loc)
     key = _dotted(loc)
     value = first.get("input")
     if kind not in ("extra_forbidden", "missing", "unknown_observation", "unknown_hull") and not isinstance(
@@ -859,3 +879,39 @@ def input_error_from_validation(error: ValidationError, model: type[BaseModel] =
     ):
         message = f"{message} (got {value!r})"
     return InputError(key, message, value=value, allowed=allowed)
+
+
+_BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
+
+
+def allowed_interval(schema: Mapping[str, Any], loc: Iterable[Any]) -> str | None:
+    """The interval of the number at `loc` (a pydantic error location) in a JSON schema, e.g. ``[0.01, 10]``
+    or ``(0, 60]``; None where the schema gives no bound there."""
+    defs = schema.get("$defs", {})
+    node = _schema_node(schema, defs)
+    for part in loc:
+        if isinstance(part, int):
+            items = node.get("prefixItems") or []
+            node = items[part] if part < len(items) else node.get("items", {})
+        elif part in node.get("properties", {}):
+            node = node["properties"][part]
+        else:
+            continue  # pydantic's own steps (function-after[...], float, ...)
+        node = _schema_node(node, defs)
+    low, high = (
+        node.get("minimum", node.get("exclusiveMinimum")),
+        node.get("maximum", node.get("exclusiveMaximum")),
+    )
+    if low is None or high is None:
+        return None
+    left = "(" if "exclusiveMinimum" in node else "["
+    right = ")" if "exclusiveMaximum" in node else "]"
+    return f"{left}{low:g}, {high:g}{right}"
+
+
+def _schema_node(node: Mapping[str, Any], defs: Mapping[str, Any]) -> Mapping[str, Any]:
+    """`node` with its $ref followed and an optional (``anyOf`` with null) reduced to the other option."""
+    if "$ref" in node:
+        node = defs[node["$ref"].rsplit("/", 1)[-1]]
+    options = [option for option in node.get("anyOf", []) if option.get("type") != "null"]
+    return _schema_node(options[0], defs) if len(options) == 1 else node

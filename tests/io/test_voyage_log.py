@@ -87,7 +87,8 @@ BAD = [
     (_log(HEADER, ROW1, ROW2.replace(",1.0,", ",nan,")), ["row 2 (line 3)", "'mean_thickness_m'", "finite"]),
     (_log(HEADER, ROW1.replace(",50,", ",,")), ["row 1", "'concentration_percent'", "empty cell"]),
     (_log(HEADER, ROW1.replace(",50,", ",120,")), ["row 1", "'concentration_percent'", "(0, 100] %"]),
-    (_log(HEADER, ROW1.replace(",0.5,", ",0,")), ["row 1", "'mean_thickness_m'", "(0, inf)"]),
+    (_log(HEADER, ROW1.replace(",0.5,", ",0,")), ["row 1", "'mean_thickness_m'", "(0, 10] m"]),
+    (_log(HEADER, ROW1.replace(",0.5,", ",11,")), ["row 1", "'mean_thickness_m'", "(0, 10] m"]),
     (
         _log(HEADER, ROW1.replace("60,40", "60,30")),
         ["row 1", "share_d5m_percent, share_d20m_percent", "sum to 90"],
@@ -103,8 +104,11 @@ BAD = [
         _log(HEADER, ROW1, ROW1.replace("T00:00", "T00:05").replace("T00:10", "T00:20")),
         ["row 2", "'start_utc'", "overlaps"],
     ),
-    (_log(HEADER + ",speed_m_s", ROW1 + ",0"), ["row 1", "'speed_m_s'", "(0, inf) m/s"]),
-    (_log(HEADER + ",speed_kn", ROW1 + ",-4"), ["row 1", "'speed_kn'", "(0, inf) kn"]),
+    (_log(HEADER + ",speed_m_s", ROW1 + ",0"), ["row 1", "'speed_m_s'", "(0, 20] m/s"]),
+    # 38.8 kn × 1852 m / 3600 s = 19.96 m/s: the last tenth of a knot within 20 m/s
+    (_log(HEADER + ",speed_kn", ROW1 + ",-4"), ["row 1", "'speed_kn'", "(0, 38.8] kn"]),
+    (_log(HEADER + ",speed_kn", ROW1 + ",40"), ["row 1", "'speed_kn'", "(0, 38.8] kn"]),
+    (_log(HEADER + ",propeller_rpm", ROW1 + ",5000"), ["row 1", "'propeller_rpm'", "(0, 1000] 1/min"]),
     (
         _log(HEADER + ",propeller_pitch_percent", ROW1 + ",101"),
         ["row 1", "'propeller_pitch_percent'", "[0, 100] %"],

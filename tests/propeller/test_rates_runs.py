@@ -4,13 +4,11 @@ check) and the `floebreak propeller` command: hand-computed expectations."""
 from __future__ import annotations
 
 import json
-import sys
 
 import numpy as np
 import pytest
 import shapely
 
-from floebreak.cli import main
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
 from floebreak.propeller.pipeline import analyse_propeller
@@ -128,21 +126,13 @@ def test_transit_distance_and_pooling(tmp_path):
         read_runs(tmp_path / "s", pool=True)
 
 
-def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
-    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
-    with pytest.raises(SystemExit) as info:
-        main()
-    captured = capsys.readouterr()
-    return info.value.code, captured.out, captured.err
-
-
 FEM = (
     "volume_m3,length_m,width_m,height_m,force_kN,torque_kNm\n"
     "1,1,1,1,100,-90\n2,2,1,1,150,-140\n3,3,1,1,180,-170\n"
 )
 
 
-def test_propeller_command(tmp_path, monkeypatch, capsys):
+def test_propeller_command(tmp_path, cli):
     """Summary table, time base, pooling count; --fem-table PITCH=FILE; bad input → exit 2, nothing."""
     _run_dir(tmp_path / "s" / "r1", Scenario.reference())
     _run_dir(tmp_path / "s" / "r2", Scenario.reference(overrides=["seed=5"]))
@@ -151,7 +141,7 @@ def test_propeller_command(tmp_path, monkeypatch, capsys):
     args = ("propeller", str(tmp_path / "s"), "--out", str(out), "--fem-table", f"0={tmp_path / 'fem.csv'}")
     extra = ("--fem-table", f"50={tmp_path / 'fem.csv'}", "--sn-curve", "torque,3,100,1e6")
     extra += ("--hours-in-ice-per-year", "100", "--years", "2")
-    code, stdout, err = cli(monkeypatch, capsys, *args, *extra)
+    code, stdout, err = cli(*args, *extra)
     assert code == 0, err
     assert "pooled 2 runs" in stdout and "propeller spectra" in stdout and "rule form" in stdout
     # 24 cusps / 2 propellers in 2 × 240 m at 3 m/s: 12 loads in 0.0444 h → 270 per hour, 25 per km
@@ -184,8 +174,6 @@ def test_propeller_command(tmp_path, monkeypatch, capsys):
         (["--hours-in-ice-per-year", "-1", "--years", "10"], "hours_in_ice_per_year"),
     ]
     for extra, message in bad:
-        code, _, err = cli(
-            monkeypatch, capsys, "propeller", str(tmp_path / "s"), "--out", str(tmp_path / "b"), *extra
-        )
+        code, _, err = cli("propeller", str(tmp_path / "s"), "--out", str(tmp_path / "b"), *extra)
         assert code == 2 and message in err, (extra, err)
         assert not (tmp_path / "b").exists()

@@ -1,7 +1,6 @@
 """`floebreak propeller RUN --shaft-line`: files, units, comparison; bad input exits 2, writes nothing."""
 
 import json
-import sys
 
 import numpy as np
 import pyarrow as pa
@@ -9,7 +8,6 @@ import pyarrow.parquet as pq
 import pytest
 import xarray as xr
 
-from floebreak.cli import main
 from floebreak.propeller.measured import synthetic_torque_path
 from floebreak.shaft.analysis import shaft_response
 from floebreak.shaft.line import load_shaft_line
@@ -38,23 +36,10 @@ def make_run(path, speed_m_s=None):
     return path
 
 
-def cli(monkeypatch, capsys, *args):
-    monkeypatch.setattr(sys, "argv", ["floebreak", *map(str, args)])
-    try:
-        main()
-        code = 0
-    except SystemExit as exit_:
-        code = exit_.code
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
-
-def test_shaft_files_and_comparison(tmp_path, monkeypatch, capsys):
+def test_shaft_files_and_comparison(tmp_path, cli):
     run = make_run(tmp_path / "run")
     out = tmp_path / "out"
     code, _, err = cli(
-        monkeypatch,
-        capsys,
         "propeller",
         run,
         "--out",
@@ -96,11 +81,9 @@ def test_shaft_files_and_comparison(tmp_path, monkeypatch, capsys):
         assert float(ds["load_torque"].min()) == pytest.approx(4.5e6 / (2 * np.pi * 140 / 60) / 1e3)
 
 
-def test_speed_from_the_resolved_scenario(tmp_path, monkeypatch, capsys):
+def test_speed_from_the_resolved_scenario(tmp_path, cli):
     run = make_run(tmp_path / "run", speed_m_s=4.5)
     code, _, err = cli(
-        monkeypatch,
-        capsys,
         "propeller",
         run,
         "--out",
@@ -152,14 +135,12 @@ BAD = [
 
 
 @pytest.mark.parametrize(("args", "line", "key"), BAD, ids=[f"{i}-{b[2]}" for i, b in enumerate(BAD)])
-def test_bad_shaft_input_exit_2_nothing_written(tmp_path, monkeypatch, capsys, args, line, key):
+def test_bad_shaft_input_exit_2_nothing_written(tmp_path, args, line, key, cli):
     run = make_run(tmp_path / "run")
     shaft_line = "agulhas_ii" if not isinstance(line, list) else _line_toml(tmp_path, line)
     speed = [] if line == "no speed" else ["--speed-m-s", "3"]
     before = sorted(p.name for p in tmp_path.iterdir())
     code, _, err = cli(
-        monkeypatch,
-        capsys,
         "propeller",
         run,
         "--out",
@@ -174,19 +155,17 @@ def test_bad_shaft_input_exit_2_nothing_written(tmp_path, monkeypatch, capsys, a
     assert sorted(p.name for p in tmp_path.iterdir()) == before
 
 
-def test_shaft_options_need_a_shaft_line(tmp_path, monkeypatch, capsys):
+def test_shaft_options_need_a_shaft_line(tmp_path, cli):
     run = make_run(tmp_path / "run")
-    code, _, err = cli(monkeypatch, capsys, "propeller", run, "--out", tmp_path / "out", "--rpm", "120")
+    code, _, err = cli("propeller", run, "--out", tmp_path / "out", "--rpm", "120")
     assert code == 2 and "error: --rpm:" in err and "--shaft-line" in err
     assert not (tmp_path / "out").exists()
 
 
-def test_non_boolean_flag_names_its_key(tmp_path, monkeypatch, capsys):
+def test_non_boolean_flag_names_its_key(tmp_path, cli):
     path = tmp_path / "line.toml"
     path.write_text('[shaft_line]\nbase = "agulhas_ii"\nhydrodynamic_damping = "no"\n', encoding="utf-8")
     code, _, err = cli(
-        monkeypatch,
-        capsys,
         "propeller",
         make_run(tmp_path / "run"),
         "--out",

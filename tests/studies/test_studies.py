@@ -292,10 +292,7 @@ def test_temporary_run_folders_are_removed_when_the_study_ends(tmp_path):
     assert [p.name for p in (tmp_path / "runs").iterdir()] == ["run-00000"]
 
 
-def test_a_study_with_failed_runs_exits_4_and_says_how_many(tmp_path, monkeypatch, capsys):
-    import sys
-
-    from floebreak.cli import main
+def test_a_study_with_failed_runs_exits_4_and_says_how_many(tmp_path, monkeypatch, cli):
     from floebreak.studies import runner
 
     def broken(task):
@@ -308,9 +305,5 @@ def test_a_study_with_failed_runs_exits_4_and_says_how_many(tmp_path, monkeypatc
         "length_m = 50.0\nwidth_m = 30.0\n",
         encoding="utf-8",
     )
-    args = ["floebreak", "study", str(study_file), "--out", str(tmp_path / "out"), "--workers", "1"]
-    monkeypatch.setattr(sys, "argv", args)
-    with pytest.raises(SystemExit) as info:
-        main()
-    out = capsys.readouterr().out.replace("\n", " ")
-    assert info.value.code == 4 and "2 of 2 runs failed" in out
+    code, out, _ = cli("study", study_file, "--out", tmp_path / "out", "--workers", "1")
+    assert code == 4 and "2 of 2 runs failed" in out.replace("\n", " ")

@@ -3,23 +3,11 @@ write nothing."""
 
 from __future__ import annotations
 
-import sys
-
 import pytest
-
-from floebreak.cli import main
 
 HEADER = "start_utc,end_utc,concentration_percent,mean_thickness_m,share_d5m_percent,share_d20m_percent"
 ROW1 = "2020-01-01T00:00,2020-01-01T00:10,50,0.5,60,40"
 ROW2 = "2020-01-01T01:00,2020-01-01T01:30,30,1.0,100,0"
-
-
-def cli(monkeypatch, capsys, *args: str) -> tuple[int, str, str]:
-    monkeypatch.setattr(sys, "argv", ["floebreak", *args])
-    with pytest.raises(SystemExit) as info:
-        main()
-    captured = capsys.readouterr()
-    return info.value.code, captured.out, captured.err
 
 
 BAD_LOGS = [
@@ -40,13 +28,11 @@ BAD_LOGS = [
 
 
 @pytest.mark.parametrize(("lines", "expected"), BAD_LOGS)
-def test_bad_log_exit_code_2_names_file_row_column_and_writes_nothing(
-    monkeypatch, capsys, tmp_path, lines, expected
-):
+def test_bad_log_exit_code_2_names_file_row_column_and_writes_nothing(tmp_path, lines, expected, cli):
     log = tmp_path / "season.csv"
     log.write_text("\n".join(lines) + "\n", encoding="utf-8")
     out = tmp_path / "voyage"
-    code, _, err = cli(monkeypatch, capsys, "voyage", str(log), "--out", str(out), "--workers", "1")
+    code, _, err = cli("voyage", str(log), "--out", str(out), "--workers", "1")
     assert code == 2, err
     message = " ".join(err.split())  # rich may wrap the line
     assert "season.csv" in message
@@ -68,20 +54,20 @@ def test_bad_log_exit_code_2_names_file_row_column_and_writes_nothing(
         (["--hours-in-ice-per-year", "9000", "--years", "20"], "hours_in_ice_per_year"),
     ],
 )
-def test_bad_options_exit_code_2_and_write_nothing(monkeypatch, capsys, tmp_path, args, key):
+def test_bad_options_exit_code_2_and_write_nothing(tmp_path, args, key, cli):
     log = tmp_path / "season.csv"
     log.write_text(f"{HEADER}\n{ROW1}\n", encoding="utf-8")
-    code, _, err = cli(monkeypatch, capsys, "voyage", str(log), "--out", str(tmp_path / "voyage"), *args)
+    code, _, err = cli("voyage", str(log), "--out", str(tmp_path / "voyage"), *args)
     assert code == 2 and key in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["season.csv"]
 
 
-def test_an_existing_directory_that_is_not_a_voyage_is_refused(monkeypatch, capsys, tmp_path):
+def test_an_existing_directory_that_is_not_a_voyage_is_refused(tmp_path, cli):
     log = tmp_path / "season.csv"
     log.write_text(f"{HEADER}\n{ROW1}\n", encoding="utf-8")
     out = tmp_path / "voyage"
     out.mkdir()
     (out / "mine.txt").write_text("keep", encoding="utf-8")
-    code, _, err = cli(monkeypatch, capsys, "voyage", str(log), "--out", str(out), "--workers", "1")
+    code, _, err = cli("voyage", str(log), "--out", str(out), "--workers", "1")
     assert code == 2 and "out" in err
     assert [p.name for p in out.iterdir()] == ["mine.txt"]

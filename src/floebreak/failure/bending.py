@@ -12,13 +12,13 @@ policy; rotation — flipped whole — in the thesis profile's, docs/model.md §
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, Literal
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
 import shapely
 
 from floebreak import constants as c
-from floebreak.errors import require_range
+from floebreak.errors import Bounds, check_bounds, require_range
 from floebreak.failure.base import (
     FailureContext,
     FailureInput,
@@ -43,14 +43,16 @@ BreakingLengthMode = Literal["max_stress", "max_moment"]
 class BendingSettings:
     """Parameters of the bending model (SI; angles in degrees); scenario table ``[failure.bending]``."""
 
-    wedge_angle_deg: float = c.WEDGE_ANGLE_DEG
-    """bending wedge angle φ [deg] (thesis §4.1.2), in (0, 60]"""
+    wedge_angle_deg: Annotated[float, Bounds(0.0, 60.0, low_inclusive=False, unit="deg")] = c.WEDGE_ANGLE_DEG
+    """bending wedge angle φ [deg] (thesis §4.1.2: 5°), in (0, 60]: Nevel's narrow-wedge solution holds
+    below φ_crit = 60° (Erceg et al., thesis §4.1.2)"""
     flexural_strength_pa: float = c.FLEXURAL_STRENGTH_PA
     """σ_f [Pa] (from [ice])"""
     capacity_model: CapacityModel = "nevel_narrow"
     """P_f: Nevel's narrow wedge over the fan Θ, Kashtelyan, or the thesis' per-wedge F_v (erratum 13)"""
-    kashtelyan_coefficient: float = 3.0
-    """coefficient of the Kashtelyan capacity [-]"""
+    kashtelyan_coefficient: Annotated[float, Bounds(0.0, 10.0, low_inclusive=False)] = 3.0
+    """coefficient C_f of the Kashtelyan capacity [-], in (0, 10]: C_f ≈ 3 (physics-notes §1.5, confidence
+    low–medium); the capacity is linear in C_f, and 10 is over three times that"""
     breaking_length_mode: BreakingLengthMode = "max_stress"
     """bending line distance: maximum stress (notes §1) or maximum moment (thesis wording, erratum 11)"""
     loading_radius_model: LoadingRadiusModel = "sector_area"
@@ -59,13 +61,13 @@ class BendingSettings:
     """E [Pa] (from [ice])"""
     poisson_ratio: float = c.POISSON_RATIO
     """ν [-] (from [ice])"""
-    foundation_modulus_n_m3: float = c.FOUNDATION_MODULUS_N_M3
-    """k = ρ_w g of the elastic foundation [N/m³]"""
+    foundation_modulus_n_m3: Annotated[float, Bounds(1.0e3, 1.0e5, unit="N/m³")] = c.FOUNDATION_MODULUS_N_M3
+    """k = ρ_w g of the elastic foundation [N/m³] (physics-notes §0: 10 055 N/m³), in [1e3, 1e5]: a tenth to
+    ten times that of sea water (fresh water to brine lie within ±30 %)"""
 
     def __post_init__(self) -> None:
-        require_range("failure.wedge_angle_deg", self.wedge_angle_deg, low=0.0, high=60.0, unit="deg")
+        check_bounds(self, "failure.bending")
         require_range("ice.flexural_strength_pa", self.flexural_strength_pa, low=0.0, unit="Pa")
-        require_range("failure.kashtelyan_coefficient", self.kashtelyan_coefficient, low=0.0)
 
 
 @dataclass(frozen=True)

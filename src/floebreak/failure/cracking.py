@@ -20,13 +20,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar, Literal
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
 import shapely
 
 from floebreak import constants as c
-from floebreak.errors import InputError, require_range
+from floebreak.errors import Bounds, InputError, check_bounds, require_range
 from floebreak.failure.base import (
     FailureContext,
     FailureInput,
@@ -76,12 +76,19 @@ class CrackingSettings:
     """crack length a: indentation depth along the crack line, or ℓ/5 (Alg. 5)"""
     point_load_capacity: PointLoadCapacity = "bending_P"
     """capacity of the point-load criterion: Nevel bending P, or P_t = σ_t h b (thesis §4.2.1)"""
-    total_porosity_ppt: float = c.TOTAL_POROSITY_PPT
-    """total porosity for σ_t of P_t [‰]"""
-    tip_angle_deg: float = c.BOW_TIP_ANGLE_DEG
-    """bow tip angle α of the wedge-splitting fraction κ [deg]"""
-    wedge_friction: float = 0.0
-    """friction μ of the wedge-splitting fraction; κ with μ = 0 is the thesis' 1/(2 tan(α/2)) [-]"""
+    total_porosity_ppt: Annotated[float, Bounds(0.0, 1000.0, low_inclusive=False, unit="‰")] = (
+        c.TOTAL_POROSITY_PPT
+    )
+    """total porosity ν_t for σ_t of P_t [‰] (thesis §4.2.1: 50 ‰), in (0, 1000]: a volume fraction; σ_t ∝
+    ν_t^−0.6455 (physics-notes §4.2) has no finite value at 0"""
+    tip_angle_deg: Annotated[
+        float, Bounds(0.0, 180.0, low_inclusive=False, high_inclusive=False, unit="deg")
+    ] = c.BOW_TIP_ANGLE_DEG
+    """bow tip angle α of the wedge-splitting fraction κ [deg] (thesis Alg. 7: 64.54°), in (0, 180): the full
+    waterline entrance angle of a bow"""
+    wedge_friction: Annotated[float, Bounds(0.0, 2.0)] = 0.0
+    """friction μ of the wedge-splitting fraction; κ with μ = 0 is the thesis' 1/(2 tan(α/2)) [-], in [0, 2]:
+    the range of ice.friction_coefficient, a friction coefficient well above any measured for ice"""
     line_load_divide_by_thickness: bool = True
     """line load F_h/h in K_I (erratum 17; the thesis omits /h)"""
     line_load_crack_length: LineLoadCrackLength = "strip_critical"
@@ -91,24 +98,15 @@ class CrackingSettings:
     stress_mode: fracture.StressMode = "sif"
     """stress criteria form: K_I from the load, F_h/(h b) √(πa) F(a/b) (sif), the size-effect strength as the
     stress (strength), or the thesis' load-independent K_I(σ_n^t) (thesis; erratum 19, physics-notes §4.4)"""
-    next_crack_angle_deg: float = c.NEXT_CRACK_ANGLE_DEG
-    """α_nextcrack [deg]: rotation of a later crack in a cracked floe's piece (thesis §4.2.3), in [0, 90]"""
+    next_crack_angle_deg: Annotated[float, Bounds(0.0, 90.0, unit="deg")] = c.NEXT_CRACK_ANGLE_DEG
+    """α_nextcrack [deg]: rotation of a later crack in a cracked floe's piece (thesis §4.2.3: 30°), in
+    [0, 90]: beyond 90° the crack would turn back towards the bow"""
 
     def __post_init__(self) -> None:
         require_range(
             "ice.fracture_toughness_pa_sqrt_m", self.fracture_toughness_pa_sqrt_m, low=0.0, unit="Pa·√m"
         )
-        require_range(
-            "failure.next_crack_angle_deg",
-            self.next_crack_angle_deg,
-            low=0.0,
-            high=90.0,
-            low_inclusive=True,
-            unit="deg",
-        )
-        require_range(
-            "failure.tip_angle_deg", self.tip_angle_deg, low=0.0, high=180.0, high_inclusive=False, unit="deg"
-        )
+        check_bounds(self, "failure.cracking")
         allowed = ("point_load", "line_load", "tensile_stress", "flexural_stress")
         if self.criterion not in allowed:
             raise InputError("failure.crack_criterion", repr(self.criterion), allowed=", ".join(allowed))

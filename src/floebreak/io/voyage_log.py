@@ -9,12 +9,12 @@ column                         meaning
 ``start_utc``, ``end_utc``     start and end of the period, ISO 8601 (``2019-12-18T20:20``, ``…Z`` or
                                ``…+02:00``; without an offset the time is UTC)
 ``concentration_percent``      ice concentration in (0, 100] % — or ``concentration_fraction`` in (0, 1]
-``mean_thickness_m``           mean ice thickness [m], > 0
+``mean_thickness_m``           mean ice thickness [m], in (0, 10]
 ``share_d<D>m_percent``        share of the floe *count* in the equivalent-diameter class D [m], e.g.
                                ``share_d2.5m_percent`` (thesis Table 1 classes: 2.5, 7.5, 15, 60, 300 m);
                                one column per class, shares in [0, 100] %, summing to 100 ± 0.5 % per row
-``speed_m_s`` / ``speed_kn``   optional: ship speed [m/s] or [kn], > 0
-``propeller_rpm``              optional: propeller speed [1/min], > 0
+``speed_m_s`` / ``speed_kn``   optional: ship speed [m/s] or [kn], in (0, 20] m/s (38.8 kn)
+``propeller_rpm``              optional: propeller speed [1/min], in (0, 1000]
 ``propeller_pitch_percent``    optional: pitch P_0.7 relative to the maximum pitch [%], in [0, 100]
 ``label``                      optional: free text
 =============================  ==========================================================================
@@ -39,6 +39,8 @@ from pathlib import Path
 
 from floebreak.errors import InputError
 from floebreak.ice.observations import PERCENT_SUM_TOLERANCE
+from floebreak.propeller.spec import MAX_PROPELLER_RPM
+from floebreak.scenario import SPEED_M_S, THICKNESS_M
 
 KNOT_M_S = 1852.0 / 3600.0  # international knot
 SHARE_COLUMN = re.compile(r"^share_d(?P<diameter>[0-9]+(\.[0-9]+)?)m_percent$")
@@ -206,7 +208,7 @@ def _period(source: str, row: int, line: int, cells: dict[str, str], shares: lis
         concentration = _number(
             cells["concentration_fraction"], where("concentration_fraction"), 0.0, 1.0, False, ""
         )
-    thickness = _number(cells["mean_thickness_m"], where("mean_thickness_m"), 0.0, None, False, "m")
+    thickness = _number(cells["mean_thickness_m"], where("mean_thickness_m"), 0.0, THICKNESS_M[1], False, "m")
     percentages = [_number(cells[name], where(name), 0.0, 100.0, True, "%") for name, _ in shares]
     total = sum(percentages)
     if abs(total - 100.0) > PERCENT_SUM_TOLERANCE:
@@ -218,12 +220,13 @@ def _period(source: str, row: int, line: int, cells: dict[str, str], shares: lis
         )
     speed = None
     if "speed_m_s" in cells:
-        speed = _number(cells["speed_m_s"], where("speed_m_s"), 0.0, None, False, "m/s")
+        speed = _number(cells["speed_m_s"], where("speed_m_s"), 0.0, SPEED_M_S[1], False, "m/s")
     elif "speed_kn" in cells:
-        speed = _number(cells["speed_kn"], where("speed_kn"), 0.0, None, False, "kn") * KNOT_M_S
+        top_kn = math.floor(10.0 * SPEED_M_S[1] / KNOT_M_S) / 10.0  # 38.8 kn: not above 20 m/s
+        speed = _number(cells["speed_kn"], where("speed_kn"), 0.0, top_kn, False, "kn") * KNOT_M_S
     rpm = pitch = None
     if "propeller_rpm" in cells:
-        rpm = _number(cells["propeller_rpm"], where("propeller_rpm"), 0.0, None, False, "1/min")
+        rpm = _number(cells["propeller_rpm"], where("propeller_rpm"), 0.0, MAX_PROPELLER_RPM, False, "1/min")
     if "propeller_pitch_percent" in cells:
         pitch = _number(
             cells["propeller_pitch_percent"], where("propeller_pitch_percent"), 0.0, 100.0, True, "%"

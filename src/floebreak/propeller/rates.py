@@ -18,6 +18,7 @@ import numpy as np
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
+from floebreak.scenario import PROPELLER_COUNT, SPEED_M_S
 
 SECONDS_PER_HOUR = 3600.0
 
@@ -32,15 +33,19 @@ class RateBasis:
     n_propellers: int = c.PROPELLER_COUNT
 
     def __post_init__(self) -> None:
-        require_range("ship.speed_m_s", self.speed_m_s, low=0.0, unit="m/s")
+        require_range("ship.speed_m_s", self.speed_m_s, low=SPEED_M_S[0], high=SPEED_M_S[1], unit="m/s")
         require_range("propeller.fraction_reaching", self.fraction_reaching, low=0.0, high=1.0)
         if (
             isinstance(self.n_propellers, bool)
             or int(self.n_propellers) != self.n_propellers
-            or self.n_propellers < 1
+            or not PROPELLER_COUNT[0] <= self.n_propellers <= PROPELLER_COUNT[1]
         ):
+            allowed = f"an integer in [{PROPELLER_COUNT[0]}, {PROPELLER_COUNT[1]}]"
             raise InputError(
-                "propeller.count", f"{self.n_propellers!r} is not a positive integer", value=self.n_propellers
+                "propeller.count",
+                f"{self.n_propellers!r} is not {allowed}",
+                value=self.n_propellers,
+                allowed=allowed,
             )
 
     @property

@@ -149,7 +149,7 @@ class OperatingProfile:
 
     def __post_init__(self) -> None:
         require_range("hours_in_ice_per_year", self.hours_in_ice_per_year, low=0.0, high=8766.0, unit="h")
-        require_range("years", self.years, low=0.0, unit="a")
+        require_range("years", self.years, low=0.0, high=100.0, unit="a")  # ships serve 20–40 years
 
     @property
     def hours(self) -> float:

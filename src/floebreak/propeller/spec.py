@@ -7,6 +7,10 @@ from dataclasses import dataclass
 
 from floebreak.errors import InputError, require_range
 
+# propeller speeds: the Agulhas II's turns at 140 1/min (thesis §6.1.2); 1000 1/min is above any ice-going
+# ship's propeller, and bounds the samples of a shaft analysis (they grow with the speed)
+MAX_PROPELLER_RPM = 1000.0
+
 PITCH_ANGLE_RADII = ("r07", "thesis_r_prop")
 
 
@@ -36,7 +40,7 @@ class PropellerSpec:
         require_range("propeller.radius_m", self.radius_m, low=0.0, unit="m")
         require_range("propeller.max_pitch_m", self.max_pitch_m, low=0.0, unit="m")
         require_range("propeller.pitch_percent", self.pitch_percent, low=0.0, high=100.0, low_inclusive=True)
-        require_range("propeller.rpm", self.rpm, low=0.0, unit="1/min")
+        require_range("propeller.rpm", self.rpm, low=0.0, high=MAX_PROPELLER_RPM, unit="1/min")
         if isinstance(self.blades, bool) or int(self.blades) != self.blades or self.blades < 1:
             raise InputError(
                 "propeller.blades", f"{self.blades!r} is not a positive integer", value=self.blades

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from floebreak.errors import InputError, require_range
+from floebreak.propeller.spec import MAX_PROPELLER_RPM
 
 MIN_SAMPLES_PER_BLADE_PASSAGE = 20
 IMPACT_BLOCK = 65_536
@@ -106,7 +107,7 @@ def _cusp_arrays(arrival_s, torque_amplitude_n_m, thickness_m):
 
 
 def _check(rpm, blades, samples_per_blade_passage) -> None:
-    require_range("rpm", rpm, low=0.0, unit="1/min")
+    require_range("rpm", rpm, low=0.0, high=MAX_PROPELLER_RPM, unit="1/min")
     if isinstance(blades, bool) or int(blades) != blades or blades < 1:
         raise InputError("blades", f"{blades!r} is not a positive integer", value=blades)
     if int(samples_per_blade_passage) != samples_per_blade_passage or (

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.errors import InputError, require_range
+from floebreak.propeller.spec import MAX_PROPELLER_RPM
 
 BUILTIN_LINES = ("agulhas_ii",)
 G_STEEL_PA = 80e9  # shear modulus of shaft steel
@@ -212,7 +213,7 @@ def shaft_line_from_dict(data: dict, key: str = "shaft_line", source: str = "") 
     line = ShaftLine(
         name=str(data.get("name", "custom")),
         elements=elements,
-        rpm=require_range(f"{key}.rpm", data.get("rpm"), low=0.0, unit="1/min"),
+        rpm=require_range(f"{key}.rpm", data.get("rpm"), low=0.0, high=MAX_PROPELLER_RPM, unit="1/min"),
         rated_power_w=None
         if power is None
         else require_range(f"{key}.rated_power_w", power, low=0.0, unit="W"),
@@ -312,7 +313,7 @@ def with_operating_point(line: ShaftLine, rpm: float | None = None, mean_torque_
     """The line at another rpm and/or mean torque (validated: rpm > 0, torque ≥ 0)."""
     changes: dict = {}
     if rpm is not None:
-        changes["rpm"] = require_range("rpm", rpm, low=0.0, unit="1/min")
+        changes["rpm"] = require_range("rpm", rpm, low=0.0, high=MAX_PROPELLER_RPM, unit="1/min")
     if mean_torque_n_m is not None:
         changes["mean_torque_n_m"] = require_range(
             "mean_torque_n_m", mean_torque_n_m, low=0.0, low_inclusive=True, unit="N m"

@@ -153,11 +153,17 @@ def _checked_bow_parameters(
     midbody_length_m,
     midbody_frame_angle_deg,
 ) -> dict[str, Any]:
-    """The parameters of `parametric_bow`, range-checked, by name (InputError names the parameter)."""
+    """The parameters of `parametric_bow`, range-checked, by name (InputError names the parameter).
+
+    The upper bounds are physical: a beam ≤ 100 m and a midbody ≤ 500 m (the largest ships are ≈ 70 m wide
+    and ≈ 460 m long), an ice thickness ≤ 10 m (`floebreak.scenario.THICKNESS_M`), exponents ≤ 10 (p = 10
+    already makes the bow ten times as long as a straight wedge of the same entrance angle), ≤ 1000 panels
+    a side (finer than any step of the bow).
+    """
     angle = {"low": 0.0, "high": 90.0, "unit": "deg"}
     half_open = {**angle, "low_inclusive": True, "high_inclusive": False}
     values = {
-        "beam_m": require_range("beam_m", beam_m, low=0.0, unit="m"),
+        "beam_m": require_range("beam_m", beam_m, low=0.0, high=100.0, unit="m"),
         "waterline_entrance_half_angle_deg": require_range(
             "waterline_entrance_half_angle_deg", alpha0_deg, **angle, high_inclusive=False
         ),
@@ -165,20 +171,27 @@ def _checked_bow_parameters(
         "shoulder_frame_angle_deg": require_range(
             "shoulder_frame_angle_deg", shoulder_frame_angle_deg, **half_open
         ),
-        "shape_exponent": require_range("shape_exponent", shape_exponent, low=1.0, low_inclusive=True),
-        "flare_exponent": require_range("flare_exponent", flare_exponent, low=0.0),
-        "ice_thickness_m": require_range("ice_thickness_m", ice_thickness_m, low=0.0, unit="m"),
+        "shape_exponent": require_range(
+            "shape_exponent", shape_exponent, low=1.0, high=10.0, low_inclusive=True
+        ),
+        "flare_exponent": require_range("flare_exponent", flare_exponent, low=0.0, high=10.0),
+        "ice_thickness_m": require_range("ice_thickness_m", ice_thickness_m, low=0.0, high=10.0, unit="m"),
     }
     if (
         isinstance(n_panels_per_side, bool)
         or not isinstance(n_panels_per_side, int | np.integer)
-        or (n_panels_per_side < 2)
+        or not 2 <= n_panels_per_side <= 1000
     ):
         raise InputError(
-            "n_panels_per_side", f"must be an integer ≥ 2, got {n_panels_per_side!r}", value=n_panels_per_side
+            "n_panels_per_side",
+            f"must be an integer in [2, 1000], got {n_panels_per_side!r}",
+            value=n_panels_per_side,
+            allowed="[2, 1000]",
         )
     values["n_panels_per_side"] = int(n_panels_per_side)
-    midbody = require_range("midbody_length_m", midbody_length_m, low=0.0, low_inclusive=True, unit="m")
+    midbody = require_range(
+        "midbody_length_m", midbody_length_m, low=0.0, high=500.0, low_inclusive=True, unit="m"
+    )
     values["midbody_length_m"] = midbody
     values["midbody_frame_angle_deg"] = (
         values["shoulder_frame_angle_deg"]

@@ -43,7 +43,7 @@ def study(
 ) -> None:
     """Run a parameter study / Monte Carlo ensemble; each run writes its own run directory."""
     from floebreak.studies.aggregate import aggregate
-    from floebreak.studies.design import expand, load_study, thesis_study
+    from floebreak.studies.design import check_n_fields, expand, load_study, thesis_study
     from floebreak.studies.executors import make_executor
     from floebreak.studies.runner import run_study
 
@@ -52,8 +52,7 @@ def study(
     if spec == "thesis":
         if profile not in ("default", "thesis"):
             raise InputError("profile", f"unknown profile {profile!r}", allowed="default, thesis")
-        if n_fields < 1:
-            raise InputError("n_fields", f"{n_fields} < 1", value=n_fields, allowed="an integer ≥ 1")
+        check_n_fields(n_fields)
         study_spec, base_dir = thesis_study(n_fields=n_fields, profile=profile), None
     else:
         study_spec, base_dir = load_study(spec)

@@ -34,7 +34,11 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from floebreak.errors import InputError
-from floebreak.scenario import REFERENCE_TOML, Scenario
+from floebreak.scenario import REFERENCE_TOML, SEED_MAX, Scenario, allowed_interval
+
+# random fields per design point: the Monte Carlo error falls as 1/√n, to 1 % of one field's scatter at
+# 10 000; each field is a whole run
+N_FIELDS = (1, 10_000)
 
 
 class Sweep(BaseModel):
@@ -51,8 +55,15 @@ class StudySpec(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
     name: str = Field("study", description="study name")
-    root_seed: int = Field(2023, ge=0, description="root of numpy.random.SeedSequence for all runs")
-    n_fields: int = Field(4, description="random floe fields per design point (Monte Carlo), ≥ 1")
+    root_seed: int = Field(
+        2023, ge=0, le=SEED_MAX, description="root of numpy.random.SeedSequence for all runs, 0 … 2⁶³ − 1"
+    )
+    n_fields: int = Field(
+        4,
+        ge=N_FIELDS[0],
+        le=N_FIELDS[1],
+        description="random floe fields per design point (Monte Carlo), 1 … 10 000 (the error falls as 1/√n)",
+    )
     common_fields: bool = Field(True, description="same fields at every design point (field-index seeds)")
     base: dict[str, Any] | str | None = Field(
         None, description="inline scenario table, or a scenario file path"
@@ -92,6 +103,16 @@ def run_seed(root_seed: int, key: int) -> int:
     return int(state[0])
 
 
+def check_n_fields(n_fields: Any) -> int:
+    """`n_fields` (random fields per design point) if it is an integer in `N_FIELDS`, else InputError."""
+    low, high = N_FIELDS
+    if isinstance(n_fields, bool) or not isinstance(n_fields, int) or not low <= n_fields <= high:
+        raise InputError(
+            "n_fields", f"{n_fields!r} is outside [{low}, {high}]", value=n_fields, allowed=f"[{low}, {high}]"
+        )
+    return n_fields
+
+
 def load_study(path: str | Path) -> tuple[StudySpec, Path]:
     path = Path(path)
     try:
@@ -111,9 +132,10 @@ def study_from_dict(data: Mapping[str, Any]) -> StudySpec:
     except ValidationError as error:
         first = error.errors()[0]
         key = ".".join(str(p) for p in first["loc"])
-        raise InputError(key or "study", first["msg"], allowed="see docs/studies.md") from None
-    if spec.n_fields < 1:
-        raise InputError("n_fields", f"{spec.n_fields} < 1", value=spec.n_fields, allowed="an integer ≥ 1")
+        allowed = allowed_interval(StudySpec.model_json_schema(), first["loc"]) or "see docs/studies.md"
+        value = first.get("input")
+        message = first["msg"] if isinstance(value, dict | list) else f"{first['msg']} (got {value!r})"
+        raise InputError(key or "study", message, value=value, allowed=allowed) from None
     return spec
 
 

@@ -35,8 +35,8 @@ from typing import Any
 
 from floebreak.errors import InputError, require_range
 from floebreak.io.voyage_log import LogPeriod, VoyageLog
-from floebreak.scenario import REFERENCE_TOML, Scenario, apply_overrides
-from floebreak.studies.design import Membership, StudySpec, Sweep, expand
+from floebreak.scenario import FIELD_LENGTH_M, REFERENCE_TOML, SEED_MAX, SPEED_M_S, Scenario, apply_overrides
+from floebreak.studies.design import Membership, StudySpec, Sweep, check_n_fields, expand
 
 DEFAULT_MAX_LENGTH_M = 400.0  # thesis §5.3 field length
 FIELD_MARGIN_M = 5.0  # each side, beyond the largest floe diameter
@@ -136,8 +136,8 @@ def plan_voyage(
 ) -> list[PeriodPlan]:
     """Speed, distance and field size of every period (see the module docstring for the rules)."""
     if speed_m_s is not None:
-        require_range("speed_m_s", speed_m_s, low=0.0, unit="m/s")
-    require_range("max_length_m", max_length_m, low=0.0, unit="m")
+        require_range("speed_m_s", speed_m_s, low=SPEED_M_S[0], high=SPEED_M_S[1], unit="m/s")
+    require_range("max_length_m", max_length_m, low=0.0, high=FIELD_LENGTH_M[1], unit="m")
     from floebreak.api import build_bow
 
     plans = []
@@ -331,10 +331,9 @@ def prepare_voyage(
     max_length_m: float = DEFAULT_MAX_LENGTH_M,
 ) -> VoyageSetup:
     """Validate the options and every period's scenario; nothing is written."""
-    if isinstance(n_fields, bool) or not isinstance(n_fields, int) or n_fields < 1:
-        raise InputError("n_fields", f"{n_fields!r} < 1", value=n_fields, allowed="an integer ≥ 1")
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise InputError("seed", f"{seed!r} is not an integer ≥ 0", value=seed, allowed="an integer ≥ 0")
+    check_n_fields(n_fields)
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= SEED_MAX:
+        raise InputError("seed", f"{seed!r} is outside [0, 2⁶³ − 1]", value=seed, allowed="[0, 2⁶³ − 1]")
     overrides = list(overrides)
     base = base_scenario(overrides)
     plans = plan_voyage(log, base, speed_m_s, max_length_m)

@@ -1,0 +1,307 @@
+"""The bad-input table of issue 20: each kind of bad input or trouble a user meets, the exit code and the
+message it gives, run through the command line in-process. Rows of refused input, a refusing machine and
+Ctrl-C (exit codes 2, 3, 130) also check that nothing was written and that no traceback was printed.
+
+The same table is README.md's "What a bad input gives" (between the markers below); after changing a row,
+write it again with ``PYTHONPATH=src python tests/test_bad_inputs.py``.
+"""
+
+from __future__ import annotations
+
+import errno
+import importlib
+import sys
+import tomllib
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+BEGIN = "<!-- bad-input table: generated from tests/test_bad_inputs.py, do not edit here -->"
+END = "<!-- end of the bad-input table -->"
+
+
+@dataclass(frozen=True)
+class Row:
+    kind: str  # what the user did (the README's first column)
+    example: str  # a command line that does it (paths shortened)
+    code: int  # exit code
+    message: str  # a fragment of the message (stderr, or stdout for a study's summary)
+    args: Callable[[Path, pytest.MonkeyPatch], list[str]]  # prepares tmp_path, returns floebreak's args
+
+
+def _scenario(folder: Path, text: str = "[field]\nlength_m = 60.0\n") -> str:
+    (folder / "s.toml").write_text(text, encoding="utf-8")
+    return str(folder / "s.toml")
+
+
+def _run(*extra: str) -> Callable[[Path, pytest.MonkeyPatch], list[str]]:
+    return lambda folder, _: ["run", _scenario(folder), "--out", str(folder / "out"), "-q", *extra]
+
+
+def _field(*extra: str) -> Callable[[Path, pytest.MonkeyPatch], list[str]]:
+    def args(folder: Path, _) -> list[str]:
+        out = str(folder / "f.parquet")
+        return ["field", "--out", out, "--obs", "2019-12-18T20:20", "--length", "60", *extra]
+
+    return args
+
+
+def _bow_csv(folder: Path, _) -> list[str]:
+    (folder / "bow.csv").write_text("x_m,y_m,line\n0,0,upper\n1,2\n", encoding="utf-8")
+    scenario = _scenario(folder, '[ship]\nfile = "bow.csv"\n[field]\nlength_m = 60.0\n')
+    return ["run", scenario, "--out", str(folder / "out")]
+
+
+def _voyage_log(folder: Path, _) -> list[str]:
+    header = "start_utc,end_utc,concentration_percent,mean_thickness_m,share_d5m_percent,share_d20m_percent"
+    rows = ["2020-01-01T00:00,2020-01-01T00:10,50,0.5,60,40", "2020-01-01T01:00,2020-01-01T01:30,150,1,100,0"]
+    (folder / "log.csv").write_text("\n".join([header, *rows]) + "\n", encoding="utf-8")
+    return ["voyage", str(folder / "log.csv"), "--out", str(folder / "voyage"), "--workers", "1"]
+
+
+def _existing_run(folder: Path, monkeypatch) -> list[str]:
+    (folder / "out").mkdir()
+    (folder / "out" / "keep.txt").write_text("mine", encoding="utf-8")
+    return _run()(folder, monkeypatch)
+
+
+def _existing_field(folder: Path, monkeypatch) -> list[str]:
+    (folder / "f.parquet").write_bytes(b"keep me")
+    return _field()(folder, monkeypatch)
+
+
+def _pseudo_file_system(folder: Path, monkeypatch) -> list[str]:
+    api = importlib.import_module("floebreak.api")
+    monkeypatch.setattr(api, "simulate", lambda *a, **k: pytest.fail("the run started"))  # refused before
+    return ["run", _scenario(folder), "--out", "/proc/floebreak-run", "-q"]
+
+
+def _disk_full(folder: Path, monkeypatch) -> list[str]:
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(importlib.import_module("floebreak.api"), "write_geoparquet", full)
+    return _run()(folder, monkeypatch)
+
+
+def _interrupted(folder: Path, monkeypatch) -> list[str]:
+    def ctrl_c(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(importlib.import_module("floebreak.api"), "simulate", ctrl_c)
+    return _run()(folder, monkeypatch)
+
+
+def _bug(folder: Path, monkeypatch) -> list[str]:
+    def broken(*args, **kwargs):
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr(importlib.import_module("floebreak.api"), "simulate", broken)
+    return _run()(folder, monkeypatch)
+
+
+STUDY = (
+    'name = "s"\nn_fields = 1\n[base]\nseed = 1\n[base.field]\nobservation = "2019-12-18T20:20"\n'
+    "length_m = 50.0\nwidth_m = 30.0\n"
+)
+
+
+def _relative_study_out(folder: Path, monkeypatch) -> list[str]:
+    (folder / "study.toml").write_text(STUDY, encoding="utf-8")
+    monkeypatch.chdir(folder)
+    return ["study", "study.toml", "--out", "relative", "--workers", "1"]
+
+
+def _damaged_study(folder: Path, monkeypatch) -> list[str]:
+    from floebreak.studies.design import expand, study_from_dict
+    from floebreak.studies.runner import run_study
+
+    spec = study_from_dict(tomllib.loads(STUDY))
+    runs, members = expand(spec)
+    run_study(spec, runs, members, folder / "study")
+    cusps = folder / "study" / "runs" / "run-00000" / "cusps.parquet"
+    cusps.write_bytes(cusps.read_bytes()[:300])  # truncated next to an intact summary.json
+    (folder / "study.toml").write_text(STUDY, encoding="utf-8")
+    return ["study", str(folder / "study.toml"), "--out", str(folder / "study"), "--workers", "1"]
+
+
+def _failing_study(folder: Path, monkeypatch) -> list[str]:
+    def broken(task):
+        raise RuntimeError("worker lost")
+
+    monkeypatch.setattr(importlib.import_module("floebreak.studies.runner"), "execute_run", broken)
+    (folder / "study.toml").write_text(STUDY, encoding="utf-8")
+    return ["study", str(folder / "study.toml"), "--out", str(folder / "study"), "--workers", "1"]
+
+
+ROWS = [
+    Row(
+        "non-finite number",
+        "`run s.toml --set ice.youngs_modulus_pa=inf`",
+        2,
+        "error: ice.youngs_modulus_pa: Input should be a finite number (got inf)",
+        _run("--set", "ice.youngs_modulus_pa=inf"),
+    ),
+    Row(
+        "number outside its physical range",
+        "`run s.toml --set field.length_m=1e9`",
+        2,
+        "error: field.length_m: Input should be less than or equal to 1000000 (got 1000000000.0) "
+        "(allowed: [1, 1e+06])",
+        _run("--set", "field.length_m=1e9"),
+    ),
+    Row(
+        "failure-mode setting outside its range",
+        "`run s.toml --set failure.bending.foundation_modulus_n_m3=-5`",
+        2,
+        "error: failure.bending.foundation_modulus_n_m3: Input should be greater than or equal to 1000 "
+        "(got -5) (allowed: [1000, 100000])",
+        _run("--set", "failure.bending.foundation_modulus_n_m3=-5"),
+    ),
+    Row(
+        "non-finite option",
+        "`field --out f.parquet --length inf`",
+        2,
+        "error: length: Input should be a finite number (got inf)",
+        _field("--length", "inf"),
+    ),
+    Row(
+        "unknown key",
+        "`run s.toml --set ice.thicknes_m=1.0`",
+        2,
+        "error: ice.thicknes_m: unknown key (allowed: thickness_m, thickness_range_m,",
+        _run("--set", "ice.thicknes_m=1.0"),
+    ),
+    Row(
+        "bad row in a bow CSV file (file and row kept)",
+        '`run s.toml` with `[ship] file = "bow.csv"`',
+        2,
+        "error: ship.file: <folder>/bow.csv row 3: has 2 values, the header has 3 columns",
+        _bow_csv,
+    ),
+    Row(
+        "bad value in a voyage log (file, row and column kept)",
+        "`voyage log.csv --out voyage`",
+        2,
+        "log.csv, row 2 (line 3), column 'concentration_percent': 150 is outside (0, 100] %",
+        _voyage_log,
+    ),
+    Row(
+        "existing run directory",
+        "`run s.toml --out out` (out exists)",
+        2,
+        "error: out: '<folder>/out' exists (allowed: a new path, or pass --overwrite)",
+        _existing_run,
+    ),
+    Row(
+        "existing field file",
+        "`field --out f.parquet` (f.parquet exists)",
+        2,
+        "error: out: '<folder>/f.parquet' exists (allowed: a new path, or pass --overwrite)",
+        _existing_field,
+    ),
+    Row(
+        "unknown figure format",
+        "`field --out f.parquet --figure fig.xyz`",
+        2,
+        "error: figure: unknown figure format '.xyz' (allowed: avif, eps,",
+        _field("--figure", "fig.xyz"),
+    ),
+    Row(
+        "more pieces than the budget (thin ice)",
+        "`run s.toml --set simulation.max_pieces=40`",
+        2,
+        "error: simulation.max_pieces: the ice breaks into more than 40 pieces",
+        _run("--set", "simulation.max_pieces=40"),
+    ),
+    Row(
+        "output on a pseudo file system (refused before the run)",
+        "`run s.toml --out /proc/floebreak-run`",
+        3,
+        "error: cannot write '/proc/floebreak-run': No such file or directory",
+        _pseudo_file_system,
+    ),
+    Row(
+        "disk full while writing",
+        "`run s.toml --out out` (ENOSPC)",
+        3,
+        "error: cannot write '<folder>/out': No space left on device",
+        _disk_full,
+    ),
+    Row(
+        "a study's runs failed",
+        "`study study.toml --out study` (every run raises)",
+        4,
+        "1 of 1 runs failed (records in <folder>/study/failed/; running the study again retries them)",
+        _failing_study,
+    ),
+    Row(
+        "relative `--out` of a study (made absolute before it reaches a worker, local or Dask)",
+        "`study study.toml --out relative`",
+        0,
+        "complete 1, failed 0: tables in <folder>/relative/tables",
+        _relative_study_out,
+    ),
+    Row(
+        "resuming a study with a damaged run (truncated `cusps.parquet`, intact `summary.json`)",
+        "`study study.toml --out study` (again)",
+        0,
+        "failed 0, resumed 0",  # the damaged run is not trusted: run again
+        _damaged_study,
+    ),
+    Row(
+        "Ctrl-C",
+        "Ctrl-C during `run`",
+        130,
+        "interrupted (Ctrl-C); nothing half-written was kept",
+        _interrupted,
+    ),
+    Row(
+        "internal error (a bug)",
+        "(none known)",
+        1,
+        "internal error: RuntimeError: a bug; scenario and traceback saved to "
+        "<folder>/out.failed-scenario.toml — please report this bug",
+        _bug,
+    ),
+]
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="the pseudo-file-system row needs Linux /proc")
+@pytest.mark.parametrize("row", ROWS, ids=[row.kind for row in ROWS])
+def test_bad_input_gives_its_exit_code_and_message(row, tmp_path, monkeypatch, cli):
+    args = row.args(tmp_path, monkeypatch)
+    before = {path: path.stat().st_mtime_ns for path in tmp_path.rglob("*")}
+    code, out, err = cli(*args)
+    # rich wraps long lines for an 80-column console, within words too: compared without white space
+    text = "".join((out + err).split()).replace("".join(str(tmp_path).split()), "<folder>")
+    assert code == row.code, err
+    assert "".join(row.message.split()) in text, text
+    if row.code in (2, 3, 130):  # refused or stopped: nothing written, nothing half-written
+        assert "Traceback" not in err
+        assert {path: path.stat().st_mtime_ns for path in tmp_path.rglob("*")} == before
+
+
+def markdown_table() -> str:
+    lines = ["| what the user did | example | exit code | message (part) |", "|---|---|---|---|"]
+    for row in ROWS:
+        lines.append(f"| {row.kind} | {row.example} | {row.code} | `{row.message}` |")
+    return "\n".join(lines)
+
+
+def _readme_with_table(text: str) -> str:
+    start, end = text.index(BEGIN) + len(BEGIN), text.index(END)
+    return text[:start] + "\n" + markdown_table() + "\n" + text[end:]
+
+
+def test_readme_shows_this_table():
+    text = README.read_text(encoding="utf-8")
+    assert text == _readme_with_table(text), "README.md's bad-input table is stale: run this file to write it"
+
+
+if __name__ == "__main__":
+    README.write_text(_readme_with_table(README.read_text(encoding="utf-8")), encoding="utf-8")
+    sys.stdout.write(markdown_table() + "\n")
