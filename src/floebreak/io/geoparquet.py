@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +27,11 @@ from floebreak.io.jsonable import to_json
 
 GEO_METADATA_KEY = b"geo"
 FLOEBREAK_METADATA_KEY = b"floebreak"
+# Rows per Parquet row group of a large table: a table is converted to WKB and Arrow one row group at a time,
+# so writing holds a few copies of one group rather than of the whole table (a long transit's pieces,
+# contact records). A table of at most this many rows is one row group, as ``pyarrow.parquet.write_table``
+# writes it.
+ROW_GROUP_ROWS = 16_384
 
 
 def _variable_width(items: list[bytes], arrow_type: pa.DataType) -> pa.Array | None:
@@ -127,16 +132,19 @@ def geo_metadata(geometries: np.ndarray) -> dict[str, Any]:
 
 
 def geoparquet_table(
-    geometries: np.ndarray, columns: Mapping[str, Any], metadata: Mapping[str, Any]
+    geometries: np.ndarray,
+    columns: Mapping[str, Any],
+    metadata: Mapping[str, Any],
+    geo: Mapping[str, Any] | None = None,
 ) -> pa.Table:
     """An Arrow table with a WKB ``geometry`` column first, then `columns` (with units), GeoParquet metadata
-    attached."""
+    attached (`geo`: that of a whole table this one is a row group of; default `geo_metadata(geometries)`)."""
     geometries = np.asarray(geometries, dtype=object)
     wkb = shapely.to_wkb(geometries, output_dimension=2) if len(geometries) else np.array([], dtype=object)
     arrays = {"geometry": arrow_array(list(wkb), binary=True)}
     table = pa.table(arrays | {name: arrow_array(values) for name, values in columns.items()})
     schema_metadata = {
-        GEO_METADATA_KEY: json.dumps(geo_metadata(geometries)).encode(),
+        GEO_METADATA_KEY: json.dumps(geo or geo_metadata(geometries)).encode(),
         FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode(),
     }
     return with_units(table.replace_schema_metadata(schema_metadata))
@@ -149,11 +157,36 @@ def write_geoparquet(
     metadata: Mapping[str, Any],
     field: str = "output",
 ) -> Path:
-    """Write a GeoParquet file atomically (temporary name, then rename)."""
-    table = geoparquet_table(geometries, columns, metadata)
+    """Write a GeoParquet file atomically (temporary name, then rename), in row groups of `ROW_GROUP_ROWS`."""
+    geometries = np.asarray(geometries, dtype=object)
+    geo = geo_metadata(geometries)
     with atomic_path(path, field=field) as temp:
-        pq.write_table(table, temp)
+        write_row_groups(
+            temp,
+            (
+                geoparquet_table(geometries[rows], {k: v[rows] for k, v in columns.items()}, metadata, geo)
+                for rows in row_groups(len(geometries))
+            ),
+        )
     return Path(path)
+
+
+def row_groups(n_rows: int, size: int = ROW_GROUP_ROWS) -> list[slice]:
+    """Slices of `size` rows covering `n_rows` (one empty slice for an empty table)."""
+    return [slice(start, start + size) for start in range(0, n_rows, size)] or [slice(0, 0)]
+
+
+def write_row_groups(path: str | os.PathLike[str], tables: Iterable[pa.Table]) -> None:
+    """Write `tables` (same schema, metadata included) as one Parquet file, each as its own row group(s)."""
+    writer = None
+    try:
+        for table in tables:
+            if writer is None:
+                writer = pq.ParquetWriter(path, table.schema)
+            writer.write_table(table.cast(writer.schema))  # a chunk's types as the first one's
+    finally:
+        if writer is not None:
+            writer.close()
 
 
 def read_geoparquet(
