@@ -46,7 +46,7 @@ from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.io.atomic import atomic_directory
 from floebreak.io.contacts import ContactFile, read_contacts, write_contacts
-from floebreak.io.geoparquet import write_geoparquet
+from floebreak.io.geoparquet import row_groups, write_geoparquet, write_geoparquet_groups
 from floebreak.io.jsonable import jsonable, to_json
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.io.storage import as_storage_error, probe_directory
@@ -405,7 +405,7 @@ class Result:
         sim = self.simulation
         upper_x = np.asarray(sim.bow.upper_xy_m)[:, 0]
         x_last = sim.params.x_start_m + (sim.n_steps - 1) * sim.params.step_m
-        pieces = shapely.total_bounds(sim.polygon) if sim.polygon.size else np.array(sim.field.domain_m)
+        pieces = _total_bounds(sim.piece_bounds_m) if sim.piece_id.size else np.array(sim.field.domain_m)
         xlim = (
             min(pieces[0], sim.params.x_start_m + upper_x.min()) - 2.0,
             max(pieces[2], x_last + upper_x.max()) + 2.0,
@@ -527,6 +527,14 @@ def run(
     return Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path)
 
 
+def _total_bounds(bounds: np.ndarray) -> np.ndarray:
+    """(x_min, y_min, x_max, y_max) of rows of bounds, NaN rows (empty pieces) skipped, as
+    ``shapely.total_bounds`` of the pieces."""
+    if np.isnan(bounds).all():
+        return np.full(4, np.nan)
+    return np.concatenate([np.nanmin(bounds[:, :2], axis=0), np.nanmax(bounds[:, 2:], axis=0)])
+
+
 def _provenance(scenario: Scenario, kind: str) -> dict[str, Any]:
     """The provenance of a file of the run of the resolved `scenario`."""
     return provenance(
@@ -568,7 +576,9 @@ def field_table(floe_field: FloeField) -> dict[str, Any]:
 
 
 def pieces_table(
-    simulation: SimulationResult, contacts: Mapping[str, np.ndarray] | ContactRecords
+    simulation: SimulationResult,
+    contacts: Mapping[str, np.ndarray] | ContactRecords,
+    geometry: bool = True,
 ) -> dict[str, Any]:
     """Columns of every piece of the run (fates "broken", "cusp", "flipped", "remaining"), geometry included.
 
@@ -580,6 +590,7 @@ def pieces_table(
     fails at most once, in its one evaluation with an outcome other than "no_failure". (Fallback without a
     record: the earliest step among its children, which is exact whenever one child stayed in the field or
     broke again.) `contacts`: the records' columns, or what `ContactRecorder.records` keeps of them.
+    `geometry=False`: no ``geometry`` column (for a writer that takes the polygons a row group at a time).
     """
     if isinstance(contacts, ContactRecords):
         failed_piece, failed_step = contacts.failed_piece_id, contacts.failed_step
@@ -603,9 +614,7 @@ def pieces_table(
         np.minimum.at(children_step, parents[child], simulation.step[child])
         ended[broken] = np.where(break_step[broken] != never, break_step[broken], children_step[broken])
     created = np.where(parents >= 0, ended[np.maximum(parents, 0)], -1).astype(np.int64)
-    polygons = simulation.polygon
-    return {
-        "geometry": polygons,
+    columns = {
         "piece_id": simulation.piece_id,
         "parent_piece_id": parents,
         "parent_floe_id": simulation.parent_floe_id,
@@ -616,11 +625,24 @@ def pieces_table(
         "area_m2": simulation.piece_area_m2,
         "ended_by": simulation.ended_by,
     }
+    return {"geometry": simulation.polygon, **columns} if geometry else columns
 
 
 def _write_table(path: Path, columns: Mapping[str, Any], metadata: Mapping[str, Any]) -> None:
     rest = {k: v for k, v in columns.items() if k != "geometry"}
     write_geoparquet(path, columns["geometry"], rest, metadata)
+
+
+def _write_piece_file(path: Path, sim: SimulationResult, fate: str, metadata: Mapping[str, Any]) -> None:
+    """The table of the pieces with `fate` (`piece_table`), built and written one row group at a time."""
+    ids = np.flatnonzero(sim.mask(fate))
+
+    def table_of(group: np.ndarray) -> tuple[np.ndarray, dict[str, Any]]:
+        columns = piece_table(sim, fate, group)
+        return columns.pop("geometry"), columns
+
+    groups = [ids[rows] for rows in row_groups(len(ids))]
+    write_geoparquet_groups(path, groups, sim.polygons, table_of, metadata)
 
 
 def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
@@ -676,16 +698,22 @@ def _write_run_files(
             "field": dict(result.field.metadata),
         }
         _write_table(temp / "field.parquet", field_table(result.field), field_meta)
+        sim = result.simulation
         for fate, name in PIECE_FILES.items():
-            table = getattr(result, {"cusp": "cusps"}.get(fate, fate))
-            _write_table(temp / name, table, result.provenance(fate))
+            _write_piece_file(temp / name, sim, fate, result.provenance(fate))
         if result.contacts_file is not None and result.contact_records.columns is None:
             shutil.copyfile(result.contacts_file, temp / CONTACTS_FILE)  # the records streamed there
         else:
             write_contacts(temp / CONTACTS_FILE, result.contacts, result.provenance("contacts"))
-        sim = result.simulation
         stepping = {"x_start_m": sim.params.x_start_m, "step_m": sim.params.step_m, "n_steps": sim.n_steps}
-        _write_table(temp / PIECES_FILE, result.pieces, {**result.provenance("pieces"), **stepping})
+        columns = pieces_table(sim, result.contact_records, geometry=False)
+        write_geoparquet_groups(
+            temp / PIECES_FILE,
+            row_groups(len(sim.piece_id)),
+            sim.polygons,
+            lambda rows: (sim.polygons(rows), {k: v[rows] for k, v in columns.items()}),
+            {**result.provenance("pieces"), **stepping},
+        )
         summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
         (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
         header = (

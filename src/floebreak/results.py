@@ -224,10 +224,11 @@ def oriented_box_dimensions_m(polygons: np.ndarray) -> tuple[np.ndarray, np.ndar
     return length, width
 
 
-def piece_table(result: SimulationResult, fate: str) -> dict[str, Any]:
-    """Columns of the pieces with `fate` ("cusp", "flipped", "remaining"), geometry included."""
-    mask = result.mask(fate)
-    polygons = result.polygon[mask]
+def piece_table(result: SimulationResult, fate: str, index: np.ndarray | None = None) -> dict[str, Any]:
+    """Columns of the pieces with `fate` ("cusp", "flipped", "remaining"), geometry included; `index`: of
+    those only the pieces with these ids (ascending), e.g. a row group's worth of a long run's pieces."""
+    mask = np.flatnonzero(result.mask(fate)) if index is None else np.asarray(index, dtype=np.int64)
+    polygons = result.polygons(mask)
     area = shapely.area(polygons) if polygons.size else np.zeros(0)
     thickness = result.thickness_m[mask]
     length, width = oriented_box_dimensions_m(polygons)
@@ -257,7 +258,7 @@ def summary(
     records (columns, or what `ContactRecorder.records` keeps of them) their number and the largest
     crushing force."""
     cusp_mask, flip_mask = result.mask("cusp"), result.mask("flipped")
-    cusp_area = shapely.area(result.polygon[cusp_mask]) if cusp_mask.any() else np.zeros(0)
+    cusp_area = result.piece_area_m2[cusp_mask]  # each = shapely.area of its polygon
     cusp_volume = cusp_area * result.thickness_m[cusp_mask]
     n_cusps = int(cusp_mask.sum())
     out: dict[str, Any] = {

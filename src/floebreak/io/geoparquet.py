@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -118,7 +118,17 @@ def with_units(table: pa.Table) -> pa.Table:
 
 def geo_metadata(geometries: np.ndarray) -> dict[str, Any]:
     """The GeoParquet 1.1 ``geo`` metadata of a WKB column ``geometry`` holding `geometries`."""
-    type_ids = set(shapely.get_type_id(geometries).tolist())
+    return geo_metadata_of_parts([geometries])
+
+
+def geo_metadata_of_parts(parts: Iterable[np.ndarray]) -> dict[str, Any]:
+    """`geo_metadata` of the geometries of all `parts` together (one part at a time in memory)."""
+    type_ids: set[int] = set()
+    boxes = []
+    for geometries in parts:
+        type_ids |= set(shapely.get_type_id(geometries).tolist())
+        if len(geometries):
+            boxes.append(shapely.total_bounds(geometries))
     known = type_ids <= set(GEOMETRY_TYPE_NAMES)
     column: dict[str, Any] = {
         "encoding": "WKB",
@@ -126,8 +136,13 @@ def geo_metadata(geometries: np.ndarray) -> dict[str, Any]:
         "crs": None,
         "edges": "planar",
     }
-    if len(geometries):
-        column["bbox"] = [float(v) for v in shapely.total_bounds(geometries)]
+    if boxes:  # total bounds (NaN-skipping, as shapely.total_bounds) of the parts' total bounds
+        box = np.array(boxes)
+        if np.isnan(box).all():
+            column["bbox"] = [float("nan")] * 4
+        else:
+            low, high = np.nanmin(box[:, :2], axis=0), np.nanmax(box[:, 2:], axis=0)
+            column["bbox"] = [float(v) for v in (*low, *high)]
     return {"version": "1.1.0", "primary_column": "geometry", "columns": {"geometry": column}}
 
 
@@ -159,15 +174,30 @@ def write_geoparquet(
 ) -> Path:
     """Write a GeoParquet file atomically (temporary name, then rename), in row groups of `ROW_GROUP_ROWS`."""
     geometries = np.asarray(geometries, dtype=object)
-    geo = geo_metadata(geometries)
+    return write_geoparquet_groups(
+        path,
+        row_groups(len(geometries)),
+        lambda rows: geometries[rows],
+        lambda rows: (geometries[rows], {k: v[rows] for k, v in columns.items()}),
+        metadata,
+        field=field,
+    )
+
+
+def write_geoparquet_groups(
+    path: str | os.PathLike[str],
+    groups: Sequence[Any],
+    geometries_of: Callable[[Any], np.ndarray],
+    table_of: Callable[[Any], tuple[np.ndarray, Mapping[str, Any]]],
+    metadata: Mapping[str, Any],
+    field: str = "output",
+) -> Path:
+    """Write a GeoParquet file atomically, one row group per item of `groups`: `table_of(group)` gives its
+    (geometries, columns), `geometries_of(group)` its geometries alone (a first pass, for the ``geo``
+    metadata of the whole file). Only one group's table is in memory at a time."""
+    geo = geo_metadata_of_parts(geometries_of(group) for group in groups)
     with atomic_path(path, field=field) as temp:
-        write_row_groups(
-            temp,
-            (
-                geoparquet_table(geometries[rows], {k: v[rows] for k, v in columns.items()}, metadata, geo)
-                for rows in row_groups(len(geometries))
-            ),
-        )
+        write_row_groups(temp, (geoparquet_table(*table_of(group), metadata, geo) for group in groups))
     return Path(path)
 
 

@@ -44,13 +44,13 @@ def plot_breaking_pattern(
         figure, ax = new_figure(10.0, height_in, PATTERN_MARGINS_IN)
     else:
         figure = ax.figure
-    shown = np.ones(len(result.polygon), dtype=bool)
+    bounds = result.piece_bounds_m  # NaN for an empty piece
+    shown = np.ones(len(bounds), dtype=bool)
     if x_window_m is not None:
         xlim = x_window_m
-        bounds = shapely.bounds(result.polygon)
-        shown = (bounds[:, 0] <= x_window_m[1]) & (bounds[:, 2] >= x_window_m[0])  # empty pieces: NaN, out
+        shown = (bounds[:, 0] <= x_window_m[1]) & (bounds[:, 2] >= x_window_m[0])
     for fate, colour in (("remaining", UNTOUCHED_COLOUR), ("flipped", FLIPPED_COLOUR), ("cusp", CUSP_COLOUR)):
-        polygons = result.polygon[result.mask(fate) & shown]
+        polygons = result.polygons(np.flatnonzero(result.mask(fate) & shown))
         if polygons.size:
             ax.add_collection(
                 polygon_collection(polygons, facecolors=colour, edgecolors="k", linewidths=0.15)
@@ -63,7 +63,10 @@ def plot_breaking_pattern(
     for x_b, style in positions:
         ax.plot(upper[:, 0] + x_b, upper[:, 1], style, color="k", linewidth=0.8)
         ax.plot(lower[:, 0] + x_b, lower[:, 1], style, color="0.5", linewidth=0.6)
-    bounds = shapely.total_bounds(result.polygon) if result.polygon.size else np.array(result.field.domain_m)
+    if len(bounds) and not np.isnan(bounds).all():  # as shapely.total_bounds of the pieces
+        bounds = np.concatenate([np.nanmin(bounds[:, :2], axis=0), np.nanmax(bounds[:, 2:], axis=0)])
+    else:
+        bounds = np.array(result.field.domain_m)
     ax.set_xlim(xlim or (min(bounds[0], upper[:, 0].min()) - 2, bounds[2] + 2))
     ax.set_ylim(ylim or (min(bounds[1], upper[:, 1].min()) - 2, max(bounds[3], upper[:, 1].max()) + 2))
     ax.set_aspect("equal")
