@@ -131,3 +131,21 @@ def test_figures_of_a_long_field_show_a_window():
     inside = shown & (bounds[:, 0] <= window[1]) & (bounds[:, 2] >= window[0])
     assert 0 < drawn == int(shapely.get_num_geometries(sim.polygon[inside]).sum()) < shown.sum()
     assert FIGURE_WINDOW_M >= 1000.0
+
+
+def test_the_engine_keeps_finished_pieces_as_wkb_and_gives_them_back_exactly():
+    """Pieces the run has finished with are held as WKB bytes, not GEOS geometries; decoding gives the
+    polygons back exactly (the areas the engine measured on the geometries when it made them)."""
+    result = floebreak.run(overrides=SMALL).simulation
+    field = result.field
+    stored = result.stored_polygon
+    created = result.piece_id >= field.n_floes
+    gone = created & np.isin(result.fate, ["cusp", "flipped"])
+    assert gone.sum() > 10
+    assert all(type(stored[i]) is bytes for i in np.flatnonzero(gone))
+    assert all(isinstance(stored[i], shapely.Geometry) for i in range(field.n_floes))  # the field's own
+    polygons = result.polygons(np.flatnonzero(gone))
+    assert all(isinstance(p, shapely.Polygon) for p in polygons)
+    np.testing.assert_array_equal(shapely.area(polygons), result.piece_area_m2[gone])
+    np.testing.assert_array_equal(shapely.bounds(polygons), result.piece_bounds_m[gone])
+    assert shapely.equals_exact(result.polygon[gone], polygons, tolerance=0.0).all()
