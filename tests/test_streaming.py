@@ -15,6 +15,7 @@ import floebreak
 from floebreak.api import CONTACTS_FILE, FIGURE_WINDOW_M
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
+from floebreak.io import geoparquet
 from floebreak.io.geoparquet import ROW_GROUP_ROWS, read_geoparquet, write_geoparquet
 from floebreak.results import ContactRecorder
 from floebreak.ship.hulls import agulhas_ii
@@ -149,3 +150,35 @@ def test_the_engine_keeps_finished_pieces_as_wkb_and_gives_them_back_exactly():
     np.testing.assert_array_equal(shapely.area(polygons), result.piece_area_m2[gone])
     np.testing.assert_array_equal(shapely.bounds(polygons), result.piece_bounds_m[gone])
     assert shapely.equals_exact(result.polygon[gone], polygons, tolerance=0.0).all()
+
+
+def test_writing_a_run_directory_decodes_no_piece_table_whole(tmp_path, monkeypatch):
+    """The writer builds the piece files a row group at a time: neither the cached tables of the Result
+    nor every polygon at once (`SimulationResult.polygon`) is made; the files hold what one row group
+    would."""
+    result = floebreak.run(overrides=SMALL)
+    whole = result.write(tmp_path / "whole", report=False, figures=False)
+    sim = result.simulation
+    decoded = []
+    polygons = type(sim).polygons
+
+    def counting(self, index=slice(None)):
+        out = polygons(self, index)
+        decoded.append(len(out))
+        return out
+
+    monkeypatch.setattr(type(sim), "polygons", counting)
+    monkeypatch.setattr(geoparquet, "ROW_GROUP_ROWS", 32)
+    grouped = result.write(tmp_path / "grouped", report=False, figures=False)
+    assert decoded and max(decoded) <= 32 < len(sim.piece_id)
+    assert not {"cusps", "flipped", "remaining", "pieces"} & set(vars(result))  # no cached table
+    assert "polygon" not in vars(sim)
+    for name in ("cusps.parquet", "remaining.parquet", "pieces.parquet", "contacts.parquet"):
+        meta = pq.ParquetFile(grouped / name).metadata
+        assert meta.num_row_groups == -(-meta.num_rows // 32) or meta.num_rows == 0, name
+        assert name == "remaining.parquet" or meta.num_row_groups > 1, name
+        a, b = pq.read_table(whole / name), pq.read_table(grouped / name)
+        assert a.schema.equals(b.schema, check_metadata=True), name
+        _same_columns(
+            *({n: t.column(n).to_numpy(zero_copy_only=False) for n in t.column_names} for t in (a, b))
+        )

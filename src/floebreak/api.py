@@ -421,7 +421,9 @@ class Result:
         """Cusp-volume probability density (thesis Fig. 17 style)."""
         from floebreak.plotting.spectra import plot_cusp_volume_spectrum
 
-        return plot_cusp_volume_spectrum(self.cusps["volume_m3"])
+        sim = self.simulation
+        cusp = sim.mask("cusp")  # area × thickness, as the cusps table's, without decoding the polygons
+        return plot_cusp_volume_spectrum(sim.piece_area_m2[cusp] * sim.thickness_m[cusp])
 
     def plot_crushing_force_spectrum(self):
         """Crushing-force probability density per contact evaluation (thesis Fig. 13)."""

@@ -201,8 +201,10 @@ def write_geoparquet_groups(
     return Path(path)
 
 
-def row_groups(n_rows: int, size: int = ROW_GROUP_ROWS) -> list[slice]:
-    """Slices of `size` rows covering `n_rows` (one empty slice for an empty table)."""
+def row_groups(n_rows: int, size: int | None = None) -> list[slice]:
+    """Slices of `size` rows (default `ROW_GROUP_ROWS`) covering `n_rows` (one empty slice for an empty
+    table)."""
+    size = size or ROW_GROUP_ROWS
     return [slice(start, start + size) for start in range(0, n_rows, size)] or [slice(0, 0)]
 
 
