@@ -49,10 +49,10 @@ AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overl
 # closer than the clearance [m] are evaluated every step.
 QUIET_MARGIN_M = 1e-6
 QUIET_CLEARANCE_M = 1e-9
-# Every piece a run creates (initial floes, broken, transient) costs memory until the run ends: ≈ 4 kB per
-# piece in a long transit, with its contact rows and its share of the tables and figures written
-# (benchmarks/README.md, memory), so a million pieces stay within ≈ 4 GB. A 100 km × 200 m transit of the
-# reference ice makes ≈ 0.4 million; runaway breaking of very thin ice is stopped.
+# Every piece a run creates (initial floes, broken, transient) costs memory until the run ends: ≈ 1.2 kB per
+# piece in a long transit (its polygon, as WKB once finished, its numbers, its share of the row groups
+# written; benchmarks/README.md, memory), so a million pieces stay within ≈ 1.2 GB. A 100 km × 200 m transit
+# of the reference ice makes ≈ 0.34 million; runaway breaking of very thin ice is stopped.
 MAX_PIECES_DEFAULT = 1_000_000
 
 
