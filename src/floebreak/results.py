@@ -141,8 +141,8 @@ class ContactRecorder:
         self._scalars, self._panels = [], []
 
     def table(self) -> dict[str, np.ndarray]:
-        """The records as numpy columns in the order of `CONTACT_COLUMNS` (empty if there was no contact;
-        with a sink, only the rows not yet given to it)."""
+        """The records as numpy columns in the order of `CONTACT_COLUMNS` (empty if there was no contact,
+        or with a sink: the records went to it)."""
         if self._sink is None:
             self._pack()
         if not self._chunks:
@@ -153,8 +153,8 @@ class ContactRecorder:
             ]
         return dict(self._chunks[0])
 
-    def records(self, columns: bool = True) -> ContactRecords:
-        """What the run keeps of its records (`columns`: the records themselves too, if not sunk)."""
+    def records(self) -> ContactRecords:
+        """What the run keeps of its records (the records themselves too, without a sink)."""
         self._pack()
         keys = np.concatenate(self._keys) if self._keys else np.zeros((0, 3), dtype=np.int64)
         forces = np.concatenate(self._forces) if self._forces else np.zeros(0)
@@ -166,7 +166,7 @@ class ContactRecorder:
             crushing_forces_n=forces[order],
             failed_piece_id=np.concatenate(failed_piece) if failed_piece else np.zeros(0, dtype=np.int64),
             failed_step=np.concatenate(failed_step) if failed_step else np.zeros(0, dtype=np.int64),
-            columns=self.table() if columns and self._sink is None else None,
+            columns=self.table() if self._sink is None else None,
         )
 
 
