@@ -13,6 +13,7 @@ import shapely
 
 import floebreak
 from floebreak.api import CONTACTS_FILE, FIGURE_WINDOW_M
+from floebreak.errors import InputError
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
 from floebreak.io import geoparquet
@@ -97,6 +98,8 @@ def test_a_failed_spooled_run_leaves_no_contact_file(tmp_path, monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         floebreak.run(overrides=SMALL, spool=tmp_path, callbacks=[fail])
     assert list(tmp_path.iterdir()) == []
+    with pytest.raises(InputError, match="spool"):
+        floebreak.run(overrides=SMALL, spool=tmp_path / "missing")
 
 
 def test_a_large_table_is_written_in_row_groups(tmp_path):

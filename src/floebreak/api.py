@@ -484,6 +484,8 @@ def run(
     `Result.write` copies the file, so the directory must outlive the Result's use of its records.
     """
     started = time.perf_counter()
+    if spool is not None and not Path(spool).is_dir():
+        raise InputError("spool", f"{str(spool)!r} is not a directory", allowed="an existing directory")
     scenario = as_scenario(scenario, overrides).resolved()
     if floe_field is None:
         floe_field = build_field(scenario, np.random.default_rng(scenario.seed))
