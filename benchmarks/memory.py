@@ -3,10 +3,13 @@
 Each case is one `floebreak run … -q` in a child process (the command a user types: field generation, the
 run, writing the run directory with figures); its peak resident memory comes from ``os.wait4`` (the child's
 own ``ru_maxrss``), its time from the wall clock. Goals: thin floe (one inline floe D = 40 m, h = 0.06 m,
-Agulhas II, step 0.25 m) ≤ 500 MB; a 100 km × 200 m transit ≤ 1 GB.
+Agulhas II, step 0.25 m) ≤ 500 MB; a 100 km × 200 m transit ≤ 1 GB. The command streams the contact records
+to a scratch folder next to the run directory (`floebreak.run(spool=…)`), so these are the figures of a
+user's run; `floebreak.run` without a spool keeps the records in memory (≈ 130 bytes per row, ≈ 20 000
+rows per km of these transits).
 
     .venv/bin/python benchmarks/memory.py                      # thin floe, 1 km and 10 km × 200 m
-    .venv/bin/python benchmarks/memory.py --lengths 1000 10000 100000
+    nice .venv/bin/python benchmarks/memory.py --no-thin --lengths 100000   # minutes
 """
 
 from __future__ import annotations

@@ -30,6 +30,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import shutil
 import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
@@ -38,21 +39,21 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pyarrow as pa
-import pyarrow.parquet as pq
 import shapely
 
 from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.io.atomic import atomic_directory
-from floebreak.io.geoparquet import FLOEBREAK_METADATA_KEY, arrow_array, with_units, write_geoparquet
+from floebreak.io.contacts import ContactFile, read_contacts, write_contacts
+from floebreak.io.geoparquet import row_groups, write_geoparquet, write_geoparquet_groups
 from floebreak.io.jsonable import jsonable, to_json
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.io.storage import as_storage_error, probe_directory
 from floebreak.results import (
     ContactRecorder,
-    crushing_force_per_evaluation_n,
+    ContactRecords,
+    empty_contacts,
     oriented_box_dimensions_m,
     piece_table,
     summary,
@@ -69,12 +70,16 @@ from floebreak.simulation import (
 
 PIECE_FILES = {"cusp": "cusps.parquet", "flipped": "flipped.parquet", "remaining": "remaining.parquet"}
 PIECES_FILE = "pieces.parquet"  # every piece with its life span (replay / `floebreak animate`)
+CONTACTS_FILE = "contacts.parquet"
 FIGURES = {
     "breaking_pattern": "breaking_pattern.png",
     "cusp_volume_spectrum": "cusp_volume_spectrum.png",
     "crushing_force_spectrum": "crushing_force_spectrum.png",
     "field": "field.png",
 }
+# the run directory's figures of a longer field or transit show its first this many metres: its whole length
+# would be a sliver of pixels, and drawing it holds every polygon once more (benchmarks/README.md, memory)
+FIGURE_WINDOW_M = 2000.0
 
 # where generate_field's own field names belong in a scenario
 _GENERATION_KEYS = {
@@ -344,13 +349,22 @@ class Result:
     """A finished run: the resolved scenario, the simulation result, contact records and the summary.
 
     ``cusps``/``flipped``/``remaining`` are column dicts (geometry included, see `floebreak.results
-    .piece_table`); ``contacts`` holds one row per floe–panel contact evaluation.
+    .piece_table`); ``contacts`` holds one row per floe–panel contact evaluation: kept in memory, or, for a
+    run with a spool (`run`), read back from the spool's ``contacts.parquet`` when asked for.
     """
 
     scenario: Scenario  # resolved
     simulation: SimulationResult
-    contacts: dict[str, np.ndarray]
+    contact_records: ContactRecords
     summary: dict[str, Any]
+    contacts_file: Path | None = None  # the spooled records, if the run streamed them (`run`)
+
+    @cached_property
+    def contacts(self) -> dict[str, np.ndarray]:
+        """The contact records as numpy columns (`floebreak.results.CONTACT_COLUMNS`)."""
+        if self.contact_records.columns is not None:
+            return self.contact_records.columns
+        return read_contacts(self.contacts_file)
 
     @property
     def field(self) -> FloeField:
@@ -372,42 +386,44 @@ class Result:
     @cached_property
     def pieces(self) -> dict[str, Any]:
         """Every piece of the run with its life span (`pieces_table`), for replaying the transit."""
-        return pieces_table(self.simulation, self.contacts)
+        return pieces_table(self.simulation, self.contact_records)
 
     @cached_property
     def crushing_forces_n(self) -> np.ndarray:
         """Total crushing force of each contact-zone evaluation [N] (thesis Fig. 13)."""
-        return crushing_force_per_evaluation_n(self.contacts)
+        return self.contact_records.crushing_forces_n
 
     def provenance(self, kind: str) -> dict[str, Any]:
-        return provenance(
-            kind=kind,
-            seed=self.scenario.seed,
-            profile=self.scenario.profile,
-            scenario_hash=self.summary["scenario_hash"],
-            scenario=self.scenario.to_dict(),
-        )
+        return _provenance(self.scenario, kind)
 
     # --- figures (matplotlib Figures; the caller closes or saves them) -------------------------------
     def plot_breaking_pattern(self, title: str | None = None):
-        """Thesis colour code: blue remaining, orange flipped, red cusps; bow outline at start and end."""
+        """Thesis colour code: blue remaining, orange flipped, red cusps; bow outline at start and end.
+        A transit longer than `FIGURE_WINDOW_M`: its first `FIGURE_WINDOW_M`, bow outline at the start."""
         from floebreak.plotting.pattern import plot_breaking_pattern
 
         sim = self.simulation
         upper_x = np.asarray(sim.bow.upper_xy_m)[:, 0]
         x_last = sim.params.x_start_m + (sim.n_steps - 1) * sim.params.step_m
-        pieces = shapely.total_bounds(sim.polygon) if sim.polygon.size else np.array(sim.field.domain_m)
+        pieces = _total_bounds(sim.piece_bounds_m) if sim.piece_id.size else np.array(sim.field.domain_m)
         xlim = (
             min(pieces[0], sim.params.x_start_m + upper_x.min()) - 2.0,
             max(pieces[2], x_last + upper_x.max()) + 2.0,
         )  # both bow outlines (start and end) inside the frame
-        return plot_breaking_pattern(sim, title=title or self._title("breaking pattern"), xlim=xlim)
+        title = title or self._title("breaking pattern")
+        if xlim[1] - xlim[0] <= FIGURE_WINDOW_M:
+            return plot_breaking_pattern(sim, title=title, xlim=xlim)
+        window = (xlim[0], xlim[0] + FIGURE_WINDOW_M)
+        title = f"{title}\nfirst {FIGURE_WINDOW_M:g} m of {xlim[1] - xlim[0]:.0f} m"
+        return plot_breaking_pattern(sim, title=title, x_window_m=window, bow_at_end=False)
 
     def plot_cusp_volume_spectrum(self):
         """Cusp-volume probability density (thesis Fig. 17 style)."""
         from floebreak.plotting.spectra import plot_cusp_volume_spectrum
 
-        return plot_cusp_volume_spectrum(self.cusps["volume_m3"])
+        sim = self.simulation
+        cusp = sim.mask("cusp")  # area × thickness, as the cusps table's, without decoding the polygons
+        return plot_cusp_volume_spectrum(sim.piece_area_m2[cusp] * sim.thickness_m[cusp])
 
     def plot_crushing_force_spectrum(self):
         """Crushing-force probability density per contact evaluation (thesis Fig. 13)."""
@@ -416,10 +432,14 @@ class Result:
         return plot_crushing_force_spectrum(self.crushing_forces_n)
 
     def plot_field(self):
-        """The initial floe field."""
+        """The initial floe field (a field longer than `FIGURE_WINDOW_M`: its first `FIGURE_WINDOW_M`)."""
         from floebreak.plotting.field import plot_field
 
-        return plot_field(self.field, title=self._title("initial floe field"))
+        x0, _, x1, _ = self.field.domain_m
+        if x1 - x0 <= FIGURE_WINDOW_M:
+            return plot_field(self.field, title=self._title("initial floe field"))
+        title = f"{self._title('initial floe field')}\nfirst {FIGURE_WINDOW_M:g} m of {x1 - x0:.0f} m"
+        return plot_field(self.field, title=title, x_window_m=(x0, x0 + FIGURE_WINDOW_M))
 
     def _title(self, what: str) -> str:
         name = self.scenario.name or (self.scenario.field.observation or self.scenario.field.source)
@@ -450,6 +470,7 @@ def run(
     overrides: Iterable[str] = (),
     callbacks: Iterable[Callback] = (),
     floe_field: FloeField | None = None,
+    spool: str | os.PathLike[str] | None = None,
 ) -> Result:
     """Run a scenario (a `Scenario`, a dict, a TOML path; None = the reference scenario) and return a Result.
 
@@ -457,9 +478,14 @@ def run(
     are written; call ``result.write(out)`` for a run directory. `floe_field`: the field `build_field` gives
     for this scenario, built beforehand (a study builds each common field once, `floebreak.studies.runner`);
     the field is the only use of the scenario's random numbers, so the run is the same as with None, except
-    that ``wall_time_s`` then leaves out the field's generation.
+    that ``wall_time_s`` then leaves out the field's generation. `spool`: an existing directory into which
+    the contact records stream (``contacts.parquet``, in row groups) instead of staying in memory (a long
+    transit makes ≈ 20 000 rows per km); the Result reads them back from there when asked for, and
+    `Result.write` copies the file, so the directory must outlive the Result's use of its records.
     """
     started = time.perf_counter()
+    if spool is not None and not Path(spool).is_dir():
+        raise InputError("spool", f"{str(spool)!r} is not a directory", allowed="an existing directory")
     scenario = as_scenario(scenario, overrides).resolved()
     if floe_field is None:
         floe_field = build_field(scenario, np.random.default_rng(scenario.seed))
@@ -473,10 +499,22 @@ def run(
         initial_contact=ship.initial_contact,
         max_pieces=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
     )
-    recorder = ContactRecorder()
-    simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *callbacks])
-    contacts = recorder.table()
-    stats = summary(simulation, contacts)
+    contacts_file = (
+        None
+        if spool is None
+        else ContactFile(Path(spool) / CONTACTS_FILE, _provenance(scenario, "contacts"), empty_contacts())
+    )
+    recorder = ContactRecorder(sink=None if contacts_file is None else contacts_file.write)
+    try:
+        simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *callbacks])
+        records = recorder.records()  # the last chunk of records too
+    except BaseException:
+        if contacts_file is not None:
+            contacts_file.discard()
+        raise
+    if contacts_file is not None:
+        contacts_file.close()
+    stats = summary(simulation, records)
     shift = simulation.field.metadata.get("shifts_m", [])
     head = {
         "floebreak_version": floebreak_version(),
@@ -489,7 +527,27 @@ def run(
         "bow": getattr(bow, "name", "bow"),
         "wall_time_s": time.perf_counter() - started,
     }
-    return Result(scenario, simulation, contacts, {**head, **stats, **tail})
+    path = None if contacts_file is None else contacts_file.path
+    return Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path)
+
+
+def _total_bounds(bounds: np.ndarray) -> np.ndarray:
+    """(x_min, y_min, x_max, y_max) of rows of bounds, NaN rows (empty pieces) skipped, as
+    ``shapely.total_bounds`` of the pieces."""
+    if np.isnan(bounds).all():
+        return np.full(4, np.nan)
+    return np.concatenate([np.nanmin(bounds[:, :2], axis=0), np.nanmax(bounds[:, 2:], axis=0)])
+
+
+def _provenance(scenario: Scenario, kind: str) -> dict[str, Any]:
+    """The provenance of a file of the run of the resolved `scenario`."""
+    return provenance(
+        kind=kind,
+        seed=scenario.seed,
+        profile=scenario.profile,
+        scenario_hash=scenario.hash(),
+        scenario=scenario.to_dict(),
+    )
 
 
 # --- the run directory ------------------------------------------------------------------------------
@@ -521,7 +579,11 @@ def field_table(floe_field: FloeField) -> dict[str, Any]:
     }
 
 
-def pieces_table(simulation: SimulationResult, contacts: Mapping[str, np.ndarray]) -> dict[str, Any]:
+def pieces_table(
+    simulation: SimulationResult,
+    contacts: Mapping[str, np.ndarray] | ContactRecords,
+    geometry: bool = True,
+) -> dict[str, Any]:
     """Columns of every piece of the run (fates "broken", "cusp", "flipped", "remaining"), geometry included.
 
     ``created_step``: −1 for initial floes, else the step at which the parent broke (the engine adds the
@@ -531,8 +593,15 @@ def pieces_table(simulation: SimulationResult, contacts: Mapping[str, np.ndarray
     carries its leaving step, so the break step is taken from the recorded contact evaluations: a piece
     fails at most once, in its one evaluation with an outcome other than "no_failure". (Fallback without a
     record: the earliest step among its children, which is exact whenever one child stayed in the field or
-    broke again.)
+    broke again.) `contacts`: the records' columns, or what `ContactRecorder.records` keeps of them.
+    `geometry=False`: no ``geometry`` column (for a writer that takes the polygons a row group at a time).
     """
+    if isinstance(contacts, ContactRecords):
+        failed_piece, failed_step = contacts.failed_piece_id, contacts.failed_step
+    else:
+        failed = np.asarray(contacts["outcome"]) != "no_failure"
+        failed_piece = np.asarray(contacts["piece_id"])[failed]
+        failed_step = np.asarray(contacts["step"])[failed]
     fate = simulation.fate
     n = len(fate)
     ended = np.full(n, -1, dtype=np.int64)
@@ -542,19 +611,14 @@ def pieces_table(simulation: SimulationResult, contacts: Mapping[str, np.ndarray
     broken = np.flatnonzero(fate == "broken")
     if broken.size:
         never = np.iinfo(np.int64).max
-        failed = np.asarray(contacts["outcome"]) != "no_failure"
         break_step = np.full(n, never, dtype=np.int64)
-        np.minimum.at(
-            break_step, np.asarray(contacts["piece_id"])[failed], np.asarray(contacts["step"])[failed]
-        )
+        np.minimum.at(break_step, failed_piece, failed_step)
         children_step = np.full(n, never, dtype=np.int64)
         child = parents >= 0
         np.minimum.at(children_step, parents[child], simulation.step[child])
         ended[broken] = np.where(break_step[broken] != never, break_step[broken], children_step[broken])
     created = np.where(parents >= 0, ended[np.maximum(parents, 0)], -1).astype(np.int64)
-    polygons = simulation.polygon
-    return {
-        "geometry": polygons,
+    columns = {
         "piece_id": simulation.piece_id,
         "parent_piece_id": parents,
         "parent_floe_id": simulation.parent_floe_id,
@@ -565,6 +629,7 @@ def pieces_table(simulation: SimulationResult, contacts: Mapping[str, np.ndarray
         "area_m2": simulation.piece_area_m2,
         "ended_by": simulation.ended_by,
     }
+    return {"geometry": simulation.polygon, **columns} if geometry else columns
 
 
 def _write_table(path: Path, columns: Mapping[str, Any], metadata: Mapping[str, Any]) -> None:
@@ -572,14 +637,16 @@ def _write_table(path: Path, columns: Mapping[str, Any], metadata: Mapping[str, 
     write_geoparquet(path, columns["geometry"], rest, metadata)
 
 
-def _write_contacts(path: Path, contacts: Mapping[str, np.ndarray], metadata: Mapping[str, Any]) -> None:
-    arrays = {k: arrow_array(v) for k, v in contacts.items()}
-    arrays = {k: (v.cast(pa.string()) if pa.types.is_null(v.type) else v) for k, v in arrays.items()}
-    table = pa.table(arrays).replace_schema_metadata(
-        {FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode()}
-    )
-    table = with_units(table)
-    pq.write_table(table, path)
+def _write_piece_file(path: Path, sim: SimulationResult, fate: str, metadata: Mapping[str, Any]) -> None:
+    """The table of the pieces with `fate` (`piece_table`), built and written one row group at a time."""
+    ids = np.flatnonzero(sim.mask(fate))
+
+    def table_of(group: np.ndarray) -> tuple[np.ndarray, dict[str, Any]]:
+        columns = piece_table(sim, fate, group)
+        return columns.pop("geometry"), columns
+
+    groups = [ids[rows] for rows in row_groups(len(ids))]
+    write_geoparquet_groups(path, groups, sim.polygons, table_of, metadata)
 
 
 def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
@@ -635,13 +702,22 @@ def _write_run_files(
             "field": dict(result.field.metadata),
         }
         _write_table(temp / "field.parquet", field_table(result.field), field_meta)
-        for fate, name in PIECE_FILES.items():
-            table = getattr(result, {"cusp": "cusps"}.get(fate, fate))
-            _write_table(temp / name, table, result.provenance(fate))
-        _write_contacts(temp / "contacts.parquet", result.contacts, result.provenance("contacts"))
         sim = result.simulation
+        for fate, name in PIECE_FILES.items():
+            _write_piece_file(temp / name, sim, fate, result.provenance(fate))
+        if result.contacts_file is not None and result.contact_records.columns is None:
+            shutil.copyfile(result.contacts_file, temp / CONTACTS_FILE)  # the records streamed there
+        else:
+            write_contacts(temp / CONTACTS_FILE, result.contacts, result.provenance("contacts"))
         stepping = {"x_start_m": sim.params.x_start_m, "step_m": sim.params.step_m, "n_steps": sim.n_steps}
-        _write_table(temp / PIECES_FILE, result.pieces, {**result.provenance("pieces"), **stepping})
+        columns = pieces_table(sim, result.contact_records, geometry=False)
+        write_geoparquet_groups(
+            temp / PIECES_FILE,
+            row_groups(len(sim.piece_id)),
+            sim.polygons,
+            lambda rows: (sim.polygons(rows), {k: v[rows] for k, v in columns.items()}),
+            {**result.provenance("pieces"), **stepping},
+        )
         summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
         (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
         header = (

@@ -308,6 +308,8 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
 
     from floebreak.api import check_output_directory
     from floebreak.api import run as run_scenario
+    from floebreak.io.atomic import atomic_directory, scratch_directory
+
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
     _prepare_kernels(quiet)
@@ -323,18 +325,19 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
             disable=quiet,
             transient=False,
         )
-        with progress:
-            result = run_scenario(resolved, callbacks=[_Progress(progress)])
-        if then is None:
-            result.write(out, overwrite=overwrite)
-            added = None
-        else:
-            from floebreak.io.atomic import atomic_directory
-
-            with atomic_directory(out, overwrite=overwrite, field="out") as temp:
-                # replaces the empty temporary directory; the report names the final directory
-                result.write(temp, overwrite=True, directory_name=out.name)
-                added = then(temp, out.name)
+        # the contact records stream to a scratch folder next to `out` while the run goes on (bounded
+        # memory), and are copied into the run directory: a failure leaves neither behind
+        with scratch_directory(out) as spool:
+            with progress:
+                result = run_scenario(resolved, callbacks=[_Progress(progress)], spool=spool)
+            if then is None:
+                result.write(out, overwrite=overwrite)
+                added = None
+            else:
+                with atomic_directory(out, overwrite=overwrite, field="out") as temp:
+                    # replaces the empty temporary directory; the report names the final directory
+                    result.write(temp, overwrite=True, directory_name=out.name)
+                    added = then(temp, out.name)
     except InputError:
         raise
     except Exception as error:

@@ -573,7 +573,7 @@ class SimulationSection(_Section):
         ge=1,
         le=100_000_000,
         description="most pieces a run may create, initial floes included; beyond it the run stops with "
-        "exit code 2 (default 1 000 000: ≈ 4 GB of memory; thin ice breaks into many small pieces) [-]",
+        "exit code 2 (default 1 000 000: ≈ 1.2 GB of memory; thin ice breaks into many small pieces) [-]",
     )
 
 

@@ -10,9 +10,11 @@ Initial ice area = cusps + flipped + remaining is checked at the end of every ru
 
 from __future__ import annotations
 
+from array import array
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Any, Literal
 
 import numpy as np
@@ -47,10 +49,10 @@ AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overl
 # closer than the clearance [m] are evaluated every step.
 QUIET_MARGIN_M = 1e-6
 QUIET_CLEARANCE_M = 1e-9
-# Every piece a run creates (initial floes, broken, transient) costs memory until the run ends: ≈ 4 kB per
-# piece in a long transit, with its contact rows and its share of the tables and figures written
-# (benchmarks/README.md, memory), so a million pieces stay within ≈ 4 GB. A 100 km × 200 m transit of the
-# reference ice makes ≈ 0.4 million; runaway breaking of very thin ice is stopped.
+# Every piece a run creates (initial floes, broken, transient) costs memory until the run ends: ≈ 1.2 kB per
+# piece in a long transit (its polygon, as WKB once finished, its numbers, its share of the row groups
+# written; benchmarks/README.md, memory), so a million pieces stay within ≈ 1.2 GB. A 100 km × 200 m transit
+# of the reference ice makes ≈ 0.34 million; runaway breaking of very thin ice is stopped.
 MAX_PIECES_DEFAULT = 1_000_000
 
 
@@ -168,7 +170,11 @@ class SimulationResult:
     x_end_m: float
     n_steps: int
     piece_id: np.ndarray
-    polygon: np.ndarray  # empty for a transient piece (created and broken at one bow position, see `_Pieces`)
+    # each piece's polygon: a shapely geometry, or its WKB for a piece the run finished with (see `_Pieces`);
+    # `polygon` / `polygons` give geometries; empty for a transient piece (created and broken at one bow
+    # position)
+    stored_polygon: np.ndarray
+    piece_bounds_m: np.ndarray  # (n, 4) bounds of each piece (NaN for an empty one) [m]
     piece_area_m2: np.ndarray  # every piece's area, transient ones included
     thickness_m: np.ndarray
     parent_floe_id: np.ndarray
@@ -184,6 +190,21 @@ class SimulationResult:
     def mask(self, fate: str) -> np.ndarray:
         return self.fate == fate
 
+    def polygons(self, index: Any = slice(None)) -> np.ndarray:
+        """The polygons of the pieces `index` selects (numpy indexing) as shapely geometries."""
+        stored = np.asarray(self.stored_polygon[index], dtype=object).reshape(-1)
+        encoded = np.fromiter((type(g) is bytes for g in stored), dtype=bool, count=len(stored))
+        if encoded.any():
+            stored = stored.copy()
+            stored[encoded] = shapely.from_wkb(stored[encoded])
+        return stored
+
+    @cached_property
+    def polygon(self) -> np.ndarray:
+        """Every piece's polygon (field frame) as a shapely geometry; a long run's pieces are held once more
+        while this result lives: `polygons` gives a selection."""
+        return self.polygons()
+
     def failure_chain(self, piece: int) -> tuple[str, ...]:
         """The failure modes from the initial floe to `piece`: the mode that broke each ancestor, then the
         mode that ended `piece` (broke it or took it out whole), if one did. Rebuilt from the parent ids:
@@ -191,13 +212,13 @@ class SimulationResult:
         grows with the number of breaks (thin ice: thousands of entries per cusp)."""
         return lineage_chain(piece, self.parent_piece_id, self.ended_by)
 
-    @property
+    @cached_property
     def failure_mode(self) -> np.ndarray:
         """Per piece, the last entry of its failure chain ("" for an initial floe never touched)."""
         return last_failure_mode(self.parent_piece_id, self.ended_by)
 
     def area_m2(self, fate: str) -> float:
-        return float(shapely.area(self.polygon[self.mask(fate)]).sum())
+        return float(self.piece_area_m2[self.mask(fate)].sum())  # each = shapely.area of its polygon
 
     @property
     def initial_ice_area_m2(self) -> float:
@@ -254,18 +275,22 @@ class _Pieces:
                 f"the field has {n:,} floes, more than the budget of {max_pieces:,} pieces",
                 allowed="raise simulation.max_pieces, or use a smaller field",
             )
-        self.polygon: list[shapely.Geometry] = list(floe_field.polygons)
-        self.area: list[float] = floe_field.area_m2.tolist()
-        self.thickness: list[float] = floe_field.thickness_m.tolist()
-        self.parent_floe: list[int] = floe_field.floe_id.tolist()
-        self.parent_piece: list[int] = [-1] * n
+        # numbers in typed arrays (8 bytes a value, not a list slot and an object: a long transit makes
+        # ≈ 3 400 pieces per km)
+        self.n_floes = n
+        self.polygon: list[shapely.Geometry | bytes] = list(floe_field.polygons)
+        self.area = array("d", floe_field.area_m2.tolist())
+        self.thickness = array("d", floe_field.thickness_m.tolist())
+        self.parent_floe = array("q", floe_field.floe_id.tolist())
+        self.parent_piece = array("q", [-1] * n)
         self.ended_by: list[str] = [""] * n
-        self.crack_count: list[int] = [0] * n
+        self.crack_count = array("q", [0] * n)
         self.fate: list[str] = ["remaining"] * n
-        self.step: list[int] = [-1] * n
-        self.bow_x: list[float] = [float("nan")] * n
-        self.quiet_until: list[float] = [-np.inf] * n  # bow x [m] before which a piece cannot touch the hull
+        self.step = array("q", [-1] * n)
+        self.bow_x = array("d", [float("nan")] * n)
+        self.quiet_until = array("d", [-np.inf] * n)  # bow x [m] before which a piece cannot touch the hull
         bounds = shapely.bounds(floe_field.polygons).reshape(-1, 4)
+        self.bounds = array("d", bounds.ravel().tolist())  # 4 a piece
         in_band = (bounds[:, 1] <= y_range[1]) & (bounds[:, 3] >= y_range[0])
         order = np.flatnonzero(in_band)
         order = order[np.argsort(bounds[order, 0], kind="stable")]
@@ -288,7 +313,9 @@ class _Pieces:
         self.step.append(step)
         self.bow_x.append(bow_x)
         self.quiet_until.append(-np.inf)
-        self.active[pid] = tuple(shapely.bounds(polygon).tolist())
+        bounds = tuple(shapely.bounds(polygon).tolist())
+        self.bounds.extend(bounds)
+        self.active[pid] = bounds
         return pid
 
     def retire(self, pid: int, fate: str, step: int, bow_x: float) -> None:
@@ -296,6 +323,8 @@ class _Pieces:
         self.active.pop(pid, None)
         if fate == "broken" and self.step[pid] == step:  # transient (initial floes have step −1)
             self.polygon[pid] = _EMPTY
+        else:
+            self._finish(pid)
         if fate != "broken":
             self.step[pid] = step
             self.bow_x[pid] = bow_x
@@ -321,9 +350,24 @@ class _Pieces:
     def prune_behind(self, x_min: float) -> None:
         for pid in [pid for pid, bounds in self.active.items() if bounds[2] < x_min]:
             del self.active[pid]
+            self._finish(pid)
+
+    def _finish(self, pid: int) -> None:
+        """A piece the run will not touch again (broken, gone, or passed by the hull) keeps its polygon as
+        WKB, ≈ half the memory of a GEOS geometry: a long transit makes ≈ 2 400 such pieces per km. Initial
+        floes are the field's own polygons, held by the field anyway."""
+        if pid >= self.n_floes and type(self.polygon[pid]) is not bytes:
+            self.polygon[pid] = shapely.to_wkb(self.polygon[pid], output_dimension=2)
 
 
 _EMPTY = shapely.Polygon()
+
+
+def _object_array(items: list) -> np.ndarray:
+    """`items` as a 1-d object array (``np.array`` would try to nest bytes and geometries)."""
+    out = np.empty(len(items), dtype=object)
+    out[:] = items
+    return out
 
 
 def _overlaps(bounds: tuple[float, float, float, float], x0: float, y0: float, x1: float, y1: float) -> bool:
@@ -333,8 +377,6 @@ def _overlaps(bounds: tuple[float, float, float, float], x0: float, y0: float, x
 
 def _translate(geometry, dx: float):
     return shapely.transform(geometry, lambda xy: xy + np.array([dx, 0.0]))
-
-
 
 
 def _translate_pieces(polygons: np.ndarray, dx: float, check: np.ndarray | None = None) -> np.ndarray:
@@ -586,7 +628,8 @@ class _Run:
             x_end_m=float(self.x_end),
             n_steps=self.n_steps,
             piece_id=np.arange(len(pieces.polygon)),
-            polygon=np.array(pieces.polygon, dtype=object),
+            stored_polygon=_object_array(pieces.polygon),
+            piece_bounds_m=np.array(pieces.bounds, dtype=float).reshape(-1, 4),
             piece_area_m2=np.array(pieces.area, dtype=float),
             thickness_m=np.array(pieces.thickness, dtype=float),
             parent_floe_id=np.array(pieces.parent_floe, dtype=np.int64),

@@ -81,3 +81,15 @@ def atomic_directory(
     except BaseException:
         shutil.rmtree(temp, ignore_errors=True)
         raise
+
+
+@contextlib.contextmanager
+def scratch_directory(near: str | os.PathLike[str]) -> Iterator[Path]:
+    """Yield a fresh temporary directory next to `near` (its file system, not /tmp's), deleted on exit
+    whatever happens; named ``.<name>.spool-<random>``, which nothing reads."""
+    near = Path(near)
+    temp = Path(tempfile.mkdtemp(prefix=f".{near.name}.spool-", dir=near.parent or "."))
+    try:
+        yield temp
+    finally:
+        shutil.rmtree(temp, ignore_errors=True)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +27,11 @@ from floebreak.io.jsonable import to_json
 
 GEO_METADATA_KEY = b"geo"
 FLOEBREAK_METADATA_KEY = b"floebreak"
+# Rows per Parquet row group of a large table: a table is converted to WKB and Arrow one row group at a time,
+# so writing holds a few copies of one group rather than of the whole table (a long transit's pieces,
+# contact records). A table of at most this many rows is one row group, as ``pyarrow.parquet.write_table``
+# writes it.
+ROW_GROUP_ROWS = 16_384
 
 
 def _variable_width(items: list[bytes], arrow_type: pa.DataType) -> pa.Array | None:
@@ -113,7 +118,17 @@ def with_units(table: pa.Table) -> pa.Table:
 
 def geo_metadata(geometries: np.ndarray) -> dict[str, Any]:
     """The GeoParquet 1.1 ``geo`` metadata of a WKB column ``geometry`` holding `geometries`."""
-    type_ids = set(shapely.get_type_id(geometries).tolist())
+    return geo_metadata_of_parts([geometries])
+
+
+def geo_metadata_of_parts(parts: Iterable[np.ndarray]) -> dict[str, Any]:
+    """`geo_metadata` of the geometries of all `parts` together (one part at a time in memory)."""
+    type_ids: set[int] = set()
+    boxes = []
+    for geometries in parts:
+        type_ids |= set(shapely.get_type_id(geometries).tolist())
+        if len(geometries):
+            boxes.append(shapely.total_bounds(geometries))
     known = type_ids <= set(GEOMETRY_TYPE_NAMES)
     column: dict[str, Any] = {
         "encoding": "WKB",
@@ -121,22 +136,30 @@ def geo_metadata(geometries: np.ndarray) -> dict[str, Any]:
         "crs": None,
         "edges": "planar",
     }
-    if len(geometries):
-        column["bbox"] = [float(v) for v in shapely.total_bounds(geometries)]
+    if boxes:  # total bounds (NaN-skipping, as shapely.total_bounds) of the parts' total bounds
+        box = np.array(boxes)
+        if np.isnan(box).all():
+            column["bbox"] = [float("nan")] * 4
+        else:
+            low, high = np.nanmin(box[:, :2], axis=0), np.nanmax(box[:, 2:], axis=0)
+            column["bbox"] = [float(v) for v in (*low, *high)]
     return {"version": "1.1.0", "primary_column": "geometry", "columns": {"geometry": column}}
 
 
 def geoparquet_table(
-    geometries: np.ndarray, columns: Mapping[str, Any], metadata: Mapping[str, Any]
+    geometries: np.ndarray,
+    columns: Mapping[str, Any],
+    metadata: Mapping[str, Any],
+    geo: Mapping[str, Any] | None = None,
 ) -> pa.Table:
     """An Arrow table with a WKB ``geometry`` column first, then `columns` (with units), GeoParquet metadata
-    attached."""
+    attached (`geo`: that of a whole table this one is a row group of; default `geo_metadata(geometries)`)."""
     geometries = np.asarray(geometries, dtype=object)
     wkb = shapely.to_wkb(geometries, output_dimension=2) if len(geometries) else np.array([], dtype=object)
     arrays = {"geometry": arrow_array(list(wkb), binary=True)}
     table = pa.table(arrays | {name: arrow_array(values) for name, values in columns.items()})
     schema_metadata = {
-        GEO_METADATA_KEY: json.dumps(geo_metadata(geometries)).encode(),
+        GEO_METADATA_KEY: json.dumps(geo or geo_metadata(geometries)).encode(),
         FLOEBREAK_METADATA_KEY: to_json(dict(metadata)).encode(),
     }
     return with_units(table.replace_schema_metadata(schema_metadata))
@@ -149,11 +172,53 @@ def write_geoparquet(
     metadata: Mapping[str, Any],
     field: str = "output",
 ) -> Path:
-    """Write a GeoParquet file atomically (temporary name, then rename)."""
-    table = geoparquet_table(geometries, columns, metadata)
+    """Write a GeoParquet file atomically (temporary name, then rename), in row groups of `ROW_GROUP_ROWS`."""
+    geometries = np.asarray(geometries, dtype=object)
+    return write_geoparquet_groups(
+        path,
+        row_groups(len(geometries)),
+        lambda rows: geometries[rows],
+        lambda rows: (geometries[rows], {k: v[rows] for k, v in columns.items()}),
+        metadata,
+        field=field,
+    )
+
+
+def write_geoparquet_groups(
+    path: str | os.PathLike[str],
+    groups: Sequence[Any],
+    geometries_of: Callable[[Any], np.ndarray],
+    table_of: Callable[[Any], tuple[np.ndarray, Mapping[str, Any]]],
+    metadata: Mapping[str, Any],
+    field: str = "output",
+) -> Path:
+    """Write a GeoParquet file atomically, one row group per item of `groups`: `table_of(group)` gives its
+    (geometries, columns), `geometries_of(group)` its geometries alone (a first pass, for the ``geo``
+    metadata of the whole file). Only one group's table is in memory at a time."""
+    geo = geo_metadata_of_parts(geometries_of(group) for group in groups)
     with atomic_path(path, field=field) as temp:
-        pq.write_table(table, temp)
+        write_row_groups(temp, (geoparquet_table(*table_of(group), metadata, geo) for group in groups))
     return Path(path)
+
+
+def row_groups(n_rows: int, size: int | None = None) -> list[slice]:
+    """Slices of `size` rows (default `ROW_GROUP_ROWS`) covering `n_rows` (one empty slice for an empty
+    table)."""
+    size = size or ROW_GROUP_ROWS
+    return [slice(start, start + size) for start in range(0, n_rows, size)] or [slice(0, 0)]
+
+
+def write_row_groups(path: str | os.PathLike[str], tables: Iterable[pa.Table]) -> None:
+    """Write `tables` (same schema, metadata included) as one Parquet file, each as its own row group(s)."""
+    writer = None
+    try:
+        for table in tables:
+            if writer is None:
+                writer = pq.ParquetWriter(path, table.schema)
+            writer.write_table(table.cast(writer.schema))  # a chunk's types as the first one's
+    finally:
+        if writer is not None:
+            writer.close()
 
 
 def read_geoparquet(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import shapely
 from matplotlib import colormaps
 from matplotlib.patches import Patch, Rectangle
 
@@ -10,10 +11,16 @@ from floebreak.ice.field import FloeField
 from floebreak.plotting.common import FIELD_MARGINS_IN, new_figure, polygon_collection
 
 
-def plot_field(floe_field: FloeField, title: str | None = None, ax=None):
-    """Plot `floe_field`; returns the matplotlib Figure. Floes are coloured by diameter class."""
+def plot_field(
+    floe_field: FloeField, title: str | None = None, ax=None, x_window_m: tuple[float, float] | None = None
+):
+    """Plot `floe_field`; returns the matplotlib Figure. Floes are coloured by diameter class.
+
+    `x_window_m`: show only this x range [m] of the field, in a figure sized for it (a long field)."""
+    x0, y0, x1, y1 = floe_field.domain_m
+    if x_window_m is not None:
+        x0, x1 = x_window_m
     if ax is None:
-        x0, y0, x1, y1 = floe_field.domain_m
         aspect = (y1 - y0) / max(x1 - x0, 1e-9)
         figure, ax = new_figure(10.0, float(np.clip(10.0 * aspect + 1.2, 2.5, 10.0)), FIELD_MARGINS_IN)
     else:
@@ -27,12 +34,26 @@ def plot_field(floe_field: FloeField, title: str | None = None, ax=None):
     for colour, diameter in zip(palette, known, strict=False):
         colours[classes == diameter] = colour
         handles.append(Patch(facecolor=colour, label=f"d = {diameter:g} m"))
+    shown = np.ones(floe_field.n_floes, dtype=bool)
+    if x_window_m is not None:
+        bounds = shapely.bounds(floe_field.polygons).reshape(-1, 4)
+        shown = (bounds[:, 0] <= x1) & (bounds[:, 2] >= x0)
     ax.add_collection(
-        polygon_collection(floe_field.polygons, facecolors=colours, edgecolors="k", linewidths=0.2)
+        polygon_collection(
+            floe_field.polygons[shown], facecolors=colours[shown], edgecolors="k", linewidths=0.2
+        )
     )
-    x0, y0, x1, y1 = floe_field.domain_m
+    domain = floe_field.domain_m
     ax.add_patch(
-        Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor="0.4", linestyle="--", linewidth=0.8)
+        Rectangle(
+            (domain[0], domain[1]),
+            domain[2] - domain[0],
+            domain[3] - domain[1],
+            fill=False,
+            edgecolor="0.4",
+            linestyle="--",
+            linewidth=0.8,
+        )
     )
     ax.set_xlim(x0 - 0.01 * (x1 - x0), x1 + 0.01 * (x1 - x0))
     ax.set_ylim(y0 - 0.05 * (y1 - y0), y1 + 0.05 * (y1 - y0))

@@ -25,21 +25,32 @@ def plot_breaking_pattern(
     ylim=None,
     bow_at_end: bool = True,
     legend: bool = True,
+    x_window_m: tuple[float, float] | None = None,
 ):
     """Plot a `SimulationResult`: remaining ice blue, flipped orange, cusps red; bow outline at the start
-    (dashed) and, with `bow_at_end`, at the end position (solid). Pieces are drawn where they were made."""
+    (dashed) and, with `bow_at_end`, at the end position (solid). Pieces are drawn where they were made.
+
+    `x_window_m`: draw only the pieces within this x range [m], in a figure sized for it (a long transit:
+    its whole length would be a sliver of pixels, and every piece would be held once more as a path)."""
     if ax is None:
         x0, y0, x1, y1 = result.field.domain_m
         hull_x0, hull_y0, _, hull_y1 = shapely.bounds(result.bow.hull_upper)
         x_range = x1 - x0 - hull_x0 + 4.0
+        if x_window_m is not None:
+            x_range = x_window_m[1] - x_window_m[0]
         y_range = max(y1, hull_y1) - min(y0, hull_y0) + 4.0
         # axes ≈ 8 in wide (legend outside on the right), equal aspect; + room for title and labels
         height_in = float(np.clip(8.0 * y_range / max(x_range, 1e-9) + 1.0, 2.0, 10.0))
         figure, ax = new_figure(10.0, height_in, PATTERN_MARGINS_IN)
     else:
         figure = ax.figure
+    bounds = result.piece_bounds_m  # NaN for an empty piece
+    shown = np.ones(len(bounds), dtype=bool)
+    if x_window_m is not None:
+        xlim = x_window_m
+        shown = (bounds[:, 0] <= x_window_m[1]) & (bounds[:, 2] >= x_window_m[0])
     for fate, colour in (("remaining", UNTOUCHED_COLOUR), ("flipped", FLIPPED_COLOUR), ("cusp", CUSP_COLOUR)):
-        polygons = result.polygon[result.mask(fate)]
+        polygons = result.polygons(np.flatnonzero(result.mask(fate) & shown))
         if polygons.size:
             ax.add_collection(
                 polygon_collection(polygons, facecolors=colour, edgecolors="k", linewidths=0.15)
@@ -52,7 +63,10 @@ def plot_breaking_pattern(
     for x_b, style in positions:
         ax.plot(upper[:, 0] + x_b, upper[:, 1], style, color="k", linewidth=0.8)
         ax.plot(lower[:, 0] + x_b, lower[:, 1], style, color="0.5", linewidth=0.6)
-    bounds = shapely.total_bounds(result.polygon) if result.polygon.size else np.array(result.field.domain_m)
+    if len(bounds) and not np.isnan(bounds).all():  # as shapely.total_bounds of the pieces
+        bounds = np.concatenate([np.nanmin(bounds[:, :2], axis=0), np.nanmax(bounds[:, 2:], axis=0)])
+    else:
+        bounds = np.array(result.field.domain_m)
     ax.set_xlim(xlim or (min(bounds[0], upper[:, 0].min()) - 2, bounds[2] + 2))
     ax.set_ylim(ylim or (min(bounds[1], upper[:, 1].min()) - 2, max(bounds[3], upper[:, 1].max()) + 2))
     ax.set_aspect("equal")

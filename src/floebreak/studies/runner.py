@@ -72,7 +72,7 @@ def is_complete(run_dir: Path, expected_hash: str) -> bool:
 
 def remove_temporary_runs(runs_dir: Path) -> None:
     """Remove temporary run directories left by killed runs or workers (nothing reads them)."""
-    for pattern in (".run-*.tmp-*", ".run-*.old-*"):
+    for pattern in (".run-*.tmp-*", ".run-*.old-*", ".run-*.spool-*"):
         for stale in runs_dir.glob(pattern):
             shutil.rmtree(stale, ignore_errors=True)
 
@@ -80,14 +80,16 @@ def remove_temporary_runs(runs_dir: Path) -> None:
 def execute_run(task: dict[str, Any]) -> dict[str, Any]:
     """Run one scenario into its run directory; return its small summary (runs in a worker process)."""
     from floebreak.api import run, write_run_directory
+    from floebreak.io.atomic import scratch_directory
     from floebreak.io.field_files import load_field
 
     field_file = task.get("field_file")
     floe_field = load_field(field_file) if field_file else None
-    result = run(task["scenario"], floe_field=floe_field)
-    write_run_directory(
-        result, task["run_dir"], overwrite=True, report=False, figures=task.get("figures", True)
-    )
+    with scratch_directory(task["run_dir"]) as spool:  # the contact records stream there (bounded memory)
+        result = run(task["scenario"], floe_field=floe_field, spool=spool)
+        write_run_directory(
+            result, task["run_dir"], overwrite=True, report=False, figures=task.get("figures", True)
+        )
     return {key: value for key, value in result.summary.items() if not isinstance(value, dict | list)}
 
 
