@@ -86,6 +86,7 @@ def test_summary_is_rebuilt_from_the_records():
     assert summary["seconds"]["p50"] == np.percentile(seconds, 50, method="inverted_cdf") == 5.0
     assert summary["seconds"]["p90"] == np.percentile(seconds, 90, method="inverted_cdf") == 9.0
     assert summary["seconds"]["max"] == 10.0 and summary["seconds"]["total"] == sum(seconds)
+    assert summary["cpu_seconds"]["max"] == 0.0  # not recorded in these records
     assert [s["index"] for s in summary["slowest"]] == [2, 4, 6, 0, 8, 9, 7, 1, 5, 3]
 
 
