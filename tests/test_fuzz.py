@@ -18,6 +18,8 @@ def test_drawn_scenarios_are_valid_and_reproducible():
     assert first == again and len(first) == 20
     for data in first:
         Scenario.from_dict(data)  # every drawn scenario passes validation (the campaign tests the engine)
+        if "observation" not in data["field"]:  # only an observation brings its thickness (thesis Table 1)
+            assert {"thickness_m", "thickness_range_m"} & set(data["ice"])
 
 
 def test_fixed_sample_has_no_crash_or_violation(tmp_path):

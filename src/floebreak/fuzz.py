@@ -145,7 +145,7 @@ def scenario_dicts(draw) -> dict[str, Any]:
     if "thickness_m" not in data["ice"] and draw(st.booleans()):
         low = draw(_edge_or_inside(*sc.THICKNESS_M, log=True))
         data["ice"]["thickness_range_m"] = [low, draw(_edge_or_inside(low, sc.THICKNESS_M[1], log=True))]
-    elif "floes" in data["field"] and "thickness_m" not in data["ice"]:
+    elif "observation" not in data["field"] and "thickness_m" not in data["ice"]:  # no observed thickness
         data["ice"]["thickness_m"] = draw(_edge_or_inside(*sc.THICKNESS_M, log=True))
     thickness = data["ice"].get("thickness_m") or (data["ice"].get("thickness_range_m") or [1.0])[0]
     if thickness < 0.1:  # thin ice breaks into many pieces: a short transit
