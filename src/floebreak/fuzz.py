@@ -12,7 +12,7 @@ Ranges are those of `floebreak.scenario` (one place). To keep a run to about a s
 in hours on 2 shared cores), a run's cost is capped where it grows without exercising another code path:
 fields are at most 100 m × 100 m (a bow is 20–25 m wide), the thinnest ice (< 0.1 m, which breaks into
 thousands of pieces: ~8 ms each) gets 30 m of transit, a run at most `MAX_STEPS` steps (short steps a short
-transit: 1.5 m at 1 mm) and a budget of `MAX_PIECES` pieces (a run that reaches it is a refusal, exit 2, as
+transit: 0.5 m at 1 mm) and a budget of `MAX_PIECES` pieces (a run that reaches it is a refusal, exit 2, as
 for a user).
 Every option and both edges of every physical range are still drawn. The
 ``sqp`` generator (a slow reference for small fields) is not drawn.
@@ -40,7 +40,7 @@ from floebreak import scenario as sc
 
 AREA_TOLERANCE = 1e-9  # the engine's own (`floebreak.simulation.AREA_BALANCE_TOLERANCE`)
 MAX_PIECES = 5_000
-MAX_STEPS = 1_500
+MAX_STEPS = 500
 OBSERVATIONS = (
     "2019-12-18T20:20",
     "2019-12-18T22:30",
