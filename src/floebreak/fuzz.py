@@ -11,7 +11,7 @@ counts runs, refusals, crashes and violations. The test suite runs a small fixed
 Ranges are those of `floebreak.scenario` (one place). To keep a run to about a second of CPU (5 000 runs
 in hours on 2 shared cores), a run's cost is capped where it grows without exercising another code path:
 fields are at most 100 m × 100 m (a bow is 20–25 m wide), the thinnest ice (< 0.1 m, which breaks into
-thousands of pieces: ~8 ms each) gets 30 m of transit, a run at most `MAX_STEPS` steps (short steps a short
+thousands of pieces: ~8 ms each) gets 10 m of transit, a run at most `MAX_STEPS` steps (short steps a short
 transit: 0.5 m at 1 mm) and a budget of `MAX_PIECES` pieces (a run that reaches it is a refusal, exit 2, as
 for a user).
 Every option and both edges of every physical range are still drawn. The
@@ -150,7 +150,7 @@ def scenario_dicts(draw) -> dict[str, Any]:
     elif "observation" not in data["field"] and "thickness_m" not in data["ice"]:  # no observed thickness
         data["ice"]["thickness_m"] = draw(_edge_or_inside(*sc.THICKNESS_M, log=True))
     thickness = data["ice"].get("thickness_m") or (data["ice"].get("thickness_range_m") or [1.0])[0]
-    transit_m = min(30.0 if thickness < 0.1 else math.inf, MAX_STEPS * data["ship"]["step_m"])
+    transit_m = min(10.0 if thickness < 0.1 else math.inf, MAX_STEPS * data["ship"]["step_m"])
     if transit_m < 150.0:  # else the default: the hull passes the field
         data["ship"]["x_end_m"] = transit_m
     return data
