@@ -1,21 +1,21 @@
-"""Fuzz campaign: random valid scenarios over every option and the edges of every range, each run checked.
+"""Fuzz campaign: random valid scenarios over the options and the edges of the ranges, each run checked.
 
 ``python -m floebreak.fuzz --n 5000 --seed 1 --jobs 2 --out fuzz-report`` (or ``make fuzz N=5000 SEED=1``)
 draws `n` whole scenarios with hypothesis (`scenario_dicts`), runs each through `floebreak.run` in worker
 processes and checks: no internal error (an `InputError` is a refusal, allowed), the area balance
-(≤ `AREA_TOLERANCE`), every output polygon valid (`shapely.is_valid`), and the workers' peak resident memory
-(≤ `--max-rss-mb`). Each violation's scenario is saved as TOML in ``--out`` with its traceback; the summary
-counts runs, refusals, crashes and violations. The test suite runs a small fixed sample
-(tests/test_fuzz.py); the campaign is the documented command (benchmarks/README.md, fuzz).
+(≤ `AREA_TOLERANCE`), every output polygon valid (`shapely.is_valid`), and each run's peak resident memory
+(≤ `--max-rss-mb`). Each run's record is appended to ``records.jsonl`` in ``--out`` as it completes
+(``--resume`` continues a stopped campaign, ``--summarize`` rebuilds ``summary.json`` from the records);
+each violation's scenario is saved there as TOML with its traceback. The test suite runs a small fixed
+sample (tests/test_fuzz.py); the campaign is the documented command (benchmarks/README.md, fuzz).
 
-Ranges are those of `floebreak.scenario` (one place). To keep a run to about a second of CPU (5 000 runs
-in hours on 2 shared cores), a run's cost is capped where it grows without exercising another code path:
-fields are at most 100 m × 100 m (a bow is 20–25 m wide), the thinnest ice (< 0.1 m, which breaks into
-thousands of pieces: ~8 ms each) gets 10 m of transit, a run at most `MAX_STEPS` steps (short steps a short
-transit: 0.5 m at 1 mm) and a budget of `MAX_PIECES` pieces (a run that reaches it is a refusal, exit 2, as
-for a user).
-Every option and both edges of every physical range are still drawn. The
-``sqp`` generator (a slow reference for small fields) is not drawn.
+Ranges are those of `floebreak.scenario` (one place). To keep a run to at most about a second of CPU
+(5 000 runs in well under an hour on 2 shared cores), a run's cost is capped where it grows without
+exercising another code path: fields are at most 100 m × 100 m (a bow is 20–25 m wide), the thinnest ice
+(< 0.1 m, which breaks into thousands of pieces: ≈ 8 ms each) gets 10 m of transit, a run at most
+`MAX_STEPS` steps (short steps a short transit: 0.5 m at 1 mm) and a budget of `MAX_PIECES` pieces (a run
+that reaches it is a refusal, exit 2, as for a user). The caps leave the options and range edges drawn as
+they were. The ``sqp`` generator (a slow reference for small fields) is not drawn.
 """
 
 from __future__ import annotations
