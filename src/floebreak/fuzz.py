@@ -1,28 +1,35 @@
-"""Fuzz campaign: random valid scenarios over every option and the edges of every range, each run checked.
+"""Fuzz campaign: random valid scenarios over the options and the edges of the ranges, each run checked.
 
 ``python -m floebreak.fuzz --n 5000 --seed 1 --jobs 2 --out fuzz-report`` (or ``make fuzz N=5000 SEED=1``)
 draws `n` whole scenarios with hypothesis (`scenario_dicts`), runs each through `floebreak.run` in worker
 processes and checks: no internal error (an `InputError` is a refusal, allowed), the area balance
-(≤ `AREA_TOLERANCE`), every output polygon valid (`shapely.is_valid`), and the workers' peak resident memory
-(≤ `--max-rss-mb`). Each violation's scenario is saved as TOML in ``--out`` with its traceback; the summary
-counts runs, refusals, crashes and violations. The test suite runs a small fixed sample
-(tests/test_fuzz.py); the campaign is the documented command (benchmarks/README.md, fuzz).
+(≤ `AREA_TOLERANCE`), every output polygon valid (`shapely.is_valid`), and each run's peak resident memory
+(≤ `--max-rss-mb`). Each run's record is appended to ``records.jsonl`` in ``--out`` as it completes
+(``--resume`` continues a stopped campaign, ``--summarize`` rebuilds ``summary.json`` from the records);
+each violation's scenario is saved there as TOML with its traceback. The test suite runs a small fixed
+sample (tests/test_fuzz.py); the campaign is the documented command (benchmarks/README.md, fuzz).
 
-Ranges are those of `floebreak.scenario` (one place). To keep a run to seconds, fields are at most 250 m ×
-150 m, the thinnest ice (< 0.1 m) gets at most 80 m of transit, the shortest steps a 5 m transit, and every
-run a budget of `MAX_PIECES` pieces (a run that reaches it is a refusal, exit 2, as for a user). The
-``sqp`` generator (a slow reference for small fields) is not drawn.
+Ranges are those of `floebreak.scenario` (one place). To keep a run to at most about a second of CPU
+(5 000 runs in well under an hour on 2 shared cores), a run's cost is capped where it grows without
+exercising another code path: fields are at most 100 m × 100 m (a bow is 20–25 m wide), the thinnest ice
+(< 0.1 m, which breaks into thousands of pieces: ≈ 8 ms each) gets 10 m of transit, a run at most
+`MAX_STEPS` steps (short steps a short transit: 0.5 m at 1 mm) and a budget of `MAX_PIECES` pieces (a run
+that reaches it is a refusal, exit 2, as for a user). The caps leave the options and range edges drawn as
+they were. The ``sqp`` generator (a slow reference for small fields) is not drawn.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import resource
 import sys
 import time
 import traceback
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from pathlib import Path
 from typing import Any
 
@@ -32,7 +39,8 @@ from hypothesis import strategies as st
 from floebreak import scenario as sc
 
 AREA_TOLERANCE = 1e-9  # the engine's own (`floebreak.simulation.AREA_BALANCE_TOLERANCE`)
-MAX_PIECES = 20_000
+MAX_PIECES = 5_000
+MAX_STEPS = 500
 OBSERVATIONS = (
     "2019-12-18T20:20",
     "2019-12-18T22:30",
@@ -50,8 +58,6 @@ OBSERVATIONS = (
 def _edge_or_inside(low: float, high: float, log: bool = False) -> st.SearchStrategy[float]:
     """The range's edges, or a value inside it (log-uniform for ranges over decades)."""
     if log:
-        import math
-
         inside = st.floats(math.log10(low), math.log10(high)).map(
             lambda e: float(min(max(10.0**e, low), high))
         )
@@ -90,8 +96,8 @@ def _field(draw) -> dict[str, Any]:
             x += d + draw(st.floats(0.01, 10.0))
         return {"floes": floes}
     field: dict[str, Any] = {
-        "length_m": draw(_edge_or_inside(20.0, 250.0)),
-        "width_m": draw(_edge_or_inside(20.0, 150.0)),
+        "length_m": draw(_edge_or_inside(20.0, 100.0)),
+        "width_m": draw(_edge_or_inside(20.0, 100.0)),
         "generator": draw(st.sampled_from(["circles", "voronoi"])),
     }
     if source == "observation":
@@ -141,13 +147,12 @@ def scenario_dicts(draw) -> dict[str, Any]:
     if "thickness_m" not in data["ice"] and draw(st.booleans()):
         low = draw(_edge_or_inside(*sc.THICKNESS_M, log=True))
         data["ice"]["thickness_range_m"] = [low, draw(_edge_or_inside(low, sc.THICKNESS_M[1], log=True))]
-    elif "floes" in data["field"] and "thickness_m" not in data["ice"]:
+    elif "observation" not in data["field"] and "thickness_m" not in data["ice"]:  # no observed thickness
         data["ice"]["thickness_m"] = draw(_edge_or_inside(*sc.THICKNESS_M, log=True))
     thickness = data["ice"].get("thickness_m") or (data["ice"].get("thickness_range_m") or [1.0])[0]
-    if thickness < 0.1:  # thin ice breaks into many pieces: a short transit
-        data["ship"]["x_end_m"] = 80.0
-    if data["ship"]["step_m"] < 0.05:
-        data["ship"]["x_end_m"] = 5.0
+    transit_m = min(10.0 if thickness < 0.1 else math.inf, MAX_STEPS * data["ship"]["step_m"])
+    if transit_m < 150.0:  # else the default: the hull passes the field
+        data["ship"]["x_end_m"] = transit_m
     return data
 
 
@@ -171,6 +176,27 @@ def draw_scenarios(n: int, campaign_seed: int) -> list[dict[str, Any]]:
     return drawn[:n]
 
 
+def _peak_rss_reset() -> bool:
+    """Reset this process's peak resident memory (Linux ``/proc/self/clear_refs``); False if unsupported."""
+    try:
+        Path("/proc/self/clear_refs").write_text("5")
+    except OSError:
+        return False
+    return True
+
+
+def _peak_rss_mb(reset: bool) -> float:
+    """Peak resident memory in MB: of this run (``VmHWM`` after a reset), else of the process so far."""
+    if reset:
+        try:
+            for line in Path("/proc/self/status").read_text().splitlines():
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024
+        except OSError:
+            pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
 def check_one(data: dict[str, Any]) -> dict[str, Any]:
     """Run one scenario and check it; returns a JSON-able record (runs in a worker process)."""
     import numpy as np
@@ -179,7 +205,8 @@ def check_one(data: dict[str, Any]) -> dict[str, Any]:
     import floebreak
     from floebreak.errors import InputError
 
-    started = time.perf_counter()
+    reset = _peak_rss_reset()
+    started, cpu = time.perf_counter(), time.process_time()
     record: dict[str, Any] = {"scenario": data, "status": "ok", "problems": []}
     try:
         result = floebreak.run(data)
@@ -198,51 +225,166 @@ def check_one(data: dict[str, Any]) -> dict[str, Any]:
             if invalid:
                 record["problems"].append(f"{invalid} invalid polygons in {name}")
     record["seconds"] = time.perf_counter() - started
-    record["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # the worker's so far
+    record["cpu_seconds"] = time.process_time() - cpu  # the run's own cost, whatever the host's load
+    record["peak_rss_mb"] = _peak_rss_mb(reset)
     return record
 
 
-WORKER_SCENARIOS = 100  # scenarios per pool of fresh workers (a worker's peak memory covers few runs)
+WORKER_SCENARIOS = 100  # scenarios per fresh worker process (bounds what a leak could accumulate)
 
 
-def _records(scenarios: list[dict[str, Any]], jobs: int):
-    """The check records in order: in this process (jobs = 0, the test suite's sample), else in pools of
-    `jobs` fresh workers, one pool per `WORKER_SCENARIOS` (not ``max_tasks_per_child``: Python 3.11's
-    executor hangs when a worker retires)."""
+def _indexed(check: Callable[[dict[str, Any]], dict[str, Any]], index: int, data: dict[str, Any]):
+    return {"index": index, **check(data)}
+
+
+def _records(todo: list[tuple[int, dict[str, Any]]], jobs: int, check=check_one):
+    """The `check` records of `todo` (index, scenario) in completion order, each with its ``index``: in this
+    process (jobs = 0, the test suite's sample), else in `jobs` one-worker pools, each replaced by a fresh
+    one after `WORKER_SCENARIOS` (not ``max_tasks_per_child``: Python 3.11's executor hangs when a worker
+    retires). One task per worker at a time, so a slow scenario holds only its own worker."""
     if not jobs:
-        yield from map(check_one, scenarios)
+        yield from (_indexed(check, i, data) for i, data in todo)
         return
-    for start in range(0, len(scenarios), WORKER_SCENARIOS):
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            yield from pool.map(check_one, scenarios[start : start + WORKER_SCENARIOS])
+    pending = iter(todo)
+    slots: dict[Future, tuple[ProcessPoolExecutor, int]] = {}
+
+    def submit(pool: ProcessPoolExecutor | None, done: int) -> None:
+        task = next(pending, None)
+        if pool is not None and (task is None or done >= WORKER_SCENARIOS):
+            pool.shutdown()
+            pool, done = None, 0
+        if task is not None:
+            pool = pool or ProcessPoolExecutor(max_workers=1)
+            slots[pool.submit(_indexed, check, *task)] = (pool, done + 1)
+
+    try:
+        for _ in range(jobs):
+            submit(None, 0)
+        while slots:
+            finished, _ = wait(slots, return_when=FIRST_COMPLETED)
+            for future in finished:
+                pool, done = slots.pop(future)
+                yield future.result()
+                submit(pool, done)
+    finally:
+        for pool, _ in slots.values():
+            pool.shutdown(wait=False, cancel_futures=True)
 
 
-def run_campaign(n: int, campaign_seed: int, jobs: int, out: Path, max_rss_mb: float) -> dict[str, Any]:
-    """Draw and check `n` scenarios; write violations and ``summary.json`` into `out`; return the summary."""
-    import tomli_w
+def _percentile(values: list[float], q: float) -> float:
+    """The nearest-rank percentile (the smallest value with at least `q` of the values at or below it)."""
+    ordered = sorted(values)
+    return ordered[max(0, math.ceil(q * len(ordered)) - 1)] if ordered else 0.0
 
-    out.mkdir(parents=True, exist_ok=True)
-    scenarios = draw_scenarios(n, campaign_seed)
-    counts = {"runs": 0, "ok": 0, "refused": 0, "crash": 0, "violations": 0, "over_memory": 0}
-    worst = {"area_balance_rel_error": 0.0, "peak_rss_mb": 0.0, "seconds": 0.0}
-    for i, record in enumerate(_records(scenarios, jobs)):
-        counts["runs"] += 1
+
+def _distribution(values: list[float]) -> dict[str, float]:
+    return {
+        "total": sum(values),
+        "p50": _percentile(values, 0.5),
+        "p90": _percentile(values, 0.9),
+        "max": max(values, default=0.0),
+    }
+
+
+def _flagged(record: dict[str, Any], max_rss_mb: float) -> bool:
+    return record["status"] == "crash" or bool(record["problems"]) or record["peak_rss_mb"] > max_rss_mb
+
+
+def summarize(records: list[dict[str, Any]], n: int, campaign_seed: int, max_rss_mb: float) -> dict[str, Any]:
+    """The campaign's summary from its records (so it can be rebuilt from ``records.jsonl``): counts, the
+    worst area balance and peak memory, the time distribution and the 10 slowest scenarios."""
+    counts = {"runs": len(records), "ok": 0, "refused": 0, "crash": 0, "violations": 0, "over_memory": 0}
+    for record in records:
         counts[record["status"]] += 1
         counts["violations"] += bool(record["problems"])
-        over = record["peak_rss_mb"] > max_rss_mb
-        counts["over_memory"] += over
-        for key in worst:
-            worst[key] = max(worst[key], record.get(key) or 0.0)
-        if (i + 1) % 25 == 0:
-            print(f"{i + 1} of {n}: {counts}", file=sys.stderr, flush=True)
-        if record["status"] == "crash" or record["problems"] or over:
-            text = "".join(f"# {line}\n" for line in json.dumps(record, default=str, indent=1).splitlines())
-            (out / f"case-{i:05d}.toml").write_text(
-                text + tomli_w.dumps(record["scenario"]), encoding="utf-8"
+        counts["over_memory"] += record["peak_rss_mb"] > max_rss_mb
+    slowest = sorted(records, key=lambda record: -record["seconds"])[:10]
+    return {
+        "n": n,
+        "seed": campaign_seed,
+        **counts,
+        "max_rss_mb": max_rss_mb,
+        "worst": {
+            "area_balance_rel_error": max(
+                (r.get("area_balance_rel_error") or 0.0 for r in records), default=0
+            ),
+            "peak_rss_mb": max((r["peak_rss_mb"] for r in records), default=0.0),
+        },
+        **{key: _distribution([r.get(key, 0.0) for r in records]) for key in ("seconds", "cpu_seconds")},
+        "slowest": [
+            {key: r.get(key) for key in ("index", "status", "seconds", "cpu_seconds", "scenario")}
+            for r in slowest
+        ],
+    }
+
+
+def read_records(out: Path, n: int, campaign_seed: int) -> list[dict[str, Any]]:
+    """The records already in ``out/records.jsonl`` (none if absent); refuses those of another campaign.
+    A line cut by a stopped campaign (the last, unterminated) is dropped: that scenario is run again."""
+    path = out / "records.jsonl"
+    if not path.exists():
+        return []
+    records = []
+    for line in path.read_text(encoding="utf-8").splitlines(keepends=True):
+        if not line.endswith("\n"):
+            break
+        record = json.loads(line)
+        if (record["n"], record["seed"]) != (n, campaign_seed):
+            raise SystemExit(
+                f"{path} holds the campaign n={record['n']} seed={record['seed']}, "
+                f"not n={n} seed={campaign_seed}"
             )
-    summary = {"n": n, "seed": campaign_seed, **counts, "worst": worst, "max_rss_mb": max_rss_mb}
+        records.append(record)
+    return records
+
+
+def _write_case(out: Path, record: dict[str, Any]) -> None:
+    import tomli_w
+
+    text = "".join(f"# {line}\n" for line in json.dumps(record, default=str, indent=1).splitlines())
+    (out / f"case-{record['index']:05d}.toml").write_text(text + tomli_w.dumps(record["scenario"]), "utf-8")
+
+
+def run_campaign(
+    n: int,
+    campaign_seed: int,
+    jobs: int,
+    out: Path,
+    max_rss_mb: float,
+    resume: bool = False,
+    check: Callable[[dict[str, Any]], dict[str, Any]] = check_one,
+) -> dict[str, Any]:
+    """Draw and `check` `n` scenarios. Each record is appended to ``out/records.jsonl`` as it completes (with
+    `resume`, the indices already recorded there are skipped; without it an existing campaign is refused),
+    each violation saved as ``case-NNNNN.toml``; writes ``summary.json`` and returns the summary."""
+    out.mkdir(parents=True, exist_ok=True)
+    records = read_records(out, n, campaign_seed)
+    if records and not resume:
+        raise SystemExit(f"{out / 'records.jsonl'} exists: pass --resume to continue it, or another --out")
+    done = {record["index"] for record in records}
+    scenarios = draw_scenarios(n, campaign_seed)
+    todo = [(i, data) for i, data in enumerate(scenarios) if i not in done]
+    path = out / "records.jsonl"
+    if path.exists():  # drop a line cut by a stopped campaign
+        os.truncate(path, path.read_bytes().rfind(b"\n") + 1)
+    with path.open("a", encoding="utf-8") as log:
+        for record in _records(todo, jobs, check):
+            record.update(n=n, seed=campaign_seed)
+            log.write(json.dumps(record, default=str) + "\n")
+            log.flush()
+            records.append(record)
+            if _flagged(record, max_rss_mb):
+                _write_case(out, record)
+            if len(records) % 25 == 0:
+                print(f"{len(records)} of {n}: {_brief(records, max_rss_mb)}", file=sys.stderr, flush=True)
+    summary = summarize(records, n, campaign_seed, max_rss_mb)
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
+
+
+def _brief(records: list[dict[str, Any]], max_rss_mb: float) -> dict[str, int]:
+    summary = summarize(records, 0, 0, max_rss_mb)
+    return {key: summary[key] for key in ("ok", "refused", "crash", "violations", "over_memory")}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -250,11 +392,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--n", type=int, default=200, help="number of scenarios")
     parser.add_argument("--seed", type=int, default=1, help="campaign seed (same seed → same scenarios)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
-    parser.add_argument("--out", type=Path, default=Path("fuzz-report"), help="folder for violations")
-    parser.add_argument("--max-rss-mb", type=float, default=1024.0, help="peak memory allowed per worker")
+    parser.add_argument("--out", type=Path, default=Path("fuzz-report"), help="records, violations")
+    parser.add_argument("--max-rss-mb", type=float, default=1024.0, help="peak memory allowed per run")
+    parser.add_argument("--resume", action="store_true", help="continue the campaign recorded in --out")
+    parser.add_argument(
+        "--summarize", action="store_true", help="only rebuild summary.json from --out/records.jsonl"
+    )
     args = parser.parse_args(argv)
     started = time.perf_counter()
-    summary = run_campaign(args.n, args.seed, args.jobs, args.out, args.max_rss_mb)
+    if args.summarize:
+        summary = summarize(read_records(args.out, args.n, args.seed), args.n, args.seed, args.max_rss_mb)
+        (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    else:
+        summary = run_campaign(args.n, args.seed, args.jobs, args.out, args.max_rss_mb, args.resume)
     print(json.dumps(summary, indent=2), f"\n{time.perf_counter() - started:.0f} s")
     return 1 if summary["crash"] or summary["violations"] or summary["over_memory"] else 0
 

@@ -142,3 +142,19 @@ def test_a_strip_thinner_than_the_ice_is_no_piece(cut_y_m, thickness_m, separate
         assert sum(p.area for p in [*near, *far]) == pytest.approx(100.0, rel=1e-12)
     # else the cut separates nothing (an empty side): the modes keep the floe whole
     assert all(shapely.is_valid(p) for p in [*near, *far])
+
+
+def test_dust_of_a_split_of_rubble_is_merged():
+    """Issue 20, fuzz campaign: in 10 m ice every part of a split of a 1 m × 1 m floe is a sliver (4A/P ≤
+    1 m), and such parts were kept as they were — also dust of 1e-17 m² whose vertices lay one rounding step
+    apart and which became invalid polygons once moved to the world frame. Dust (≤ 1e-6 m²) is merged even
+    there."""
+    square, right = shapely.box(0.0, 0.0, 1.0, 1.0), shapely.box(1.0, 0.0, 2.0, 1.0)
+    dust = shapely.Polygon([(0.0, 0.0), (0.0, 0.5), (-1e-7, 0.25)])  # on the square's left edge: 2.5e-8 m²
+    # a cut that leaves only dust on one side separates nothing (an empty side: the modes keep the floe)
+    near, far = split_parts(square, dust, thickness_m=10.0)
+    assert len(near) == 1 and far == []
+    # a split of rubble into two parts and dust: the two stay, the dust joins the part it touches
+    near, far = split_parts(square, shapely.union(right, dust), thickness_m=10.0)
+    assert len(near) == 1 and len(far) == 1 and near[0].is_valid
+    assert near[0].area == pytest.approx(1.0 + 0.5 * 0.5 * 1e-7, rel=1e-12) and far[0].area == 1.0

@@ -131,20 +131,41 @@ def split_parts(*sides, thickness_m: float = 0.0) -> tuple[list, ...]:
     of ice, but its area must not vanish either (area conservation, thesis §3.2): it is merged into the
     non-sliver part, of either side, with which it shares the longest stretch of boundary. A sliver that
     shares no boundary with any larger part (or whose union would not be one polygon) stays a piece of its
-    own; so do the parts of a split in which every part is a sliver. A cut that leaves every piece of ice on
-    one side separates nothing: the other sides come back empty and the slivers unmerged — every mode then
-    keeps the floe whole, so the parts returned are not pieces (and their areas need not add up).
+    own. In a split in which every part is a sliver (rubble split again, or any piece of ice thicker than it
+    is wide) only the dust is merged: parts of at most `MIN_PIECE_AREA_M2`, whose vertices are rounding
+    apart (they would not survive a move as valid polygons). A cut that leaves every piece of ice on one side
+    separates nothing: the other sides come back empty and the slivers unmerged — every mode then keeps the
+    floe whole, so the parts returned are not pieces (and their areas need not add up).
     """
     parts = [polygon_parts(side) for side in sides]
-    labelled = [(k, p) for k, side in enumerate(parts) for p in side]
-    slivers = [(k, p) for k, p in labelled if is_sliver(p, thickness_m)]
-    if not slivers or len(slivers) == len(labelled):
+    if all(is_sliver(p, thickness_m) for side in parts for p in side):
+        return _merged(parts, lambda part: shapely.area(part) <= MIN_PIECE_AREA_M2)
+    return _merged(parts, lambda part: is_sliver(part, thickness_m))
+
+
+def _merged(parts: list[list], small) -> tuple[list, ...]:
+    """`split_parts` for the parts of each side: each part that is `small` merged into a neighbour."""
+    slivers = [(k, p) for k, side in enumerate(parts) for p in side if small(p)]
+    if not slivers or len(slivers) == sum(len(side) for side in parts):
         return tuple(parts)
-    result = [[p for p in side if not is_sliver(p, thickness_m)] for side in parts]
+    result = [[p for p in side if not small(p)] for side in parts]
     if sum(1 for side in result if side) == 1:
         # every piece of ice lies on one side: the cut separates nothing, and the modes treat a split with an
         # empty side as no split, so the slivers need not be merged back (that union is the floe itself)
         return tuple(result)
+    for side, sliver in slivers:
+        owners = [(k, i) for k, ps in enumerate(result) for i in range(len(ps))]
+        bigs = np.array([result[k][i] for k, i in owners], dtype=object)
+        shared = shapely.length(shapely.intersection(shapely.boundary(bigs), sliver.boundary))
+        best = int(np.argmax(shared))
+        if shared[best] > 0.0:
+            k, i = owners[best]
+            merged = shapely.union(result[k][i], sliver)
+            if shapely.get_type_id(merged) == 3:
+                result[k][i] = merged
+                continue
+        result[side].append(sliver)
+    return tuple(result)
     for side, sliver in slivers:
         owners = [(k, i) for k, ps in enumerate(result) for i in range(len(ps))]
         bigs = np.array([result[k][i] for k, i in owners], dtype=object)
