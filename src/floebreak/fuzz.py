@@ -28,10 +28,11 @@ import resource
 import sys
 import time
 import traceback
+import typing
 from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from hypothesis import HealthCheck, Phase, given, seed, settings
 from hypothesis import strategies as st
@@ -117,6 +118,54 @@ def _field(draw) -> dict[str, Any]:
     return field
 
 
+def _within(bounds) -> st.SearchStrategy[float]:
+    """A value of a `floebreak.errors.Bounds` interval: its edges (nudged inside where open) or inside it."""
+    low = bounds.low if bounds.low_inclusive else math.nextafter(bounds.low, math.inf)
+    high = bounds.high if bounds.high_inclusive else math.nextafter(bounds.high, -math.inf)
+    return _edge_or_inside(low, high, log=low > 0 and high / low >= 100.0)
+
+
+@st.composite
+def _mode_tables(draw, drawn_flat: set[tuple[str, str]]) -> dict[str, dict[str, Any]]:
+    """``[failure.<mode>]`` tables: some settings of every registered mode, each number within its `Bounds`
+    and each choice among its `Literal` values (settings given by a flat [failure] key are left out)."""
+    from floebreak.errors import field_bounds
+    from floebreak.failure import get_mode, mode_names
+
+    tables: dict[str, dict[str, Any]] = {}
+    for name in mode_names():
+        spec = get_mode(name)
+        if spec.settings is None:
+            continue
+        bounds = field_bounds(spec.settings)
+        hints = typing.get_type_hints(spec.settings)
+        for key in spec.table_keys():
+            if (name, key) in drawn_flat or not draw(st.booleans()):
+                continue
+            choices = typing.get_args(hints[key]) if typing.get_origin(hints[key]) is Literal else ()
+            if key in bounds:
+                tables.setdefault(name, {})[key] = draw(_within(bounds[key]))
+            elif choices:
+                tables.setdefault(name, {})[key] = draw(st.sampled_from(choices))
+            elif hints[key] is bool:
+                tables.setdefault(name, {})[key] = draw(st.booleans())
+    return tables
+
+
+def _ship(draw) -> dict[str, Any]:
+    ship = {
+        "hull": draw(st.sampled_from(["agulhas_ii", "polarstern"])),
+        "step_m": draw(st.one_of(st.sampled_from([sc.STEP_M[0], sc.STEP_M[1]]), _edge_or_inside(0.05, 3.0))),
+        "initial_contact": draw(st.sampled_from(["shift_field", "shift_floes"])),
+    }
+    if draw(st.booleans()):
+        ship["waterlines"] = draw(st.sampled_from(["follow_thickness", "fixed"]))
+        ship["waterline_ice_thickness_m"] = draw(_edge_or_inside(*sc.THICKNESS_M, log=True))
+    if draw(st.booleans()):
+        ship["speed_m_s"] = draw(_edge_or_inside(0.01, sc.SPEED_M_S[1]))
+    return ship
+
+
 @st.composite
 def scenario_dicts(draw) -> dict[str, Any]:
     """A whole valid scenario (a dict as read from TOML)."""
@@ -125,12 +174,7 @@ def scenario_dicts(draw) -> dict[str, Any]:
         "seed": draw(st.integers(0, 2**31)),
         "field": draw(_field()),
         "ice": draw(_ice()),
-        "ship": {
-            "hull": draw(st.sampled_from(["agulhas_ii", "polarstern"])),
-            "step_m": draw(
-                st.one_of(st.sampled_from([sc.STEP_M[0], sc.STEP_M[1]]), _edge_or_inside(0.05, 3.0))
-            ),
-        },
+        "ship": _ship(draw),
         "failure": {
             "crack_criterion": draw(
                 st.sampled_from(["point_load", "line_load", "tensile_stress", "flexural_stress"])
@@ -144,6 +188,8 @@ def scenario_dicts(draw) -> dict[str, Any]:
         },
         "simulation": {"max_pieces": MAX_PIECES},
     }
+    flat = {sc.FLAT_FAILURE_KEYS[key] for key in data["failure"] if key in sc.FLAT_FAILURE_KEYS}
+    data["failure"].update(draw(_mode_tables(flat)))
     if "thickness_m" not in data["ice"] and draw(st.booleans()):
         low = draw(_edge_or_inside(*sc.THICKNESS_M, log=True))
         data["ice"]["thickness_range_m"] = [low, draw(_edge_or_inside(low, sc.THICKNESS_M[1], log=True))]
