@@ -15,7 +15,12 @@ exercising another code path: fields are at most 100 m × 100 m (a bow is 20–2
 (< 0.1 m, which breaks into thousands of pieces: ≈ 8 ms each) gets 10 m of transit, a run at most
 `MAX_STEPS` steps (short steps a short transit: 0.5 m at 1 mm) and a budget of `MAX_PIECES` pieces (a run
 that reaches it is a refusal, exit 2, as for a user). The caps leave the options and range edges drawn as
-they were. The ``sqp`` generator (a slow reference for small fields) is not drawn.
+they were. Drawn: the profile, the field (observation, user observation or inline floes; generator,
+cover, clustering), every [ice] number, the ship (hull, step, waterlines, initial contact, speed), the flat
+[failure] keys and, from the failure-mode registry, any setting of every mode's ``[failure.<mode>]`` table
+(numbers within their `Bounds`, choices among their `Literal` values). Not drawn: the ``sqp`` generator (a
+slow reference for small fields), bow CSV files and hull parameters, field files, the propeller section
+(not used by `floebreak.run`'s breaking) and the dispatch policy lists.
 """
 
 from __future__ import annotations
