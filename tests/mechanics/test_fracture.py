@@ -186,6 +186,8 @@ def test_wedge_splitting_fraction_notes_values():
         fr.wedge_splitting_fraction(170.0, 0.5)
     with pytest.raises(InputError, match="tip_angle_deg"):
         fr.wedge_splitting_fraction(180.0)
+    with pytest.raises(InputError, match="tip_angle_deg"):  # fuzz campaign: κ divided by zero
+        fr.wedge_splitting_fraction(5e-324, 0.0)
 
 
 def test_line_load_flips_at_toughness():

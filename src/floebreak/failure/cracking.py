@@ -81,11 +81,10 @@ class CrackingSettings:
     )
     """total porosity ν_t for σ_t of P_t [‰] (thesis §4.2.1: 50 ‰), in (0, 1000]: a volume fraction; σ_t ∝
     ν_t^−0.6455 (physics-notes §4.2) has no finite value at 0"""
-    tip_angle_deg: Annotated[
-        float, Bounds(0.0, 180.0, low_inclusive=False, high_inclusive=False, unit="deg")
-    ] = c.BOW_TIP_ANGLE_DEG
-    """bow tip angle α of the wedge-splitting fraction κ [deg] (thesis Alg. 7: 64.54°), in (0, 180): the full
-    waterline entrance angle of a bow"""
+    tip_angle_deg: Annotated[float, Bounds(10.0, 170.0, unit="deg")] = c.BOW_TIP_ANGLE_DEG
+    """bow tip angle α of the wedge-splitting fraction κ [deg] (thesis Alg. 7: 64.54°), in [10, 170]: the full
+    waterline entrance angle of a bow (ice-going bows ≈ 40–90°); κ = 1/(2 tan(α/2)) grows without bound as
+    α → 0 (κ = 5.7 at 10°)"""
     wedge_friction: Annotated[float, Bounds(0.0, 2.0)] = 0.0
     """friction μ of the wedge-splitting fraction; κ with μ = 0 is the thesis' 1/(2 tan(α/2)) [-], in [0, 2]:
     the range of ice.friction_coefficient, a friction coefficient well above any measured for ice"""

@@ -121,9 +121,7 @@ def wedge_splitting_fraction(tip_angle_deg: float, friction: float = 0.0) -> flo
     κ = (1 − μ tan(α/2)) / (2 (tan(α/2) + μ)), α the full waterline angle at the stem. With μ = 0 this is the
     thesis' 1/(2 tan(α/2)) (Alg. 7). α = 64.54° gives κ = 0.792 (μ = 0) or 0.579 (μ = 0.15).
     """
-    alpha = require_range(
-        "failure.tip_angle_deg", tip_angle_deg, low=0.0, high=180.0, high_inclusive=False, unit="deg"
-    )
+    alpha = require_range("failure.tip_angle_deg", tip_angle_deg, low=10.0, high=170.0, unit="deg")
     mu = require_range("failure.wedge_friction", friction, low=0.0, low_inclusive=True)
     tan_half = math.tan(math.radians(alpha) / 2.0)
     if mu * tan_half >= 1.0:
