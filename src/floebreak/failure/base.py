@@ -166,16 +166,3 @@ def _merged(parts: list[list], small) -> tuple[list, ...]:
                 continue
         result[side].append(sliver)
     return tuple(result)
-    for side, sliver in slivers:
-        owners = [(k, i) for k, ps in enumerate(result) for i in range(len(ps))]
-        bigs = np.array([result[k][i] for k, i in owners], dtype=object)
-        shared = shapely.length(shapely.intersection(shapely.boundary(bigs), sliver.boundary))
-        best = int(np.argmax(shared))
-        if shared[best] > 0.0:
-            k, i = owners[best]
-            merged = shapely.union(result[k][i], sliver)
-            if shapely.get_type_id(merged) == 3:
-                result[k][i] = merged
-                continue
-        result[side].append(sliver)
-    return tuple(result)
