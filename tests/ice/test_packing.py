@@ -129,3 +129,12 @@ def test_a_failed_dense_packing_marks_the_circles_it_could_not_place():
     assert result.placed[:4].all() and not result.placed[4:].any()
     assert np.isfinite(result.centers_m[:44]).all()  # the placed group and the one that did not fit
     assert np.isnan(result.centers_m[44:]).all()
+
+
+def test_a_circle_as_wide_as_the_domain_is_placed_where_the_bounds_fix_it():
+    """A circle whose diameter is the domain's width and height has one admissible centre, the middle; when
+    the bounds fix every coordinate of a round, scipy's optimiser does no iteration and reports none — fuzz
+    campaign: a 60 m × 60 m field with a 60 m floe ended in an AttributeError."""
+    radii = np.array([30.0, 2.0])  # the 2 m circle fits in a corner: (2, 2) is 39.6 m from the middle
+    result = packing.relax_circles(radii, (0.0, 0.0, 60.0, 60.0), np.random.default_rng(1))
+    assert result.centers_m[0] == pytest.approx([30.0, 30.0], abs=packing.DEFAULT_GAP_M)

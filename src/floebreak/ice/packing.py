@@ -304,7 +304,7 @@ def relax_circles(
             bounds=_box_bounds(current, domain),
             options={"maxiter": maxiter, "ftol": 1e-14, "gtol": 1e-10, "maxcor": 10},
         )
-        iterations += int(result.nit)
+        iterations += int(result.get("nit", 0))  # none when the bounds fix every circle (scipy: no nit)
         xy = result.x.reshape(n, 2)
         rounds[0] += 1
         if on_round is not None:
@@ -403,7 +403,7 @@ def _polish(xy, r, domain, gap, clustering, max_rounds) -> tuple[np.ndarray, int
             bounds=_box_bounds(r, domain),
             options={"maxiter": ROUND_ITERATIONS, "ftol": 1e-14, "gtol": 1e-10, "maxcor": 10},
         )
-        iterations += int(result.nit)
+        iterations += int(result.get("nit", 0))  # none when the bounds fix every circle (scipy: no nit)
         xy = result.x.reshape(-1, 2)
         overlap = max_pair_overlap_m(xy, r)
     return xy, iterations, overlap
