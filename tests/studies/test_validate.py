@@ -11,6 +11,7 @@ from typer.testing import CliRunner
 from floebreak.cli import app
 from floebreak.errors import InputError
 from floebreak.studies.design import expand
+from floebreak.studies.scoreboard import TABLE_OUTPUTS
 from floebreak.studies.sensitivity import (
     CONTINUOUS_INPUTS,
     converged_from,
@@ -98,17 +99,8 @@ def test_elasticity_of_a_power_law():
 
 
 def test_converged_from():
-    outputs = (
-        "mean_cusp_volume_m3",
-        "mean_cusp_area_m2",
-        "n_cusps",
-        "n_flipped",
-        "cusp_area_m2",
-        "flipped_area_m2",
-    )
-
     def entry(d):
-        return dict.fromkeys(outputs, d)
+        return dict.fromkeys(TABLE_OUTPUTS, d)
 
     table = {0.0625: entry(0.0), 0.125: entry(0.01), 0.25: entry(-0.019), 0.5: entry(0.05)}
     assert converged_from(table) == 0.25
