@@ -12,13 +12,21 @@ Two figures per repeat, because a pool pays a one-off start that a long study do
   the warm serial path — the figure of a short study started from a running program.
 The start (pool creation → both workers warm) is printed too.
 
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/study_efficiency.py [--runs 8] [--repeat 3]
+`--cli N` adds the figure a user sees: `floebreak study thesis --n-fields N` (the thesis §5.3 study, 13
+design points on N common fields of 400 m × 50 m, which the parent generates before the runs) through the
+installed command, `--workers 1` against `--workers 2`, wall time from the command's start to its end
+(interpreter start, imports, common fields, runs, aggregated tables and figures).
+
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/study_efficiency.py [--runs 8] [--repeat 3] [--cli 2]
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import shutil
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -47,11 +55,35 @@ def warm_worker(_: int) -> int:
     return os.getpid()
 
 
+def cli_seconds(n_fields: int, workers: int, folder: Path) -> float:
+    """Wall time of `floebreak study thesis --n-fields N --workers W` in a fresh process."""
+    command = shutil.which("floebreak", path=str(Path(sys.executable).parent)) or "floebreak"
+    started = time.perf_counter()
+    arguments = ["study", "thesis", "--n-fields", str(n_fields), "--workers", str(workers), "--out", folder]
+    subprocess.run([command, *map(str, arguments)], check=True, stdout=subprocess.DEVNULL)
+    return time.perf_counter() - started
+
+
+def cli_figures(n_fields: int, repeat: int) -> None:
+    for _ in range(repeat):
+        with tempfile.TemporaryDirectory() as temp:
+            serial = cli_seconds(n_fields, 1, Path(temp) / "serial")
+            pool = cli_seconds(n_fields, 2, Path(temp) / "pool")
+        print(
+            f"floebreak study thesis --n-fields {n_fields}: --workers 1 {serial:.1f} s, --workers 2 "
+            f"{pool:.1f} s (efficiency {serial / (2 * pool):.0%})",
+            flush=True,
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=8)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--cli", type=int, default=0, metavar="N", help="also the CLI figure on N fields")
     args = parser.parse_args()
+    if args.cli:
+        cli_figures(args.cli, args.repeat)
     compile_kernels()
     spec = StudySpec(name="efficiency", root_seed=1, n_fields=args.runs, common_fields=False, base=None)
     warm_up = expand(StudySpec(name="warm", root_seed=99, n_fields=1, common_fields=False, base=None))[0][0]

@@ -190,6 +190,30 @@ def test_process_pool_and_dask_give_the_serial_results(tmp_path):
     assert _summaries(DaskExecutor("local", 2), tmp_path, "dask") == serial
 
 
+def _worker_state(_: int) -> tuple[int, bool, str | None]:
+    import os
+
+    return os.getpid(), "floebreak.api" in sys.modules, os.environ.get("OMP_NUM_THREADS")
+
+
+def test_pool_workers_start_prepared_with_one_thread(monkeypatch):
+    """Both workers are started at the pool's creation, each with what a run imports and one BLAS thread,
+    before any task of the study reaches them."""
+    import multiprocessing
+
+    monkeypatch.delenv("OMP_NUM_THREADS", raising=False)
+    before = {child.pid for child in multiprocessing.active_children()}
+    pool = ProcessPoolExecutor(2)
+    try:
+        started = {child.pid for child in multiprocessing.active_children()} - before
+        states = [result for _, result, _ in pool.run(_worker_state, range(4))]
+    finally:
+        pool.close()
+    assert len(started) == 2
+    assert {pid for pid, _, _ in states} <= started
+    assert all(prepared and threads == "1" for _, prepared, threads in states)
+
+
 def test_unreachable_scheduler_is_a_clear_error():
     with pytest.raises(InputError, match=r"within 0\.2 s") as info:
         DaskExecutor("tcp://127.0.0.1:9", timeout_s=0.2)

@@ -52,23 +52,44 @@ WORKER_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_T
 
 
 def one_thread_per_worker() -> None:
-    """Worker initializer: one BLAS / OpenMP / numba thread per worker process."""
+    """One BLAS / OpenMP / numba thread per worker process."""
     for name in WORKER_THREAD_VARIABLES:
         os.environ.setdefault(name, "1")
 
 
+def prepare_worker() -> None:
+    """Worker initializer: one thread, then the modules a run imports and the numba kernels loaded.
+
+    A spawned worker needs ≈ 1.5 s of CPU for this; done here, at the pool's creation, it overlaps the
+    parent's own preparation (checking resumed runs, generating the common fields) instead of delaying
+    the worker's first run."""
+    one_thread_per_worker()
+    import floebreak.api  # noqa: F401  (what `execute_run` imports)
+    from floebreak.mechanics import compile_kernels
+
+    compile_kernels()
+
+
+def _worker_pid() -> int:
+    return os.getpid()
+
+
 class ProcessPoolExecutor:
-    """A local pool of worker processes (default: one per core)."""
+    """A local pool of worker processes (default: one per core), started and prepared at creation."""
 
     def __init__(self, workers: int | None = None):
         self.workers = workers or os.cpu_count() or 1
         if self.workers < 1:
             raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
         self.description = f"local process pool ({self.workers} workers)"
-        # spawn: safe with threads in the parent (rich progress, BLAS) on every platform
+        # spawn, not fork: forking a parent that runs threads (BLAS, rich's progress, a notebook's kernel)
+        # can deadlock the child; the start this costs is overlapped with the parent's work instead
+        # (benchmarks/README.md, parallel efficiency)
         self._pool = cf.ProcessPoolExecutor(
-            self.workers, mp_context=multiprocessing.get_context("spawn"), initializer=one_thread_per_worker
+            self.workers, mp_context=multiprocessing.get_context("spawn"), initializer=prepare_worker
         )
+        for _ in range(self.workers):  # the pool spawns a worker per submitted task: start them all now
+            self._pool.submit(_worker_pid)
 
     def run(self, fn, items):
         futures = {self._pool.submit(fn, item): item for item in items}
