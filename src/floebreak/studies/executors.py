@@ -58,13 +58,18 @@ def one_thread_per_worker() -> None:
 
 
 def prepare_worker() -> None:
-    """Worker initializer: one thread, then the modules a run imports and the numba kernels loaded.
+    """Worker initializer: one thread, then the modules a run imports (matplotlib for its figures) and the
+    numba kernels loaded.
 
     A spawned worker needs ≈ 1.5 s of CPU for this; done here, at the pool's creation, it overlaps the
     parent's own preparation (checking resumed runs, generating the common fields) instead of delaying
     the worker's first run."""
     one_thread_per_worker()
-    import floebreak.api  # noqa: F401  (what `execute_run` imports)
+    # what `execute_run` imports, and the modules of the run's figures
+    import floebreak.api
+    import floebreak.plotting.field
+    import floebreak.plotting.pattern
+    import floebreak.plotting.spectra  # noqa: F401
     from floebreak.mechanics import compile_kernels
 
     compile_kernels()
