@@ -176,10 +176,10 @@ ROWS = [
         _run("--set", "ice.thicknes_m=1.0"),
     ),
     Row(
-        "bad row in a bow CSV file (file and row kept)",
+        "bad row in a bow CSV file (file, row and line kept)",
         '`run s.toml` with `[ship] file = "bow.csv"`',
         2,
-        "error: ship.file: <folder>/bow.csv row 3: has 2 values, the header has 3 columns",
+        "error: ship.file: <folder>/bow.csv, row 2 (line 3): has 2 values, the header has 3 columns",
         _bow_csv,
     ),
     Row(

@@ -274,7 +274,7 @@ def build_bow(scenario: Scenario, floe_field: FloeField | None = None):
 
         try:
             return Bow.from_csv(ship.file)
-        except InputError as error:  # keep the file and row the bow's reader names ("bow.csv row 7")
+        except InputError as error:  # keep the file, row and line the bow's reader names
             where = error.field.replace(Path(ship.file).name, str(ship.file), 1)
             message = str(error).removeprefix(f"{error.field}: ")
             raise InputError(
