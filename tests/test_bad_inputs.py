@@ -162,6 +162,14 @@ ROWS = [
         _run("--set", "failure.bending.foundation_modulus_n_m3=-5"),
     ),
     Row(
+        "concentration the generator cannot reach",
+        "`run s.toml --set field.concentration=1.0`",
+        2,
+        "error: field.concentration: 1 (100 %) cannot be reached by 'circles': circular floes always leave "
+        "gaps between them",
+        _run("--set", "field.concentration=1.0"),
+    ),
+    Row(
         "non-finite option",
         "`field --out f.parquet --length inf`",
         2,
