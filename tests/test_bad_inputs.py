@@ -162,6 +162,14 @@ ROWS = [
         _run("--set", "failure.bending.foundation_modulus_n_m3=-5"),
     ),
     Row(
+        "concentration the generator cannot reach",
+        "`run s.toml --set field.concentration=1.0`",
+        2,
+        "error: field.concentration: 1 (100 %) cannot be reached by 'circles': circular floes always leave "
+        "gaps between them",
+        _run("--set", "field.concentration=1.0"),
+    ),
+    Row(
         "non-finite option",
         "`field --out f.parquet --length inf`",
         2,
@@ -176,10 +184,10 @@ ROWS = [
         _run("--set", "ice.thicknes_m=1.0"),
     ),
     Row(
-        "bad row in a bow CSV file (file and row kept)",
+        "bad row in a bow CSV file (file, row and line kept)",
         '`run s.toml` with `[ship] file = "bow.csv"`',
         2,
-        "error: ship.file: <folder>/bow.csv row 3: has 2 values, the header has 3 columns",
+        "error: ship.file: <folder>/bow.csv, row 2 (line 3): has 2 values, the header has 3 columns",
         _bow_csv,
     ),
     Row(

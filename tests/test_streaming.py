@@ -129,12 +129,33 @@ def test_figures_of_a_long_field_show_a_window():
     window = (10.0, 30.0)
     figure = plot_breaking_pattern(sim, x_window_m=window, bow_at_end=False)
     assert figure.axes[0].get_xlim() == window
+    assert figure.axes[0].get_title() == "x = 10 to 30 m of the 60 m field"  # no title given: the note alone
     drawn = sum(len(c.get_paths()) for c in figure.axes[0].collections)
     bounds = shapely.bounds(sim.polygon)
     shown = sim.fate != "broken"
     inside = shown & (bounds[:, 0] <= window[1]) & (bounds[:, 2] >= window[0])
     assert 0 < drawn == int(shapely.get_num_geometries(sim.polygon[inside]).sum()) < shown.sum()
     assert FIGURE_WINDOW_M >= 1000.0
+
+
+def test_the_run_figures_of_a_long_field_say_which_part_they_show(monkeypatch):
+    """The run directory's figures of a field longer than the window state it in their title (here a 60 m
+    field and a window of 20 m standing in for 10 km and 2 km)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    result = floebreak.run(overrides=SMALL)
+    monkeypatch.setattr("floebreak.api.FIGURE_WINDOW_M", 20.0)
+    for figure, what in (
+        (result.plot_breaking_pattern(), "breaking pattern"),
+        (result.plot_field(), "initial floe field"),
+    ):
+        title = figure.axes[0].get_title()
+        assert title.startswith(what) and title.endswith("\nfirst 20 m of the 60 m field"), title
+        canvas = FigureCanvasAgg(figure)
+        canvas.draw()
+        extent = figure.axes[0].title.get_window_extent(canvas.get_renderer())
+        assert extent.y1 <= figure.bbox.y1  # both lines inside the figure
+    assert result.plot_breaking_pattern().axes[0].get_xlim()[1] == 20.0  # the field starts at x = 0
 
 
 def test_the_engine_keeps_finished_pieces_as_wkb_and_gives_them_back_exactly():

@@ -274,7 +274,7 @@ def build_bow(scenario: Scenario, floe_field: FloeField | None = None):
 
         try:
             return Bow.from_csv(ship.file)
-        except InputError as error:  # keep the file and row the bow's reader names ("bow.csv row 7")
+        except InputError as error:  # keep the file, row and line the bow's reader names
             where = error.field.replace(Path(ship.file).name, str(ship.file), 1)
             message = str(error).removeprefix(f"{error.field}: ")
             raise InputError(
@@ -399,7 +399,8 @@ class Result:
     # --- figures (matplotlib Figures; the caller closes or saves them) -------------------------------
     def plot_breaking_pattern(self, title: str | None = None):
         """Thesis colour code: blue remaining, orange flipped, red cusps; bow outline at start and end.
-        A transit longer than `FIGURE_WINDOW_M`: its first `FIGURE_WINDOW_M`, bow outline at the start."""
+        A field longer than `FIGURE_WINDOW_M`: its first `FIGURE_WINDOW_M` (the title says so), bow outline at
+        the start."""
         from floebreak.plotting.pattern import plot_breaking_pattern
 
         sim = self.simulation
@@ -411,10 +412,10 @@ class Result:
             max(pieces[2], x_last + upper_x.max()) + 2.0,
         )  # both bow outlines (start and end) inside the frame
         title = title or self._title("breaking pattern")
-        if xlim[1] - xlim[0] <= FIGURE_WINDOW_M:
+        field_x0, _, field_x1, _ = sim.field.domain_m
+        if field_x1 - field_x0 <= FIGURE_WINDOW_M:
             return plot_breaking_pattern(sim, title=title, xlim=xlim)
-        window = (xlim[0], xlim[0] + FIGURE_WINDOW_M)
-        title = f"{title}\nfirst {FIGURE_WINDOW_M:g} m of {xlim[1] - xlim[0]:.0f} m"
+        window = (xlim[0], field_x0 + FIGURE_WINDOW_M)  # from the bow at the start to 2 km into the field
         return plot_breaking_pattern(sim, title=title, x_window_m=window, bow_at_end=False)
 
     def plot_cusp_volume_spectrum(self):
@@ -432,13 +433,14 @@ class Result:
         return plot_crushing_force_spectrum(self.crushing_forces_n)
 
     def plot_field(self):
-        """The initial floe field (a field longer than `FIGURE_WINDOW_M`: its first `FIGURE_WINDOW_M`)."""
+        """The initial floe field (a field longer than `FIGURE_WINDOW_M`: its first `FIGURE_WINDOW_M`, the
+        title says so)."""
         from floebreak.plotting.field import plot_field
 
         x0, _, x1, _ = self.field.domain_m
         if x1 - x0 <= FIGURE_WINDOW_M:
             return plot_field(self.field, title=self._title("initial floe field"))
-        title = f"{self._title('initial floe field')}\nfirst {FIGURE_WINDOW_M:g} m of {x1 - x0:.0f} m"
+        title = self._title("initial floe field")
         return plot_field(self.field, title=title, x_window_m=(x0, x0 + FIGURE_WINDOW_M))
 
     def _title(self, what: str) -> str:

@@ -27,6 +27,20 @@ class InputError(ValueError):
         super().__init__(text)
 
 
+def csv_where(source: str, column: str | None = None, row: int | None = None, line: int | None = None) -> str:
+    """The InputError key of a place in a CSV file, the same for every CSV reader: the file, the data row
+    (counted from 1 after the header; comment and blank lines not counted) with its line in the file, and the
+    column — ``log.csv, row 2 (line 3), column 'x_m'``; ``log.csv, header (line 1)`` for the header."""
+    text = source
+    if row is not None:
+        text += f", row {row} (line {line})"
+    elif line is not None:
+        text += f", header (line {line})"
+    if column is not None:
+        text += f", column {column!r}"
+    return text
+
+
 def require_range(
     field: str,
     value: float,

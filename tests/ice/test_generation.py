@@ -89,8 +89,29 @@ def test_unreachable_concentration_reports_the_concentration_reached():
     obs = Observation(0.93, 0.8, (7.5, 15.0, 60.0), (40.0, 40.0, 20.0))
     with pytest.raises(ConcentrationError) as info:
         generate_field(obs, 480.0, 240.0, np.random.default_rng(0))
-    assert "highest concentration reached" in str(info.value)
+    # the user's number, not the cover of the rounded floe counts: 65, 65, 33 floes of 7.5, 15, 60 m cover
+    # π/4 (65·7.5² + 65·15² + 33·60²) / (480·240) = 93.5 %
+    assert str(info.value).startswith(
+        "concentration: 0.93 (93 %) not reached by 'circles' in this 480 m × 240 m field: highest "
+        "concentration reached "
+    )
+    assert "93.5" not in str(info.value)
     assert 0.3 < info.value.reached < obs.concentration
+    reached = f"{100 * info.value.reached:.2f} %, the cover of the floes it placed without overlap"
+    assert reached in str(info.value)
+
+
+@pytest.mark.parametrize("generator", ["circles", "sqp"])
+def test_full_cover_by_circles_is_refused_before_placing(generator):
+    # circles always leave gaps: 100 % cannot be reached, whatever the field (Thue: equal circles ≤ π/√12)
+    obs = Observation(1.0, 0.8, (5.0, 20.0), (60.0, 40.0))
+    with pytest.raises(InputError) as info:
+        generate_field(obs, 100.0, 50.0, np.random.default_rng(0), generator=generator)
+    assert info.value.field == "concentration"
+    assert str(info.value).startswith(f"concentration: 1 (100 %) cannot be reached by {generator!r}: ")
+    assert "90.7 %" in str(info.value) and "voronoi" in str(info.value)
+    field = generate_field(obs, 100.0, 50.0, np.random.default_rng(0), generator="voronoi")
+    assert field.concentration == pytest.approx(1.0, abs=1e-9)
 
 
 @pytest.mark.parametrize(

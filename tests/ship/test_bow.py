@@ -161,8 +161,8 @@ def test_csv_bad_value_names_row_and_column(tmp_path, row_index, replacement, wo
         return
     with pytest.raises(InputError) as info:
         Bow.from_csv(path)
-    file_row = 3 + 1 + row_index  # 2 comment lines + header, rows are 1-based
-    assert f"row {file_row}" in str(info.value)
+    # data rows counted from 1 after the header; the file has 2 comment lines and the header before them
+    assert f"bow.csv, row {row_index + 1} (line {row_index + 4})" in str(info.value)
     assert words in str(info.value)
     assert "x_m" in str(info.value) or "y_m" in str(info.value)
 
@@ -171,7 +171,7 @@ def test_csv_self_intersection_names_row(tmp_path):
     rows = [
         "upper,-10,5",
         "upper,-4,3",
-        "upper,0,0",  # row 6: the segment from here crosses the aft closure of the hull polygon
+        "upper,0,0",  # row 3, line 6: the segment from here crosses the aft closure of the hull polygon
         "upper,-12,-1",
         "upper,-10,-5",
         "lower,-10,4",
@@ -180,11 +180,12 @@ def test_csv_self_intersection_names_row(tmp_path):
         "lower,-11,-1",
         "lower,-10,-4",
     ]
-    with pytest.raises(InputError, match=r"row 6: upper waterline, column x_m/y_m: .*intersects itself"):
+    expected = r"bow.csv, row 3 \(line 6\): upper waterline \(columns x_m, y_m\): .*intersects itself"
+    with pytest.raises(InputError, match=expected):
         Bow.from_csv(write(tmp_path, rows))
     rows = [
         "upper,-10,5",
-        "upper,-2,5",  # the next segment runs back over the segment from row 4
+        "upper,-2,5",  # the next segment runs back over the segment from row 1 (line 4)
         "upper,-6,5",
         "upper,0,0",
         "upper,-10,-5",
@@ -194,19 +195,19 @@ def test_csv_self_intersection_names_row(tmp_path):
         "lower,-1,0",
         "lower,-10,-4",
     ]
-    with pytest.raises(InputError, match=r"row 4: upper waterline.*intersects itself"):
+    with pytest.raises(InputError, match=r"row 1 \(line 4\): upper waterline.*intersects itself"):
         Bow.from_csv(write(tmp_path, rows))
 
 
 def test_csv_wrong_columns_and_formats(tmp_path):
-    with pytest.raises(InputError, match=r"row 3.*unexpected columns") as info:
+    with pytest.raises(InputError, match=r"bow.csv, header \(line 3\): unexpected columns") as info:
         Bow.from_csv(write(tmp_path, GOOD_ROWS, header=LINES_HEADER.replace("y_m", "y")))
     assert "allowed" in str(info.value)
-    with pytest.raises(InputError, match=r"row 4.*column line"):
+    with pytest.raises(InputError, match=r"bow.csv, row 1 \(line 4\), column 'line': 'port' is not a"):
         Bow.from_csv(write(tmp_path, ["port,-10,5", *GOOD_ROWS[1:]]))
     with pytest.raises(InputError, match="z_upper_m"):
         Bow.from_csv(write(tmp_path, GOOD_ROWS, header="line,x_m,y_m\n"))
-    with pytest.raises(InputError, match=r"row 4.*values"):
+    with pytest.raises(InputError, match=r"bow.csv, row 1 \(line 4\): has 4 values, the header has 3"):
         Bow.from_csv(write(tmp_path, ["upper,-10,5,1", *GOOD_ROWS[1:]]))
 
 
@@ -215,13 +216,14 @@ def test_csv_stations_errors_name_row(tmp_path):
     good = ["0,0,40", "-5,2,35", "-10,3,30", "-20,3,30"]
     assert Bow.from_csv(write(tmp_path, good, header)).n_panels == 6
     for index, bad, words in [
-        (1, "-5,nan,35", "column half_breadth_m"),
-        (2, "-10,3,95", "column frame_angle_deg"),
-        (2, "-4,3,30", "column x_m"),
+        (1, "-5,nan,35", "column 'half_breadth_m'"),
+        (2, "-10,3,95", "column 'frame_angle_deg'"),
+        (2, "-4,3,30", "column 'x_m'"),
     ]:
         rows = list(good)
         rows[index] = bad
-        with pytest.raises(InputError, match=f"row {3 + index}.*{words}"):
+        # a comment line and the header before the stations: station `index` is row index + 1, line index + 3
+        with pytest.raises(InputError, match=rf"row {index + 1} \(line {index + 3}\), {words}"):
             Bow.from_csv(write(tmp_path, rows, header))
 
 

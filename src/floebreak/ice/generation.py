@@ -42,17 +42,20 @@ SQP_MAX_FLOES = 400  # beyond this SLSQP's dense O(n²) constraint Jacobian is i
 
 
 class ConcentrationError(InputError):
-    """The target concentration could not be reached; `reached` is the best concentration found."""
+    """The user's concentration `target` (a fraction) could not be reached by `generator` in a field of
+    `size_m` (length, width); `reached` is the highest concentration reached, `reason` says what it is."""
 
-    def __init__(self, target: float, reached: float, reason: str):
+    def __init__(
+        self, target: float, reached: float, reason: str, generator: str, size_m: tuple[float, float]
+    ):
         self.reached = reached
         super().__init__(
             "concentration",
-            f"target {100 * target:.1f} % not reached: highest concentration reached {100 * reached:.2f} % "
-            f"({reason})",
+            f"{target:g} ({100 * target:g} %) not reached by {generator!r} in this {size_m[0]:g} m × "
+            f"{size_m[1]:g} m field: highest concentration reached {100 * reached:.2f} %, {reason}",
             value=target,
-            allowed=f"(0, {100 * reached:.1f}] % for this generator and field; the 'voronoi' generator "
-            "reaches any concentration up to 100 %",
+            allowed=f"at most about {reached:.3g} with {generator!r} in this field, or generator 'voronoi', "
+            "which reaches any concentration up to 1",
         )
 
 
@@ -138,8 +141,17 @@ GENERATORS = ("circles", "sqp", "voronoi")
 
 
 def _circle_field(
-    counts: FloeCounts, domain, rng, generator: str, clustering: float, vertices: int, on_round=None
+    counts: FloeCounts,
+    target: float,
+    domain,
+    rng,
+    generator: str,
+    clustering: float,
+    vertices: int,
+    on_round=None,
 ):
+    """Circular floes of `counts` placed by `generator`; ConcentrationError naming the user's `target`
+    (not the cover of the rounded counts) when they cannot all be placed without overlap."""
     diameters = np.repeat(np.asarray(counts.diameter_classes_m), counts.counts)
     order = np.argsort(-diameters, kind="stable")  # ids: largest floes first
     diameters = diameters[order]
@@ -152,10 +164,11 @@ def _circle_field(
             else f"overlap up to {packing.max_overlap_m:.3g} m"
         )
         raise ConcentrationError(
-            counts.circle_concentration,
+            target,
             reached,
-            f"{generator!r} could not place all floes without overlap ({failed}); "
-            "the concentration given is that of the floes it did place without overlap",
+            f"the cover of the floes it placed without overlap ({failed})",
+            generator,
+            (domain[2] - domain[0], domain[3] - domain[1]),
         )
     polygons = circle_polygons(packing.centers_m, packing.radii_m, vertices)
     info = {
@@ -213,6 +226,20 @@ def _voronoi_field(counts: FloeCounts, concentration: float, domain, rng):
     return polygons[order], nearest[order], {}
 
 
+def _refuse_full_cover_by_circles(concentration: float, generator: str) -> None:
+    """InputError for a concentration of 1 with a circle generator, before anything is placed (the placement
+    would run to its end and fail): circles always leave gaps, equal ones cover at most π/√12 = 90.7 % of a
+    plane (hexagonal packing, Thue's theorem)."""
+    if concentration >= 1.0:
+        raise InputError(
+            "concentration",
+            f"{concentration:g} (100 %) cannot be reached by {generator!r}: circular floes always leave gaps "
+            "between them (equal circles cover at most π/√12 = 90.7 % of a plane, hexagonally packed)",
+            value=concentration,
+            allowed=f"< 1 with {generator!r}, or generator 'voronoi' (any concentration up to 1)",
+        )
+
+
 def _checked_floe_counts(
     observation: Observation,
     length_m: float,
@@ -232,6 +259,8 @@ def _checked_floe_counts(
     if generator not in GENERATORS:
         raise InputError("generator", f"unknown generator {generator!r}", allowed=", ".join(GENERATORS))
     require_range("clustering", clustering, low=0.0, low_inclusive=True)
+    if generator != "voronoi" and floe_area_factor == c.FLOE_AREA_FACTOR:
+        _refuse_full_cover_by_circles(observation.concentration, generator)
     counts = floe_counts(observation, length_m * width_m, floe_area_factor)
     if max_floes is not None and counts.total > max_floes:
         raise InputError(
@@ -320,7 +349,7 @@ def generate_field(
         polygons, diameter_class, info = _voronoi_field(counts, observation.concentration, domain, rng)
     else:
         polygons, diameter_class, info = _circle_field(
-            counts, domain, rng, generator, clustering, vertices, report
+            counts, observation.concentration, domain, rng, generator, clustering, vertices, report
         )
     if progress:
         progress(f"{counts.total:,} floes placed", 1, 1)
@@ -350,12 +379,19 @@ def generate_field(
             **info,
         },
     )
-    reached = field.concentration
-    if (
-        abs(reached - observation.concentration) > CONCENTRATION_TOLERANCE
-        and floe_area_factor == c.FLOE_AREA_FACTOR
-    ):
-        raise ConcentrationError(
-            observation.concentration, reached, "generated field differs by more than 1 pp"
-        )
+    if floe_area_factor == c.FLOE_AREA_FACTOR:
+        _check_concentration(field, observation.concentration, generator)
     return field
+
+
+def _check_concentration(field: FloeField, target: float, generator: str) -> None:
+    """ConcentrationError if the generated field's concentration is more than ±1 pp from the user's."""
+    if abs(field.concentration - target) > CONCENTRATION_TOLERANCE:
+        x0, y0, x1, y1 = field.domain_m
+        raise ConcentrationError(
+            target,
+            field.concentration,
+            "the cover of the generated field (more than 1 percentage point off)",
+            generator,
+            (x1 - x0, y1 - y0),
+        )

@@ -37,7 +37,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from floebreak.errors import InputError
+from floebreak.errors import InputError, csv_where
 from floebreak.ice.observations import PERCENT_SUM_TOLERANCE
 from floebreak.propeller.spec import MAX_PROPELLER_RPM
 from floebreak.scenario import SPEED_M_S, THICKNESS_M
@@ -99,60 +99,54 @@ class VoyageLog:
         return sum(p.duration_h for p in self.periods)
 
 
-def _where(source: str, column: str | None, row: int | None = None, line: int | None = None) -> str:
-    """The InputError key: file, row (and line) and column."""
-    text = source
-    if row is not None:
-        text += f", row {row} (line {line})"
-    elif line is not None:
-        text += f", header (line {line})"
-    if column is not None:
-        text += f", column {column!r}"
-    return text
-
-
 def _check_header(source: str, header: list[str], line: int) -> None:
     seen: set[str] = set()
     for name in header:
         if name in seen:
-            raise InputError(_where(source, name, line=line), "duplicate column", allowed="each column once")
+            raise InputError(
+                csv_where(source, name, line=line), "duplicate column", allowed="each column once"
+            )
         seen.add(name)
         if name in KNOWN or SHARE_COLUMN.match(name):
             continue
         if name.startswith("share_d") or name.startswith("share"):
             raise InputError(
-                _where(source, name, line=line), "not a diameter-class column", allowed=SHARE_FORM
+                csv_where(source, name, line=line), "not a diameter-class column", allowed=SHARE_FORM
             )
         stem = next((s for s in sorted(QUANTITIES, key=len, reverse=True) if name.startswith(s)), None)
         if stem is not None:
             unit = name[len(stem) :].lstrip("_") or "none"
             raise InputError(
-                _where(source, name, line=line),
+                csv_where(source, name, line=line),
                 f"unit {unit!r} not accepted",
                 allowed=" or ".join(QUANTITIES[stem]),
             )
         raise InputError(
-            _where(source, name, line=line),
+            csv_where(source, name, line=line),
             "unknown column",
             allowed=", ".join((*KNOWN, SHARE_FORM)),
         )
     missing = [c for c in REQUIRED if c not in seen]
     if missing:
-        raise InputError(_where(source, missing[0], line=line), "missing column", allowed=", ".join(REQUIRED))
+        raise InputError(
+            csv_where(source, missing[0], line=line), "missing column", allowed=", ".join(REQUIRED)
+        )
     given = [c for c in ("concentration_percent", "concentration_fraction") if c in seen]
     if len(given) != 1:
         raise InputError(
-            _where(source, given[1] if given else "concentration_percent", line=line),
+            csv_where(source, given[1] if given else "concentration_percent", line=line),
             "missing column" if not given else "give the concentration once",
             allowed="one of concentration_percent, concentration_fraction",
         )
     if "speed_m_s" in seen and "speed_kn" in seen:
         raise InputError(
-            _where(source, "speed_kn", line=line), "give the speed once", allowed="speed_m_s or speed_kn"
+            csv_where(source, "speed_kn", line=line), "give the speed once", allowed="speed_m_s or speed_kn"
         )
     if not any(SHARE_COLUMN.match(name) for name in header):
         raise InputError(
-            _where(source, "share_d<D>m_percent", line=line), "no diameter-class column", allowed=SHARE_FORM
+            csv_where(source, "share_d<D>m_percent", line=line),
+            "no diameter-class column",
+            allowed=SHARE_FORM,
         )
 
 
@@ -191,7 +185,7 @@ def _time(text: str, where: str) -> dt.datetime:
 
 def _period(source: str, row: int, line: int, cells: dict[str, str], shares: list[tuple[str, float]]):
     def where(column: str) -> str:
-        return _where(source, column, row, line)
+        return csv_where(source, column, row, line)
 
     start = _time(cells["start_utc"], where("start_utc"))
     end = _time(cells["end_utc"], where("end_utc"))
@@ -250,7 +244,7 @@ def _period(source: str, row: int, line: int, cells: dict[str, str], shares: lis
 
 def _check_order(source: str, periods: list[LogPeriod]) -> None:
     for before, period in itertools.pairwise(periods):
-        where = _where(source, "start_utc", period.row, period.line)
+        where = csv_where(source, "start_utc", period.row, period.line)
         if period.start_utc < before.start_utc:
             raise InputError(
                 where,
@@ -284,19 +278,19 @@ def parse_voyage_log(text: str, source: str = "log") -> VoyageLog:
     for (name, diameter), (_, other) in itertools.pairwise(shares):
         if diameter <= 0.0 or diameter == other:
             raise InputError(
-                _where(source, name, line=header_line),
+                csv_where(source, name, line=header_line),
                 "diameter must be > 0 and distinct from the other classes",
                 allowed=SHARE_FORM,
             )
     if shares[0][1] <= 0.0:
         raise InputError(
-            _where(source, shares[0][0], line=header_line), "diameter must be > 0", allowed=SHARE_FORM
+            csv_where(source, shares[0][0], line=header_line), "diameter must be > 0", allowed=SHARE_FORM
         )
     periods = []
     for row, ((line, _), cells) in enumerate(zip(numbered[1:], rows[1:], strict=True), start=1):
         if len(cells) != len(header):
             raise InputError(
-                _where(source, None, row, line),
+                csv_where(source, None, row, line),
                 f"{len(cells)} cells for {len(header)} columns",
                 allowed="one cell per column",
             )

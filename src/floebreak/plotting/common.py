@@ -20,6 +20,29 @@ CUSP_COLOUR = "#d62728"  # red
 SPECTRUM_MARGINS_IN = (0.85, 0.5, 0.18, 0.3)
 PATTERN_MARGINS_IN = (0.78, 0.5, 1.38, 0.3)  # legend outside on the right (≤ 1.31 in)
 FIELD_MARGINS_IN = (0.78, 0.5, 1.18, 0.3)  # legend "floe class" outside on the right (≤ 1.07 in)
+NOTE_LINE_IN = 0.22  # a second title line (the window note) at the default 12 pt title size, with its spacing
+
+
+def window_note(x_window_m: tuple[float, float], field_x_m: tuple[float, float]) -> str:
+    """What a figure drawn in the x window `x_window_m` [m] shows of a field spanning `field_x_m` [m]:
+    "first 2 000 m of the 10 000 m field" (a window from the field's start), else "x = a to b m of …"."""
+    (a, b), (f0, f1) = x_window_m, field_x_m
+    whole = f"the {_metres(f1 - f0)} m field"
+    if a <= f0:
+        return f"first {_metres(min(b, f1) - f0)} m of {whole}"
+    return f"x = {_metres(a)} to {_metres(b)} m of {whole}"
+
+
+def _metres(value: float) -> str:
+    """A length for a title: thousands grouped by a space (SI style), a decimal only where it shows."""
+    text = f"{value:,.0f}" if abs(value - round(value)) < 0.05 else f"{value:,.1f}"
+    return text.replace(",", " ")
+
+
+def with_note_line(margins_in: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    """`margins_in` (left, bottom, right, top) with room for one more title line at the top."""
+    left, bottom, right, top = margins_in
+    return left, bottom, right, top + NOTE_LINE_IN
 
 
 def new_figure(

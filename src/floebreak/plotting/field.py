@@ -8,7 +8,14 @@ from matplotlib import colormaps
 from matplotlib.patches import Patch, Rectangle
 
 from floebreak.ice.field import FloeField
-from floebreak.plotting.common import FIELD_MARGINS_IN, new_figure, polygon_collection
+from floebreak.plotting.common import (
+    FIELD_MARGINS_IN,
+    NOTE_LINE_IN,
+    new_figure,
+    polygon_collection,
+    window_note,
+    with_note_line,
+)
 
 
 def plot_field(
@@ -16,13 +23,20 @@ def plot_field(
 ):
     """Plot `floe_field`; returns the matplotlib Figure. Floes are coloured by diameter class.
 
-    `x_window_m`: show only this x range [m] of the field, in a figure sized for it (a long field)."""
+    `x_window_m`: show only this x range [m] of the field, in a figure sized for it (a long field); the
+    title's second line says which part is shown (`window_note`: "first 2 000 m of the 10 000 m field")."""
     x0, y0, x1, y1 = floe_field.domain_m
+    note = None
     if x_window_m is not None:
+        note = window_note(x_window_m, (x0, x1))
         x0, x1 = x_window_m
     if ax is None:
         aspect = (y1 - y0) / max(x1 - x0, 1e-9)
-        figure, ax = new_figure(10.0, float(np.clip(10.0 * aspect + 1.2, 2.5, 10.0)), FIELD_MARGINS_IN)
+        height_in = float(np.clip(10.0 * aspect + 1.2, 2.5, 10.0))
+        margins_in = FIELD_MARGINS_IN
+        if note:
+            height_in, margins_in = height_in + NOTE_LINE_IN, with_note_line(margins_in)
+        figure, ax = new_figure(10.0, height_in, margins_in)
     else:
         figure = ax.figure
     classes = floe_field.diameter_class_m
@@ -64,5 +78,6 @@ def plot_field(
         ax.legend(
             handles=handles, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="small", title="floe class"
         )
-    ax.set_title(title or f"{floe_field.n_floes} floes, concentration {100 * floe_field.concentration:.1f} %")
+    title = title or f"{floe_field.n_floes} floes, concentration {100 * floe_field.concentration:.1f} %"
+    ax.set_title(f"{title}\n{note}" if note else title)
     return figure

@@ -10,10 +10,13 @@ from matplotlib.patches import Patch
 from floebreak.plotting.common import (
     CUSP_COLOUR,
     FLIPPED_COLOUR,
+    NOTE_LINE_IN,
     PATTERN_MARGINS_IN,
     UNTOUCHED_COLOUR,
     new_figure,
     polygon_collection,
+    window_note,
+    with_note_line,
 )
 
 
@@ -31,7 +34,11 @@ def plot_breaking_pattern(
     (dashed) and, with `bow_at_end`, at the end position (solid). Pieces are drawn where they were made.
 
     `x_window_m`: draw only the pieces within this x range [m], in a figure sized for it (a long transit:
-    its whole length would be a sliver of pixels, and every piece would be held once more as a path)."""
+    its whole length would be a sliver of pixels, and every piece would be held once more as a path); the
+    title's last line says which part of the field is shown (`window_note`: "first 2 000 m of the 10 000 m
+    field")."""
+    field_x0, _, field_x1, _ = result.field.domain_m
+    note = None if x_window_m is None else window_note(x_window_m, (field_x0, field_x1))
     if ax is None:
         x0, y0, x1, y1 = result.field.domain_m
         hull_x0, hull_y0, _, hull_y1 = shapely.bounds(result.bow.hull_upper)
@@ -41,7 +48,10 @@ def plot_breaking_pattern(
         y_range = max(y1, hull_y1) - min(y0, hull_y0) + 4.0
         # axes ≈ 8 in wide (legend outside on the right), equal aspect; + room for title and labels
         height_in = float(np.clip(8.0 * y_range / max(x_range, 1e-9) + 1.0, 2.0, 10.0))
-        figure, ax = new_figure(10.0, height_in, PATTERN_MARGINS_IN)
+        margins_in = PATTERN_MARGINS_IN
+        if note:
+            height_in, margins_in = height_in + NOTE_LINE_IN, with_note_line(margins_in)
+        figure, ax = new_figure(10.0, height_in, margins_in)
     else:
         figure = ax.figure
     bounds = result.piece_bounds_m  # NaN for an empty piece
@@ -83,6 +93,7 @@ def plot_breaking_pattern(
             bbox_to_anchor=(1.0, 1.0),
             fontsize="small",
         )
+    title = "\n".join(line for line in (title, note) if line)
     if title:
         ax.set_title(title)
     return figure

@@ -24,13 +24,14 @@ import numpy as np
 import shapely
 
 from floebreak.constants import ICE_DENSITY_KG_M3, SEAWATER_DENSITY_KG_M3
-from floebreak.errors import InputError
+from floebreak.errors import InputError, csv_where
 
 RELATIVE_TOLERANCE: Final = 1e-9  # geometric tolerance relative to the bow's size (min 1 m)
 SHOULDER_RELATIVE_TOLERANCE: Final = 1e-6  # |y| ≥ (1 − tol)·B/2 counts as "full half-breadth"
 LINES_COLUMNS: Final = ("line", "x_m", "y_m")  # CSV format (a)
 STATIONS_COLUMNS: Final = ("x_m", "half_breadth_m", "frame_angle_deg")  # CSV format (b)
 CSV_KEYS: Final = ("name", "z_upper_m", "z_lower_m", "ice_thickness_m")  # "# key = value" header comments
+Place = tuple[int, int]  # a CSV row: (data row counted from 1 after the header, line of the file)
 
 
 class _LineError(Exception):
@@ -210,13 +211,14 @@ def _panels(
     return panel_normals, psi, upper_mid, footprints
 
 
-def _split_csv_text(text: str) -> tuple[dict[str, str], list[str] | None, int, list[tuple[int, list[str]]]]:
-    """(``# key = value`` metadata, header cells or None, header row, [(row number, cells)]) of a bow CSV."""
+def _split_csv_text(text: str) -> tuple[dict[str, str], list[str] | None, int, list[tuple[Place, list[str]]]]:
+    """(``# key = value`` metadata, header cells or None, header's line, [((data row, line), cells)]) of a
+    bow CSV: data rows counted from 1 after the header, lines of the file from 1 (`errors.csv_where`)."""
     meta: dict[str, str] = {}
     header: list[str] | None = None
-    header_row = 0
-    rows: list[tuple[int, list[str]]] = []
-    for row_number, raw in enumerate(text.splitlines(), start=1):
+    header_line = 0
+    rows: list[tuple[Place, list[str]]] = []
+    for line_number, raw in enumerate(text.splitlines(), start=1):
         stripped = raw.strip()
         if not stripped:
             continue
@@ -229,14 +231,14 @@ def _split_csv_text(text: str) -> tuple[dict[str, str], list[str] | None, int, l
             continue
         cells = [cell.strip() for cell in next(csv.reader([raw]))]
         if header is None:
-            header, header_row = cells, row_number
+            header, header_line = cells, line_number
         else:
-            rows.append((row_number, cells))
-    return meta, header, header_row, rows
+            rows.append(((len(rows) + 1, line_number), cells))
+    return meta, header, header_line, rows
 
 
 def _csv_format(
-    header: list[str] | None, header_row: int, rows: list[tuple[int, list[str]]], where: str
+    header: list[str] | None, header_line: int, rows: list[tuple[Place, list[str]]], where: str
 ) -> str:
     """The CSV format from the header, "lines" (a) or "stations" (b); InputError for a bad header or row."""
     if header is None:
@@ -247,15 +249,15 @@ def _csv_format(
         fmt = "stations"
     else:
         raise InputError(
-            f"{where} row {header_row}",
+            csv_where(where, line=header_line),
             f"unexpected columns {header}",
             value=header,
             allowed=_formats_text(),
         )
-    for row_number, cells in rows:
+    for place, cells in rows:
         if len(cells) != len(header):
             raise InputError(
-                f"{where} row {row_number}",
+                csv_where(where, None, *place),
                 f"has {len(cells)} values, the header has {len(header)} columns",
             )
     return fmt
@@ -399,7 +401,8 @@ class Bow:
             lower line is the upper one offset inward by Δz·tan ψ_v with tan ψ_v = tan β cos α (physics-notes
             §2.1), α from the station half-breadths; the line is mirrored to starboard (§6.3).
 
-        Errors name the file, the row (1-based line number in the file) and the column.
+        Errors name the file, the data row (counted from 1 after the header) with its line in the file,
+        and the column, as every CSV reader of floebreak does (`floebreak.errors.csv_where`).
         """
         path = Path(path)
         try:
@@ -408,10 +411,10 @@ class Bow:
             raise InputError(
                 "bow_csv", f"cannot read {path}: {error.strerror or error}", value=str(path)
             ) from None
-        meta, header, header_row, rows = _split_csv_text(text)
+        meta, header, header_line, rows = _split_csv_text(text)
         where = f"{path.name}"
-        fmt = _csv_format(header, header_row, rows, where)
-        records = [(row_number, dict(zip(header, cells, strict=True))) for row_number, cells in rows]
+        fmt = _csv_format(header, header_line, rows, where)
+        records = [(place, dict(zip(header, cells, strict=True))) for place, cells in rows]
         z_upper, z_lower, thickness_note = _read_heights(meta, where, fmt)
         bow_name = name or meta.get("name") or path.stem
         parameters = {"source_csv": str(path), "csv_format": fmt, **thickness_note}
@@ -427,12 +430,12 @@ class Bow:
         try:
             _check_lines(upper, lower)
         except _LineError as error:
-            row = rows_of[error.line][error.index]
-            column = "x_m/y_m" if fmt == "lines" else "x_m/half_breadth_m/frame_angle_deg"
+            place = rows_of[error.line][error.index]
+            columns = "x_m, y_m" if fmt == "lines" else "x_m, half_breadth_m, frame_angle_deg"
             raise InputError(
-                f"{where} row {row}",
-                f"{error.line} waterline, column {column}: {error.message}",
-                value=row,
+                csv_where(where, None, *place),
+                f"{error.line} waterline (columns {columns}): {error.message}",
+                value=place[0],
             ) from None
         return cls(bow_name, upper, lower, z_upper, z_lower, parameters)
 
@@ -459,17 +462,13 @@ def _formats_text() -> str:
     return f"header '{','.join(LINES_COLUMNS)}' (format a) or '{','.join(STATIONS_COLUMNS)}' (format b)"
 
 
-def _number(where: str, row: int, column: str, text: str) -> float:
+def _number(where: str, place: Place, column: str, text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise InputError(
-            f"{where} row {row}", f"column {column}: {text!r} is not a number", value=text
-        ) from None
+        raise InputError(csv_where(where, column, *place), f"{text!r} is not a number", value=text) from None
     if not math.isfinite(value):
-        raise InputError(
-            f"{where} row {row}", f"column {column}: {text!r} is not a finite number", value=text
-        )
+        raise InputError(csv_where(where, column, *place), f"{text!r} is not a finite number", value=text)
     return value
 
 
@@ -505,23 +504,23 @@ def _read_heights(meta: Mapping[str, str], where: str, fmt: str) -> tuple[float,
 
 def _lines_from_records(records, where: str):
     points: dict[str, list[tuple[float, float]]] = {"upper": [], "lower": []}
-    rows: dict[str, list[int]] = {"upper": [], "lower": []}
-    for row, record in records:
+    rows: dict[str, list[Place]] = {"upper": [], "lower": []}
+    for place, record in records:
         line = record["line"].lower()
         if line not in points:
             raise InputError(
-                f"{where} row {row}",
-                f"column line: {record['line']!r} is not a waterline",
+                csv_where(where, "line", *place),
+                f"{record['line']!r} is not a waterline",
                 allowed="upper, lower",
             )
         points[line].append(
-            (_number(where, row, "x_m", record["x_m"]), _number(where, row, "y_m", record["y_m"]))
+            (_number(where, place, "x_m", record["x_m"]), _number(where, place, "y_m", record["y_m"]))
         )
-        rows[line].append(row)
+        rows[line].append(place)
     n_u, n_l = len(points["upper"]), len(points["lower"])
     if n_u < 3 or n_u != n_l:
         raise InputError(
-            f"{where} column line",
+            csv_where(where, "line"),
             f"needs ≥ 3 'upper' rows and as many 'lower' rows (node i ↔ i), got {n_u} upper, {n_l} lower",
         )
     return np.array(points["upper"]), np.array(points["lower"]), rows["upper"], rows["lower"]
@@ -534,30 +533,31 @@ def _stations_to_lines(records, where: str, dz: float):
     hb = np.empty(len(records))
     beta = np.empty(len(records))
     rows = []
-    for k, (row, record) in enumerate(records):
-        x[k] = _number(where, row, "x_m", record["x_m"])
-        hb[k] = _number(where, row, "half_breadth_m", record["half_breadth_m"])
-        beta[k] = _number(where, row, "frame_angle_deg", record["frame_angle_deg"])
-        rows.append(row)
+    for k, (place, record) in enumerate(records):
+        x[k] = _number(where, place, "x_m", record["x_m"])
+        hb[k] = _number(where, place, "half_breadth_m", record["half_breadth_m"])
+        beta[k] = _number(where, place, "frame_angle_deg", record["frame_angle_deg"])
+        rows.append(place)
         if not 0.0 <= beta[k] < 90.0:
             raise InputError(
-                f"{where} row {row}",
-                f"column frame_angle_deg: {beta[k]:g} is outside [0, 90)",
-                allowed="[0, 90)",
+                csv_where(where, "frame_angle_deg", *place),
+                f"{beta[k]:g} ° is outside [0, 90)",
+                allowed="[0, 90) °",
             )
         if hb[k] < 0.0:
-            raise InputError(f"{where} row {row}", f"column half_breadth_m: {hb[k]:g} is negative")
+            raise InputError(csv_where(where, "half_breadth_m", *place), f"{hb[k]:g} m is negative")
     if x[0] != 0.0 or hb[0] != 0.0:
         raise InputError(
-            f"{where} row {rows[0]}", "column x_m/half_breadth_m: the first station must be the stem (0, 0)"
+            csv_where(where, "x_m", *rows[0]),
+            "the first station must be the stem (x_m = 0, half_breadth_m = 0)",
         )
     for k in range(1, len(x)):
         if not x[k] < x[k - 1]:
             raise InputError(
-                f"{where} row {rows[k]}", "column x_m: stations must go aft (x_m strictly decreasing)"
+                csv_where(where, "x_m", *rows[k]), "stations must go aft (x_m strictly decreasing)"
             )
         if hb[k] < hb[k - 1]:
-            raise InputError(f"{where} row {rows[k]}", "column half_breadth_m: must not decrease aft")
+            raise InputError(csv_where(where, "half_breadth_m", *rows[k]), "must not decrease aft")
     port = np.column_stack([x, hb])
     # waterline angle α per station: thesis Eq. 20 differences on the port half line (one-sided at the ends)
     s = -x
