@@ -206,3 +206,19 @@ def test_writing_a_run_directory_decodes_no_piece_table_whole(tmp_path, monkeypa
         _same_columns(
             *({n: t.column(n).to_numpy(zero_copy_only=False) for n in t.column_names} for t in (a, b))
         )
+
+
+def test_floebreak_field_figure_of_a_long_field_shows_the_window(monkeypatch):
+    """`floebreak field --figure` draws its field as the run directory does: a field longer than the window
+    shows its first part and says so (a 60 m field, a 20 m window)."""
+    from floebreak.api import plot_field_figure
+
+    field = generate_field(
+        get_observation("2019-12-18T20:20"), 60.0, 50.0, np.random.default_rng(3), thickness_m=1.0
+    )
+    assert "first" not in plot_field_figure(field).axes[0].get_title()  # 60 m: shorter than the window
+    monkeypatch.setattr("floebreak.api.FIGURE_WINDOW_M", 20.0)
+    figure = plot_field_figure(field, title="field")
+    assert figure.axes[0].get_title().endswith("\nfirst 20 m of the 60 m field")
+    assert figure.axes[0].get_xlim()[1] < field.domain_m[0] + 30.0  # the window and a margin, not 60 m
+

@@ -81,6 +81,17 @@ FIGURES = {
 # would be a sliver of pixels, and drawing it holds every polygon once more (benchmarks/README.md, memory)
 FIGURE_WINDOW_M = 2000.0
 
+
+def plot_field_figure(floe_field: FloeField, title: str | None = None):
+    """The figure of a floe field: a field longer than `FIGURE_WINDOW_M` shows its first `FIGURE_WINDOW_M`
+    (the title says so), so that a figure's memory does not grow with the field (issue 20)."""
+    from floebreak.plotting.field import plot_field
+
+    x0, _, x1, _ = floe_field.domain_m
+    window = None if x1 - x0 <= FIGURE_WINDOW_M else (x0, x0 + FIGURE_WINDOW_M)
+    return plot_field(floe_field, title=title, x_window_m=window)
+
+
 # where generate_field's own field names belong in a scenario
 _GENERATION_KEYS = {
     "thickness_m": "ice.thickness_m",
@@ -433,15 +444,8 @@ class Result:
         return plot_crushing_force_spectrum(self.crushing_forces_n)
 
     def plot_field(self):
-        """The initial floe field (a field longer than `FIGURE_WINDOW_M`: its first `FIGURE_WINDOW_M`, the
-        title says so)."""
-        from floebreak.plotting.field import plot_field
-
-        x0, _, x1, _ = self.field.domain_m
-        if x1 - x0 <= FIGURE_WINDOW_M:
-            return plot_field(self.field, title=self._title("initial floe field"))
-        title = self._title("initial floe field")
-        return plot_field(self.field, title=title, x_window_m=(x0, x0 + FIGURE_WINDOW_M))
+        """The initial floe field (`plot_field_figure`)."""
+        return plot_field_figure(self.field, title=self._title("initial floe field"))
 
     def _title(self, what: str) -> str:
         name = self.scenario.name or (self.scenario.field.observation or self.scenario.field.source)

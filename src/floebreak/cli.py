@@ -118,10 +118,10 @@ def field(
         export_geojson(floe_field, geojson, field="geojson")
         written.append(str(geojson))
     if figure is not None:
+        from floebreak.api import plot_field_figure
         from floebreak.io.figures import save_figure
-        from floebreak.plotting.field import plot_field
 
-        save_figure(plot_field(floe_field), figure, field="figure")
+        save_figure(plot_field_figure(floe_field), figure, field="figure")
         written.append(str(figure))
     console.print(
         f"{floe_field.n_floes} floes, concentration {100 * floe_field.concentration:.2f} % "
