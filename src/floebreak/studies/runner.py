@@ -9,8 +9,9 @@ Layout of a study directory::
     study_runs.parquet         one row per run: parameters + summary (see `aggregate`)
     tables/, figures/          aggregated tables and figures
 
-Common fields are generated once, in the process that runs the study, before any run starts, and every run
-of that field reads them: the design points then see the same fields even when the runs go to workers whose
+Common fields are generated once, in the process that runs the study, each just before the first run that
+reads it is handed out (the workers start on the first field's runs meanwhile), and every run of that field
+reads them: the design points then see the same fields even when the runs go to workers whose
 CPUs make OpenBLAS pick other kernels, with which the packing would generate other fields from the same
 seed (docs/model.md §4, Reproducibility), and a run's result does not depend on where it ran.
 
@@ -27,7 +28,7 @@ from __future__ import annotations
 import json
 import shutil
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -167,6 +168,39 @@ def _record_failure(
     _atomic_write_text(failure_file, json.dumps(record, indent=2, default=str) + "\n")
 
 
+def _pending_tasks(
+    spec: StudySpec,
+    runs: list[RunSpec],
+    out_dir: Path,
+    state: StudyProgress,
+    progress: Callable[[StudyProgress], None] | None,
+    run_figures: bool,
+) -> Iterator[dict[str, Any]]:
+    """The tasks of the runs not complete yet, in order; a run's common field is generated when its task is
+    due, so the workers start on the first field's runs while the next fields are generated."""
+    fields_ready: set[str] = set()
+    for spec_run in runs:
+        run_dir = out_dir / "runs" / spec_run.run_name
+        if is_complete(run_dir, scenario_hash(spec_run.scenario)):
+            state.skipped += 1
+            state.done += 1
+            continue
+        task = {
+            "index": spec_run.index,
+            "scenario": spec_run.scenario,
+            "run_dir": str(run_dir),
+            "figures": run_figures,
+        }
+        if spec.common_fields:
+            task["field_file"] = common_field_file(spec_run.scenario, out_dir / "fields")
+            if task["field_file"] and task["field_file"] not in fields_ready:
+                fields_ready.add(task["field_file"])
+                state.fields = len(fields_ready)
+                if progress:  # generating a field may take a while
+                    progress(state)
+        yield task
+
+
 def run_study(
     spec: StudySpec,
     runs: list[RunSpec],
@@ -188,30 +222,10 @@ def run_study(
     study_doc = _study_document(spec, runs, members)
     _atomic_write_text(out_dir / "study.json", json.dumps(study_doc, indent=2) + "\n")
     state = StudyProgress(total=len(runs))
-    todo, fields_ready = [], set()
-    for spec_run in runs:
-        run_dir = runs_dir / spec_run.run_name
-        if is_complete(run_dir, scenario_hash(spec_run.scenario)):
-            state.skipped += 1
-            state.done += 1
-            continue
-        task = {
-            "index": spec_run.index,
-            "scenario": spec_run.scenario,
-            "run_dir": str(run_dir),
-            "figures": run_figures,
-        }
-        if spec.common_fields:
-            task["field_file"] = common_field_file(spec_run.scenario, out_dir / "fields")
-            if task["field_file"] and task["field_file"] not in fields_ready:
-                fields_ready.add(task["field_file"])
-                state.fields = len(fields_ready)
-                if progress:  # generating the fields comes first and may take a while
-                    progress(state)
-        todo.append(task)
     if progress:
         progress(state)
-    for task, _summary, error in executor.run(execute_run, todo):
+    tasks = _pending_tasks(spec, runs, out_dir, state, progress, run_figures)
+    for task, _summary, error in executor.run(execute_run, tasks):
         name = Path(task["run_dir"]).name
         failure_file = failed_dir / f"{name}.json"
         state.done += 1
