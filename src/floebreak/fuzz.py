@@ -531,7 +531,10 @@ def check_one(data: dict[str, Any]) -> dict[str, Any]:
     ):
         warnings.simplefilter("always")
         try:
-            write_files(files, Path(folder))
+            try:
+                write_files(files, Path(folder))
+            except InputError as error:  # the harness's field recipe, not the scenario, was refused
+                raise InputError("fuzz field file recipe", str(error)) from None
             result = floebreak.run(Scenario.from_dict(scenario, base_dir=folder))
         except InputError as error:
             record.update(status="refused", message=str(error))
