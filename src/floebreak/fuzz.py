@@ -75,7 +75,6 @@ from floebreak.failure import BOW_REGIONS, FAILURE_CLASSES, get_mode, mode_names
 from floebreak.ice.generation import floe_counts, generate_field
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 from floebreak.profiles import field_switches
-from floebreak.scenario import Scenario
 from floebreak.ship import bow as bows
 from floebreak.ship import hulls
 from floebreak.ship.hulls import HULLS
@@ -535,7 +534,7 @@ def check_one(data: dict[str, Any]) -> dict[str, Any]:
                 write_files(files, Path(folder))
             except InputError as error:  # the harness's field recipe, not the scenario, was refused
                 raise InputError("fuzz field file recipe", str(error)) from None
-            result = floebreak.run(Scenario.from_dict(scenario, base_dir=folder))
+            result = floebreak.run(sc.Scenario.from_dict(scenario, base_dir=folder))
         except InputError as error:
             record.update(status="refused", message=str(error))
         except Exception as error:  # everything else is what the campaign looks for
