@@ -149,7 +149,6 @@ def _thickness_source(draw) -> dict[str, Any]:
 @st.composite
 def _field(draw, profile: str) -> tuple[dict[str, Any], dict[str, Any]]:
     """The [field] section and the files it names (a field file's recipe, see `write_files`)."""
-
     source = draw(st.sampled_from(["observation", "observation", "user_observation", "floes", "file"]))
     if source == "floes":
         n = draw(st.integers(1, 6))
@@ -197,7 +196,6 @@ def _field(draw, profile: str) -> tuple[dict[str, Any], dict[str, Any]]:
 def _sqp_size(field: dict[str, Any], profile: str) -> dict[str, float]:
     """`field`'s length and width shrunk (same aspect) to hold about `SQP_MAX_FLOES` floes at most
     (`floebreak.ice.generation.floe_counts`): SLSQP's cost grows with the cube of the floe count."""
-
     try:
         if "observation" in field:
             observation = get_observation(field["observation"])
@@ -219,7 +217,6 @@ def _sqp_size(field: dict[str, Any], profile: str) -> dict[str, float]:
 def _mode_tables(draw, drawn_flat: set[tuple[str, str]]) -> dict[str, dict[str, Any]]:
     """``[failure.<mode>]`` tables: some settings of every registered mode, each number within its `Bounds`
     and each choice among its `Literal` values (settings given by a flat [failure] key are left out)."""
-
     tables: dict[str, dict[str, Any]] = {}
     for name in mode_names():
         spec = get_mode(name)
@@ -244,7 +241,6 @@ def _mode_tables(draw, drawn_flat: set[tuple[str, str]]) -> dict[str, dict[str, 
 def _policy(draw) -> dict[str, Any]:
     """``[failure.policy]``: for some failure classes a list of registered modes (any order, repeats, 1 to 4
     of them) for both bow regions, or a table of such lists for some regions (none: the default stays)."""
-
     modes = st.lists(st.sampled_from(mode_names()), min_size=1, max_size=4)
     regions = st.dictionaries(st.sampled_from(BOW_REGIONS), modes, max_size=len(BOW_REGIONS))
     return draw(
@@ -258,7 +254,6 @@ def _policy(draw) -> dict[str, Any]:
 def _hull_parameters(draw) -> dict[str, Any]:
     """Some keyword overrides of the parametric hull, each within `floebreak.ship.hulls`' ranges (the bow
     they make may still be refused, e.g. a waterline crossing itself)."""
-
     numbers = [key for key in hulls.HULL_PARAMETER_BOUNDS if key != "ice_thickness_m"]  # the waterlines'
     parameters: dict[str, Any] = {}
     for key in draw(st.lists(st.sampled_from(numbers), max_size=4, unique=True)):
@@ -282,7 +277,6 @@ def _bow_csv(draw) -> str:
     frame angles; with what the reader accepts: columns in any order, padding, upper/lower in any case,
     comments and blank lines, CRLF line ends, rounded numbers, heights as z_upper_m/z_lower_m or
     ice_thickness_m (or none: 1 m, format b)."""
-
     hull = draw(st.sampled_from(list(HULLS)))
     thickness = draw(_edge_or_inside(*sc.THICKNESS_M, log=True))
     try:
@@ -328,7 +322,6 @@ def _bow_csv(draw) -> str:
 
 def _ship(draw) -> tuple[dict[str, Any], dict[str, Any]]:
     """The [ship] section and the files it names (a bow CSV file's text)."""
-
     ship: dict[str, Any] = {
         "step_m": draw(st.one_of(st.sampled_from([sc.STEP_M[0], sc.STEP_M[1]]), _edge_or_inside(0.05, 3.0))),
         "initial_contact": draw(st.sampled_from(["shift_field", "shift_floes"])),
@@ -360,7 +353,6 @@ def _propeller(draw) -> dict[str, Any]:
 
 def _thinnest_m(data: dict[str, Any], files: dict[str, Any]) -> float:
     """The thinnest ice a drawn scenario may hold (for its cost caps)."""
-
     for source in (data["ice"], files.get("field.parquet", {}).get("field", {})):
         if "thickness_m" in source or "thickness_range_m" in source:
             return source.get("thickness_m") or source["thickness_range_m"][0]
