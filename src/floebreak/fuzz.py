@@ -195,7 +195,7 @@ def _field(draw, profile: str) -> tuple[dict[str, Any], dict[str, Any]]:
 
 def _sqp_size(field: dict[str, Any], profile: str) -> dict[str, float]:
     """`field`'s length and width shrunk (same aspect) to hold about `SQP_MAX_FLOES` floes at most
-    (`floebreak.ice.generation.floe_counts`): SLSQP's cost grows with the cube of the floe count."""
+    (`floebreak.ice.generation.floe_counts`): SLSQP's constraints are all n(n − 1)/2 floe pairs."""
     try:
         if "observation" in field:
             observation = get_observation(field["observation"])

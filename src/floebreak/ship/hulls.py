@@ -81,8 +81,10 @@ def stem_angle_from_thesis(
     if interpretation == "buttock":
         return 90.0 - psi
     if interpretation == "panel_psi":
-        # atan2: a vertical stem panel (ψ = 0) is a vertical stem (φ_s = 90°), not a division by zero
-        return math.degrees(math.atan2(math.sin(math.radians(alpha0)), math.tan(math.radians(psi))))
+        tan_psi = math.tan(math.radians(psi))
+        if tan_psi == 0.0:  # a vertical stem panel (ψ = 0): a vertical stem, the limit φ_s → 90°
+            return 90.0
+        return math.degrees(math.atan(math.sin(math.radians(alpha0)) / tan_psi))
     raise InputError(
         "stem_angle_interpretation",
         f"unknown interpretation {interpretation!r}",
