@@ -74,6 +74,7 @@ from floebreak.errors import Bounds, InputError, field_bounds
 from floebreak.failure import BOW_REGIONS, FAILURE_CLASSES, get_mode, mode_names
 from floebreak.ice.generation import floe_counts, generate_field
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
+from floebreak.mechanics.fracture import wedge_splitting_fraction
 from floebreak.profiles import field_switches
 from floebreak.ship import bow as bows
 from floebreak.ship import hulls
@@ -237,6 +238,22 @@ def _mode_tables(draw, drawn_flat: set[tuple[str, str]]) -> dict[str, dict[str, 
     return tables
 
 
+def _unlock_the_wedge(failure: dict[str, Any]) -> None:
+    """Drop a drawn ``cracking.wedge_friction`` that makes the line load's wedge self-locking with the tip
+    angle (μ tan(α/2) ≥ 1, `floebreak.mechanics.fracture.wedge_splitting_fraction`): the scenario would be
+    refused when read (its test: tests/failure/test_cracking.py), and the default μ = 0 runs instead."""
+    cracking = failure.get("cracking", {})
+    if failure.get("crack_criterion") != "line_load" or "wedge_friction" not in cracking:
+        return
+    defaults = {item.name: item.default for item in dataclasses.fields(get_mode("cracking").settings)}
+    try:
+        wedge_splitting_fraction(
+            cracking.get("tip_angle_deg", defaults["tip_angle_deg"]), cracking["wedge_friction"]
+        )
+    except InputError:
+        del cracking["wedge_friction"]
+
+
 @st.composite
 def _policy(draw) -> dict[str, Any]:
     """``[failure.policy]``: for some failure classes a list of registered modes (any order, repeats, 1 to 4
@@ -390,6 +407,7 @@ def scenario_dicts(draw) -> dict[str, Any]:
     }
     flat = {sc.FLAT_FAILURE_KEYS[key] for key in data["failure"] if key in sc.FLAT_FAILURE_KEYS}
     data["failure"].update(draw(_mode_tables(flat)))
+    _unlock_the_wedge(data["failure"])
     if draw(st.booleans()):
         data["failure"]["policy"] = draw(_policy())
     if draw(st.booleans()):
