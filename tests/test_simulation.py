@@ -254,3 +254,79 @@ def test_a_floe_cracked_at_first_touch_leaves_its_outer_part_in_the_field():
     assert line_affected < 0.5  # most of the floe stays in the field
     # what stays is the floe's outer part: its centroid lies beyond the floe's centre, away from the hull
     assert shapely.union_all(line_remaining).centroid.y > y_m
+
+
+# a 13 m² piece of a local_cracking split in 0.04 m ice (fuzz campaign seed 3, scenario 1805, issue 20), in
+# the bow frame at bow x = 6 m: valid there, self-intersecting once moved into the field (rounding of x + 6)
+PINCHED_PIECE_WKB = (
+    "010300000001000000160000005C2271EBF18C26401B1B1CDE0A5F32408556B8B5AB5E274007DBE91F908432409A673F20C4F4C5"
+    "BF37A45CCFCB65D1BFD161144EC6FFC7BF23F75E61FA50CFBF3DC046C341CABDBF22FC4666E99AC7BF02463B449C85A5BF8BA883"
+    "5D2F59B0BF7CACD4749D329B3F9D2B37E85131AB3F1FAAB1BA1EE4B63F64E12714DB4FC53F02ED2BFBCBC1C23F9A37C60FFEAED1"
+    "3F67DD13888955C93F2ABA1DCE5B7BD83F3DA61004482DCF3F63781AC5060DDF3FC22391B78324D23F22395E7AFFB1E23F9F60A4"
+    "E46354D43FE7D3812E22C0E53FB30942894426D63F810CF87EEBB0E83F011F6AA5259AD73FEEE2C06B5B84EB3F88A01C3907B0D8"
+    "3F2E57DCF4713AEE3F488E5944E967D93FA334258D9769F03F3FE820C7CBC1D93F988C056E49A7F13F6FAE72C1AEBDD93F76330F"
+    "9D4ED6F23F23C647E9A066D93F6A2180C327D6F33FBED412AA0D492440F5351686E8D531405C2271EBF18C26401B1B1CDE0A5F32"
+    "40"
+)
+
+
+def test_a_piece_made_invalid_by_the_move_into_the_field_keeps_its_area():
+    from floebreak.simulation import _into_field
+
+    piece = shapely.from_wkb(PINCHED_PIECE_WKB)
+    assert shapely.is_valid(piece)
+    assert not shapely.is_valid(shapely.transform(piece, lambda xy: xy + np.array([6.0, 0.0])))  # the case
+    moved = _into_field(piece, 6.0)
+    field_parts = np.array([world for world, _ in moved], dtype=object)
+    assert len(moved) >= 2 and shapely.is_valid(field_parts).all()
+    # the lobes together have the piece's area (the largest alone lacked 1.4e-3 m² of 12.99 m²)
+    assert shapely.area(field_parts).sum() == pytest.approx(shapely.area(piece), rel=1e-12)
+    assert shapely.area(field_parts).max() < shapely.area(piece) - 1e-3
+    for world, bow_frame in moved:  # each part's bow-frame copy is the same polygon 6 m aft
+        assert shapely.area(bow_frame) == pytest.approx(shapely.area(world), rel=1e-9)
+        assert shapely.bounds(bow_frame)[0] == pytest.approx(shapely.bounds(world)[0] - 6.0, abs=1e-12)
+
+
+def test_the_fuzz_scenario_of_the_pinched_piece_conserves_area():
+    import floebreak
+
+    floes = [
+        (24.884908075329875, -2.1543472689881687e-283, 39.76981615065975),
+        (71.80317103436035, 0.5289946831569416, 36.06670976740119),
+        (94.50098933753151, 0.9040936756171405, 1.0),
+        (96.90098933753151, 0.65, 1.0),
+        (104.74933429412754, 16.229485504858218, 4.202121938386901),
+    ]
+    scenario = {
+        "seed": 3704628,
+        "field": {"floes": [{"x_m": x, "y_m": y, "diameter_m": d} for x, y, d in floes]},
+        "ice": {"thickness_range_m": [0.0426504808282064, 0.0426504808282064]},
+        "ship": {
+            "step_m": 3.0,
+            "initial_contact": "shift_floes",
+            "hull": "agulhas_ii",
+            "waterlines": "fixed",
+            "waterline_ice_thickness_m": 1.0,
+            "x_end_m": 10.0,
+        },
+        "failure": {
+            "crack_criterion": "tensile_stress",
+            "size_effect_law": "BZ",
+            "stress_mode": "strength",
+            "wedge_angle_deg": 41.12858675475451,
+            "next_crack_angle_deg": 1.6159816148479147,
+            "shoulder_region_start": 0.015,
+            "flip_uncracked_at_shoulder": True,
+            "bending": {
+                "capacity_model": "kashtelyan",
+                "breaking_length_mode": "max_moment",
+                "loading_radius_model": "sector_area",
+            },
+            "cracking": {"size_source": "b", "tada_labels": "correct", "crack_length": "ell_over_5"},
+            "policy": {"bending": ["cracking", "local_cracking", "rotation", "local_cracking"]},
+        },
+    }
+    result = floebreak.run(scenario)  # raised AreaBalanceError 6.4e-7 before
+    assert result.summary["area_balance_rel_error"] <= 1e-9
+    for name in ("cusps", "remaining", "pieces"):
+        assert shapely.is_valid(np.asarray(getattr(result, name)["geometry"], dtype=object)).all()

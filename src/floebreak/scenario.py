@@ -49,7 +49,7 @@ from pydantic_core import PydanticCustomError
 
 from floebreak import constants as c
 from floebreak.errors import InputError, field_bounds
-from floebreak.ship.hulls import HULLS
+from floebreak.ship.hulls import HULLS, hull_parameter_ranges
 
 REFERENCE_OBSERVATION = "2019-12-18T20:20"  # thesis §5.3 reference scenario (Table 1, first row)
 
@@ -315,8 +315,7 @@ class ShipSection(_Section):
     hull_parameters: dict[str, Annotated[float, AllowInfNan(False)] | int | str] = Field(
         default_factory=dict,
         description="keyword overrides of the parametric hull (e.g. beam_m [m]); each is range-checked "
-        "(`floebreak.ship.hulls.parametric_bow`: beam_m (0, 100] m, angles in degrees, exponents [1, 10] "
-        "and (0, 10], n_panels_per_side 2 to 1000, midbody_length_m [0, 500] m)",
+        f"(`floebreak.ship.hulls.parametric_bow`: {hull_parameter_ranges()})",
     )
     waterlines: Literal["follow_thickness", "fixed"] | None = Field(
         None,

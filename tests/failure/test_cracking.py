@@ -302,3 +302,28 @@ def test_thicker_ice_needs_a_deeper_indentation_to_crack_only_with_the_load(make
     assert thick == pytest.approx(thin, abs=1.5e-3), onsets
     thin, thick = onsets["sif"]
     assert thick > 1.05 * thin, onsets
+
+
+@pytest.mark.parametrize("spelling", ["table", "flat"])
+def test_a_self_locking_wedge_is_refused_when_the_scenario_is_read(spelling):
+    # fuzz campaign (issue 20): wedge_friction = 2 within its [0, 2] with the default tip angle 64.54° passed
+    # validation and was refused only at the first line-load check, mid-run, as "failure.wedge_friction";
+    # μ tan(α/2) = 2 tan(32.27°) = 1.26 ≥ 1 is self-locking (physics-notes §3.3)
+    from floebreak.errors import InputError
+    from floebreak.scenario import Scenario
+
+    assert 2.0 * math.tan(math.radians(64.54 / 2.0)) >= 1.0
+    cracking = {"wedge_friction": 2.0}
+    failure = (
+        {"cracking": {**cracking, "criterion": "line_load"}}
+        if spelling == "table"
+        else {"crack_criterion": "line_load", "cracking": cracking}
+    )
+    with pytest.raises(InputError) as info:
+        Scenario.from_dict({"failure": failure})
+    assert info.value.field == "failure.cracking.wedge_friction"
+    assert "self-locking" in str(info.value)
+    # another criterion does not use the wedge: the same friction is accepted
+    Scenario.from_dict({"failure": {"cracking": {**cracking, "criterion": "tensile_stress"}}})
+    with pytest.raises(InputError, match="wedge_friction"):
+        CrackingSettings(criterion="line_load", wedge_friction=2.0)

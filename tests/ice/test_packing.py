@@ -138,3 +138,13 @@ def test_a_circle_as_wide_as_the_domain_is_placed_where_the_bounds_fix_it():
     radii = np.array([30.0, 2.0])  # the 2 m circle fits in a corner: (2, 2) is 39.6 m from the middle
     result = packing.relax_circles(radii, (0.0, 0.0, 60.0, 60.0), np.random.default_rng(1))
     assert result.centers_m[0] == pytest.approx([30.0, 30.0], abs=packing.DEFAULT_GAP_M)
+
+
+def test_sqp_places_a_circle_as_wide_as_the_domain_where_the_bounds_fix_it():
+    """As for the relaxation: with every coordinate fixed by the bounds SLSQP does no iteration and reports
+    none — fuzz campaign (seed 3, scenarios 3363–3364: an sqp field as wide as its largest floe) ended in an
+    AttributeError."""
+    radii = np.array([30.0])
+    result = packing.sqp_circles(radii, (0.0, 0.0, 60.0, 60.0), np.random.default_rng(1))
+    assert result.centers_m[0] == pytest.approx([30.0, 30.0], abs=packing.DEFAULT_GAP_M)
+    assert result.iterations == 0

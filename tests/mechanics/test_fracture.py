@@ -188,6 +188,9 @@ def test_wedge_splitting_fraction_notes_values():
         fr.wedge_splitting_fraction(180.0)
     with pytest.raises(InputError, match="tip_angle_deg"):  # fuzz campaign: κ divided by zero
         fr.wedge_splitting_fraction(5e-324, 0.0)
+    # the lower edge of the stated [10, 170]° is allowed (fuzz campaign: the settings accepted 10°, this
+    # check refused it mid-run); κ = 1/(2 tan 5°) = 5.715 (Alg. 7)
+    assert fr.wedge_splitting_fraction(10.0) == pytest.approx(1.0 / (2.0 * math.tan(math.radians(5.0))))
 
 
 def test_line_load_flips_at_toughness():

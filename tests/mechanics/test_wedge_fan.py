@@ -58,3 +58,19 @@ def test_disk_polygon_has_its_corners_on_the_circle():
     np.testing.assert_allclose(corners[0], [1.0 + 3.0 * math.cos(0.25), -2.0 + 3.0 * math.sin(0.25)])
     # a regular 72-gon: area (n/2) R² sin(2π/n)
     assert disk.area == pytest.approx(36.0 * 9.0 * math.sin(2.0 * math.pi / 72.0), rel=1e-12)
+
+
+@pytest.mark.parametrize("n_rays", [25, 41, 50, 36])
+def test_a_fan_of_intact_ice_all_around_is_the_whole_circle(n_rays):
+    # O inside a large floe, no hull: every ray meets intact ice and Θ = 2π; n · (2π/n) rounds above 2π for
+    # n = 25, 41, 50, which Nevel's capacity refused mid-run as "opening_rad exceeds 2π" (fuzz campaign,
+    # issue 20: wedge_angle_deg 7.13° → 50 rays, a 1 m wide bow inside a 10 m thick floe)
+    from floebreak.mechanics.nevel import bearing_capacity_n
+
+    assert (n_rays * (2.0 * math.pi / n_rays) > 2.0 * math.pi) == (n_rays != 36)
+    floe = shapely.box(-50.0, -50.0, 50.0, 50.0)
+    opening, _ = intact_fan(
+        floe, shapely.Polygon(), np.array([0.0, 0.0]), np.array([1.0, 0.0]), 0.5, 2.0 * math.pi / n_rays
+    )
+    assert opening == 2.0 * math.pi
+    assert bearing_capacity_n(1.0, 0.5, opening) > 0.0

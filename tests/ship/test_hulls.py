@@ -149,3 +149,53 @@ def test_parametric_input_errors(kw, field):
     }
     with pytest.raises(InputError, match=field):
         parametric_bow(**args)
+
+
+def test_a_hull_parameter_name_renames_the_bow():
+    # fuzz campaign (issue 20): ship.hull_parameters = {name = "fuzz"} — an allowed parametric keyword —
+    # collided with get_hull's own `name` (TypeError: got multiple values for argument 'name')
+    from floebreak.api import build_bow
+    from floebreak.scenario import Scenario
+
+    bow = get_hull("polarstern", name="my bow", ice_thickness_m=0.5)
+    assert bow.name == "my bow"
+    assert bow.half_breadth_m == pytest.approx(25.0 / 2)  # still Polarstern's beam (physics-notes §6.1)
+    scenario = Scenario.from_dict({"ship": {"hull": "agulhas_ii", "hull_parameters": {"name": "Ω bow"}}})
+    assert build_bow(scenario.resolved()).name == "Ω bow"
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {"waterline_entrance_half_angle_deg": 5e-324},  # ZeroDivisionError: tan(radians(5e-324)) = 0
+        {"stem_angle_deg": 7.3e-245},  # lower stem tip 1e244 m aft: TypeError in the crossing check
+        {"beam_m": 5e-324},
+        {"thesis_stem_angle_deg": 89.9},  # a stem angle of 0.1° from the horizontal
+    ],
+)
+def test_needle_and_flat_bows_are_refused_naming_the_parameter(kw):
+    # fuzz campaign (issue 20): angles and beams at the open edge of (0, …] crashed the hull's construction;
+    # the ranges now start at a bow that exists (5°, 1 m; HULL_PARAMETER_BOUNDS)
+    with pytest.raises(InputError) as info:
+        agulhas_ii(**kw)
+    assert info.value.field == next(iter(kw))
+
+
+def test_a_vertical_stem_panel_is_a_vertical_stem():
+    # ψ = 0 (the stem panel vertical) divided by tan ψ = 0 (fuzz campaign); tan ψ_v = sin α_0 / tan φ_s
+    # (physics-notes §2.1) gives φ_s → 90° as ψ → 0
+    assert stem_angle_from_thesis(0.0, 32.27, "panel_psi") == pytest.approx(90.0)
+    assert stem_angle_from_thesis(1e-9, 32.27, "panel_psi") == pytest.approx(90.0)
+
+
+def test_a_lower_waterline_collapsed_onto_its_tip_is_a_bow():
+    # frame angles next to 90° move every lower node onto the lower stem tip (physics-notes §6.3): a line of
+    # one point has no segment, and the self-intersection check raised TypeError on the empty list
+    bow = polarstern(
+        stem_angle_deg=5.0,
+        shoulder_frame_angle_deg=89.99999999999999,
+        midbody_frame_angle_deg=89.99999999999999,
+    )
+    tip = (-bow.dz_m / np.tan(np.radians(5.0)), 0.0)  # Δz / tan φ_s aft of the upper stem tip
+    assert np.allclose(bow.lower_xy_m, tip)
+    assert bow.hull_lower.area == 0.0

@@ -81,7 +81,7 @@ class CrackingSettings:
     )
     """total porosity ν_t for σ_t of P_t [‰] (thesis §4.2.1: 50 ‰), in (0, 1000]: a volume fraction; σ_t ∝
     ν_t^−0.6455 (physics-notes §4.2) has no finite value at 0"""
-    tip_angle_deg: Annotated[float, Bounds(10.0, 170.0, unit="deg")] = c.BOW_TIP_ANGLE_DEG
+    tip_angle_deg: Annotated[float, fracture.TIP_ANGLE_DEG] = c.BOW_TIP_ANGLE_DEG
     """bow tip angle α of the wedge-splitting fraction κ [deg] (thesis Alg. 7: 64.54°), in [10, 170]: the full
     waterline entrance angle of a bow (ice-going bows ≈ 40–90°); κ = 1/(2 tan(α/2)) grows without bound as
     α → 0 (κ = 5.7 at 10°)"""
@@ -109,6 +109,8 @@ class CrackingSettings:
         allowed = ("point_load", "line_load", "tensile_stress", "flexural_stress")
         if self.criterion not in allowed:
             raise InputError("failure.crack_criterion", repr(self.criterion), allowed=", ".join(allowed))
+        if self.criterion == "line_load":  # a self-locking wedge (μ tan(α/2) ≥ 1): refused here, not mid-run
+            fracture.wedge_splitting_fraction(self.tip_angle_deg, self.wedge_friction)
 
 
 def crack_direction(inp: FailureInput, next_crack_angle_rad: float) -> np.ndarray:

@@ -689,4 +689,5 @@ def sqp_circles(
         options={"maxiter": max_iterations, "ftol": 1e-10},
     )
     xy = result.x.reshape(n, 2)
-    return Packing(xy * scale, radii, max_pair_overlap_m(xy, r) * scale, int(result.nit), "sqp")
+    iterations = int(result.get("nit", 0))  # none when the bounds fix every circle (scipy: no nit)
+    return Packing(xy * scale, radii, max_pair_overlap_m(xy, r) * scale, iterations, "sqp")

@@ -26,7 +26,7 @@ from typing import Final, Literal
 
 import numpy as np
 
-from floebreak.errors import InputError, require_range
+from floebreak.errors import Bounds, InputError, require_range
 
 SizeEffectLaw = Literal["BZ", "BZ1", "BZ2"]
 BZ2Mode = Literal["generalised", "thesis"]
@@ -115,18 +115,22 @@ def check_point_load(horizontal_force_n: float, capacity_n: float) -> CrackCheck
 # ----------------------------------------------------------------------------------------------------------
 
 
+# the full waterline entrance angle of a bow (ice-going bows ≈ 40–90°); κ grows without bound as α → 0
+TIP_ANGLE_DEG: Final = Bounds(10.0, 170.0, unit="deg")
+
+
 def wedge_splitting_fraction(tip_angle_deg: float, friction: float = 0.0) -> float:
     """κ = F_cr / F_h: force on each crack face per unit horizontal bow force (physics-notes §3.3).
 
     κ = (1 − μ tan(α/2)) / (2 (tan(α/2) + μ)), α the full waterline angle at the stem. With μ = 0 this is the
     thesis' 1/(2 tan(α/2)) (Alg. 7). α = 64.54° gives κ = 0.792 (μ = 0) or 0.579 (μ = 0.15).
     """
-    alpha = require_range("failure.tip_angle_deg", tip_angle_deg, low=10.0, high=170.0, unit="deg")
-    mu = require_range("failure.wedge_friction", friction, low=0.0, low_inclusive=True)
+    alpha = TIP_ANGLE_DEG.check("failure.cracking.tip_angle_deg", tip_angle_deg)
+    mu = require_range("failure.cracking.wedge_friction", friction, low=0.0, low_inclusive=True)
     tan_half = math.tan(math.radians(alpha) / 2.0)
     if mu * tan_half >= 1.0:
         raise InputError(
-            "failure.wedge_friction",
+            "failure.cracking.wedge_friction",
             f"μ = {mu:g} with α = {alpha:g}° makes the wedge self-locking (μ tan(α/2) ≥ 1)",
             value=mu,
             allowed=f"< {1.0 / tan_half:g}",

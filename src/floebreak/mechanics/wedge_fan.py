@@ -84,7 +84,9 @@ def intact_fan(
         probe_radius_m + RAY_PROBE_OFFSET_M,
         n_rays,
     )
-    return n_block * (2.0 * np.pi / n_rays), float(centre)
+    # every ray in intact ice is the whole circle: n · (2π/n) rounds above 2π for some n (25, 41, 50, …),
+    # which the capacity refuses (fuzz campaign, issue 20: a 1 m wide bow inside a 10 m thick floe)
+    return min(n_block * (2.0 * np.pi / n_rays), 2.0 * np.pi), float(centre)
 
 
 def loading_radius_m(

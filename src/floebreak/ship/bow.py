@@ -24,7 +24,7 @@ import numpy as np
 import shapely
 
 from floebreak.constants import ICE_DENSITY_KG_M3, SEAWATER_DENSITY_KG_M3
-from floebreak.errors import InputError, csv_where
+from floebreak.errors import Bounds, InputError, csv_where
 
 RELATIVE_TOLERANCE: Final = 1e-9  # geometric tolerance relative to the bow's size (min 1 m)
 SHOULDER_RELATIVE_TOLERANCE: Final = 1e-6  # |y| ≥ (1 − tol)·B/2 counts as "full half-breadth"
@@ -32,6 +32,8 @@ LINES_COLUMNS: Final = ("line", "x_m", "y_m")  # CSV format (a)
 STATIONS_COLUMNS: Final = ("x_m", "half_breadth_m", "frame_angle_deg")  # CSV format (b)
 CSV_KEYS: Final = ("name", "z_upper_m", "z_lower_m", "ice_thickness_m")  # "# key = value" header comments
 Place = tuple[int, int]  # a CSV row: (data row counted from 1 after the header, line of the file)
+# frame (flare) angle β from the vertical: a vertical side (0°) up to, not including, a flat one (90°)
+FRAME_ANGLE_DEG: Final = Bounds(0.0, 90.0, low_inclusive=True, high_inclusive=False, unit="deg")
 
 
 class _LineError(Exception):
@@ -97,6 +99,8 @@ def _first_self_intersection(xy: np.ndarray, closed: bool) -> int | None:
         segments.append(shapely.LineString([pts[-1], pts[0]]))
         seg_index.append(int(index[-1]))
     m = len(segments)
+    if m == 0:  # every node at one point (a lower line collapsed onto its stem tip): nothing to cross
+        return None
     tree = shapely.STRtree(segments)
     a, b = tree.query(segments, predicate="intersects")
     bad = set()
@@ -538,11 +542,12 @@ def _stations_to_lines(records, where: str, dz: float):
         hb[k] = _number(where, place, "half_breadth_m", record["half_breadth_m"])
         beta[k] = _number(where, place, "frame_angle_deg", record["frame_angle_deg"])
         rows.append(place)
-        if not 0.0 <= beta[k] < 90.0:
+        if not FRAME_ANGLE_DEG.low <= beta[k] < FRAME_ANGLE_DEG.high:
+            interval = f"[{FRAME_ANGLE_DEG.low:g}, {FRAME_ANGLE_DEG.high:g})"
             raise InputError(
                 csv_where(where, "frame_angle_deg", *place),
-                f"{beta[k]:g} ° is outside [0, 90)",
-                allowed="[0, 90) °",
+                f"{beta[k]:g} ° is outside {interval}",
+                allowed=f"{interval} °",
             )
         if hb[k] < 0.0:
             raise InputError(csv_where(where, "half_breadth_m", *place), f"{hb[k]:g} m is negative")

@@ -14,11 +14,11 @@ from typing import Any, Final
 import numpy as np
 
 from floebreak.constants import BOW_TIP_ANGLE_DEG
-from floebreak.errors import InputError, require_range
-from floebreak.ship.bow import Bow, ice_waterline_heights, mirror_lines
+from floebreak.errors import Bounds, InputError, require_range
+from floebreak.ship.bow import FRAME_ANGLE_DEG, Bow, ice_waterline_heights, mirror_lines
 
 # --- defaults (physics-notes §6.1–6.3); the "thesis" column of docs/_fragments/bow.md ---------------------
-SHOULDER_FRAME_ANGLE_DEG: Final = 20.0  # β_sh, flare at the shoulder from the vertical; ASSUMPTION (§6.3)
+SHOULDERFRAME_ANGLE_DEG: Final = 20.0  # β_sh, flare at the shoulder from the vertical; ASSUMPTION (§6.3)
 SHAPE_EXPONENT: Final = 2.0  # p of y(s) = (B/2)[1 − (1 − s/L_b)^p] (§6.3)
 FLARE_EXPONENT: Final = 1.0  # q of β(s) = β_0 + (β_sh − β_0)(s/L_b)^q (§6.3)
 N_PANELS_PER_SIDE: Final = 30  # bow panels stem → shoulder per side (thesis: "non-equally distributed", §3.1)
@@ -32,6 +32,40 @@ POLARSTERN_BEAM_M: Final = 25.0  # thesis / physics-notes §6.1
 POLARSTERN_HALF_ENTRANCE_DEG: Final = BOW_TIP_ANGLE_DEG / 2.0  # ASSUMED equal to Agulhas II (§6.3 table)
 POLARSTERN_THESIS_STEM_ANGLE_DEG: Final = 45.0  # ψ_PS from the vertical, thesis
 
+# The ranges of the parametric hull's parameters (`parametric_bow`, `stem_angle_from_thesis`), in this one
+# place (range checks, `floebreak.fuzz`). The bounds are physical: a beam of 1 m (a boat) to 100 m and a
+# midbody ≤ 500 m (the largest ships are ≈ 70 m wide and ≈ 460 m long), an ice thickness ≤ 10 m
+# (`floebreak.scenario.THICKNESS_M`), exponents ≤ 10 (p = 10 already makes the bow ten times as long as a
+# straight wedge of the same entrance angle), ≤ 1000 panels a side (finer than any step of the bow); a half
+# entrance angle and a stem angle of at least 5° (as `cracking.tip_angle_deg` ≥ 10°; ice-going bows have
+# 15–45° and stems 17–30° from the horizontal): a needle bow of 1e-300° is 1e300 m long (its nodes overflow)
+# and a flat stem's lower tip lies Δz / tan φ_s aft, at infinity for φ_s → 0 (fuzz campaign, issue 20).
+HULL_PARAMETER_BOUNDS: Final[dict[str, Bounds]] = {
+    "beam_m": Bounds(1.0, 100.0, unit="m"),
+    "waterline_entrance_half_angle_deg": Bounds(5.0, 90.0, high_inclusive=False, unit="deg"),
+    "stem_angle_deg": Bounds(5.0, 90.0, unit="deg"),
+    "shoulder_frame_angle_deg": FRAME_ANGLE_DEG,
+    "shape_exponent": Bounds(1.0, 10.0),
+    "flare_exponent": Bounds(0.0, 10.0, low_inclusive=False),
+    "ice_thickness_m": Bounds(0.0, 10.0, low_inclusive=False, unit="m"),
+    "midbody_length_m": Bounds(0.0, 500.0, unit="m"),
+    "midbody_frame_angle_deg": FRAME_ANGLE_DEG,
+    "thesis_stem_angle_deg": Bounds(0.0, 85.0),  # from the vertical: 90° − the stem angle ("buttock")
+}
+N_PANELS_PER_SIDE_RANGE: Final = (2, 1000)
+
+
+def hull_parameter_ranges() -> str:
+    """The ranges of the hull parameters a scenario may override, as text (``floebreak schema``)."""
+
+    def interval(b: Bounds) -> str:
+        left, right = "[" if b.low_inclusive else "(", "]" if b.high_inclusive else ")"
+        return f"{left}{b.low:g}, {b.high:g}{right}" + (f" {b.unit}" if b.unit else "")
+
+    ranges = [f"{key} {interval(b)}" for key, b in HULL_PARAMETER_BOUNDS.items() if key != "ice_thickness_m"]
+    low, high = N_PANELS_PER_SIDE_RANGE
+    return ", ".join([*ranges, f"n_panels_per_side {low} to {high}"])
+
 
 def stem_angle_from_thesis(
     thesis_stem_angle_deg: float, half_entrance_deg: float, interpretation: str = "buttock"
@@ -42,14 +76,15 @@ def stem_angle_from_thesis(
     "panel_psi" (interpretation (b)): ψ is the panel angle ψ_v at the stem, tan ψ_v = sin α_0 / tan φ_s
     (physics-notes §2.1), so φ_s = arctan(sin α_0 / tan ψ).
     """
-    psi = require_range(
-        "thesis_stem_angle_deg", thesis_stem_angle_deg, low=0.0, high=90.0, high_inclusive=False
-    )
+    psi = HULL_PARAMETER_BOUNDS["thesis_stem_angle_deg"].check("thesis_stem_angle_deg", thesis_stem_angle_deg)
     alpha0 = require_range("waterline_entrance_half_angle_deg", half_entrance_deg, low=0.0, high=90.0)
     if interpretation == "buttock":
         return 90.0 - psi
     if interpretation == "panel_psi":
-        return math.degrees(math.atan(math.sin(math.radians(alpha0)) / math.tan(math.radians(psi))))
+        tan_psi = math.tan(math.radians(psi))
+        if tan_psi == 0.0:  # a vertical stem panel (ψ = 0): a vertical stem, the limit φ_s → 90°
+            return 90.0
+        return math.degrees(math.atan(math.sin(math.radians(alpha0)) / tan_psi))
     raise InputError(
         "stem_angle_interpretation",
         f"unknown interpretation {interpretation!r}",
@@ -64,7 +99,7 @@ def parametric_bow(
     waterline_entrance_half_angle_deg: float,
     stem_angle_deg: float,
     *,
-    shoulder_frame_angle_deg: float = SHOULDER_FRAME_ANGLE_DEG,
+    shoulder_frame_angle_deg: float = SHOULDERFRAME_ANGLE_DEG,
     shape_exponent: float = SHAPE_EXPONENT,
     flare_exponent: float = FLARE_EXPONENT,
     ice_thickness_m: float = 1.0,
@@ -153,50 +188,40 @@ def _checked_bow_parameters(
     midbody_length_m,
     midbody_frame_angle_deg,
 ) -> dict[str, Any]:
-    """The parameters of `parametric_bow`, range-checked, by name (InputError names the parameter).
-
-    The upper bounds are physical: a beam ≤ 100 m and a midbody ≤ 500 m (the largest ships are ≈ 70 m wide
-    and ≈ 460 m long), an ice thickness ≤ 10 m (`floebreak.scenario.THICKNESS_M`), exponents ≤ 10 (p = 10
-    already makes the bow ten times as long as a straight wedge of the same entrance angle), ≤ 1000 panels
-    a side (finer than any step of the bow).
-    """
-    angle = {"low": 0.0, "high": 90.0, "unit": "deg"}
-    half_open = {**angle, "low_inclusive": True, "high_inclusive": False}
-    values = {
-        "beam_m": require_range("beam_m", beam_m, low=0.0, high=100.0, unit="m"),
-        "waterline_entrance_half_angle_deg": require_range(
-            "waterline_entrance_half_angle_deg", alpha0_deg, **angle, high_inclusive=False
-        ),
-        "stem_angle_deg": require_range("stem_angle_deg", stem_angle_deg, **angle),
-        "shoulder_frame_angle_deg": require_range(
-            "shoulder_frame_angle_deg", shoulder_frame_angle_deg, **half_open
-        ),
-        "shape_exponent": require_range(
-            "shape_exponent", shape_exponent, low=1.0, high=10.0, low_inclusive=True
-        ),
-        "flare_exponent": require_range("flare_exponent", flare_exponent, low=0.0, high=10.0),
-        "ice_thickness_m": require_range("ice_thickness_m", ice_thickness_m, low=0.0, high=10.0, unit="m"),
+    """The parameters of `parametric_bow`, range-checked against `HULL_PARAMETER_BOUNDS` and
+    `N_PANELS_PER_SIDE_RANGE`, by name (InputError names the parameter)."""
+    given = {
+        "beam_m": beam_m,
+        "waterline_entrance_half_angle_deg": alpha0_deg,
+        "stem_angle_deg": stem_angle_deg,
+        "shoulder_frame_angle_deg": shoulder_frame_angle_deg,
+        "shape_exponent": shape_exponent,
+        "flare_exponent": flare_exponent,
+        "ice_thickness_m": ice_thickness_m,
     }
+    values = {key: HULL_PARAMETER_BOUNDS[key].check(key, value) for key, value in given.items()}
+    low, high = N_PANELS_PER_SIDE_RANGE
     if (
         isinstance(n_panels_per_side, bool)
         or not isinstance(n_panels_per_side, int | np.integer)
-        or not 2 <= n_panels_per_side <= 1000
+        or not low <= n_panels_per_side <= high
     ):
         raise InputError(
             "n_panels_per_side",
-            f"must be an integer in [2, 1000], got {n_panels_per_side!r}",
+            f"must be an integer in [{low}, {high}], got {n_panels_per_side!r}",
             value=n_panels_per_side,
-            allowed="[2, 1000]",
+            allowed=f"[{low}, {high}]",
         )
     values["n_panels_per_side"] = int(n_panels_per_side)
-    midbody = require_range(
-        "midbody_length_m", midbody_length_m, low=0.0, high=500.0, low_inclusive=True, unit="m"
+    values["midbody_length_m"] = HULL_PARAMETER_BOUNDS["midbody_length_m"].check(
+        "midbody_length_m", midbody_length_m
     )
-    values["midbody_length_m"] = midbody
     values["midbody_frame_angle_deg"] = (
         values["shoulder_frame_angle_deg"]
         if midbody_frame_angle_deg is None
-        else require_range("midbody_frame_angle_deg", midbody_frame_angle_deg, **half_open)
+        else HULL_PARAMETER_BOUNDS["midbody_frame_angle_deg"].check(
+            "midbody_frame_angle_deg", midbody_frame_angle_deg
+        )
     )
     return values
 
@@ -299,8 +324,9 @@ def polarstern(ice_thickness_m: float = 1.0, **overrides: Any) -> Bow:
 HULLS: Final[dict[str, Callable[..., Bow]]] = {"agulhas_ii": agulhas_ii, "polarstern": polarstern}
 
 
-def get_hull(name: str, **kw: Any) -> Bow:
-    """Build the built-in hull `name` (a key of `HULLS`) with keyword overrides."""
+def get_hull(name: str, /, **kw: Any) -> Bow:
+    """Build the built-in hull `name` (a key of `HULLS`) with keyword overrides (``name`` among them renames
+    the bow: `name` is positional only)."""
     if name not in HULLS:
         raise InputError("hull", f"unknown hull {name!r}", value=name, allowed=", ".join(sorted(HULLS)))
     return HULLS[name](**kw)
