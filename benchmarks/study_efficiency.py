@@ -7,17 +7,17 @@ processes). Efficiency = T_serial / (2 · T_pool); goal ≥ 85 %.
 
 Two figures per repeat, because a pool pays a one-off start that a long study does not notice:
 - **steady state**: both paths warm — the serial process has done one run before the clock starts, the
-  pool's workers have started, imported floebreak and loaded the numba kernels;
+  pool's workers have started, imported floebreak and loaded the numba kernels (each has answered a task);
 - **cold**: the pool timed from its creation (each worker's imports and kernels inside the clock), against
   the warm serial path — the figure of a short study started from a running program.
 The start (pool creation → both workers warm) is printed too.
 
-`--cli N` adds the figure a user sees: `floebreak study thesis --n-fields N` (the thesis §5.3 study, 13
-design points on N common fields of 400 m × 50 m, which the parent generates before the runs) through the
-installed command, `--workers 1` against `--workers 2`, wall time from the command's start to its end
-(interpreter start, imports, common fields, runs, aggregated tables and figures).
+`--cli N` adds the figure a user sees: `floebreak study thesis --n-fields N` (the thesis §5.3 study, 11
+design points on N common fields of 400 m × 50 m, which the parent generates as the runs are handed out)
+through the installed command, `--workers 1` against `--workers 2`, wall time from the command's start to
+its end (interpreter start, imports, common fields, runs, aggregated tables and figures).
 
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/study_efficiency.py [--runs 8] [--repeat 3] [--cli 2]
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/study_efficiency.py [--runs 8] [--repeat 3] [--cli 4]
 """
 
 from __future__ import annotations
@@ -46,13 +46,19 @@ def timed(spec: StudySpec, executor, folder: Path) -> float:
     return seconds
 
 
-def warm_worker(_: int) -> int:
-    """What a run imports, and the kernels loaded (runs in a worker)."""
-    import floebreak.api  # noqa: F401
-
-    compile_kernels()
-    time.sleep(0.2)  # so that the two warm-up tasks land on two workers
+def worker_pid(_: int) -> int:
+    """The worker's process id, after a short wait that lets another ready worker take the next task."""
+    time.sleep(0.05)
     return os.getpid()
+
+
+def wait_for_workers(pool: ProcessPoolExecutor, workers: int) -> set[int]:
+    """Until each of the pool's workers has answered: each prepares itself (imports, kernels) when it starts
+    (`floebreak.studies.executors.prepare_worker`), so then all are warm."""
+    pids: set[int] = set()
+    while len(pids) < workers:
+        pids |= {pid for _, pid, _ in pool.run(worker_pid, range(workers))}
+    return pids
 
 
 def cli_seconds(n_fields: int, workers: int, folder: Path) -> float:
@@ -96,10 +102,10 @@ def main() -> None:
                 cold = timed(spec, pool, Path(temp) / "cold")
             finally:
                 pool.close()
+            started = time.perf_counter()
             pool = ProcessPoolExecutor(2)
             try:
-                started = time.perf_counter()
-                pids = {pid for _, pid, _ in pool.run(warm_worker, range(2))}
+                pids = wait_for_workers(pool, 2)
                 start_s = time.perf_counter() - started
                 warm = timed(spec, pool, Path(temp) / "warm-pool")
             finally:
