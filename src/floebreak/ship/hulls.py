@@ -50,7 +50,7 @@ HULL_PARAMETER_BOUNDS: Final[dict[str, Bounds]] = {
     "ice_thickness_m": Bounds(0.0, 10.0, low_inclusive=False, unit="m"),
     "midbody_length_m": Bounds(0.0, 500.0, unit="m"),
     "midbody_frame_angle_deg": FRAME_ANGLE_DEG,
-    "thesis_stem_angle_deg": Bounds(0.0, 85.0, unit="deg"),  # from the vertical: 90° − the stem angle ("buttock")
+    "thesis_stem_angle_deg": Bounds(0.0, 85.0, unit="deg"),  # from the vertical: 90° − stem angle (buttock)
 }
 N_PANELS_PER_SIDE_RANGE: Final = (2, 1000)
 
