@@ -409,10 +409,9 @@ def _into_field(polygon_bf, bow_x: float) -> list[tuple[Any, Any]]:
 
     The translation rounds every coordinate, and a valid piece with a pinch (two lobes joined by a neck of
     rounding width) can come out self-intersecting. Its repair (``make_valid`` "linework", as in
-    `_translate_pieces`) separates the lobes; each becomes a piece of its own, so no area is lost: keeping
-    the largest part only dropped a 1.4e-3 m² lobe of a 13 m² piece (fuzz campaign, issue 20: a
-    ``local_cracking`` split in 0.04 m ice, AreaBalanceError 6.4e-7). A valid move (the usual case) keeps
-    the piece's own bow-frame polygon."""
+    `_translate_pieces`) separates the lobes; each becomes a piece of its own, so no area is lost (keeping
+    the largest part only broke the area balance; regression test in tests/test_simulation.py). A valid
+    move (the usual case) keeps the piece's own bow-frame polygon."""
     world = _translate(polygon_bf, bow_x)
     if shapely.is_valid(world):
         return [(world, polygon_bf)]

@@ -61,9 +61,9 @@ def prepare_worker() -> None:
     """Worker initializer: one thread, then the modules a run imports (matplotlib for its figures) and the
     numba kernels loaded.
 
-    A spawned worker needs ≈ 1.5 s of CPU for this; done here, at the pool's creation, it overlaps the
-    parent's own preparation (checking resumed runs, generating the common fields) instead of delaying
-    the worker's first run."""
+    Done here, at the pool's creation, a spawned worker's start overlaps the parent's own preparation
+    (checking resumed runs, generating the common fields) instead of delaying its first run
+    (benchmarks/README.md, parallel efficiency)."""
     one_thread_per_worker()
     # what `execute_run` imports, and the modules of the run's figures
     import floebreak.api
