@@ -397,10 +397,16 @@ def _translate_pieces(polygons: np.ndarray, dx: float, check: np.ndarray | None 
         return moved
     invalid = looked_at[~shapely.is_valid(moved[looked_at])]
     for i in invalid.tolist():
-        repaired = polygon_parts(shapely.make_valid(moved[i], method="linework"))
+        repaired = _repaired_parts(moved[i])
         if repaired:
             moved[i] = max(repaired, key=shapely.area)
     return moved
+
+
+def _repaired_parts(polygon) -> list:
+    """The valid polygons of an outline that a translation made self-intersecting, re-noded by ``make_valid``
+    "linework" (see `_translate_pieces` for why not "structure")."""
+    return polygon_parts(shapely.make_valid(polygon, method="linework"))
 
 
 def _into_field(polygon_bf, bow_x: float) -> list[tuple[Any, Any]]:
@@ -408,14 +414,14 @@ def _into_field(polygon_bf, bow_x: float) -> list[tuple[Any, Any]]:
     or, if the move made it invalid, one per part of its repair.
 
     The translation rounds every coordinate, and a valid piece with a pinch (two lobes joined by a neck of
-    rounding width) can come out self-intersecting. Its repair (``make_valid`` "linework", as in
-    `_translate_pieces`) separates the lobes; each becomes a piece of its own, so no area is lost (keeping
-    the largest part only broke the area balance; regression test in tests/test_simulation.py). A valid
-    move (the usual case) keeps the piece's own bow-frame polygon."""
+    rounding width) can come out self-intersecting. Its repair (`_repaired_parts`) separates the lobes;
+    each becomes a piece of its own, so no area is lost (keeping the largest part only broke the area
+    balance; regression test in tests/test_simulation.py). A valid move (the usual case) keeps the piece's
+    own bow-frame polygon."""
     world = _translate(polygon_bf, bow_x)
     if shapely.is_valid(world):
         return [(world, polygon_bf)]
-    parts = polygon_parts(shapely.make_valid(world, method="linework"))
+    parts = _repaired_parts(world)
     return list(zip(parts, _translate_pieces(np.array(parts, dtype=object), -bow_x), strict=True))
 
 
