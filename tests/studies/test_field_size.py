@@ -5,21 +5,42 @@ from __future__ import annotations
 import pytest
 
 from floebreak.errors import InputError
-from floebreak.studies.field_size import area_weighted_diameter_m, infer_field_length_m, thesis_field_length_m
+from floebreak.studies.field_size import (
+    THESIS_FIELD_WIDTH_M,
+    affected_strip_width_m,
+    infer_field_length_m,
+    thesis_field_length_m,
+)
 
 
-def test_area_weighted_diameter_by_hand():
+def test_affected_strip_of_a_wide_field_is_beam_plus_area_weighted_diameter():
     # Table 1, 2019-12-18 20:20: 20/40/40 % of the floes at 2.5/7.5/15 m
     # Σ p d² = 0.2·6.25 + 0.4·56.25 + 0.4·225 = 113.75
     # Σ p d³ = 0.2·15.625 + 0.4·421.875 + 0.4·3375 = 1521.875
-    assert area_weighted_diameter_m((2.5, 7.5, 15.0), (20, 40, 40)) == pytest.approx(1521.875 / 113.75)
+    strip = affected_strip_width_m(21.7, (2.5, 7.5, 15.0), (20, 40, 40))
+    assert strip == pytest.approx(21.7 + 1521.875 / 113.75)
 
 
 def test_thesis_field_length_by_hand():
-    # 3446.38 m² / (0.44 · 0.25/0.5 · (21.7 m + 13.379 m)) = 3446.38 / 7.7174 = 446.6 m
-    expected = 3446.38 / (0.22 * (21.7 + 1521.875 / 113.75))
-    assert expected == pytest.approx(446.6, abs=0.1)
-    assert thesis_field_length_m() == round(expected) == 447
+    # wide field: 3446.38 m² / (0.44 · 0.25/0.5 · (21.7 m + 13.379 m)) = 3446.38 / 7.7174 = 446.6 m
+    wide = 3446.38 / (0.22 * (21.7 + 1521.875 / 113.75))
+    assert wide == pytest.approx(446.6, abs=0.1)
+    assert thesis_field_length_m(None) == round(wide) == 447
+    # 100 m wide: the centres of class d spread over 100 − d m, so per metre the bow affects
+    # (B + d)·100/(100 − d): 24.2·100/97.5 = 24.821, 29.2·100/92.5 = 31.568, 36.7·100/85 = 43.176 m,
+    # weighted by p d² (1.25, 22.5, 90 of 113.75): 40.678 m → L = 3446.38 / (0.22 · 40.678) = 385.1 m
+    strip = (1.25 * 24.2 / 0.975 + 22.5 * 29.2 / 0.925 + 90.0 * 36.7 / 0.85) / 113.75
+    assert strip == pytest.approx(40.678, abs=1e-3)
+    assert THESIS_FIELD_WIDTH_M == 100.0
+    assert thesis_field_length_m() == round(3446.38 / (0.22 * strip)) == 385
+
+
+def test_a_narrow_field_puts_every_floe_of_a_class_in_the_bow_path():
+    # W = 50 m: the 15 m floes' centres spread over 35 m < B + d = 36.7 m: all are touched, strip = W
+    only_large = affected_strip_width_m(21.7, (15.0,), (100,), field_width_m=50.0)
+    assert only_large == 50.0
+    with pytest.raises(InputError, match="field_width_m"):
+        affected_strip_width_m(21.7, (15.0,), (100,), field_width_m=15.0)
 
 
 def test_bounds_of_the_inference():

@@ -74,7 +74,7 @@ def test_design_runs_every_point_of_every_configuration_on_common_fields():
 
 
 def test_single_floe_design():
-    runs, members = expand(single_floe_spec(make_configs("default", []), base_scenario(447.0, [])))
+    runs, members = expand(single_floe_spec(make_configs("default", []), base_scenario(385.0, [])))
     assert len(runs) == 10  # Figs. 15 (d 10 m, h 0.8 m) and 16 (d 20 m, h 1 m) × positions a–e
     floes = {m.group: r.scenario["field"]["floes"][0] for m, r in zip(members, runs, strict=True)}
     a, c = floes["default | single d20 h1 a"], floes["default | single d20 h1 c"]

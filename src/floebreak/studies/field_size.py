@@ -5,17 +5,25 @@ all floes the bow affected at h = 1.0 m, A_aff = A_cusp^tot + A_flip^tot = 3446.
 (Table 1, 2019-12-18 20:20: 44 % cover; 20/40/40 % of the floes with d = 2.5/7.5/15 m) and the beam of the
 Agulhas II (§3.1: 21.7 m). A floe is touched when its centre lies within B/2 + d/2 of the track, and a
 touched floe is affected whole: it is flipped beside the bow or cracked until its pieces are cusps (§5.2,
-Figs. 15–16). Per metre of transit the bow therefore affects, for diameter class d, the ice of a strip
-B + d wide; weighting the classes by their share of the ice *area* (∝ p_d d²),
+Figs. 15–16). The floes lie wholly inside a field of width W (thesis §2.1: "the floes stay inside the
+boundaries of the floe field"), so the centres of class d spread over W − d, not W: the floes of a class
+are denser by W/(W − d) than the field's cover, and a share min(1, (B + d)/(W − d)) of them is touched.
+Per metre of transit the bow therefore affects, for class d, the ice of a strip
 
-    A_aff = c_eff · L · (B + d_A),      d_A = Σ p_d d³ / Σ p_d d²   (area-weighted mean diameter),
+    w_d = min(W, (B + d) · W/(W − d))      (→ B + d for a wide field)
 
-so L = A_aff / (c_eff (B + d_A)). The cover the thesis' fields really had is c_eff = c · (π/4)/(π/2) = c/2:
-its floe count uses the mean floe area π d²/2 (erratum 1) while the floes drawn are circles of diameter d.
+and, weighting the classes by their share of the ice *area* (∝ p_d d²),
 
-With the thesis' numbers: d_A = 1521.875 / 113.75 = 13.38 m, c_eff = 0.22, L = 3446.38 / (0.22 · 35.08)
-≈ 447 m. The assumption that touched floes are affected whole makes this a lower bound of the length
-(were only the swept strip B affected, L = 722 m); with the nominal 44 % cover L would be half.
+    A_aff = c_eff · L · Σ p_d d² w_d / Σ p_d d²,     L = A_aff / (c_eff · w̄).
+
+The cover the thesis' fields really had is c_eff = c · (π/4)/(π/2) = c/2: its floe count uses the mean
+floe area π d²/2 (erratum 1) while the floes drawn are circles of diameter d.
+
+With the thesis' numbers and a wide field: w̄ = B + d_A = 21.7 + 1521.875/113.75 = 35.08 m (d_A the
+area-weighted mean diameter), L = 3446.38 / (0.22 · 35.08) ≈ 447 m. At the study's W = 100 m
+(`THESIS_FIELD_WIDTH_M`): w̄ = 40.68 m, L ≈ 385 m. The assumption that touched floes are affected whole
+makes L a lower bound (were only the swept strip B affected, L = 722 m in a wide field); with the nominal
+44 % cover L would be half.
 """
 
 from __future__ import annotations
@@ -28,19 +36,47 @@ THESIS_AFFECTED_AREA_M2 = 3446.38  # thesis §5.3.3, h = 1.0 m, mean over its fo
 THESIS_BEAM_M = 21.7  # thesis §3.1, PSRV S.A. Agulhas II
 THESIS_FLOE_AREA_FACTOR = 0.5  # thesis §2.1: A = π d²/2 = factor · π d² (erratum 1)
 CIRCLE_AREA_FACTOR = 0.25  # a circle of diameter d: π d²/4
+# The thesis gives no width. At W ≥ B + 2 d_max (51.7 m) every class the bow can touch has floes beside the
+# touched band too, so the band holds a random sample of each class' lateral positions; 100 m keeps the
+# classes' density excess W/(W − d) ≤ 18 % (docs/validation.md, "The thesis' field size").
+THESIS_FIELD_WIDTH_M = 100.0
 
 
-def area_weighted_diameter_m(diameters_m: Sequence[float], percentages: Sequence[float]) -> float:
-    """d_A = Σ p d³ / Σ p d²: the mean diameter of the floes weighted by their area [m]."""
+def affected_strip_width_m(
+    beam_m: float,
+    diameters_m: Sequence[float],
+    percentages: Sequence[float],
+    field_width_m: float | None = None,
+    straddle_fraction: float = 1.0,
+) -> float:
+    """w̄ = Σ p d² w_d / Σ p d²: the width of field whose ice the bow affects per metre of transit [m].
+
+    w_d = B + κ d in a field of unbounded width (`field_width_m` None), else min(W, (B + κ d) W/(W − d)):
+    floes lie wholly inside the field, so the centres of class d spread over W − d (module docstring).
+    κ = `straddle_fraction`: the share of a touched floe that is affected (1: whole floes, 0: the swept
+    strip).
+    """
     if len(diameters_m) != len(percentages) or not diameters_m:
         raise InputError(
             "percentages", "needs one share per diameter class", allowed="equal, non-empty lists"
         )
-    second = sum(p * d * d for d, p in zip(diameters_m, percentages, strict=True))
-    third = sum(p * d**3 for d, p in zip(diameters_m, percentages, strict=True))
-    if second <= 0.0:
+    if field_width_m is not None and not field_width_m > max(diameters_m):
+        raise InputError(
+            "field_width_m",
+            f"{field_width_m} m does not hold the largest floe ({max(diameters_m)} m)",
+            value=field_width_m,
+            allowed=f"> {max(diameters_m)} m",
+        )
+    weights = [p * d * d for d, p in zip(diameters_m, percentages, strict=True)]
+    if sum(weights) <= 0.0:
         raise InputError("percentages", "no floe area", allowed="positive shares and diameters")
-    return third / second
+    strips = []
+    for d in diameters_m:
+        strip = beam_m + straddle_fraction * d
+        if field_width_m is not None:
+            strip = min(field_width_m, strip * field_width_m / (field_width_m - d))
+        strips.append(strip)
+    return sum(w * s for w, s in zip(weights, strips, strict=True)) / sum(weights)
 
 
 def infer_field_length_m(
@@ -51,13 +87,13 @@ def infer_field_length_m(
     percentages: Sequence[float],
     floe_area_factor: float = THESIS_FLOE_AREA_FACTOR,
     straddle_fraction: float = 1.0,
+    field_width_m: float | None = None,
 ) -> float:
     """Field length L [m] that gives `affected_area_m2` of affected floes in one transit.
 
-    L = A_aff / (c_eff · (B + κ d_A)) with c_eff = c · 0.25 / floe_area_factor (the cover of fields whose
-    floe count used the mean area floe_area_factor · π d², erratum 1), d_A the area-weighted mean diameter
-    and κ = `straddle_fraction` the share of a touched floe that is affected (1: whole floes, 0: only the
-    swept strip of width B). Module docstring: the reasoning.
+    L = A_aff / (c_eff · w̄) with c_eff = c · 0.25 / floe_area_factor (the cover of fields whose floe count
+    used the mean area floe_area_factor · π d², erratum 1) and w̄ the affected strip of
+    `affected_strip_width_m` (field width `field_width_m`, None: unbounded). Module docstring: the reasoning.
     """
     for name, value in (("affected_area_m2", affected_area_m2), ("beam_m", beam_m)):
         if not value > 0.0:
@@ -71,12 +107,13 @@ def infer_field_length_m(
             "straddle_fraction", f"{straddle_fraction}", value=straddle_fraction, allowed="[0, 1]"
         )
     effective_cover = concentration * CIRCLE_AREA_FACTOR / floe_area_factor
-    width_m = beam_m + straddle_fraction * area_weighted_diameter_m(diameters_m, percentages)
-    return affected_area_m2 / (effective_cover * width_m)
+    strip_m = affected_strip_width_m(beam_m, diameters_m, percentages, field_width_m, straddle_fraction)
+    return affected_area_m2 / (effective_cover * strip_m)
 
 
-def thesis_field_length_m() -> float:
-    """The inferred length of the thesis' §5.3 fields (observation 2019-12-18T20:20), rounded to 1 m."""
+def thesis_field_length_m(field_width_m: float | None = THESIS_FIELD_WIDTH_M) -> float:
+    """The inferred length of the thesis' §5.3 fields (observation 2019-12-18T20:20) for fields
+    `field_width_m` wide (None: unbounded), rounded to 1 m."""
     from floebreak.ice.observations import get_observation
 
     observation = get_observation("2019-12-18T20:20")
@@ -86,5 +123,6 @@ def thesis_field_length_m() -> float:
         THESIS_BEAM_M,
         observation.diameter_classes_m,
         observation.percentages,
+        field_width_m=field_width_m,
     )
     return float(round(length))

@@ -90,11 +90,18 @@ def make_configs(profile: str, variants: list[str]) -> list[Config]:
     return configs
 
 
-def base_scenario(length_m: float, sets: list[str]) -> dict[str, Any]:
-    """The reference scenario of thesis §5.3 on a field `length_m` long, with the `--set` overrides."""
+def base_scenario(length_m: float | None, sets: list[str]) -> dict[str, Any]:
+    """The reference scenario of thesis §5.3 on a field `THESIS_FIELD_WIDTH_M` wide (or the width a `--set`
+    gives) and `length_m` long (None: the thesis' length inferred for that width), with the `--set`
+    overrides."""
+    from floebreak.studies.field_size import THESIS_FIELD_WIDTH_M, thesis_field_length_m
+
     base = tomllib.loads(REFERENCE_TOML)
-    base["field"]["length_m"] = float(length_m)
-    return apply_overrides(base, sets)
+    base["field"]["width_m"] = THESIS_FIELD_WIDTH_M
+    base = apply_overrides(base, sets)
+    width_m = float(base["field"]["width_m"])
+    base["field"]["length_m"] = thesis_field_length_m(width_m) if length_m is None else float(length_m)
+    return base
 
 
 def _sweep(config: Config, point: str, keys: dict[str, Any]) -> Sweep:

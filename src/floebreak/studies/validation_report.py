@@ -45,7 +45,8 @@ class ValidationSettings:
 
     command: str
     length_m: float
-    thesis_length_m: float
+    width_m: float
+    thesis_length_m: float  # inferred for width_m
     n_fields: int
     seed: int
     sets: tuple[str, ...]
@@ -191,8 +192,8 @@ def scoreboard_header(configs, settings: ValidationSettings, elapsed_s, counts, 
         "",
         f"Reference configuration of thesis §5.3 (observation 2019-12-18T20:20, h = 1 m, K_Ic = 145.7 kPa√m, "
         f"tensile stress, BZ, Agulhas II) on {settings.n_fields} common random fields of "
-        f"{settings.length_m:g} m × 50 m (root seed {settings.seed}). The thesis' field length, inferred "
-        f"in docs/validation.md, is {settings.thesis_length_m:g} m."
+        f"{settings.length_m:g} m × {settings.width_m:g} m (root seed {settings.seed}). The thesis' field "
+        f"length, inferred in docs/validation.md for this width, is {settings.thesis_length_m:g} m."
         + (f" Overrides: {', '.join(f'`{s}`' for s in settings.sets)}." if settings.sets else ""),
         "",
         "Ours: mean ± standard error over the fields; changes (%) are paired on the same field, "
