@@ -13,9 +13,10 @@ Two figures per repeat, because a pool pays a one-off start that a long study do
 The start (pool creation → both workers warm) is printed too.
 
 `--cli N` adds the figure a user sees: `floebreak study thesis --n-fields N` (the thesis §5.3 study, 11
-design points on N common fields of 400 m × 50 m, which the parent generates as the runs are handed out)
-through the installed command, `--workers 1` against `--workers 2`, wall time from the command's start to
-its end (interpreter start, imports, common fields, runs, aggregated tables and figures).
+design points on N common fields of the thesis' inferred size, 385 m × 100 m, which the parent generates
+as the runs are handed out) through the installed command, `--workers 1` against `--workers 2`, wall time
+from the command's start to its end (interpreter start, imports, common fields, runs, aggregated tables and
+figures).
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/study_efficiency.py [--runs 8] [--repeat 3] [--cli 4]
 """
