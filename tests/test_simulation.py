@@ -72,6 +72,22 @@ def test_pieces_out_of_contact_are_skipped_until_they_can_touch_the_hull(monkeyp
         np.testing.assert_array_equal(skipping_contacts[column], values, err_msg=column)
 
 
+def test_the_candidate_search_distance_changes_no_result():
+    """`dist_bow_max_m` (thesis §3.2) only pre-selects the pieces whose contact is evaluated: contact itself
+    is decided on the hull, so the breaking result is the same for 0 m and 5 m (its elasticity is zero, the
+    sensitivity table says so instead of varying it)."""
+    from floebreak.profiles import build_model
+
+    field = small_field(3, length=100.0)
+    model = build_model("default")
+    results = [
+        simulate(field, BOW, model, SimulationParams(step_m=0.5, dist_bow_max_m=d)) for d in (0.0, 5.0)
+    ]
+    assert results[0].n_breaks > 0
+    assert list(results[0].fate) == list(results[1].fate)
+    assert shapely.equals_exact(results[0].polygon, results[1].polygon, tolerance=0.0).all()
+
+
 def mirrored(field: FloeField) -> FloeField:
     polygons = shapely.transform(field.polygons, lambda xy: xy * np.array([1.0, -1.0]))
     return FloeField(polygons, field.thickness_m, field.diameter_class_m, field.floe_id, field.domain_m)

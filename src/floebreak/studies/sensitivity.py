@@ -54,7 +54,9 @@ CATEGORICAL_INPUTS = (
 NOT_EXPOSED = (
     (
         "dist_bow_max",
-        "SimulationParams.dist_bow_max_m (candidate search distance, thesis §3.2) has no scenario key",
+        "SimulationParams.dist_bow_max_m (candidate search distance, thesis §3.2): elasticity 0 by "
+        "construction — it only pre-selects the pieces whose contact is evaluated on the hull "
+        "(tests/test_simulation.py::test_the_candidate_search_distance_changes_no_result); no scenario key",
     ),
 )
 STEPS_M = (0.5, 0.25, 0.125, 0.0625)
