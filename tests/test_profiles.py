@@ -22,7 +22,8 @@ THESIS_BENDING = {
 }
 THESIS_CRACKING = {
     "bz2_mode": "generalised",  # not erratum 15's literal law: Table 8 BZ2 ≈ BZ
-    "tada_labels": "thesis_alg7",  # erratum 16
+    "tada_labels": "correct",  # not erratum 16's swap of Alg. 7: Table 6's flexural-vs-tensile direction
+    "point_load_capacity": "tensile_Pt",  # erratum 20: §4.2.1's P_t, Table 6's point-load directions
     "line_load_divide_by_thickness": False,  # erratum 17
     "line_load_crack_length": "indentation",  # erratum 19
     "stress_mode": "thesis",  # erratum 19
@@ -35,6 +36,7 @@ CORRECTED_BENDING = {
 CORRECTED_CRACKING = {
     "bz2_mode": "generalised",
     "tada_labels": "correct",
+    "point_load_capacity": "tensile_Pt",
     "line_load_divide_by_thickness": True,
     "line_load_crack_length": "strip_critical",
     "stress_mode": "sif",
@@ -100,7 +102,7 @@ def test_overrides_are_applied_after_the_profile():
     assert bending.capacity_model == "thesis_per_wedge"
     assert bending.loading_radius_model == "sector_area_clipped"  # the profile's, kept
     cracking = model.failure.modes["cracking"].settings
-    assert cracking.criterion == "line_load" and cracking.tada_labels == "thesis_alg7"
+    assert cracking.criterion == "line_load" and cracking.stress_mode == "thesis"
 
 
 @pytest.mark.parametrize(

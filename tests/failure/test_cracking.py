@@ -125,6 +125,9 @@ def test_point_load_tensile_capacity(make_input, context, kit, thickness_m, must
     check = criterion_check(Cracking(settings), inp, context)
     assert check.resistance == pytest.approx(p_t, rel=1e-9)
     assert check.driving == pytest.approx(f_h, rel=1e-9)
+    # P_t is the default capacity (erratum 20, docs/model.md §11)
+    default = criterion_check(Cracking(CrackingSettings(criterion="point_load")), inp, context)
+    assert default.resistance == pytest.approx(p_t, rel=1e-9)
 
 
 @pytest.mark.parametrize(("penetration_m", "must_fail"), [(0.005, False), (0.05, True)])
@@ -140,7 +143,7 @@ def test_point_load_bending_capacity(make_input, context, kit, penetration_m, mu
     high = kit.capacity_bracket_n(1.0, math.radians(185.0), rho_high)[1]
     assert (f_h > 1.3 * high) if must_fail else (f_h < low / 1.3)
     inp = make_input(kit.midbody_box(WIDTH_M, LENGTH_M, penetration_m))
-    cracking = Cracking(CrackingSettings(criterion="point_load"))
+    cracking = Cracking(CrackingSettings(criterion="point_load", point_load_capacity="bending_P"))
     assert cracking.evaluate(inp, context).failed is must_fail
     assert low <= criterion_check(cracking, inp, context).resistance <= high
 

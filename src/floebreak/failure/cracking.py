@@ -7,8 +7,9 @@ rotated by α_nextcrack = 30° (thesis §4.2.3, Fig. 11), to the side that passe
 centroid (the thesis does not say which side; this gives the more even split).
 
 Criteria (`criterion`):
-- ``point_load``: F_h > P with P the Nevel bending capacity at the contact (thesis Alg. 7
-  `fracture_criterion_simple`) or P_t = σ_t h b (thesis §4.2.1; `point_load_capacity = "tensile_Pt"`);
+- ``point_load``: F_h > P_t = σ_t h b, the tensile capacity of the section along the crack (thesis §4.2.1,
+  Eq. 14), or P the Nevel bending capacity at the contact (thesis §3.2, Alg. 7 `fracture_criterion_simple`;
+  `point_load_capacity = "bending_P"`);
 - ``line_load``: K_I = 0.878 (κ F_h / h) √(π/a) ≥ K_Ic (Alg. 7 line load, /h added: erratum 17);
 - ``tensile_stress`` / ``flexural_stress``: K_I = σ_n^t(L) √(πa) · Tada factor ≥ K_Ic (Alg. 7, Eq. 19),
   load-independent (physics-notes §4.4), size-effect law BZ/BZ1/BZ2 for σ_n^t.
@@ -74,8 +75,10 @@ class CrackingSettings:
     """Tada factors: correct, or tension/bending swapped as run in the thesis (erratum 16)"""
     crack_length: CrackLengthDefinition = "indentation"
     """crack length a: indentation depth along the crack line, or ℓ/5 (Alg. 5)"""
-    point_load_capacity: PointLoadCapacity = "bending_P"
-    """capacity of the point-load criterion: Nevel bending P, or P_t = σ_t h b (thesis §4.2.1)"""
+    point_load_capacity: PointLoadCapacity = "tensile_Pt"
+    """capacity of the point-load criterion: the tensile capacity of the floe's section along the crack,
+    P_t = σ_t h b (thesis §4.2.1, Eq. 14), or the Nevel bending capacity P (thesis §3.2 and Alg. 7: an
+    out-of-plane capacity for an in-plane force; erratum 20, docs/model.md §11)"""
     total_porosity_ppt: Annotated[float, Bounds(0.0, 1000.0, low_inclusive=False, unit="‰")] = (
         c.TOTAL_POROSITY_PPT
     )
@@ -260,11 +263,12 @@ register_mode(
     settings=CrackingSettings,
     material=("fracture_toughness_pa_sqrt_m",),
     thesis={
-        "tada_labels": "thesis_alg7",  # erratum 16, as run (Alg. 7: swapped, exponent 3)
         "line_load_divide_by_thickness": False,  # erratum 17
         "line_load_crack_length": "indentation",  # erratum 19: a = the indentation depth, from 1 mm
         "stress_mode": "thesis",  # erratum 19: K_I from the size-effect strength, load-independent
         # not "bz2_mode": "thesis" (erratum 15): Table 8 shows BZ2 ≈ BZ, which the literal law rules out
+        # not "tada_labels": "thesis_alg7" (erratum 16, Alg. 7's swap): Table 6's flexural-vs-tensile
+        # direction needs the correct labels (docs/model.md §11)
     },
     create=lambda settings: Cracking(settings["cracking"], settings["bending"]),
 )

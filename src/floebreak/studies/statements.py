@@ -409,6 +409,16 @@ def _criteria_text() -> list[Statement]:
             _rel(86, 83),
             DIRECTION,
         ),
+        _change(
+            "S532.point.dn_cusp",
+            "§5.3.2 text, Table 6",
+            "the number of cusps is similar to that of the reference configuration (Table 6: 125 and 125)",
+            "Δn_cusp, point load vs tensile",
+            "n_cusps",
+            "point_load",
+            _rel(125, 125),
+            SMALL,
+        ),
         *_criteria_text_2(),
     ]
 
