@@ -53,6 +53,7 @@ SUMMARY_KEYS = {
     "profile",
     "seed",
     "scenario_hash",
+    "model_hash",
     "n_floes_initial",
     "initial_ice_area_m2",
     "n_cusps",

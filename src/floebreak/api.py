@@ -527,6 +527,7 @@ def run(
         "profile": scenario.profile,
         "seed": scenario.seed,
         "scenario_hash": scenario.hash(),
+        "model_hash": model.fingerprint(),
     }
     tail = {
         "field_shift_m": float(sum(s["dx_m"] for s in shift)) if shift else 0.0,

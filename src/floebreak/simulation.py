@@ -10,6 +10,7 @@ Initial ice area = cusps + flipped + remaining is checked at the end of every ru
 
 from __future__ import annotations
 
+import hashlib
 from array import array
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
@@ -109,6 +110,12 @@ class Model:
     contact: ContactParams = field(default_factory=ContactParams)
     classification: ClassificationParams = field(default_factory=ClassificationParams)
     failure: FailureModel = field(default_factory=FailureModel)
+
+    def fingerprint(self) -> str:
+        """SHA-256 of every setting (the frozen dataclasses' repr). A scenario's runs agree only under one
+        fingerprint: a resumed study re-runs a run whose model changed although its scenario did not (a
+        profile's value changed by an upgrade, say; `floebreak.studies.runner.is_complete`)."""
+        return hashlib.sha256(repr(self).encode("utf-8")).hexdigest()
 
 
 # --- events reported to callbacks ---------------------------------------------------------------------

@@ -98,6 +98,15 @@ def test_run_resume_failure_and_aggregate(tmp_path):
     assert state.skipped == 3 and state.done == 4
     assert not (tmp_path / "runs" / ".run-00002.tmp-killed").exists()
 
+    # a run made with other model settings (a profile value changed by an upgrade) is run again: the
+    # scenario is the same, the fingerprint in its summary is not
+    summary_file = tmp_path / "runs" / "run-00001" / "summary.json"
+    doc = json.loads(summary_file.read_text(encoding="utf-8"))
+    summary_file.write_text(json.dumps({**doc, "model_hash": "0" * 64}), encoding="utf-8")
+    state = run_study(spec, runs, members, tmp_path)
+    assert state.skipped == 3 and state.done == 4
+    assert json.loads(summary_file.read_text(encoding="utf-8"))["model_hash"] == doc["model_hash"]
+
     # a single run recomputed alone equals the study's run
     alone = tmp_path / "alone"
     execute_run({"scenario": runs[1].scenario, "run_dir": str(alone)})

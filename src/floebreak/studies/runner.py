@@ -16,9 +16,11 @@ CPUs make OpenBLAS pick other kernels, with which the packing would generate oth
 seed (docs/model.md §4, Reproducibility), and a run's result does not depend on where it ran.
 
 Resume: a run is complete when ``runs/<name>/summary.json`` exists with the scenario hash of the run and
-every file it lists (``files``: SHA-256 per file, `floebreak.api.file_checksums`) is there with that
-checksum: a damaged run (a truncated Parquet file) is run again. Since run directories appear only by an
-atomic rename, a study killed at any moment (even SIGKILL) resumes with no run lost or duplicated.
+the fingerprint of its model's settings (a profile's value can change between versions while the scenario
+stays the same), and every file it lists (``files``: SHA-256 per file, `floebreak.api.file_checksums`) is
+there with that checksum: a damaged run (a truncated Parquet file) is run again. Since run directories
+appear only by an atomic rename, a study killed at any moment (even SIGKILL) resumes with no run lost or
+duplicated.
 Left-over temporary directories of killed runs (or of killed workers) are removed at the start and at the
 end. Paths are made absolute before they reach workers, whose working directory may be another.
 """
@@ -49,14 +51,18 @@ class StudyProgress:
     failures: list[dict[str, Any]] = field(default_factory=list)
 
 
-def scenario_hash(scenario: dict[str, Any]) -> str:
+def run_identity(scenario: dict[str, Any]) -> tuple[str, str]:
+    """(scenario hash, model fingerprint) of a run: what its summary must record for it to be reused."""
+    from floebreak.api import build_model_for
     from floebreak.scenario import Scenario
 
-    return Scenario.from_dict(scenario).resolved().hash()
+    resolved = Scenario.from_dict(scenario).resolved()
+    return resolved.hash(), build_model_for(resolved).fingerprint()
 
 
-def is_complete(run_dir: Path, expected_hash: str) -> bool:
-    """Whether `run_dir` holds the finished run of `expected_hash` with every file intact (checksums)."""
+def is_complete(run_dir: Path, identity: tuple[str, str]) -> bool:
+    """Whether `run_dir` holds the finished run of `identity` (`run_identity`: the same scenario run with the
+    same model settings) with every file intact (checksums)."""
     from floebreak.api import file_checksums
 
     summary = run_dir / "summary.json"
@@ -64,7 +70,9 @@ def is_complete(run_dir: Path, expected_hash: str) -> bool:
         return False
     try:
         doc = json.loads(summary.read_text(encoding="utf-8"))
-        if doc.get("scenario_hash") != expected_hash or not isinstance(doc.get("files"), dict):
+        if (doc.get("scenario_hash"), doc.get("model_hash")) != identity or not isinstance(
+            doc.get("files"), dict
+        ):
             return False
         return file_checksums(run_dir, doc["files"]) == doc["files"]
     except (OSError, json.JSONDecodeError):
@@ -181,7 +189,7 @@ def _pending_tasks(
     fields_ready: set[str] = set()
     for spec_run in runs:
         run_dir = out_dir / "runs" / spec_run.run_name
-        if is_complete(run_dir, scenario_hash(spec_run.scenario)):
+        if is_complete(run_dir, run_identity(spec_run.scenario)):
             state.skipped += 1
             state.done += 1
             continue
