@@ -10,6 +10,7 @@ from floebreak.studies.field_size import (
     affected_strip_width_m,
     infer_field_length_m,
     thesis_field_length_m,
+    thesis_scenario,
 )
 
 
@@ -33,6 +34,18 @@ def test_thesis_field_length_by_hand():
     assert strip == pytest.approx(40.678, abs=1e-3)
     assert THESIS_FIELD_WIDTH_M == 100.0
     assert thesis_field_length_m() == round(3446.38 / (0.22 * strip)) == 385
+
+
+def test_thesis_scenario_is_the_reference_on_the_thesis_field_and_follows_a_width_override():
+    base = thesis_scenario()
+    assert (base["field"]["length_m"], base["field"]["width_m"]) == (385.0, 100.0)
+    assert base["field"]["observation"] == "2019-12-18T20:20"
+    wide = thesis_scenario(["field.width_m=1000.0", "ship.step_m=0.5"])
+    # w_d = (B + d)·1000/(1000 − d), weighted by p d² as in the 100 m case: 35.57 m → 3446.38 / (0.22 · 35.57)
+    strip = (1.25 * 24.2 / 0.9975 + 22.5 * 29.2 / 0.9925 + 90.0 * 36.7 / 0.985) / 113.75
+    assert wide["field"]["length_m"] == round(3446.38 / (0.22 * strip)) == 440
+    assert wide["ship"]["step_m"] == 0.5
+    assert thesis_scenario(length_m=120.0)["field"]["length_m"] == 120.0
 
 
 def test_a_narrow_field_puts_every_floe_of_a_class_in_the_bow_path():

@@ -11,6 +11,7 @@ from typer.testing import CliRunner
 from floebreak.cli import app
 from floebreak.errors import InputError
 from floebreak.studies.design import expand
+from floebreak.studies.field_size import thesis_scenario
 from floebreak.studies.scoreboard import TABLE_OUTPUTS
 from floebreak.studies.sensitivity import (
     CONTINUOUS_INPUTS,
@@ -20,7 +21,6 @@ from floebreak.studies.sensitivity import (
 )
 from floebreak.studies.validate import (
     POINTS,
-    base_scenario,
     make_configs,
     parse_variant,
     single_floe_spec,
@@ -54,7 +54,7 @@ def test_configs():
 
 
 def test_design_runs_every_point_of_every_configuration_on_common_fields():
-    base = base_scenario(100.0, ["ship.step_m=0.5"])
+    base = thesis_scenario(["ship.step_m=0.5"], 100.0)
     configs = make_configs("both", [])
     runs, members = expand(thesis_validation_spec(configs, base, n_fields=1, seed=3))
     assert len(members) == 2 * len(POINTS)
@@ -74,7 +74,7 @@ def test_design_runs_every_point_of_every_configuration_on_common_fields():
 
 
 def test_single_floe_design():
-    runs, members = expand(single_floe_spec(make_configs("default", []), base_scenario(385.0, [])))
+    runs, members = expand(single_floe_spec(make_configs("default", []), thesis_scenario(length_m=385.0)))
     assert len(runs) == 10  # Figs. 15 (d 10 m, h 0.8 m) and 16 (d 20 m, h 1 m) × positions a–e
     floes = {m.group: r.scenario["field"]["floes"][0] for m, r in zip(members, runs, strict=True)}
     a, c = floes["default | single d20 h1 a"], floes["default | single d20 h1 c"]
@@ -82,7 +82,7 @@ def test_single_floe_design():
 
 
 def test_sensitivity_points_move_every_input_by_delta():
-    points = sensitivity_points(base_scenario(100.0, []), 0.1)
+    points = sensitivity_points(thesis_scenario(length_m=100.0), 0.1)
     assert points["h-"] == {"ice.thickness_m": pytest.approx(0.9)}
     assert points["K_Ic+"] == {"ice.fracture_toughness_pa_sqrt_m": pytest.approx(1.1 * 145.7e3)}
     assert points["φ-"] == {"failure.wedge_angle_deg": pytest.approx(4.5)}  # thesis §4.1.2: φ = 5°

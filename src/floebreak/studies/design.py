@@ -229,11 +229,10 @@ def expand(spec: StudySpec, base_dir: Path | None = None) -> tuple[list[RunSpec]
 def thesis_study(n_fields: int = 4, profile: str = "default", root_seed: int = 2023) -> StudySpec:
     """Thesis §5.3 (Tables 5–8): one-factor sweeps around the reference configuration, on fields of the
     thesis' inferred size (`field_size`: 385 m × 100 m)."""
-    from floebreak.studies.field_size import THESIS_FIELD_WIDTH_M, thesis_field_length_m
+    from floebreak.studies.field_size import thesis_scenario
 
-    base = tomllib.loads(REFERENCE_TOML)
+    base = thesis_scenario()
     base["profile"] = profile
-    base["field"].update(length_m=thesis_field_length_m(), width_m=THESIS_FIELD_WIDTH_M)
     return StudySpec(
         name=f"thesis §5.3 ({profile} profile)",
         root_seed=root_seed,

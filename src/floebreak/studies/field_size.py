@@ -28,9 +28,12 @@ makes L a lower bound (were only the swept strip B affected, L = 722 m in a wide
 
 from __future__ import annotations
 
+import tomllib
 from collections.abc import Sequence
+from typing import Any
 
 from floebreak.errors import InputError
+from floebreak.scenario import REFERENCE_TOML, apply_overrides
 
 THESIS_AFFECTED_AREA_M2 = 3446.38  # thesis §5.3.3, h = 1.0 m, mean over its four fields
 THESIS_BEAM_M = 21.7  # thesis §3.1, PSRV S.A. Agulhas II
@@ -126,3 +129,15 @@ def thesis_field_length_m(field_width_m: float | None = THESIS_FIELD_WIDTH_M) ->
         field_width_m=field_width_m,
     )
     return float(round(length))
+
+
+def thesis_scenario(sets: Sequence[str] = (), length_m: float | None = None) -> dict[str, Any]:
+    """The reference scenario of thesis §5.3 on the thesis' field: `THESIS_FIELD_WIDTH_M` wide (or the width
+    an override in `sets` gives) and `length_m` long (None: the length inferred for that width), with the
+    overrides `sets` (``key=value``) applied. `validate thesis` and `study thesis` both start from it."""
+    base = tomllib.loads(REFERENCE_TOML)
+    base["field"]["width_m"] = THESIS_FIELD_WIDTH_M
+    base = apply_overrides(base, list(sets))
+    width_m = float(base["field"]["width_m"])
+    base["field"]["length_m"] = thesis_field_length_m(width_m) if length_m is None else float(length_m)
+    return base

@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import copy
 import re
-import tomllib
 from dataclasses import dataclass, field
 from typing import Any
 
 from floebreak.errors import InputError
 from floebreak.profiles import PROFILES
-from floebreak.scenario import REFERENCE_TOML, apply_overrides, parse_override
+from floebreak.scenario import parse_override
 from floebreak.studies.design import StudySpec, Sweep
 
 POINTS: dict[str, dict[str, Any]] = {  # design point → scenario keys changed from the reference (§5.3)
@@ -88,20 +87,6 @@ def make_configs(profile: str, variants: list[str]) -> list[Config]:
     configs = [Config(p) for p in profiles]
     configs += [Config(p, name, overrides) for p in profiles for name, overrides in parsed]
     return configs
-
-
-def base_scenario(length_m: float | None, sets: list[str]) -> dict[str, Any]:
-    """The reference scenario of thesis §5.3 on a field `THESIS_FIELD_WIDTH_M` wide (or the width a `--set`
-    gives) and `length_m` long (None: the thesis' length inferred for that width), with the `--set`
-    overrides."""
-    from floebreak.studies.field_size import THESIS_FIELD_WIDTH_M, thesis_field_length_m
-
-    base = tomllib.loads(REFERENCE_TOML)
-    base["field"]["width_m"] = THESIS_FIELD_WIDTH_M
-    base = apply_overrides(base, sets)
-    width_m = float(base["field"]["width_m"])
-    base["field"]["length_m"] = thesis_field_length_m(width_m) if length_m is None else float(length_m)
-    return base
 
 
 def _sweep(config: Config, point: str, keys: dict[str, Any]) -> Sweep:

@@ -107,9 +107,8 @@ def thesis_command(
     """Score every quantitative statement of thesis §5.1–§5.3 and §6.2: scoreboard.md/.csv and figures."""
     import time
 
-    from floebreak.studies.field_size import thesis_field_length_m
+    from floebreak.studies.field_size import thesis_field_length_m, thesis_scenario
     from floebreak.studies.validate import (
-        base_scenario,
         make_configs,
         single_floe_spec,
         thesis_validation_spec,
@@ -119,7 +118,7 @@ def thesis_command(
     _check(n_fields, workers, length_m)
     configs = make_configs(profile, list(variants or []))
     sets = list(sets or [])
-    base = base_scenario(length_m, sets)
+    base = thesis_scenario(sets, length_m)
     specs = {
         "single_floe": single_floe_spec(configs, base),
         "study": thesis_validation_spec(configs, base, n_fields, seed),
@@ -144,13 +143,14 @@ def thesis_command(
 
 
 def _one_config(profile: str, length_m: float | None, sets: list[str] | None):
-    from floebreak.studies.validate import Config, base_scenario
+    from floebreak.studies.field_size import thesis_scenario
+    from floebreak.studies.validate import Config
 
     if profile not in ("default", "thesis"):
         raise InputError(
             "--profile", f"unknown profile {profile!r}", value=profile, allowed="default, thesis"
         )
-    return Config(profile), base_scenario(length_m, list(sets or []))
+    return Config(profile), thesis_scenario(sets or [], length_m)
 
 
 def _csv_text(rows: list[dict], columns: list[str]) -> str:
