@@ -1,9 +1,9 @@
 """End-to-end benchmark (issue 5): the installed CLI as a user runs it, wall time and peak memory, one core.
 
-Cases: ``floebreak demo`` (reference scenario, 400 m × 50 m, everything the demo writes) and the reference
-scenario on a 1 km × 200 m field via ``floebreak run examples/reference.toml --set field.length_m=1000
---set field.width_m=200`` (run directory with figures and report). Goal for the 1 km × 200 m run: ≤ 5 s on
-one core and ≤ 500 MB.
+Cases: ``floebreak demo`` (reference scenario, 385 m × 100 m since 2026-12-02, before 400 m × 50 m;
+everything the demo writes) and the reference scenario on a 1 km × 200 m field via ``floebreak run
+examples/reference.toml --set field.length_m=1000 --set field.width_m=200`` (run directory with figures and
+report). Goal for the 1 km × 200 m run: ≤ 5 s on one core and ≤ 500 MB.
 
 Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1). Wall
 time: ``time.perf_counter`` around the child. Peak memory: the child's ``ru_maxrss`` (``os.wait4`` returns
@@ -88,7 +88,7 @@ def measure(args: list[str]) -> dict:
 
 
 CASES = {
-    "demo (400 m × 50 m)": ["demo", "--out", "{out}", "--quiet"],
+    "demo (385 m × 100 m)": ["demo", "--out", "{out}", "--quiet"],
     "run 1 km × 200 m": [
         "run",
         "examples/reference.toml",

@@ -1,9 +1,9 @@
 """Parallel efficiency of a local study (issue 20): the same runs serially and on a pool of 2 workers.
 
-A study of `--runs` runs (reference scenario, 400 m × 50 m, each run its own field: `common_fields = false`,
-so field generation runs in the workers too) is run into fresh directories by `floebreak.studies.runner
-.run_study`, once with the serial executor and once with a local process pool of 2 workers (spawned
-processes). Efficiency = T_serial / (2 · T_pool); goal ≥ 85 %.
+A study of `--runs` runs (reference scenario: 385 m × 100 m since 2026-12-02; each run its own field:
+`common_fields = false`, so field generation runs in the workers too) is run into fresh directories by
+`floebreak.studies.runner.run_study`, once with the serial executor and once with a local process pool of 2
+workers (spawned processes). Efficiency = T_serial / (2 · T_pool); goal ≥ 85 %.
 
 Two figures per repeat, because a pool pays a one-off start that a long study does not notice:
 - **steady state**: both paths warm — the serial process has done one run before the clock starts, the

@@ -129,7 +129,8 @@ def test_unwritable_output_path(tmp_path):
 
 
 def test_demo_runs_the_reference_scenario(tmp_path):
-    """`floebreak demo`: the issue's reference scenario (400 m × 50 m, h = 1 m) into a run directory."""
+    """`floebreak demo`: the reference scenario (the thesis' 385 m × 100 m field, h = 1 m) into a run
+    directory."""
     out = tmp_path / "demo"
     result = run("demo", "--out", str(out))
     assert result.returncode == 0, result.stderr
@@ -148,11 +149,12 @@ def test_demo_runs_the_reference_scenario(tmp_path):
     assert "<code>demo</code>" in html and ".tmp" not in html  # the final name, not the temporary one
     summary = json.loads((out / "summary.json").read_text())
     resolved = tomllib.loads((out / "scenario.resolved.toml").read_text())
-    assert resolved["field"]["length_m"] == 400.0 and resolved["ice"]["thickness_m"] == 1.0
+    assert resolved["field"]["length_m"] == 385.0 and resolved["ice"]["thickness_m"] == 1.0
     assert resolved["field"]["observation"] == "2019-12-18T20:20" and resolved["ship"]["hull"] == "agulhas_ii"
     assert summary["area_balance_rel_error"] <= 1e-9 and summary["n_cusps"] > 0
-    # the field covers the observation's 44 % of 400 m × 50 m within ±1 percentage point (issue 2)
-    assert summary["initial_ice_area_m2"] / (400.0 * 50.0) == pytest.approx(0.44, abs=0.01)
+    # the field covers the observation's 44 % of 385 m × 100 m within ±1 percentage point (issue 2)
+    assert summary["initial_ice_area_m2"] / (385.0 * 100.0) == pytest.approx(0.44, abs=0.01)
+    assert summary["warnings"] == [] and "warning" not in result.stderr  # wide enough for the largest floes
     assert "cusps" in result.stdout and "wall time" in result.stdout
     check_demo_propeller(out, summary["n_cusps"], result.stdout + result.stderr)
 
@@ -183,12 +185,12 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
         width = ds.attrs["torque_bin_width_knm"]
         # probability densities: each pitch integrates to 1 over its bins
         assert (ds["torque_density"].sum("torque_knm") * width).values == pytest.approx([1.0, 1.0])
-        # rates: the field is 400 m long, sailed at 3 m/s (thesis §6.3); the cusps are shared by the
-        # two propellers (thesis §6.1): n/2 loads per propeller over 400 m / 3 m/s = 0.0370 h
-        hours = 400.0 / 3.0 / 3600.0
+        # rates: the field is 385 m long, sailed at 3 m/s (thesis §6.3); the cusps are shared by the
+        # two propellers (thesis §6.1): n/2 loads per propeller over 385 m / 3 m/s = 0.0356 h
+        hours = 385.0 / 3.0 / 3600.0
         counts = ds["torque_count_run"].sum("torque_knm").values[0]
         assert (ds["torque_rate_per_hour"].sum("torque_knm").values * hours) == pytest.approx(counts / 2)
-        assert (ds["torque_rate_per_km"].sum("torque_knm").values * 0.4) == pytest.approx(counts / 2)
+        assert (ds["torque_rate_per_km"].sum("torque_knm").values * 0.385) == pytest.approx(counts / 2)
     text = (prop / "cusp_loads.csv").read_bytes()
     lines = [line for line in text.splitlines() if not line.startswith(b"#")]  # provenance comments
     loads = pyarrow.csv.read_csv(io.BytesIO(b"\n".join(lines))).to_pydict()
@@ -247,6 +249,12 @@ def test_run_report_and_schema_commands(tmp_path, cli):
     assert "cusps" in stdout and "written" in stdout
     resolved = tomllib.loads((out / "scenario.resolved.toml").read_text())
     assert resolved["field"]["length_m"] == 60.0 and resolved["ice"]["thickness_range_m"] == [0.75, 1.25]
+    assert "warning" not in err
+    # a field narrower than B + 2 d_max = 51.7 m: the run goes on and says why its flips are biased
+    narrow = ("run", str(EXAMPLES / "reference.toml"), "--out", str(tmp_path / "narrow"), "--quiet")
+    code, _, err = cli(*narrow, "--set", "field.length_m=60.0", "--set", "field.width_m=50.0")
+    assert code == 0, err
+    assert "warning: field.width_m = 50 m" in err and "51.7 m" in err
     # a second run into the same directory is refused (exit 2, nothing changed)
     code, _, err = cli("run", str(EXAMPLES / "single_floe.toml"), "--out", str(out))
     assert code == 2 and "error: out:" in err and "--overwrite" in err

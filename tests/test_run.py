@@ -296,6 +296,26 @@ def test_bow_waterlines_fixed_or_following_the_ice(overrides, delta_z_m):
     assert bow.z_upper_m - bow.z_lower_m == pytest.approx(delta_z_m)
 
 
+@pytest.mark.parametrize(("width_m", "warned"), [(50.0, True), (51.0, True), (52.0, False), (100.0, False)])
+def test_a_field_narrower_than_beam_plus_two_largest_floes_is_named_in_the_warnings(width_m, warned):
+    # Agulhas II: B = 21.7 m (thesis §3.1); the observation's largest floes: d = 15 m → B + 2 d = 51.7 m
+    scenario = floebreak.Scenario.reference([*SMALL, f"field.width_m={width_m}"]).resolved()
+    bow = run_module.build_bow(scenario)
+    assert 2.0 * bow.half_breadth_m == pytest.approx(21.7, abs=0.05)
+    warnings = run_module.set_up_warnings(scenario, bow)
+    assert bool(warnings) is warned
+    if warned:
+        assert f"field.width_m = {width_m:g} m" in warnings[0] and "51.7 m" in warnings[0]
+
+
+def test_a_narrow_field_warning_reaches_the_summary_and_a_field_file_has_none(tmp_path):
+    result = floebreak.run(overrides=[*SMALL, "field.width_m=50.0"])
+    assert len(result.summary["warnings"]) == 1
+    save_field(result.field, tmp_path / "field.parquet")
+    again = floebreak.run(overrides=[f'field.file="{tmp_path / "field.parquet"}"'])
+    assert again.summary["warnings"] == []  # a given field's width is the user's, not a generation choice
+
+
 def test_a_field_built_beforehand_gives_the_same_run():
     # a study builds each common field once and hands it to its runs (floebreak.studies.runner)
     scenario = floebreak.Scenario.reference([*SMALL, "seed=3"]).resolved()

@@ -19,7 +19,10 @@ def test_reference_example_is_the_issue_scenario():
     # the values of the issue's TOML
     assert (s.profile, s.seed) == ("default", 1)
     assert s.field.observation == "2019-12-18T20:20"
-    assert (s.field.length_m, s.field.width_m, s.field.generator) == (400.0, 50.0, "circles")
+    # the thesis' field (docs/validation.md): 100 m wide, above B + 2 d_max = 21.7 + 2 × 15 = 51.7 m, and the
+    # length inferred for that width (tests/studies/test_field_size.py checks 385 m by hand)
+    assert (s.field.length_m, s.field.width_m, s.field.generator) == (385.0, 100.0, "circles")
+    assert s.field.width_m > 21.7 + 2 * 15.0
     assert s.ice.thickness_m == 1.0 and s.ice.fracture_toughness_pa_sqrt_m == 145.7e3
     assert (s.ship.hull, s.ship.step_m) == ("agulhas_ii", 0.25)
     # the flat keys of the issue's TOML stand for the cracking mode's table
@@ -54,7 +57,8 @@ def test_resolution_fills_profile_and_observation_defaults():
     assert default.field.floe_area_factor == 0.25 and default.ice.thickness_summands == 12
     # no thickness given: the observation's mean thickness (thesis Table 1: 1.12 m for 2019-12-19 04:40)
     assert default.ice.thickness_m == pytest.approx(1.12)
-    assert (default.field.length_m, default.field.width_m, default.ship.hull) == (400.0, 50.0, "agulhas_ii")
+    # no size given: the thesis' field, 385 m × 100 m (docs/validation.md, "The thesis' field size")
+    assert (default.field.length_m, default.field.width_m, default.ship.hull) == (385.0, 100.0, "agulhas_ii")
     assert "thickness_m = 1.12" in default.to_toml()
 
 
@@ -110,7 +114,7 @@ def test_a_field_source_override_replaces_the_files_source(tmp_path):
     s = Scenario.reference(
         ["field.diameter_classes_m=[5.0]", "field.percentages=[100.0]", "field.concentration=0.5"]
     )
-    assert (s.field.source, s.field.observation, s.field.length_m) == ("user_observation", None, 400.0)
+    assert (s.field.source, s.field.observation, s.field.length_m) == ("user_observation", None, 385.0)
     # and back to a named observation: the user observation's concentration goes with it
     user = "[field]\ndiameter_classes_m = [5.0]\npercentages = [100.0]\nconcentration = 0.5\n"
     s = Scenario.from_toml_text(user, overrides=["field.observation=2019-12-30T07:10"])

@@ -356,6 +356,8 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
         raise typer.Exit(1) from None
     if not quiet:
         console.print(_summary_table(result.summary, label))
+    for warning in result.summary.get("warnings", []):
+        err_console.print(f"[bold yellow]warning:[/] {escape(warning)}", soft_wrap=True, highlight=False)
     console.print(f"written: {out}/ (summary.json, *.parquet, figures/, report.html)", soft_wrap=True)
     return added
 
@@ -422,7 +424,7 @@ def demo(
         bool, typer.Option("--no-propeller", help="skip the propeller spectra (OUT/propeller/)")
     ] = False,
 ) -> None:
-    """Run the reference scenario (thesis §5.3: obs 2019-12-18T20:20, 400 m × 50 m, h = 1 m, Agulhas II).
+    """Run the reference scenario (thesis §5.3: obs 2019-12-18T20:20, 385 m × 100 m, h = 1 m, Agulhas II).
 
     Writes a run directory into OUT and, inside it, the propeller force and torque spectra of its cusps
     (OUT/propeller/, as `floebreak propeller OUT`: Agulhas II, pitch 0 % and 95 %). Atomic: a failed demo

@@ -9,8 +9,8 @@ documented in docs/studies.md ("Voyages"):
   the scenario's ``ship.speed_m_s`` (default 3 m/s, the ship speed the thesis assumes, §6.3, Eq. 28). Each
   period's scenario carries its speed, so the runs' rates (`floebreak propeller`) use it too.
 - **Simulated length.** Each field is L = min(D, `max_length_m`) long (default `DEFAULT_MAX_LENGTH_M` =
-  400 m, the thesis' field length, §5.3). A simulated cusp of the period then stands for
-  w = D / (n · L) cusps of the voyage (n = fields completed): counts are scaled by the distance.
+  400 m, about the thesis' inferred field length, docs/validation.md). A simulated cusp of the period then
+  stands for w = D / (n · L) cusps of the voyage (n = fields completed): counts are scaled by the distance.
 - **Width.** W = B + 2 d_max + 2 m: the ship's band (beam B of the bow as built for the period's thickness)
   plus, on each side, the largest floe diameter of the period d_max — every floe that can reach into the
   band lies wholly inside the field, so the field's edges never touch the band — and a margin m =
@@ -38,7 +38,7 @@ from floebreak.io.voyage_log import LogPeriod, VoyageLog
 from floebreak.scenario import FIELD_LENGTH_M, REFERENCE_TOML, SEED_MAX, SPEED_M_S, Scenario, apply_overrides
 from floebreak.studies.design import Membership, StudySpec, Sweep, check_n_fields, expand
 
-DEFAULT_MAX_LENGTH_M = 400.0  # thesis §5.3 field length
+DEFAULT_MAX_LENGTH_M = 400.0  # about the thesis' §5.3 field length (385–447 m inferred, docs/validation.md)
 FIELD_MARGIN_M = 5.0  # each side, beyond the largest floe diameter
 VOYAGE_FILE = "voyage.json"
 # scenario keys the log sets per period (a --set of them is refused)
