@@ -48,6 +48,14 @@ def test_thesis_scenario_is_the_reference_on_the_thesis_field_and_follows_a_widt
     assert thesis_scenario(length_m=120.0)["field"]["length_m"] == 120.0
 
 
+def test_the_reference_scenario_field_is_the_inferred_thesis_field():
+    from floebreak.scenario import REFERENCE_FIELD_LENGTH_M, REFERENCE_FIELD_WIDTH_M
+
+    assert REFERENCE_FIELD_LENGTH_M == thesis_field_length_m()
+    assert REFERENCE_FIELD_WIDTH_M == THESIS_FIELD_WIDTH_M
+    assert REFERENCE_FIELD_WIDTH_M > 21.7 + 2 * 15.0  # beam + 2 d_max: no floe class forced into the path
+
+
 def test_a_narrow_field_puts_every_floe_of_a_class_in_the_bow_path():
     # W = 50 m: the 15 m floes' centres spread over 35 m < B + d = 36.7 m: all are touched, strip = W
     only_large = affected_strip_width_m(21.7, (15.0,), (100,), field_width_m=50.0)
