@@ -17,6 +17,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from floebreak import constants as c
 from floebreak.__main__ import EXIT_INTERRUPTED, INTERRUPTED_MESSAGE
 from floebreak.errors import InputError
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
@@ -63,8 +64,12 @@ def field(
     obs: Annotated[
         str | None, typer.Option("--obs", help="observation key from `floebreak observations`")
     ] = None,
-    length: Annotated[float, typer.Option("--length", help="field length along x [m]")] = 400.0,
-    width: Annotated[float, typer.Option("--width", help="field width along y [m]")] = 50.0,
+    length: Annotated[
+        float, typer.Option("--length", help="field length along x [m] (default: the thesis' field)")
+    ] = c.REFERENCE_FIELD_LENGTH_M,
+    width: Annotated[
+        float, typer.Option("--width", help="field width along y [m] (default: the thesis' field)")
+    ] = c.REFERENCE_FIELD_WIDTH_M,
     seed: Annotated[int, typer.Option("--seed", help="random seed")] = 1,
     generator: Annotated[GeneratorName, typer.Option("--generator")] = GeneratorName.circles,
     thickness: Annotated[float | None, typer.Option("--thickness", help="constant thickness [m]")] = None,

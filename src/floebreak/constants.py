@@ -38,6 +38,14 @@ OBSERVATION_DIAMETER_CLASSES_M: Final = (2.5, 7.5, 15.0, 60.0, 300.0)  # thesis 
 FLOE_AREA_FACTOR: Final = 0.25  # A = factor · π d²; thesis prints 0.5 (erratum 1)
 CIRCLE_POLYGON_VERTICES: Final = 64  # circles become regular 64-gons inscribed in the circle
 
+# The field of a generated scenario that gives no size: the thesis' §5.3 field, whose size the thesis does not
+# state — 100 m wide (above B + 2 d_max = 51.7 m, so the bow's path holds a fair sample of every floe class)
+# and 385 m long (inferred for that width from its affected area; `studies.field_size`, docs/validation.md).
+# A narrower field puts every floe of the largest class in the bow's path and inflates the flipped ice (the
+# 400 m × 50 m used until 2026-12-02 did; docs/validation.md, "The width"; `api.set_up_warnings`).
+REFERENCE_FIELD_LENGTH_M: Final = 385.0
+REFERENCE_FIELD_WIDTH_M: Final = 100.0
+
 # --- Randomised thickness (thesis §5.3.3, erratum 6) ---------------------------------------------
 THICKNESS_SUMMANDS_DEFAULT: Final = 12  # p_h: Bates(12), std = (h_max − h_min)/12
 THICKNESS_SUMMANDS_THESIS: Final = 1180  # p_h implied by the thesis' σ = 0.0042 m over [0.75, 1.25] m

@@ -53,14 +53,6 @@ from floebreak.ship.hulls import HULLS, hull_parameter_ranges
 
 REFERENCE_OBSERVATION = "2019-12-18T20:20"  # thesis §5.3 reference scenario (Table 1, first row)
 
-# The field of a generated scenario that gives no size: the thesis' §5.3 field, whose size the thesis does not
-# state — 100 m wide (above B + 2 d_max = 51.7 m, so the bow's path holds a fair sample of every floe class)
-# and 385 m long (inferred for that width from its affected area; `studies.field_size`, docs/validation.md).
-# A narrower field puts every floe of the largest class in the bow's path and inflates the flipped ice (the
-# 400 m × 50 m used until 2026-12-02 did; docs/validation.md, "The width"; `api.set_up_warnings`).
-REFERENCE_FIELD_LENGTH_M = 385.0
-REFERENCE_FIELD_WIDTH_M = 100.0
-
 # the reference scenario (thesis §5.3: obs 2019-12-18T20:20 on the thesis' field, h = 1 m, Agulhas II);
 # examples/reference.toml holds the same text
 REFERENCE_TOML = """\
@@ -175,13 +167,13 @@ class FieldSection(_Section):
         None,
         ge=FIELD_LENGTH_M[0],
         le=FIELD_LENGTH_M[1],
-        description=f"generated field length along x [m] (default {REFERENCE_FIELD_LENGTH_M:g}, the thesis')",
+        description=f"generated field length along x [m] (default {c.REFERENCE_FIELD_LENGTH_M:g}: thesis')",
     )
     width_m: Float | None = Field(
         None,
         ge=FIELD_WIDTH_M[0],
         le=FIELD_WIDTH_M[1],
-        description=f"generated field width along y [m] (default {REFERENCE_FIELD_WIDTH_M:g}, the thesis')",
+        description=f"generated field width along y [m] (default {c.REFERENCE_FIELD_WIDTH_M:g}: thesis')",
     )
     generator: Literal["circles", "voronoi", "sqp"] = Field(
         "circles", description="floe placement: circles (relaxation), voronoi (angular), sqp (thesis)"
@@ -657,9 +649,9 @@ class Scenario(_Section):
             if field.source == "observation" and field.observation is None:
                 field_update["observation"] = REFERENCE_OBSERVATION
             if field.length_m is None:
-                field_update["length_m"] = REFERENCE_FIELD_LENGTH_M
+                field_update["length_m"] = c.REFERENCE_FIELD_LENGTH_M
             if field.width_m is None:
-                field_update["width_m"] = REFERENCE_FIELD_WIDTH_M
+                field_update["width_m"] = c.REFERENCE_FIELD_WIDTH_M
             if field.floe_area_factor is None:
                 field_update["floe_area_factor"] = switches.floe_area_factor
         ice_update: dict[str, Any] = {}

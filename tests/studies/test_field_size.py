@@ -49,7 +49,7 @@ def test_thesis_scenario_is_the_reference_on_the_thesis_field_and_follows_a_widt
 
 
 def test_the_reference_scenario_field_is_the_inferred_thesis_field():
-    from floebreak.scenario import REFERENCE_FIELD_LENGTH_M, REFERENCE_FIELD_WIDTH_M
+    from floebreak.constants import REFERENCE_FIELD_LENGTH_M, REFERENCE_FIELD_WIDTH_M
 
     assert REFERENCE_FIELD_LENGTH_M == thesis_field_length_m()
     assert REFERENCE_FIELD_WIDTH_M == THESIS_FIELD_WIDTH_M
