@@ -15,7 +15,7 @@ from floebreak.io.figures import save_figure
 from floebreak.plotting.common import window_note
 from floebreak.plotting.field import plot_field
 from floebreak.plotting.pattern import plot_breaking_pattern
-from floebreak.plotting.spectra import plot_crushing_force_spectrum
+from floebreak.plotting.spectra import plot_crushing_force_spectrum, plot_cusp_volume_spectrum
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.simulation import SimulationParams, simulate
 
@@ -32,6 +32,16 @@ def test_crushing_force_spectrum_is_a_density():
     assert ax.get_ylim()[0] == 0.0  # the density axis starts at zero, as for bars
     assert [text.get_text() for text in ax.get_legend().get_texts()] == ["floebreak"]
     assert "[kN]" in ax.get_xlabel() and "[1/kN]" in ax.get_ylabel()
+
+
+def test_a_run_without_cusps_gets_a_spectrum_saying_no_data_and_no_warning():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # matplotlib warns for a legend without labelled artists
+        figure = plot_cusp_volume_spectrum(np.zeros(0))
+    (ax,) = figure.axes
+    assert ax.get_legend() is None and [t.get_text() for t in ax.texts] == ["no data"]
 
 
 def test_field_and_pattern_figures():

@@ -9,7 +9,7 @@ from floebreak.plotting.common import CUSP_COLOUR, SPECTRUM_MARGINS_IN, new_figu
 
 def _density_bars(ax, values, bin_width, colour, label):
     """Histogram of the probability density of `values` (bins of `bin_width` from 0) as filled stairs,
-    with a legend entry `label`."""
+    with a legend entry `label`; "no data" and no legend for no values (a run without cusps)."""
     values = np.asarray(values, dtype=float)
     if values.size == 0:
         ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center")
@@ -17,6 +17,7 @@ def _density_bars(ax, values, bin_width, colour, label):
     top = max(values.max(), bin_width)
     density, edges = np.histogram(values, bins=np.arange(0.0, top + bin_width, bin_width), density=True)
     ax.stairs(density, edges, fill=True, facecolor=colour, edgecolor="k", linewidth=0.3, label=label)
+    ax.legend()
 
 
 def plot_crushing_force_spectrum(crushing_force_n, label: str = "floebreak", bin_width_kn: float = 100.0):
@@ -26,7 +27,6 @@ def plot_crushing_force_spectrum(crushing_force_n, label: str = "floebreak", bin
     ax.set_xlabel("crushing force F_c [kN]")
     ax.set_ylabel("probability density [1/kN]")
     ax.set_title("Crushing-force spectrum at the bow")
-    ax.legend()
     return figure
 
 
@@ -37,5 +37,4 @@ def plot_cusp_volume_spectrum(volumes_m3, label: str = "cusps", bin_width_m3: fl
     ax.set_xlabel("cusp volume V [m³]")
     ax.set_ylabel("probability density [1/m³]")
     ax.set_title("Cusp-volume spectrum")
-    ax.legend()
     return figure
