@@ -43,6 +43,8 @@ CONTINUOUS_INPUTS = (  # (label, scenario key)
     ("x_step", "ship.step_m"),
     ("φ", "failure.wedge_angle_deg"),
     ("α_nextcrack", "failure.next_crack_angle_deg"),
+    # the dispatch's own choice (docs/model.md §10: the thesis gives no number for where the shoulder begins)
+    ("shoulder start", "failure.shoulder_region_start"),
 )
 CATEGORICAL_INPUTS = (
     ("SEL = BZ1", {"failure.size_effect_law": "BZ1"}),
@@ -73,8 +75,11 @@ def reference_value(scenario: Scenario, key: str) -> float:
 
     section, _, name = key.partition(".")
     if section == "failure":
+        failure = build_model_for(scenario).failure
+        if name == "shoulder_region_start":  # a setting of the dispatch, not of a mode
+            return float(failure.shoulder_region_start)
         mode, setting = FLAT_FAILURE_KEYS.get(name, tuple(name.split(".", 1)))
-        return float(getattr(build_model_for(scenario).failure.modes[mode].settings, setting))
+        return float(getattr(failure.modes[mode].settings, setting))
     node: Any = scenario.to_dict()
     for part in key.split("."):
         node = node[part]
