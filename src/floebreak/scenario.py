@@ -167,13 +167,15 @@ class FieldSection(_Section):
         None,
         ge=FIELD_LENGTH_M[0],
         le=FIELD_LENGTH_M[1],
-        description=f"generated field length along x [m] (default {c.REFERENCE_FIELD_LENGTH_M:g}: thesis')",
+        description=f"generated field length along x [m] (default {c.REFERENCE_FIELD_LENGTH_M:g}, the "
+        "thesis' field, docs/validation.md)",
     )
     width_m: Float | None = Field(
         None,
         ge=FIELD_WIDTH_M[0],
         le=FIELD_WIDTH_M[1],
-        description=f"generated field width along y [m] (default {c.REFERENCE_FIELD_WIDTH_M:g}: thesis')",
+        description=f"generated field width along y [m] (default {c.REFERENCE_FIELD_WIDTH_M:g}, the "
+        "thesis' field, docs/validation.md)",
     )
     generator: Literal["circles", "voronoi", "sqp"] = Field(
         "circles", description="floe placement: circles (relaxation), voronoi (angular), sqp (thesis)"
