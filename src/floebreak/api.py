@@ -557,9 +557,8 @@ def set_up_warnings(scenario: Scenario, bow) -> list[str]:
     return [
         f"field.width_m = {spec.width_m:g} m is narrower than the beam plus twice the largest floe "
         f"({beam_m:.1f} m + 2 × {largest_m:g} m = {needed_m:.1f} m): every floe of the largest class lies in "
-        "the bow's path, which inflates the flipped ice (×1.8 the flipped area of a 100 m wide field for the "
-        f"reference scenario; docs/validation.md, 'The width'); use field.width_m ≥ {needed_m:.1f} m for the "
-        "statistics of an open ice field"
+        "the bow's path, which inflates the flipped ice (docs/validation.md, 'The width'); use "
+        f"field.width_m ≥ {needed_m:.1f} m for the statistics of an open ice field"
     ]
 
 
