@@ -20,6 +20,7 @@ from floebreak.studies.scoreboard import (
     scoreboard_rows,
     single_floe_metrics,
     summary_metrics,
+    tally_text,
 )
 from floebreak.studies.statements import STATEMENTS
 
@@ -97,8 +98,11 @@ def test_scoreboard_rows_csv_and_must_hold_counts():
     rows = scoreboard_rows(data, {"default": "default", "thesis": "thesis"}, statements)
     assert [r["default"]["verdict"] for r in rows] == ["pass", "pass"]  # 8.5 within 15 % of 8.14; 2.5 % ≤ 5 %
     assert [r["thesis"]["verdict"] for r in rows] == ["fail", "fail"]  # 4.0 vs 8.14; +25 %
-    assert must_hold_counts(rows, "default") == (1, 1)  # T5.V must hold only in the thesis profile
-    assert must_hold_counts(rows, "thesis") == (0, 2)
+    assert must_hold_counts(rows, "default") == (1, 1, ())  # T5.V must hold only in the thesis profile
+    thesis = must_hold_counts(rows, "thesis")
+    assert thesis == (0, 2, ("T5.V", "T5.K230.dV"))
+    assert tally_text(thesis) == "0 / 2 must-hold rows pass (not: T5.V, T5.K230.dV)"
+    assert tally_text(must_hold_counts(rows, "default")) == "1 / 1 must-hold rows pass"
     table = list(csv.DictReader(io.StringIO(scoreboard_csv(rows, ["default", "thesis"]))))
     assert [r["id"] for r in table] == ["T5.V", "T5.K230.dV"]
     assert table[0]["thesis_value"] == "8.14" and table[0]["thesis_verdict"] == "fail"

@@ -14,7 +14,7 @@ import io
 import json
 import math
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -262,10 +262,26 @@ def scoreboard_markdown_table(rows: list[dict[str, Any]], configs: list[str]) ->
     return lines
 
 
-def must_hold_counts(rows: list[dict[str, Any]], config: str) -> tuple[int, int]:
-    """(passed, total) of the must-hold rows of one configuration."""
-    must = [row[config] for row in rows if row[config]["must_hold"]]
-    return sum(r["verdict"] == "pass" for r in must), len(must)
+class MustHoldTally(NamedTuple):
+    """The must-hold rows of one configuration: how many pass, how many there are, the ids of the others."""
+
+    passed: int
+    total: int
+    not_passing: tuple[str, ...]
+
+
+def must_hold_counts(rows: list[dict[str, Any]], config: str) -> MustHoldTally:
+    """The `MustHoldTally` of one configuration (a missing row counts as not passing)."""
+    must = [row for row in rows if row[config]["must_hold"]]
+    not_passing = tuple(row["statement"].id for row in must if row[config]["verdict"] != "pass")
+    return MustHoldTally(len(must) - len(not_passing), len(must), not_passing)
+
+
+def tally_text(tally: MustHoldTally) -> str:
+    """The tally as one line, e.g. ``35 / 37 must-hold rows pass (not: T7.h0.8.dn_flip, …)``: the ids name
+    the rows to look at."""
+    text = f"{tally.passed} / {tally.total} must-hold rows pass"
+    return text + (f" (not: {', '.join(tally.not_passing)})" if tally.not_passing else "")
 
 
 def per_100m_lines(

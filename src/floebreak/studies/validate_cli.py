@@ -108,6 +108,7 @@ def thesis_command(
     import time
 
     from floebreak.studies.field_size import thesis_field_length_m, thesis_scenario
+    from floebreak.studies.scoreboard import tally_text
     from floebreak.studies.validate import (
         make_configs,
         single_floe_spec,
@@ -135,8 +136,8 @@ def thesis_command(
 
     def finish(failures):
         counts = write_outputs(out, configs, settings, time.perf_counter() - started, failures)
-        for name, (passed, total) in counts.items():
-            console.print(f"{name}: {passed} / {total} must-hold rows pass")
+        for name, tally in counts.items():
+            console.print(f"{name}: {tally_text(tally)}", soft_wrap=True)
         console.print(f"written: {out}/scoreboard.md, scoreboard.csv, figures/", soft_wrap=True)
 
     _run(out, specs, workers, scheduler, finish)

@@ -23,6 +23,7 @@ from floebreak.studies.executors import Executor
 from floebreak.studies.runner import StudyProgress, run_study
 from floebreak.studies.scoreboard import (
     TABLE_OUTPUTS,
+    MustHoldTally,
     must_hold_counts,
     per_100m_lines,
     run_metrics,
@@ -30,6 +31,7 @@ from floebreak.studies.scoreboard import (
     scoreboard_markdown_table,
     scoreboard_rows,
     single_floe_metrics,
+    tally_text,
 )
 from floebreak.studies.statements import STATEMENTS
 from floebreak.studies.validate import Config, split_group
@@ -124,8 +126,9 @@ def write_text(path: Path, text: str) -> None:
 
 def write_outputs(
     out: Path, configs: list[Config], settings: ValidationSettings, elapsed_s: float, failures: list[dict]
-) -> dict[str, tuple[int, int]]:
-    """scoreboard.csv, scoreboard.md and figures/ from the study directories; must-hold (passed, total)."""
+) -> dict[str, MustHoldTally]:
+    """scoreboard.csv, scoreboard.md and figures/ from the study directories; each configuration's
+    `MustHoldTally`."""
     data, pooled = collect_data(out / "study")
     for config, metrics in collect_single_floes(out / "single_floe").items():
         data.setdefault(config, {})["single_floe"] = {0: metrics}
@@ -202,8 +205,8 @@ def scoreboard_header(configs, settings: ValidationSettings, elapsed_s, counts, 
     ]
     if variants:
         lines += ["Variants: " + "; ".join(variants), ""]
-    for name, (passed, total) in counts.items():
-        lines.append(f"- `{name}`: {passed} / {total} must-hold rows pass")
+    for name, tally in counts.items():
+        lines.append(f"- `{name}`: {tally_text(tally)}")
     if failures:
         lines += [
             "",
