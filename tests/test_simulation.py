@@ -272,6 +272,33 @@ def test_a_floe_cracked_at_first_touch_leaves_its_outer_part_in_the_field():
     assert shapely.union_all(line_remaining).centroid.y > y_m
 
 
+def test_thicker_ice_bends_less_and_leaves_more_of_the_floes_it_touches_in_the_field():
+    """Why the affected area falls at h = 1.2 m (docs/model.md §12; thesis §5.3.3 says it rises by 2.6 %): a
+    thicker floe must be pushed deeper before it bends (tests/failure/test_cracking.py::
+    test_thicker_ice_must_be_pushed_deeper_to_bend_than_to_crack), so it and its pieces bend less often, are
+    carried further aft and are broken where the bow's side leaves their outer part in the field (floes keep
+    their positions, thesis §3.1). A 15 m floe swept across the bow's half-breadth, from the centre line to
+    where it barely touches (B/2 = 10.85 m), once at h = 1.0 m and once at 1.2 m."""
+    import floebreak
+
+    def sweep(thickness_m):
+        bends, left_m2 = 0, 0.0
+        for y_m in np.arange(0.0, 18.01, 1.0):
+            scenario = {
+                "field": {"floes": [{"x_m": 20.0, "y_m": float(y_m), "diameter_m": 15.0}]},
+                "ice": {"thickness_m": thickness_m},
+            }
+            result = floebreak.run(scenario)
+            bends += result.summary["breaks_by_mode"].get("bending", 0)
+            left_m2 += float(shapely.area(np.asarray(result.remaining["geometry"], dtype=object)).sum())
+        return bends, left_m2
+
+    thin_bends, thin_left_m2 = sweep(1.0)
+    thick_bends, thick_left_m2 = sweep(1.2)
+    assert thick_bends < 0.85 * thin_bends
+    assert thick_left_m2 > 1.3 * thin_left_m2
+
+
 # a 13 m² piece of a local_cracking split in 0.04 m ice (fuzz campaign seed 3, scenario 1805, issue 20), in
 # the bow frame at bow x = 6 m: valid there, self-intersecting once moved into the field (rounding of x + 6)
 PINCHED_PIECE_WKB = (

@@ -13,8 +13,10 @@ import math
 import numpy as np
 import pytest
 import shapely
+from scipy.optimize import brentq
 
 from floebreak.failure import Cracking, CrackingSettings, Fate
+from floebreak.failure.bending import BendingSettings, bending_check
 from floebreak.failure.cracking import crack_direction, indentation_depth_m
 
 WIDTH_M = 9.0  # along the panel: w > l → cracking class (thesis Eq. 4)
@@ -305,6 +307,75 @@ def test_thicker_ice_needs_a_deeper_indentation_to_crack_only_with_the_load(make
     assert thick == pytest.approx(thin, abs=1.5e-3), onsets
     thin, thick = onsets["sif"]
     assert thick > 1.05 * thin, onsets
+
+
+def nevel_stress_factor(kit, rho: float) -> float:
+    """S(ρ) interpolated linearly in the physics-notes §1.3 table."""
+    rows = sorted(kit.table)
+    return float(np.interp(rho, rows, [kit.table[r][0] for r in rows]))
+
+
+def expected_onsets_m(kit, thickness_m: float) -> tuple[float, float]:
+    """(bending, cracking) onset penetrations of the 9 m × 10 m floe on panel 0, from the notes alone.
+    Bending: F_v = c_v W p against P_f = σ_f Θ h²/(6 S(ρ)), Θ = π, ρ = r/ℓ, r = √(2 W p/Θ) (notes §1.4, §1.7).
+    Cracking (K_I from the load): K_I = c_h W p/(h b) √(πp) F_T(p/b) against K_Ic, a = p (notes §4.4)."""
+    c_v, c_h = kit.panel0_forces_per_area()
+    length_m = 10.0
+
+    def bending_excess_n(p: float) -> float:
+        rho = math.sqrt(2.0 * WIDTH_M * p / math.pi) / kit.ell_m(thickness_m)
+        capacity = kit.nevel_capacity_n(thickness_m, math.pi, nevel_stress_factor(kit, rho))
+        return c_v * WIDTH_M * p - capacity
+
+    def cracking_excess_pa_sqrt_m(p: float) -> float:
+        applied = c_h * WIDTH_M * p / (thickness_m * length_m)
+        return applied * math.sqrt(math.pi * p) * tada_factor(p / length_m, "tension") - kit.k_ic_pa_sqrt_m
+
+    return brentq(bending_excess_n, 1e-4, 0.36), brentq(cracking_excess_pa_sqrt_m, 1e-4, 0.36)
+
+
+def bending_onset_penetration_m(make_input, context, kit, thickness_m: float) -> float:
+    """The smallest penetration (to 1 mm) at which the same floe fails Eq. 11 (F_v > P_f)."""
+    for penetration_m in np.arange(0.001, 0.364, 0.001):
+        inp = make_input(kit.midbody_box(WIDTH_M, 10.0, penetration_m), thickness_m)
+        if bending_check(inp, context, BendingSettings()).fails:
+            return float(penetration_m)
+    return math.inf
+
+
+def test_thicker_ice_must_be_pushed_deeper_to_bend_than_to_crack(make_input, context, kit):
+    """Why the affected area falls at h = 1.2 m in our model (docs/model.md §12; thesis §5.3.3: +2.6 %): the
+    crushing force at an indentation does not depend on h (Eqs. 6–10: the crushed area is the overlap in
+    plan), the bending capacity grows as h² and K_I from the load falls as 1/h. From h = 1.0 to 1.2 m the
+    indentation at which a floe bends grows by ≈ 1.46, the one at which it cracks by ≈ 1.13: thicker ice is
+    carried further along the bow before it bends, more of it reaches the shoulder unbent."""
+    bending, cracking = {}, {}
+    settings = CrackingSettings(criterion="tensile_stress")  # default stress_mode "sif"
+    for h in (1.0, 1.2):
+        bending[h] = bending_onset_penetration_m(make_input, context, kit, h)
+        cracking[h] = crack_onset_penetration_m(make_input, context, kit, settings, h)
+        expected_bending, expected_cracking = expected_onsets_m(kit, h)
+        # 1 mm search resolution; the table's linear interpolation of S is good to a few per cent here
+        assert bending[h] == pytest.approx(expected_bending, rel=0.03, abs=1e-3), (h, bending[h])
+        assert cracking[h] == pytest.approx(expected_cracking, abs=1e-3), (h, cracking[h])
+    assert bending[1.2] / bending[1.0] > 1.35
+    assert cracking[1.2] / cracking[1.0] < 1.2
+
+
+def test_flexural_and_tensile_stress_start_the_same_crack_with_the_load(make_input, context, kit):
+    """Why V̄ hardly differs between the two stress criteria in `default` (docs/model.md §12; thesis Table 6:
+    −1.2 %): they differ only by the Tada factor, and both factors tend to 1.122 for a short edge crack
+    (notes §4.3). With K_I from the load a crack starts at a = the indentation, a few centimetres (a/b < 0.01,
+    where the factors differ by 1 %), so the two criteria start it within a millimetre of indentation — far
+    less than the bow's 0.25 m step."""
+    onsets = {
+        name: crack_onset_penetration_m(make_input, context, kit, CrackingSettings(criterion=name), 1.0)
+        for name in ("tensile_stress", "flexural_stress")
+    }
+    a = onsets["tensile_stress"]
+    assert a / 10.0 < 0.01
+    assert tada_factor(a / 10.0, "bending") == pytest.approx(tada_factor(a / 10.0, "tension"), rel=0.02)
+    assert abs(onsets["flexural_stress"] - a) <= 1e-3
 
 
 @pytest.mark.parametrize("spelling", ["table", "flat"])

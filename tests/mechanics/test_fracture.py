@@ -295,6 +295,26 @@ def test_stress_criterion_is_load_independent_in_thesis_mode():
     assert plain.driving == pytest.approx(expected, rel=1e-12)
 
 
+def test_the_size_effect_law_does_not_enter_k_i_from_the_load():
+    """Why the size-effect law changes nothing in `default` (docs/model.md §12; thesis Table 8: ≈ 1 %): with
+    K_I from the load (stress_mode "sif") the strength σ_n^t(L) is not used; in the thesis' form it is the
+    applied stress, so there each law gives its own K_I."""
+    common = dict(
+        crack_length_m=0.5,
+        strip_width_m=8.0,
+        size_m=8.0,
+        toughness_pa_sqrt_m=145.7e3,
+        loading="tension",
+        horizontal_force_n=2.0e6,
+        thickness_m=1.0,
+    )
+    laws = ("BZ", "BZ1", "BZ2")
+    with_load = [fr.check_stress_sif(law=law, stress_mode="sif", **common) for law in laws]
+    assert len({(check.fails, check.driving) for check in with_load}) == 1
+    thesis_form = [fr.check_stress_sif(law=law, stress_mode="thesis", **common).driving for law in laws]
+    assert len(set(thesis_form)) == len(laws)
+
+
 def test_stress_mode_strength_flips_at_size_effect_strength():
     b, h, size = 20.0, 0.9, 20.0
     strength = 0.38 * math.sqrt(0.71 / size) * 1e6  # BZ2 generalised, F = 466 ≈ sharp switch
