@@ -114,6 +114,26 @@ def test_floe_bends_exactly_when_the_vertical_force_exceeds_the_capacity(
         assert outcome.pieces == ()
 
 
+def test_thesis_a4_lookup_takes_the_capacity_of_1_2_m_ice_at_1_m(make_input, context, kit):
+    """`capacity_lookup = "thesis_a4"` (thesis App. A.4, erratum 12): at h = 1.0 m the capacity is the mean of
+    Eq. 1.4 at h = 1.2 m over the two radius grid values around r (Θ = 180° is on the grid); the breaking
+    radius is still that of the ice as it is."""
+    theta = fan_opening_rad(make_input, context, kit)
+    penetration_m = 0.03
+    a_h = WIDTH_M * penetration_m
+    r = math.sqrt(2.0 * a_h / theta)  # 0.415 m: between the grid values 0.3 and 0.6 m
+    assert 0.3 < r < 0.6
+    brackets = [kit.capacity_bracket_n(1.2, theta, grid_r / kit.ell_m(1.2)) for grid_r in (0.3, 0.6)]
+    low = sum(b[0] for b in brackets) / 2
+    high = sum(b[1] for b in brackets) / 2
+    inp = make_input(kit.midbody_box(WIDTH_M, LENGTH_M, penetration_m), 1.0)
+    direct = bending_check(inp, context, BendingSettings())
+    looked_up = bending_check(inp, context, BendingSettings(capacity_lookup="thesis_a4"))
+    assert low <= looked_up.capacity_n <= high
+    assert looked_up.capacity_n > 1.3 * direct.capacity_n  # ≈ (1.2/1.0)² up to S(r/ℓ)
+    assert looked_up.breaking_radius_m == direct.breaking_radius_m
+
+
 def test_bending_line_at_xi_sigma_ell_and_area_conserved(make_input, context, kit):
     rho = 0.075
     ell = kit.ell_m(1.0)

@@ -70,8 +70,9 @@ def test_single_floe_metrics_by_hand():
     }
     m = single_floe_metrics(cases)
     assert m["single_floe_midship_cusp_share"] == 0.5
-    # shoulders flip 60 % of their area; midship 10 % and 0 %: 0.6 − 0.05
-    assert m["single_floe_shoulder_flip_excess"] == pytest.approx(0.55)
+    # of the broken ice the shoulders flip 60/80 = 75 %, the one midship floe that broke 10/100 = 10 % (the
+    # one that did not break is left out; the 20 m² the shoulder floes leave in the field do not count)
+    assert m["single_floe_shoulder_flip_excess"] == pytest.approx(0.65)
     assert m["single_floe_mirror_difference"] == pytest.approx(0.01)  # b/d: 1 m² of 100 m²
 
 

@@ -33,9 +33,11 @@ from floebreak.failure.base import (
 from floebreak.failure.registry import register_mode
 from floebreak.ice.material import characteristic_length_scalar_m
 from floebreak.mechanics import nevel
+from floebreak.mechanics.capacity_lookup import thesis_a4_capacity_n
 from floebreak.mechanics.wedge_fan import LoadingRadiusModel, WedgeFan, disk_polygon, wedge_fan
 
 CapacityModel = Literal["nevel_narrow", "kashtelyan", "thesis_per_wedge"]
+CapacityLookup = Literal["direct", "thesis_a4"]
 BreakingLengthMode = Literal["max_stress", "max_moment"]
 
 
@@ -50,6 +52,10 @@ class BendingSettings:
     """σ_f [Pa] (from [ice])"""
     capacity_model: CapacityModel = "nevel_narrow"
     """P_f: Nevel's narrow wedge over the fan Θ, Kashtelyan, or the thesis' per-wedge F_v (erratum 13)"""
+    capacity_lookup: CapacityLookup = "direct"
+    """P_f at the contact's (h, r, Θ) ("direct"), or as the thesis' App. A.4 code looks it up ("thesis_a4":
+    the mean over its table's bracketing grid points, with its thickness bracket; erratum 12, docs/model.md
+    §11)"""
     kashtelyan_coefficient: Annotated[float, Bounds(0.0, 10.0, low_inclusive=False)] = 3.0
     """coefficient C_f of the Kashtelyan capacity [-], in (0, 10]: C_f ≈ 3 (physics-notes §1.5, confidence
     low–medium); the capacity is linear in C_f, and 10 is over three times that"""
@@ -119,9 +125,34 @@ def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSetti
             wedge_angle_rad=wedge,
             **material,
         )
+        if settings.capacity_lookup == "thesis_a4":  # the breaking radius stays that of the actual h
+            capacity = thesis_a4_capacity_n(
+                inp.thickness_m,
+                fan.loading_radius_m,
+                fan.opening_rad,
+                lambda h, r, opening_rad: _table_capacity_n(h, r, opening_rad, settings),
+            )
     else:
         capacity, radius = float("inf"), 0.0
     return BendingCheck(fan, ell, capacity, zone.vertical_force_n, radius)
+
+
+def _table_capacity_n(h_m: float, r_m: float, opening_rad: float, settings: BendingSettings) -> float:
+    """P_f [N] of the settings' capacity model at one grid point of App. A.4's table (Eq. 1.4 for the
+    default model: Erceg's tables are not published, physics-notes §1.7)."""
+    capacity, _ = nevel.capacity_and_breaking_distance(
+        h_m,
+        r_m,
+        opening_rad,
+        model=settings.capacity_model,
+        flexural_strength_pa=settings.flexural_strength_pa,
+        kashtelyan_coefficient=settings.kashtelyan_coefficient,
+        wedge_angle_rad=np.radians(settings.wedge_angle_deg),
+        youngs_modulus_pa=settings.youngs_modulus_pa,
+        poisson_ratio=settings.poisson_ratio,
+        foundation_modulus=settings.foundation_modulus_n_m3,
+    )
+    return capacity
 
 
 def split_by_radius(polygon, check: BendingCheck, thickness_m: float = 0.0) -> tuple[list, list]:
@@ -169,5 +200,6 @@ register_mode(
         # not the literal "capacity_model": "thesis_per_wedge" (erratum 13; §5.1's forces rule it out) nor
         # "breaking_length_mode": "max_moment" (erratum 11; floes bend in §5.2-5.3): docs/model.md §11
         "loading_radius_model": "sector_area_clipped",  # notes §1.7: r clipped to the Erceg table
+        "capacity_lookup": "thesis_a4",  # App. A.4's table lookup (erratum 12): Table 7 was computed with it
     },
 )

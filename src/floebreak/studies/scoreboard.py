@@ -133,14 +133,20 @@ def run_metrics(run_dir: Path, forces: bool = False, torque: bool = False) -> di
 
 def single_floe_metrics(cases: dict[tuple[float, float, str], dict[str, float]]) -> dict[str, float]:
     """§5.2 pattern metrics of the single-floe cases {(d, h, position): run metrics}: share of midship floes
-    (e) that give cusps; flipped area share at the shoulders (a, c) minus at midship (e); the largest
-    port/starboard difference (a/c, b/d) of cusp or flipped area, relative to the floe's area."""
+    (e) that give cusps; the flipped share of the broken ice (cusps + flipped) at the shoulders (a, c) minus
+    at midship (e), over the cases that broke — the thesis' colours, orange against red; the ice a floe
+    leaves in the field ("not changed", blue) is not part of that comparison; the largest port/starboard
+    difference (a/c, b/d) of cusp or flipped area, relative to the floe's area."""
 
     def flipped_share(m):
-        return m["flipped_area_m2"] / m["initial_ice_area_m2"]
+        return m["flipped_area_m2"] / (m["cusp_area_m2"] + m["flipped_area_m2"])
+
+    def broke(m):
+        return m["cusp_area_m2"] + m["flipped_area_m2"] > 0.0
 
     midship = [m for (_, _, p), m in cases.items() if p == "e"]
-    shoulders = [m for (_, _, p), m in cases.items() if p in ("a", "c")]
+    shoulders = [m for (_, _, p), m in cases.items() if p in ("a", "c") and broke(m)]
+    midship_broken = [m for m in midship if broke(m)]
     mirror = []
     for (d, h, p), m in cases.items():
         other = cases.get((d, h, {"a": "c", "b": "d"}.get(p, "")))
@@ -152,9 +158,10 @@ def single_floe_metrics(cases: dict[tuple[float, float, str], dict[str, float]])
         if midship
         else math.nan,
         "single_floe_shoulder_flip_excess": float(
-            np.mean([flipped_share(m) for m in shoulders]) - np.mean([flipped_share(m) for m in midship])
+            np.mean([flipped_share(m) for m in shoulders])
+            - np.mean([flipped_share(m) for m in midship_broken])
         )
-        if shoulders and midship
+        if shoulders and midship_broken
         else math.nan,
         "single_floe_mirror_difference": max(mirror) if mirror else math.nan,
     }
