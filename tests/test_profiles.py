@@ -1,9 +1,9 @@
 """Profiles (`floebreak.profiles`) and how a scenario's failure section becomes the model (issue 17).
 
-The thesis profile's values are those of physics-notes §5 (errata 1, 6, 9, 16, 17, 19) where the thesis' own
+The thesis profile's values are those of physics-notes §5 (errata 1, 6, 9, 12, 17, 19) where the thesis' own
 results allow the literal reading, and the results-supported readings of docs/model.md §11 where they do not
-(errata 11, 13, 15: bending capacity over the fan, maximum-stress breaking distance, generalised BZ2); the
-defaults are the corrected physics of physics-notes.
+(errata 11, 13, 15, 16, 19: bending capacity over the fan, maximum-stress breaking distance, generalised BZ2,
+correct Tada labels, K_I from the load); the defaults are the corrected physics of physics-notes.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ THESIS_BENDING = {
     "capacity_model": "nevel_narrow",  # not erratum 13's literal per-wedge capacity: §5.1 forces
     "breaking_length_mode": "max_stress",  # not erratum 11's max-moment distance: floes bend (§5.2–5.3)
     "loading_radius_model": "sector_area_clipped",  # notes §1.7
+    "capacity_lookup": "thesis_a4",  # erratum 12: App. A.4's table lookup, Table 7's count trends
 }
 THESIS_CRACKING = {
     "bz2_mode": "generalised",  # not erratum 15's literal law: Table 8 BZ2 ≈ BZ
@@ -26,12 +27,13 @@ THESIS_CRACKING = {
     "point_load_capacity": "tensile_Pt",  # erratum 20: §4.2.1's P_t, Table 6's point-load directions
     "line_load_divide_by_thickness": False,  # erratum 17
     "line_load_crack_length": "indentation",  # erratum 19
-    "stress_mode": "thesis",  # erratum 19
+    "stress_mode": "sif",  # not erratum 19's load-independent form: §3.2, §5.3.1, Table 5's K_Ic effects
 }
 CORRECTED_BENDING = {
     "capacity_model": "nevel_narrow",
     "breaking_length_mode": "max_stress",
     "loading_radius_model": "sector_area",
+    "capacity_lookup": "direct",
 }
 CORRECTED_CRACKING = {
     "bz2_mode": "generalised",
@@ -102,7 +104,7 @@ def test_overrides_are_applied_after_the_profile():
     assert bending.capacity_model == "thesis_per_wedge"
     assert bending.loading_radius_model == "sector_area_clipped"  # the profile's, kept
     cracking = model.failure.modes["cracking"].settings
-    assert cracking.criterion == "line_load" and cracking.stress_mode == "thesis"
+    assert cracking.criterion == "line_load" and cracking.line_load_crack_length == "indentation"
 
 
 @pytest.mark.parametrize(

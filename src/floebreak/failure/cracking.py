@@ -265,7 +265,9 @@ register_mode(
     thesis={
         "line_load_divide_by_thickness": False,  # erratum 17
         "line_load_crack_length": "indentation",  # erratum 19: a = the indentation depth, from 1 mm
-        "stress_mode": "thesis",  # erratum 19: K_I from the size-effect strength, load-independent
+        # not "stress_mode": "thesis" (erratum 19, Alg. 7's load-independent K_I): §3.2 makes K_I a threshold
+        # of the horizontal force, §5.3.1 needs a "higher initial contact force", and Table 5's K_Ic
+        # effects rule the literal form out (docs/model.md §11)
         # not "bz2_mode": "thesis" (erratum 15): Table 8 shows BZ2 ≈ BZ, which the literal law rules out
         # not "tada_labels": "thesis_alg7" (erratum 16, Alg. 7's swap): Table 6's flexural-vs-tensile
         # direction needs the correct labels (docs/model.md §11)
