@@ -107,44 +107,35 @@ def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSetti
         # the crushed-zone polygon only for the one model that reads it (building it costs a GEOS overlay)
         zone.overlap_upper if settings.loading_radius_model == "max_distance" else None,
     )
-    material = dict(
-        youngs_modulus_pa=settings.youngs_modulus_pa,
-        poisson_ratio=settings.poisson_ratio,
-        foundation_modulus=settings.foundation_modulus_n_m3,
+    h = inp.thickness_m
+    ell = characteristic_length_scalar_m(
+        h, "eq1", settings.youngs_modulus_pa, settings.poisson_ratio, settings.foundation_modulus_n_m3
     )
-    ell = characteristic_length_scalar_m(inp.thickness_m, "eq1", **material)
     if fan.opening_rad > 0.0:
-        capacity, radius = nevel.capacity_and_breaking_distance(
-            inp.thickness_m,
-            fan.loading_radius_m,
-            fan.opening_rad,
-            model=settings.capacity_model,
-            mode=settings.breaking_length_mode,
-            flexural_strength_pa=settings.flexural_strength_pa,
-            kashtelyan_coefficient=settings.kashtelyan_coefficient,
-            wedge_angle_rad=wedge,
-            **material,
-        )
+        capacity, radius = _capacity_and_distance(h, fan.loading_radius_m, fan.opening_rad, settings)
         if settings.capacity_lookup == "thesis_a4":  # the breaking radius stays that of the actual h
             capacity = thesis_a4_capacity_n(
-                inp.thickness_m,
+                h,
                 fan.loading_radius_m,
                 fan.opening_rad,
-                lambda h, r, opening_rad: _table_capacity_n(h, r, opening_rad, settings),
+                lambda h, r, opening_rad: _capacity_and_distance(h, r, opening_rad, settings)[0],
             )
     else:
         capacity, radius = float("inf"), 0.0
     return BendingCheck(fan, ell, capacity, zone.vertical_force_n, radius)
 
 
-def _table_capacity_n(h_m: float, r_m: float, opening_rad: float, settings: BendingSettings) -> float:
-    """P_f [N] of the settings' capacity model at one grid point of App. A.4's table (Eq. 1.4 for the
-    default model: Erceg's tables are not published, physics-notes §1.7)."""
-    capacity, _ = nevel.capacity_and_breaking_distance(
+def _capacity_and_distance(
+    h_m: float, r_m: float, opening_rad: float, settings: BendingSettings
+) -> tuple[float, float]:
+    """(P_f [N], breaking distance [m]) of the settings' models at (h, r, Θ) (Eq. 1.4, notes §1.6); also a
+    grid value of App. A.4's table (Erceg's tables are not published, physics-notes §1.7)."""
+    return nevel.capacity_and_breaking_distance(
         h_m,
         r_m,
         opening_rad,
         model=settings.capacity_model,
+        mode=settings.breaking_length_mode,
         flexural_strength_pa=settings.flexural_strength_pa,
         kashtelyan_coefficient=settings.kashtelyan_coefficient,
         wedge_angle_rad=np.radians(settings.wedge_angle_deg),
@@ -152,7 +143,6 @@ def _table_capacity_n(h_m: float, r_m: float, opening_rad: float, settings: Bend
         poisson_ratio=settings.poisson_ratio,
         foundation_modulus=settings.foundation_modulus_n_m3,
     )
-    return capacity
 
 
 def split_by_radius(polygon, check: BendingCheck, thickness_m: float = 0.0) -> tuple[list, list]:
