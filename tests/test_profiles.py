@@ -114,7 +114,7 @@ def test_overrides_are_applied_after_the_profile():
         ({"modes": {"crushing": {}}}, "failure.crushing"),
         ({"modes": {"bending": {"wedge_deg": 5.0}}}, "failure.bending.wedge_deg"),
         ({"modes": {"local_cracking": {"wedge_angle_deg": 5.0}}}, "failure.local_cracking"),
-        ({"failure": {"policy": {"bending": ["crushing"]}}}, "failure.policy.bending.stem"),
+        ({"failure": {"policy": {"bending": ["crushing"]}}}, "failure.policy.bending"),
     ],
 )
 def test_unknown_names_are_input_errors(kwargs, key):

@@ -526,26 +526,16 @@ def attribute_docstrings(cls: type) -> dict[str, str]:
 
 
 def _normalised_policy(policy: Mapping[str, Any]) -> dict[str, dict[str, list[str]]]:
-    """``[failure.policy]`` as failure class → bow region → modes (a class's list applies to both regions);
-    unknown classes, regions and modes, and empty lists, are refused naming the key."""
-    from floebreak.failure import BOW_REGIONS, FAILURE_CLASSES, mode_names
+    """``[failure.policy]`` through `failure.dispatch.normalise_policy` (the registered modes), its errors as
+    the scenario's (naming the key); lists, as a TOML file holds them."""
+    from floebreak.failure import mode_names, normalise_policy
 
-    result: dict[str, dict[str, list[str]]] = {}
-    for failure_class, value in policy.items():
-        if failure_class not in FAILURE_CLASSES:
-            raise _cross(failure_class, "unknown failure class", ", ".join(FAILURE_CLASSES))
-        regions = value if isinstance(value, dict) else dict.fromkeys(BOW_REGIONS, value)
-        for region, modes in regions.items():
-            key = f"{failure_class}.{region}" if isinstance(value, dict) else failure_class
-            if region not in BOW_REGIONS:
-                raise _cross(key, "unknown bow region", ", ".join(BOW_REGIONS))
-            if not modes:
-                raise _cross(key, "names no mode", "one or more of " + ", ".join(mode_names()))
-            for mode in modes:
-                if mode not in mode_names():
-                    raise _cross(key, f"unknown failure mode {mode!r}", ", ".join(mode_names()))
-        result[failure_class] = {region: list(modes) for region, modes in regions.items()}
-    return result
+    try:
+        normalised = normalise_policy(policy, mode_names())
+    except InputError as error:
+        message = str(error).removeprefix(f"{error.field}: ")  # its "(allowed: …)" is not repeated
+        raise _cross(error.field.removeprefix("failure.policy."), message, error.allowed) from None
+    return {name: {region: list(m) for region, m in regions.items()} for name, regions in normalised.items()}
 
 
 class PropellerSection(_Section):
