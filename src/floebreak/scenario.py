@@ -28,6 +28,7 @@ import re
 import textwrap
 import tomllib
 import typing
+import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -74,9 +75,9 @@ fracture_toughness_pa_sqrt_m = 145.7e3
 hull = "agulhas_ii"            # or "polarstern", or: file = "bow.csv"
 step_m = 0.25
 
-[failure]
-crack_criterion = "tensile_stress"   # point_load | line_load | tensile_stress | flexural_stress
-size_effect_law = "BZ"               # BZ | BZ1 | BZ2
+[failure.cracking]
+criterion = "tensile_stress"   # point_load | line_load | tensile_stress | flexural_stress
+size_effect_law = "BZ"         # BZ | BZ1 | BZ2
 """
 
 # strict scalars: TOML gives real types, so "1.0" (a string) is a type error, not a number; TOML's inf and
@@ -401,6 +402,12 @@ class FailureSection(_Section):
 
     model_config = ConfigDict(extra="allow", frozen=True, validate_default=True)
 
+    plugins: list[str] | None = Field(
+        None,
+        description="modules on the path that register failure modes when imported (e.g. "
+        '["my_pkg.my_mode"]), resolved when the scenario is read, in every study worker too '
+        "(floebreak.failure.registry; installed packages use the entry points floebreak.failure_modes)",
+    )
     policy: dict[str, PolicyModes | dict[str, PolicyModes]] | None = Field(
         None,
         description="modes tried in order per failure class (unbreakable, bending, cracking), as a list or "
@@ -432,6 +439,20 @@ class FailureSection(_Section):
         return {name: dict(table) for name, table in (self.model_extra or {}).items()}
 
 
+def resolve_scenario_plugins(data: Mapping[str, Any]) -> None:
+    """Register the failure modes of a raw scenario's ``[failure] plugins`` (and of the installed packages'
+    entry points) before the scenario is validated, which reads the registry: `Scenario.from_dict` calls it,
+    so every process that reads a scenario — a study's workers too — resolves them
+    (`floebreak.failure.registry.resolve_plugins`; InputError naming ``failure.plugins`` and the module)."""
+    from floebreak.failure.registry import resolve_plugins
+
+    failure = data.get("failure")
+    plugins = failure.get("plugins") if isinstance(failure, Mapping) else None
+    if plugins is not None and not isinstance(plugins, list):
+        raise InputError("failure.plugins", "must be a list of module names", value=plugins)
+    resolve_plugins(plugins or ())
+
+
 def _validated_mode_tables(data: Mapping[str, Any], own_keys: tuple[str, ...]) -> dict[str, dict[str, Any]]:
     """The mode tables of a raw [failure] section, with the flat keys moved into them, each validated."""
     from floebreak.failure import get_mode, mode_names
@@ -449,14 +470,28 @@ def _validated_mode_tables(data: Mapping[str, Any], own_keys: tuple[str, ...]) -
         if not isinstance(value, Mapping):
             raise _cross(key, f"must be a table of {key}'s settings", ", ".join(get_mode(key).table_keys()))
         tables[key] = dict(value)
-    origin: dict[tuple[str, str], str] = {}  # (mode, setting) → the flat key it was given as
+    origin = _move_flat_keys(data, tables)
+    return {mode: _validated_table(get_mode(mode), table, origin) for mode, table in tables.items()}
+
+
+def _move_flat_keys(data: Mapping[str, Any], tables: dict[str, dict[str, Any]]) -> dict[tuple[str, str], str]:
+    """The one reader of the flat [failure] keys of earlier versions (`FLAT_FAILURE_KEYS`): each given is
+    moved into its mode's table in `tables`, with a FutureWarning naming the table key (shown to users by
+    default, unlike a DeprecationWarning); returns (mode, setting) → the flat key, for error messages."""
+    origin: dict[tuple[str, str], str] = {}
     for flat, (mode, setting) in FLAT_FAILURE_KEYS.items():
         if flat in data:
             if setting in tables.get(mode, {}):
                 raise _cross(flat, f"give either {flat} or {mode}.{setting}, not both")
+            warnings.warn(
+                f"failure.{flat} is deprecated: write {setting} = … in the table [failure.{mode}] "
+                f"(failure.{mode}.{setting})",
+                FutureWarning,
+                stacklevel=2,
+            )
             tables.setdefault(mode, {})[setting] = data[flat]
             origin[(mode, setting)] = flat
-    return {mode: _validated_table(get_mode(mode), table, origin) for mode, table in tables.items()}
+    return origin
 
 
 def _validated_table(
@@ -596,6 +631,7 @@ class Scenario(_Section):
     ) -> Scenario:
         """Validate a plain dict (as read from TOML), after applying ``--set`` overrides."""
         data = apply_overrides(data, overrides)
+        resolve_scenario_plugins(data)
         try:
             return cls.model_validate(data, context={"base_dir": base_dir})
         except ValidationError as error:
