@@ -732,7 +732,10 @@ def json_schema() -> dict[str, Any]:
             table["description"] = f"settings of the failure mode {name!r} ({spec.settings.__name__})"
             failure["properties"][name] = table
     for flat, (mode, setting) in FLAT_FAILURE_KEYS.items():
-        failure["properties"][flat] = {"description": f"the same as {mode}.{setting} (the earlier spelling)"}
+        failure["properties"][flat] = {
+            "description": f"deprecated: the same as {mode}.{setting} (the earlier spelling)",
+            "deprecated": True,
+        }
     return schema
 
 
