@@ -13,7 +13,7 @@ from typing import Any
 
 from floebreak import constants as c
 from floebreak.errors import InputError
-from floebreak.failure import FailureModel, check_policy, complete_policy, get_mode, mode_names
+from floebreak.failure import FailureModel, complete_policy, get_mode, mode_names
 from floebreak.failure.dispatch import StatedPolicy
 from floebreak.mechanics.classify import ClassificationParams
 from floebreak.mechanics.contact import ContactParams
@@ -52,17 +52,6 @@ THESIS_SWITCHES: MappingProxyType[str, Any] = MappingProxyType(
 THESIS_POLICY: MappingProxyType[str, Any] = MappingProxyType({"bending": {"stem": ("bending", "rotation")}})
 
 
-def _merged_policy(profile: str, policy: StatedPolicy | None) -> dict[str, Any]:
-    """The profile's policy entries with `policy`'s stated ones on top (per failure class and region)."""
-    merged: dict[str, Any] = {}
-    for given in (THESIS_POLICY if profile == "thesis" else {}, policy or {}):
-        for failure_class, regions in given.items():
-            if not isinstance(regions, Mapping):  # one list for both regions
-                regions = {"stem": regions, "shoulder": regions}
-            merged[failure_class] = {**merged.get(failure_class, {}), **regions}
-    return merged
-
-
 def _split(switches: dict[str, Any], prefix: str) -> dict[str, Any]:
     return {k.split(".", 1)[1]: v for k, v in switches.items() if k.startswith(prefix + ".")}
 
@@ -97,8 +86,12 @@ def build_failure_model(
         )
         for spec in specs
     }
-    full_policy = complete_policy(_merged_policy(profile, policy), flip_uncracked_at_shoulder)
-    check_policy(full_policy, mode_names())
+    full_policy = complete_policy(
+        THESIS_POLICY if profile == "thesis" else None,
+        policy,
+        flip_uncracked_at_shoulder=flip_uncracked_at_shoulder,
+        modes=mode_names(),
+    )
     used = {name for regions in full_policy.values() for names in regions.values() for name in names}
     instances = {spec.name: spec.create(settings) for spec in specs if spec.name in used}
     return FailureModel(instances, full_policy, shoulder_region_start)

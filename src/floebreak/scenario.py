@@ -28,6 +28,7 @@ import re
 import textwrap
 import tomllib
 import typing
+import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -74,9 +75,9 @@ fracture_toughness_pa_sqrt_m = 145.7e3
 hull = "agulhas_ii"            # or "polarstern", or: file = "bow.csv"
 step_m = 0.25
 
-[failure]
-crack_criterion = "tensile_stress"   # point_load | line_load | tensile_stress | flexural_stress
-size_effect_law = "BZ"               # BZ | BZ1 | BZ2
+[failure.cracking]
+criterion = "tensile_stress"   # point_load | line_load | tensile_stress | flexural_stress
+size_effect_law = "BZ"         # BZ | BZ1 | BZ2
 """
 
 # strict scalars: TOML gives real types, so "1.0" (a string) is a type error, not a number; TOML's inf and
@@ -401,6 +402,12 @@ class FailureSection(_Section):
 
     model_config = ConfigDict(extra="allow", frozen=True, validate_default=True)
 
+    plugins: list[str] | None = Field(
+        None,
+        description="modules on the path that register failure modes when imported (e.g. "
+        '["my_pkg.my_mode"]), resolved when the scenario is read, in every study worker too '
+        "(floebreak.failure.registry; installed packages use the entry points floebreak.failure_modes)",
+    )
     policy: dict[str, PolicyModes | dict[str, PolicyModes]] | None = Field(
         None,
         description="modes tried in order per failure class (unbreakable, bending, cracking), as a list or "
@@ -432,6 +439,20 @@ class FailureSection(_Section):
         return {name: dict(table) for name, table in (self.model_extra or {}).items()}
 
 
+def resolve_scenario_plugins(data: Mapping[str, Any]) -> None:
+    """Register the failure modes of a raw scenario's ``[failure] plugins`` (and of the installed packages'
+    entry points) before the scenario is validated, which reads the registry: `Scenario.from_dict` calls it,
+    so every process that reads a scenario — a study's workers too — resolves them
+    (`floebreak.failure.registry.resolve_plugins`; InputError naming ``failure.plugins`` and the module)."""
+    from floebreak.failure.registry import resolve_plugins
+
+    failure = data.get("failure")
+    plugins = failure.get("plugins") if isinstance(failure, Mapping) else None
+    if plugins is not None and not isinstance(plugins, list):
+        raise InputError("failure.plugins", "must be a list of module names", value=plugins)
+    resolve_plugins(plugins or ())
+
+
 def _validated_mode_tables(data: Mapping[str, Any], own_keys: tuple[str, ...]) -> dict[str, dict[str, Any]]:
     """The mode tables of a raw [failure] section, with the flat keys moved into them, each validated."""
     from floebreak.failure import get_mode, mode_names
@@ -449,14 +470,28 @@ def _validated_mode_tables(data: Mapping[str, Any], own_keys: tuple[str, ...]) -
         if not isinstance(value, Mapping):
             raise _cross(key, f"must be a table of {key}'s settings", ", ".join(get_mode(key).table_keys()))
         tables[key] = dict(value)
-    origin: dict[tuple[str, str], str] = {}  # (mode, setting) → the flat key it was given as
+    origin = _move_flat_keys(data, tables)
+    return {mode: _validated_table(get_mode(mode), table, origin) for mode, table in tables.items()}
+
+
+def _move_flat_keys(data: Mapping[str, Any], tables: dict[str, dict[str, Any]]) -> dict[tuple[str, str], str]:
+    """The one reader of the flat [failure] keys of earlier versions (`FLAT_FAILURE_KEYS`): each given is
+    moved into its mode's table in `tables`, with a FutureWarning naming the table key (shown to users by
+    default, unlike a DeprecationWarning); returns (mode, setting) → the flat key, for error messages."""
+    origin: dict[tuple[str, str], str] = {}
     for flat, (mode, setting) in FLAT_FAILURE_KEYS.items():
         if flat in data:
             if setting in tables.get(mode, {}):
                 raise _cross(flat, f"give either {flat} or {mode}.{setting}, not both")
+            warnings.warn(
+                f"failure.{flat} is deprecated: write {setting} = … in the table [failure.{mode}] "
+                f"(failure.{mode}.{setting})",
+                FutureWarning,
+                stacklevel=2,
+            )
             tables.setdefault(mode, {})[setting] = data[flat]
             origin[(mode, setting)] = flat
-    return {mode: _validated_table(get_mode(mode), table, origin) for mode, table in tables.items()}
+    return origin
 
 
 def _validated_table(
@@ -526,26 +561,16 @@ def attribute_docstrings(cls: type) -> dict[str, str]:
 
 
 def _normalised_policy(policy: Mapping[str, Any]) -> dict[str, dict[str, list[str]]]:
-    """``[failure.policy]`` as failure class → bow region → modes (a class's list applies to both regions);
-    unknown classes, regions and modes, and empty lists, are refused naming the key."""
-    from floebreak.failure import BOW_REGIONS, FAILURE_CLASSES, mode_names
+    """``[failure.policy]`` through `failure.dispatch.normalise_policy` (the registered modes), its errors as
+    the scenario's (naming the key); lists, as a TOML file holds them."""
+    from floebreak.failure import mode_names, normalise_policy
 
-    result: dict[str, dict[str, list[str]]] = {}
-    for failure_class, value in policy.items():
-        if failure_class not in FAILURE_CLASSES:
-            raise _cross(failure_class, "unknown failure class", ", ".join(FAILURE_CLASSES))
-        regions = value if isinstance(value, dict) else dict.fromkeys(BOW_REGIONS, value)
-        for region, modes in regions.items():
-            key = f"{failure_class}.{region}" if isinstance(value, dict) else failure_class
-            if region not in BOW_REGIONS:
-                raise _cross(key, "unknown bow region", ", ".join(BOW_REGIONS))
-            if not modes:
-                raise _cross(key, "names no mode", "one or more of " + ", ".join(mode_names()))
-            for mode in modes:
-                if mode not in mode_names():
-                    raise _cross(key, f"unknown failure mode {mode!r}", ", ".join(mode_names()))
-        result[failure_class] = {region: list(modes) for region, modes in regions.items()}
-    return result
+    try:
+        normalised = normalise_policy(policy, mode_names())
+    except InputError as error:
+        message = str(error).removeprefix(f"{error.field}: ")  # its "(allowed: …)" is not repeated
+        raise _cross(error.field.removeprefix("failure.policy."), message, error.allowed) from None
+    return {name: {region: list(m) for region, m in regions.items()} for name, regions in normalised.items()}
 
 
 class PropellerSection(_Section):
@@ -606,6 +631,7 @@ class Scenario(_Section):
     ) -> Scenario:
         """Validate a plain dict (as read from TOML), after applying ``--set`` overrides."""
         data = apply_overrides(data, overrides)
+        resolve_scenario_plugins(data)
         try:
             return cls.model_validate(data, context={"base_dir": base_dir})
         except ValidationError as error:
@@ -706,7 +732,10 @@ def json_schema() -> dict[str, Any]:
             table["description"] = f"settings of the failure mode {name!r} ({spec.settings.__name__})"
             failure["properties"][name] = table
     for flat, (mode, setting) in FLAT_FAILURE_KEYS.items():
-        failure["properties"][flat] = {"description": f"the same as {mode}.{setting} (the earlier spelling)"}
+        failure["properties"][flat] = {
+            "description": f"deprecated: the same as {mode}.{setting} (the earlier spelling)",
+            "deprecated": True,
+        }
     return schema
 
 

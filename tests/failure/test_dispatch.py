@@ -39,7 +39,8 @@ def model_with(statuses: dict[str, Status], flip: bool = True) -> tuple[FailureM
     """The default policy with scripted bending, local cracking and cracking, and the real rotation."""
     calls: list = []
     modes = {name: Scripted(name, status, calls) for name, status in statuses.items()}
-    return FailureModel({**modes, "rotation": DirectRotation()}, complete_policy(None, flip)), calls
+    policy = complete_policy(flip_uncracked_at_shoulder=flip)
+    return FailureModel({**modes, "rotation": DirectRotation()}, policy), calls
 
 
 ALL_PASS = dict.fromkeys(("bending", "local_cracking", "cracking"), Status.PASS_ON)

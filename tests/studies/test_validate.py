@@ -85,8 +85,9 @@ def test_sensitivity_points_move_every_input_by_delta():
     points = sensitivity_points(thesis_scenario(length_m=100.0), 0.1)
     assert points["h-"] == {"ice.thickness_m": pytest.approx(0.9)}
     assert points["K_Ic+"] == {"ice.fracture_toughness_pa_sqrt_m": pytest.approx(1.1 * 145.7e3)}
-    assert points["φ-"] == {"failure.wedge_angle_deg": pytest.approx(4.5)}  # thesis §4.1.2: φ = 5°
-    assert points["α_nextcrack+"] == {"failure.next_crack_angle_deg": pytest.approx(33.0)}  # §4.2.3: 30°
+    assert points["φ-"] == {"failure.bending.wedge_angle_deg": pytest.approx(4.5)}  # thesis §4.1.2: φ = 5°
+    # thesis §4.2.3: α = 30°
+    assert points["α_nextcrack+"] == {"failure.cracking.next_crack_angle_deg": pytest.approx(33.0)}
     # the dispatch's shoulder region starts half-way from the stem to the shoulder (docs/model.md §10)
     assert points["shoulder start-"] == {"failure.shoulder_region_start": pytest.approx(0.45)}
     assert len(points) == 1 + 2 * len(CONTINUOUS_INPUTS) + 5

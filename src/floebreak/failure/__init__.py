@@ -19,6 +19,7 @@ from floebreak.failure.dispatch import (
     check_policy,
     complete_policy,
     default_policy,
+    normalise_policy,
     resolve_failure,
 )
 from floebreak.failure.local_cracking import LocalCracking
@@ -60,6 +61,7 @@ __all__ = [
     "default_policy",
     "get_mode",
     "mode_names",
+    "normalise_policy",
     "register_mode",
     "registered_mode",
     "resolve_failure",

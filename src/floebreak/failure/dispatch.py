@@ -49,15 +49,49 @@ def default_policy(flip_uncracked_at_shoulder: bool = True) -> dict[str, dict[st
     }
 
 
-def complete_policy(given: StatedPolicy | None, flip_uncracked_at_shoulder: bool = True) -> Policy:
-    """`given` (class → region → modes, or class → modes for both regions) with the default for every
-    class and region it leaves out."""
+def normalise_policy(
+    stated: StatedPolicy | None, modes: Sequence[str] | None = None
+) -> dict[str, dict[str, tuple[str, ...]]]:
+    """`stated` as failure class → bow region → modes, a class's one list standing for both regions: the one
+    reading of a policy's shape (the scenario's ``[failure.policy]``, a profile's policy, `complete_policy`).
+
+    An unknown class or region, a class or region naming no mode, a value that is not a list of names and,
+    when `modes` is given, a name not in `modes` raise an InputError naming the key as stated
+    (``failure.policy.<class>`` for one list, ``failure.policy.<class>.<region>`` for a region's).
+    """
+    result: dict[str, dict[str, tuple[str, ...]]] = {}
+    for failure_class, value in (stated or {}).items():
+        if failure_class not in FAILURE_CLASSES:
+            raise InputError(
+                f"failure.policy.{failure_class}", "unknown failure class", allowed=", ".join(FAILURE_CLASSES)
+            )
+        per_region = isinstance(value, Mapping)
+        regions = value if per_region else dict.fromkeys(BOW_REGIONS, value)
+        for region, names in regions.items():
+            key = f"failure.policy.{failure_class}" + (f".{region}" if per_region else "")
+            if region not in BOW_REGIONS:
+                raise InputError(key, "unknown bow region", allowed=", ".join(BOW_REGIONS))
+            if isinstance(names, str) or not isinstance(names, Sequence):
+                raise InputError(key, "must be a list of mode names", value=names)
+            if not names:
+                raise InputError(key, "names no mode", allowed="one or more of " + ", ".join(modes or ()))
+            for name in names:
+                if modes is not None and name not in modes:
+                    raise InputError(key, f"unknown failure mode {name!r}", allowed=", ".join(modes))
+        result[failure_class] = {region: tuple(names) for region, names in regions.items()}
+    return result
+
+
+def complete_policy(
+    *stated: StatedPolicy | None, flip_uncracked_at_shoulder: bool = True, modes: Sequence[str] | None = None
+) -> Policy:
+    """The default policy with each of `stated` (`normalise_policy`, names checked against `modes` when
+    given) laid over it in turn, per failure class and bow region: what a policy leaves out keeps the
+    default (or an earlier layer's, e.g. a profile's under the scenario's)."""
     policy = default_policy(flip_uncracked_at_shoulder)
-    for failure_class, regions in (given or {}).items():
-        if not isinstance(regions, Mapping):  # one list for both regions
-            regions = dict.fromkeys(BOW_REGIONS, regions)
-        stated = {region: tuple(modes) for region, modes in regions.items()}
-        policy[failure_class] = {**policy.get(failure_class, {}), **stated}
+    for layer in stated:
+        for failure_class, regions in normalise_policy(layer, modes).items():
+            policy[failure_class] = {**policy.get(failure_class, {}), **regions}
     return policy
 
 
@@ -88,29 +122,17 @@ class FailureModel:
 
 
 def check_policy(policy: Policy, modes: Sequence[str]) -> None:
-    """InputError naming ``failure.policy.<class>.<region>`` unless `policy` names one or more of `modes`
-    for every failure class and bow region."""
-    for failure_class, regions in policy.items():
-        if failure_class not in FAILURE_CLASSES:
-            raise InputError(
-                f"failure.policy.{failure_class}", "unknown failure class", allowed=", ".join(FAILURE_CLASSES)
-            )
-        for region in regions:
-            if region not in BOW_REGIONS:
-                key = f"failure.policy.{failure_class}.{region}"
-                raise InputError(key, "unknown bow region", allowed=", ".join(BOW_REGIONS))
+    """InputError naming ``failure.policy.<class>[.<region>]`` unless `policy` names one or more of `modes`
+    for every failure class and bow region (`normalise_policy`, then every class and region present)."""
+    normalise_policy(policy, modes)
     for failure_class in FAILURE_CLASSES:
         regions = policy.get(failure_class)
         if regions is None:
             raise InputError(f"failure.policy.{failure_class}", "missing", allowed=", ".join(FAILURE_CLASSES))
         for region in BOW_REGIONS:
-            key = f"failure.policy.{failure_class}.{region}"
-            names = regions.get(region)
-            if not names:
-                raise InputError(key, "no mode given", allowed="one or more of " + ", ".join(modes))
-            for name in names:
-                if name not in modes:
-                    raise InputError(key, f"unknown mode {name!r}", allowed=", ".join(modes))
+            if not regions.get(region):
+                key = f"failure.policy.{failure_class}.{region}"
+                raise InputError(key, "names no mode", allowed="one or more of " + ", ".join(modes))
 
 
 def bow_region(centre_x_m: float, bow_length_m: float, shoulder_region_start: float) -> BowRegion:

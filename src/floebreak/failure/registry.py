@@ -15,15 +15,34 @@ other file. A registration holds:
   ``mode(settings[name])``, or ``mode()`` without settings); a mode that shares another's settings (local
   cracking uses bending's) says so here.
 
-The registry is the package's one piece of module state: it is the extension point, filled at import (like
-an entry-point table), read-only for the engine, and a test or session removes what it added with
+Where modes come from — resolved by the registry itself, so no import line anywhere is needed:
+
+- the built-in modes: the modules of `BUILTIN_MODULES`, imported on the registry's first read;
+- installed packages: the entry points of the group ``floebreak.failure_modes`` (`ENTRY_POINT_GROUP`), also
+  on the first read; each names a module (``my_mode = "my_pkg.my_mode"``, which calls `register_mode` when
+  imported) or a mode class (``halving = "my_pkg.modes:Halving"``, registered with the dataclass type of its
+  ``settings`` field, if any, as its settings);
+- a scenario's ``[failure] plugins = ["my_pkg.my_mode"]``: modules on the path, resolved by
+  `resolve_plugins` whenever a scenario is read (`floebreak.scenario.Scenario.from_dict`): in the parent
+  and in every study worker (pool or Dask), which receive the scenario as a dict and read it there.
+
+A module is resolved once per process (again only after its modes were unregistered). A module that cannot
+be imported, registers no mode, or takes a name already registered is an InputError naming the key
+(``failure.plugins``, or the entry point) and the module; what it registered before failing is removed.
+
+The registry is the package's one piece of module state: it is the extension point, filled on first use
+(like an entry-point table), read-only for the engine, and a test or session removes what it added with
 `unregister_mode` or the `registered_mode` context manager.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Iterator, Mapping
+import importlib
+import importlib.metadata
+import sys
+import typing
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -32,7 +51,16 @@ from typing import Any
 from floebreak.errors import InputError
 
 # keys of [failure] that are not modes (the dispatch's own); no mode may take these names
-DISPATCH_KEYS = ("policy", "shoulder_region_start", "flip_uncracked_at_shoulder")
+DISPATCH_KEYS = ("policy", "shoulder_region_start", "flip_uncracked_at_shoulder", "plugins")
+ENTRY_POINT_GROUP = "floebreak.failure_modes"
+# the built-in modes' modules, in their registration order (resolved like plugins on the first read)
+BUILTIN_MODULES = (
+    "floebreak.failure.bending",
+    "floebreak.failure.cracking",
+    "floebreak.failure.none",
+    "floebreak.failure.rotation",
+    "floebreak.failure.local_cracking",
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,6 +96,9 @@ class ModeSpec:
 
 
 _MODES: dict[str, ModeSpec] = {}
+# resolved modules and entry points → the modes each registered; whether the built-ins and entry points are
+_RESOLVED: dict[str, tuple[str, ...]] = {}
+_DISCOVERED: list[bool] = []
 
 
 def register_mode(
@@ -105,6 +136,9 @@ def unregister_mode(name: str) -> None:
     """Remove a registered mode (a user's; the engine never does)."""
     get_mode(name)
     del _MODES[name]
+    for source, names in list(_RESOLVED.items()):
+        if name in names:
+            del _RESOLVED[source]  # resolved again (re-imported) if a scenario names it again
 
 
 @contextmanager
@@ -118,13 +152,86 @@ def registered_mode(mode: type, **registration: Any) -> Iterator[ModeSpec]:
 
 
 def mode_names() -> tuple[str, ...]:
-    """The registered modes' names, in registration order."""
+    """The registered modes' names, in registration order (the built-ins, then the installed packages' and
+    the plugins' modes, then those registered in code)."""
+    _discover()
     return tuple(_MODES)
 
 
 def get_mode(name: str) -> ModeSpec:
     """The registration of mode `name` (InputError listing the registered names if there is none)."""
+    _discover()
     spec = _MODES.get(name)
     if spec is None:
         raise InputError(f"failure.{name}", "unknown failure mode", allowed=", ".join(_MODES))
     return spec
+
+
+def resolve_plugins(modules: Iterable[str], key: str = "failure.plugins") -> tuple[str, ...]:
+    """Import each plugin module (a dotted name on the path) so that its modes are registered; the names of
+    the modes they registered. Resolves the built-ins and entry points first; see the module docstring for
+    the errors (InputError naming `key` and the module)."""
+    _discover()
+    names: list[str] = []
+    for module in modules:
+        if not isinstance(module, str) or not all(part.isidentifier() for part in module.split(".")):
+            raise InputError(
+                key, f"{module!r} is not a module name", allowed="dotted module names on the path"
+            )
+        names += _resolve(module, key, lambda module=module: _import(module))
+    return tuple(names)
+
+
+def _discover() -> None:
+    """Resolve the built-in modules and the installed packages' entry points, once per process."""
+    if _DISCOVERED:
+        return
+    for module in BUILTIN_MODULES:
+        _resolve(module, "failure", lambda module=module: _import(module))
+    for point in importlib.metadata.entry_points(group=ENTRY_POINT_GROUP):
+        key = f"entry point {point.name!r} of {ENTRY_POINT_GROUP}"
+        _resolve(point.value, key, lambda point=point: _register_object(point.load()))
+    _DISCOVERED.append(True)
+
+
+def _import(module: str) -> None:
+    """Import `module`; re-run it if it was imported before but its modes were unregistered since."""
+    loaded = sys.modules.get(module)
+    if loaded is not None and not any(spec.mode.__module__ == module for spec in _MODES.values()):
+        importlib.reload(loaded)
+    else:
+        importlib.import_module(module)
+
+
+def _register_object(target: Any) -> None:
+    """An entry point's object: a module (imported, it registered its modes) or a mode class to register."""
+    if isinstance(target, type):
+        hints = typing.get_type_hints(target) if dataclasses.is_dataclass(target) else {}
+        settings = hints.get("settings")
+        register_mode(target, settings=settings if dataclasses.is_dataclass(settings) else None)
+
+
+def _resolve(source: str, key: str, load: Callable[[], None]) -> tuple[str, ...]:
+    """Run `load` for `source` (a module or entry point) unless resolved before; record the modes it
+    registered (or, for a module imported before, the registered modes defined in it)."""
+    if source in _RESOLVED:
+        return _RESOLVED[source]
+    before = set(_MODES)
+    try:
+        load()
+    except Exception as error:
+        for name in set(_MODES) - before:  # nothing half-registered stays
+            del _MODES[name]
+        raise InputError(key, f"plugin {source!r} failed to load: {type(error).__name__}: {error}") from None
+    module = source.partition(":")[0]
+    added = tuple(name for name in _MODES if name not in before) or tuple(
+        name for name, spec in _MODES.items() if spec.mode.__module__ == module
+    )
+    if not added:
+        raise InputError(
+            key,
+            f"plugin {source!r} registers no failure mode",
+            allowed="a module that calls floebreak.register_mode, or a failure mode class",
+        )
+    _RESOLVED[source] = added
+    return added

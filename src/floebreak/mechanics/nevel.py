@@ -29,7 +29,6 @@ Capacity models (physics-notes §1.5, errata 11 and 13): see `bearing_capacity_n
 
 from __future__ import annotations
 
-import bisect
 import functools
 import importlib.resources
 import math
@@ -263,35 +262,20 @@ class _Interpolants:
     tail_xi_m: float
 
     def at(self, rho: float, which: str) -> float:
-        """`_evaluate` for one ρ ≥ 0 as a float, for the bending check: scipy's per-call overhead there costs
-        ≈ 10 % of the engine's time (benchmarks/README.md, "Simple over clever")."""
+        """`_evaluate` for one ρ ≥ 0 as a float, for the bending check: the PCHIP's own call on a scalar
+        (≈ 8 µs; `_evaluate`'s array handling costs ≈ 36 µs, ≈ 9 % end to end: benchmarks/README.md)."""
         if rho > self.rho_max:
             return float(_evaluate(rho, which))
-        value = _cubic_piece(*self._pieces[which], float(np.cbrt(rho)))
-        if which == "xi_sigma":
-            return 0.0 if rho == 0.0 else rho + value
-        return rho + value if which == "xi_M" else value
-
-    @functools.cached_property
-    def _pieces(self) -> dict[str, tuple[list[float], list[list[float]]]]:
-        """Per function, the breakpoints and each interval's coefficients (scipy's `PPoly.x`, `PPoly.c`)."""
-        pchips = {
+        pchip = {
             "S": self.stress_factor,
             "xi_sigma": self.xi_sigma_offset,
             "m_max": self.max_moment,
             "xi_M": self.xi_m_offset,
-        }
-        return {name: (pchip.x.tolist(), pchip.c.T.tolist()) for name, pchip in pchips.items()}
-
-
-def _cubic_piece(knots: list[float], coefficients: list[list[float]], t: float) -> float:
-    """``pchip(t)`` for one t inside the breakpoints from its coefficients (highest power first), summed in
-    the order of scipy's evaluation, so the same float."""
-    i = min(max(bisect.bisect_right(knots, t) - 1, 0), len(knots) - 2)
-    c0, c1, c2, c3 = coefficients[i]
-    s = t - knots[i]
-    s2 = s * s
-    return c3 + c2 * s + c1 * s2 + c0 * (s2 * s)
+        }[which]
+        value = float(pchip(np.cbrt(rho)))
+        if which == "xi_sigma":
+            return 0.0 if rho == 0.0 else rho + value
+        return rho + value if which == "xi_M" else value
 
 
 @functools.lru_cache(maxsize=1)

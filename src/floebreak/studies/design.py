@@ -247,7 +247,7 @@ def thesis_study(n_fields: int = 4, profile: str = "default", root_seed: int = 2
             Sweep(
                 name="crack criterion",
                 parameters={
-                    "failure.crack_criterion": [
+                    "failure.cracking.criterion": [
                         "point_load",
                         "line_load",
                         "tensile_stress",
@@ -261,6 +261,8 @@ def thesis_study(n_fields: int = 4, profile: str = "default", root_seed: int = 2
                 mode="zip",
                 parameters={"ice.thickness_m": [None], "ice.thickness_range_m": [[0.75, 1.25]]},
             ),
-            Sweep(name="size-effect law", parameters={"failure.size_effect_law": ["BZ", "BZ1", "BZ2"]}),
+            Sweep(
+                name="size-effect law", parameters={"failure.cracking.size_effect_law": ["BZ", "BZ1", "BZ2"]}
+            ),
         ],
     )

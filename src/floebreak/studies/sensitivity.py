@@ -41,17 +41,17 @@ CONTINUOUS_INPUTS = (  # (label, scenario key)
     ("ν", "ice.poisson_ratio"),
     ("k_c", "ice.contact_coefficient"),
     ("x_step", "ship.step_m"),
-    ("φ", "failure.wedge_angle_deg"),
-    ("α_nextcrack", "failure.next_crack_angle_deg"),
+    ("φ", "failure.bending.wedge_angle_deg"),
+    ("α_nextcrack", "failure.cracking.next_crack_angle_deg"),
     # the dispatch's own choice (docs/model.md §10: the thesis gives no number for where the shoulder begins)
     ("shoulder start", "failure.shoulder_region_start"),
 )
 CATEGORICAL_INPUTS = (
-    ("SEL = BZ1", {"failure.size_effect_law": "BZ1"}),
-    ("SEL = BZ2", {"failure.size_effect_law": "BZ2"}),
-    ("criterion = point load", {"failure.crack_criterion": "point_load"}),
-    ("criterion = line load", {"failure.crack_criterion": "line_load"}),
-    ("criterion = flexural stress", {"failure.crack_criterion": "flexural_stress"}),
+    ("SEL = BZ1", {"failure.cracking.size_effect_law": "BZ1"}),
+    ("SEL = BZ2", {"failure.cracking.size_effect_law": "BZ2"}),
+    ("criterion = point load", {"failure.cracking.criterion": "point_load"}),
+    ("criterion = line load", {"failure.cracking.criterion": "line_load"}),
+    ("criterion = flexural stress", {"failure.cracking.criterion": "flexural_stress"}),
 )
 NOT_EXPOSED = (
     (
@@ -141,7 +141,7 @@ def sensitivity_rows(data: dict[str, dict[int, dict[str, float]]], delta: float)
 
 def convergence_points(steps_m=STEPS_M, angles_deg=WEDGE_ANGLES_DEG) -> dict[str, dict[str, Any]]:
     points = {f"step {s:g}": {"ship.step_m": float(s)} for s in steps_m}
-    points.update({f"phi {a:g}": {"failure.wedge_angle_deg": float(a)} for a in angles_deg})
+    points.update({f"phi {a:g}": {"failure.bending.wedge_angle_deg": float(a)} for a in angles_deg})
     return points
 
 

@@ -24,14 +24,14 @@ POINTS: dict[str, dict[str, Any]] = {  # design point → scenario keys changed 
     "reference": {},
     "K120": {"ice.fracture_toughness_pa_sqrt_m": 120e3},
     "K230": {"ice.fracture_toughness_pa_sqrt_m": 230e3},
-    "point_load": {"failure.crack_criterion": "point_load"},
-    "line_load": {"failure.crack_criterion": "line_load"},
-    "flexural_stress": {"failure.crack_criterion": "flexural_stress"},
+    "point_load": {"failure.cracking.criterion": "point_load"},
+    "line_load": {"failure.cracking.criterion": "line_load"},
+    "flexural_stress": {"failure.cracking.criterion": "flexural_stress"},
     "h0.8": {"ice.thickness_m": 0.8},
     "h1.2": {"ice.thickness_m": 1.2},
     "h_random": {"ice.thickness_m": None, "ice.thickness_range_m": [0.75, 1.25]},
-    "BZ1": {"failure.size_effect_law": "BZ1"},
-    "BZ2": {"failure.size_effect_law": "BZ2"},
+    "BZ1": {"failure.cracking.size_effect_law": "BZ1"},
+    "BZ2": {"failure.cracking.size_effect_law": "BZ2"},
     "polarstern": {"ship.hull": "polarstern"},  # §5.1, Fig. 13
     "h0.4": {"ice.thickness_m": 0.4},  # §6.2: the observation's mean thickness
 }
