@@ -21,6 +21,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from floebreak.errors import InputError
+from floebreak.io.atomic import atomic_path
 
 METRICS = (  # (summary key, table header) — thesis Tables 5–8 columns
     ("mean_cusp_volume_m3", "V̄_cusp [m³]"),
@@ -145,9 +146,8 @@ def aggregate(study_dir: str | Path) -> dict[str, Any]:
     records = collect_runs(study_dir)
     columns = sorted({key for record in records for key in record})
     table = pa.table({key: [record.get(key) for record in records] for key in columns})
-    temp = study_dir / ".study_runs.parquet.tmp"
-    pq.write_table(table, temp)
-    temp.replace(study_dir / "study_runs.parquet")
+    with atomic_path(study_dir / "study_runs.parquet") as temp:
+        pq.write_table(table, temp)
     tables = group_tables(records)
     (study_dir / "tables").mkdir(exist_ok=True)
     markdown = ["# Study tables (mean ± standard deviation over the random fields)", ""]
