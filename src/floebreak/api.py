@@ -50,6 +50,7 @@ from floebreak.io.geoparquet import row_groups, write_geoparquet, write_geoparqu
 from floebreak.io.jsonable import jsonable, to_json
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.io.storage import as_storage_error, probe_directory
+from floebreak.io.writers import write_json
 from floebreak.results import (
     ContactRecorder,
     ContactRecords,
@@ -750,7 +751,7 @@ def _write_run_files(
             {**result.provenance("pieces"), **stepping},
         )
         summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
-        (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
+        write_json(temp / "summary.json", summary_doc)
         header = (
             f"# resolved scenario written by floebreak {floebreak_version()}; "
             f"scenario_hash = {result.summary['scenario_hash']}\n"
@@ -767,7 +768,7 @@ def _write_run_files(
 
             write_report(temp, directory_name=directory_name or out.name)
         summary_doc["files"] = file_checksums(temp)  # a resumed study re-runs a run whose files differ
-        (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
+        write_json(temp / "summary.json", summary_doc)
 
 
 def file_checksums(run_dir: Path, names: Iterable[str] | None = None) -> dict[str, str]:

@@ -8,9 +8,7 @@ directory, with its transit distances and scenarios), analyse (`floebreak.propel
 
 from __future__ import annotations
 
-import csv
 import json
-import math
 import os
 from pathlib import Path
 from typing import Any
@@ -22,46 +20,9 @@ from floebreak.io.atomic import atomic_directory
 from floebreak.io.figures import save_figure
 from floebreak.io.jsonable import jsonable
 from floebreak.io.provenance import provenance
+from floebreak.io.writers import write_csv, write_json, write_netcdf
 from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, spectrum_edges
-
-
-def write_csv(path: Path, columns: dict[str, Any], comments=()) -> None:
-    """A CSV with `#` comment lines, a header and one row per index of the equally long columns; floats
-    with 10 significant digits, non-finite as empty cells, booleans as true/false."""
-    names = list(columns)
-    n = len(next(iter(columns.values()))) if columns else 0
-    with open(path, "w", newline="", encoding="utf-8") as handle:
-        for line in comments:
-            handle.write(f"# {line}\n")
-        writer = csv.writer(handle)
-        writer.writerow(names)
-        for i in range(n):
-            row = []
-            for name in names:
-                value = columns[name][i]
-                if isinstance(value, bool | np.bool_):
-                    row.append("true" if value else "false")
-                elif isinstance(value, float | np.floating):
-                    row.append("" if not math.isfinite(value) else format(float(value), ".10g"))
-                else:
-                    row.append(str(value))
-            writer.writerow(row)
-
-
-def write_netcdf(ds, path: Path) -> str:
-    """``ds.to_netcdf`` (public API): NetCDF4 via h5netcdf when installed, else NetCDF3 via scipy.
-
-    Coordinates and bin bounds get no ``_FillValue`` (CF: coordinate values are never missing); bounds
-    inherit their coordinate's units (CF §7.1, and xarray writes them so)."""
-    import importlib.util
-
-    engine = "h5netcdf" if importlib.util.find_spec("h5netcdf") is not None else "scipy"
-    no_fill = [n for n in ds.variables if n in ds.coords or n.endswith("_bounds")]
-    ds.to_netcdf(
-        path, engine=engine, encoding={n: {"_FillValue": None} for n in no_fill if ds[n].dtype.kind == "f"}
-    )
-    return engine
 
 
 def _per_cusp_columns(loads: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -228,8 +189,7 @@ def write_propeller(
         _write_figures(result, tmp / "figures")
         written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
         summary["files"] = [*written, "summary.json"]
-        text = json.dumps(jsonable(summary), indent=2, sort_keys=True) + "\n"
-        (tmp / "summary.json").write_text(text, encoding="utf-8")
+        write_json(tmp / "summary.json", summary)
     return Path(out_dir)
 
 

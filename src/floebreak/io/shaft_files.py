@@ -7,8 +7,6 @@ figures/. NetCDF through xarray's public ``Dataset.to_netcdf`` with CF-1.8 attri
 
 from __future__ import annotations
 
-import json
-import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,6 +16,8 @@ import numpy as np
 from floebreak.errors import InputError
 from floebreak.io.atomic import atomic_directory
 from floebreak.io.figures import save_figure
+from floebreak.io.jsonable import jsonable
+from floebreak.io.writers import write_csv, write_json, write_netcdf
 from floebreak.propeller.measured import TorqueSeries, read_torque_csv
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
 from floebreak.shaft.analysis import (
@@ -29,12 +29,6 @@ from floebreak.shaft.analysis import (
 )
 from floebreak.shaft.excitation import EXCITATION_CASES
 from floebreak.shaft.line import load_shaft_line
-
-
-def _netcdf_engine() -> str:
-    import importlib.util
-
-    return "h5netcdf" if importlib.util.find_spec("h5netcdf") is not None else "scipy"
 
 
 def series_dataset(result: ShaftResult):
@@ -118,29 +112,6 @@ def spectra_dataset(edges_knm, densities: dict[str, dict]):
     )
 
 
-def _write_csv(path: Path, columns: dict[str, np.ndarray], comments: list[str]) -> None:
-    """Columns as CSV via pyarrow (vectorised: long series have millions of rows), `#` comments first."""
-    import pyarrow as pa
-    import pyarrow.csv as pacsv
-
-    with open(path, "wb") as handle:
-        for line in comments:
-            handle.write(f"# {line}\n".encode())
-        pacsv.write_csv(pa.table({k: np.asarray(v) for k, v in columns.items()}), handle)
-
-
-def _clean(value):
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.ndarray | np.generic):
-        return _clean(value.tolist())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
 THESIS_MEASURED = {  # thesis §6.2 / Fig. 35, Agulhas II port shaft, 18/12/2019 20:20-20:30
     "range_knm": [-100.0, 400.0],
     "above_threshold_knm": [58.0, 152.0],
@@ -165,7 +136,7 @@ def shaft_summary(result: ShaftResult, densities: dict[str, dict], extra: dict |
     for e, c in zip(elements, line.damping_n_m_s_per_rad, strict=False):
         e["damping_n_m_s_per_rad"] = c
     blade_rate = result.blades * line.rpm / 60.0
-    return _clean(
+    return jsonable(
         {
             "shaft_line": {
                 "name": line.name,
@@ -239,10 +210,9 @@ def write_shaft_analysis(
     summary = shaft_summary(result, densities, extra_summary)
     with atomic_directory(out_dir, overwrite=overwrite) as tmp:
         tmp = Path(tmp)
-        engine = _netcdf_engine()
-        series_dataset(result).to_netcdf(tmp / "shaft_series.nc", engine=engine)
-        spectra_dataset(edges, densities).to_netcdf(tmp / "shaft_spectra.nc", engine=engine)
-        _write_csv(
+        engine = write_netcdf(series_dataset(result), tmp / "shaft_series.nc")
+        write_netcdf(spectra_dataset(edges, densities), tmp / "shaft_spectra.nc")
+        write_csv(
             tmp / "shaft_series.csv",
             {
                 "time_s": result.time_s,
@@ -257,7 +227,7 @@ def write_shaft_analysis(
                 "load = mean hydrodynamic + ice torque at the propeller; shaft = torque at the station",
             ],
         )
-        _write_csv(
+        write_csv(
             tmp / "shaft_spectra.csv",
             {
                 "torque_bin_lower_knm": edges[:-1],
@@ -266,7 +236,7 @@ def write_shaft_analysis(
             },
             ["probability densities of the torque series on common bins [1/(kN m)]"],
         )
-        _write_csv(
+        write_csv(
             tmp / "modes.csv",
             {
                 "mode": np.arange(1, result.modes.frequency_hz.size + 1),
@@ -280,7 +250,7 @@ def write_shaft_analysis(
         summary["netcdf_engine"] = engine
         written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
         summary["files"] = [*written, "summary.json"]
-        (tmp / "summary.json").write_text(json.dumps(summary, indent=2, sort_keys=True) + "\n", "utf-8")
+        write_json(tmp / "summary.json", summary)
     return Path(out_dir)
 
 
