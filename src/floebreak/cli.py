@@ -455,9 +455,8 @@ def _demo_propeller(run_dir: Path, run_id: str) -> dict:
     """Propeller analysis (defaults: Agulhas II, FEM thesis Tables 10/11, the scenario's speed, fraction
     reaching and propellers) of `run_dir` into `run_dir/propeller`; returns its summary. `run_id` names the
     run (the folder is still temporary)."""
-    from floebreak.io.propeller import write_propeller
+    from floebreak.app.propeller import read_runs, write_propeller
     from floebreak.propeller.pipeline import analyse_propeller
-    from floebreak.propeller.runs import read_runs
     from floebreak.report import write_report
 
     inputs = read_runs(run_dir)
@@ -781,10 +780,9 @@ def propeller(
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
-    from floebreak.io.propeller import write_propeller
+    from floebreak.app.propeller import read_runs, write_propeller
     from floebreak.propeller.pipeline import analyse_propeller
     from floebreak.propeller.ruleform import OperatingProfile
-    from floebreak.propeller.runs import read_runs
 
     if (hours_per_year is None) != (years is None):
         raise InputError(
@@ -858,7 +856,7 @@ def _shaft_analysis(
                     name, "is an option of the shaft analysis", allowed="add --shaft-line NAME|FILE"
                 )
         return None
-    from floebreak.io.shaft_files import shaft_analysis_of_run
+    from floebreak.app.shaft import shaft_analysis_of_run
 
     return shaft_analysis_of_run(
         run_dir,

@@ -80,9 +80,7 @@ def rows_to_columns(rows: list[Mapping[str, Any]]) -> dict[str, list]:
     return {name: [row[name] for row in rows] for name in names}
 
 
-def write_csv(
-    path: str | os.PathLike[str], columns: Mapping[str, Any], comments: Iterable[str] = ()
-) -> Path:
+def write_csv(path: str | os.PathLike[str], columns: Mapping[str, Any], comments: Iterable[str] = ()) -> Path:
     """Write `columns` (name → equally long sequence) as a CSV with `comments` first; returns `path`."""
     text = csv_text(columns, comments)
     with atomic_path(path) as temp:
@@ -91,7 +89,7 @@ def write_csv(
 
 
 def netcdf_engine() -> str:
-    """"h5netcdf" (NetCDF4) when installed, else "scipy" (NetCDF3)."""
+    """ "h5netcdf" (NetCDF4) when installed, else "scipy" (NetCDF3)."""
     import importlib.util
 
     return "h5netcdf" if importlib.util.find_spec("h5netcdf") is not None else "scipy"

@@ -33,11 +33,12 @@ import numpy as np
 from floebreak.errors import InputError
 from floebreak.io.jsonable import jsonable
 from floebreak.io.writers import rows_to_columns, write_csv, write_json
-from floebreak.studies.voyage import FIELD_MARGIN_M
 
 RESULTS_DIR = "results"
 BEYOND_TABLE_WARNING = 0.10  # share of a period's cusps beyond the FEM table that is worth a warning
 QUANTITIES = {"force": ("kn", 10.0), "torque": ("knm", 10.0)}  # quantity → (unit in names, bin width)
+
+FIELD_MARGIN_M = 5.0  # each side beyond the largest floe diameter (`studies.voyage` sizes the fields)
 
 
 def period_weight(distance_m: float, simulated_length_m: float, n_fields_complete: int) -> float:
@@ -69,7 +70,8 @@ def read_voyage(voyage_dir: Path) -> dict[str, Any]:
 
 def _run_tables(voyage_dir: Path, names: set[str]) -> tuple[dict[str, dict], dict[str, dict]]:
     """Summaries and cusp columns of the complete runs among `names`."""
-    from floebreak.propeller.cusps import cusp_columns, load_cusps
+    from floebreak.io.run_files import load_cusps
+    from floebreak.propeller.cusps import cusp_columns
 
     summaries, cusps = {}, {}
     for name in sorted(names):
