@@ -74,7 +74,7 @@ def _existing_field(folder: Path, monkeypatch) -> list[str]:
 
 
 def _pseudo_file_system(folder: Path, monkeypatch) -> list[str]:
-    api = importlib.import_module("floebreak.api")
+    api = importlib.import_module("floebreak.app.run")
     monkeypatch.setattr(api, "simulate", lambda *a, **k: pytest.fail("the run started"))  # refused before
     return ["run", _scenario(folder), "--out", "/proc/floebreak-run", "-q"]
 
@@ -83,7 +83,7 @@ def _disk_full(folder: Path, monkeypatch) -> list[str]:
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(importlib.import_module("floebreak.api"), "write_geoparquet", full)
+    monkeypatch.setattr(importlib.import_module("floebreak.app.run"), "write_geoparquet", full)
     return _run()(folder, monkeypatch)
 
 
@@ -91,7 +91,7 @@ def _interrupted(folder: Path, monkeypatch) -> list[str]:
     def ctrl_c(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(importlib.import_module("floebreak.api"), "simulate", ctrl_c)
+    monkeypatch.setattr(importlib.import_module("floebreak.app.run"), "simulate", ctrl_c)
     return _run()(folder, monkeypatch)
 
 
@@ -99,7 +99,7 @@ def _bug(folder: Path, monkeypatch) -> list[str]:
     def broken(*args, **kwargs):
         raise RuntimeError("a bug")
 
-    monkeypatch.setattr(importlib.import_module("floebreak.api"), "simulate", broken)
+    monkeypatch.setattr(importlib.import_module("floebreak.app.run"), "simulate", broken)
     return _run()(folder, monkeypatch)
 
 

@@ -350,7 +350,7 @@ def test_unwritable_output_directory(tmp_path, cli):
 
 
 def test_internal_error_exit_1_saves_the_scenario(tmp_path, monkeypatch, cli):
-    run_module = importlib.import_module("floebreak.api")
+    run_module = importlib.import_module("floebreak.app.run")
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("a bug")

@@ -233,7 +233,7 @@ def test_probe_reports_the_os_error(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("inside_kernel", [False, True])
 def test_ctrl_c_exits_130_with_one_line_and_no_failed_scenario(tmp_path, monkeypatch, inside_kernel, cli):
-    api = importlib.import_module("floebreak.api")
+    api = importlib.import_module("floebreak.app.run")
 
     def interrupted(*args, **kwargs):
         if not inside_kernel:

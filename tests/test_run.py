@@ -14,7 +14,7 @@ import pytest
 import shapely
 
 import floebreak
-from floebreak import api as run_module
+from floebreak.app import run as run_module
 from floebreak.errors import InputError
 from floebreak.io.field_files import load_field, save_field
 

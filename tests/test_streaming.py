@@ -144,7 +144,7 @@ def test_the_run_figures_of_a_long_field_say_which_part_they_show(monkeypatch):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     result = floebreak.run(overrides=SMALL)
-    monkeypatch.setattr("floebreak.api.FIGURE_WINDOW_M", 20.0)
+    monkeypatch.setattr("floebreak.app.run.FIGURE_WINDOW_M", 20.0)
     for figure, what in (
         (result.plot_breaking_pattern(), "breaking pattern"),
         (result.plot_field(), "initial floe field"),
@@ -217,7 +217,7 @@ def test_floebreak_field_figure_of_a_long_field_shows_the_window(monkeypatch):
         get_observation("2019-12-18T20:20"), 60.0, 50.0, np.random.default_rng(3), thickness_m=1.0
     )
     assert "first" not in plot_field_figure(field).axes[0].get_title()  # 60 m: shorter than the window
-    monkeypatch.setattr("floebreak.api.FIGURE_WINDOW_M", 20.0)
+    monkeypatch.setattr("floebreak.app.run.FIGURE_WINDOW_M", 20.0)
     figure = plot_field_figure(field, title="field")
     assert figure.axes[0].get_title().endswith("\nfirst 20 m of the 60 m field")
     assert figure.axes[0].get_xlim()[1] < field.domain_m[0] + 30.0  # the window and a margin, not 60 m

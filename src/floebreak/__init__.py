@@ -19,14 +19,14 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` imports them on first use
-    from floebreak.api import Result, run
+    from floebreak.app.propeller import propeller_analysis
+    from floebreak.app.run import Result, run
+    from floebreak.app.shaft import write_shaft_analysis
     from floebreak.errors import InputError
     from floebreak.failure import mode_names, register_mode, registered_mode, unregister_mode
     from floebreak.ice.field import FloeField
     from floebreak.ice.generation import generate_field
     from floebreak.ice.observations import Observation, get_observation, thesis_observations
-    from floebreak.io.propeller import propeller_analysis
-    from floebreak.io.shaft_files import write_shaft_analysis
     from floebreak.io.voyage_log import read_voyage_log
     from floebreak.profiles import PROFILES, build_model
     from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
@@ -52,7 +52,7 @@ _LAZY = {
     "Model": "floebreak.simulation",
     "Observation": "floebreak.ice.observations",
     "PROFILES": "floebreak.profiles",
-    "Result": "floebreak.api",
+    "Result": "floebreak.app.run",
     "Scenario": "floebreak.scenario",
     "SimulationParams": "floebreak.simulation",
     "SimulationResult": "floebreak.simulation",
@@ -66,11 +66,11 @@ _LAZY = {
     "PropellerResult": "floebreak.propeller.pipeline",
     "analyse_propeller": "floebreak.propeller.pipeline",
     "prepare_voyage": "floebreak.studies.voyage",
-    "propeller_analysis": "floebreak.io.propeller",
+    "propeller_analysis": "floebreak.app.propeller",
     "read_voyage_log": "floebreak.io.voyage_log",
     "register_mode": "floebreak.failure",
     "registered_mode": "floebreak.failure",
-    "run": "floebreak.api",
+    "run": "floebreak.app.run",
     "run_study": "floebreak.studies.runner",
     "run_voyage": "floebreak.studies.voyage",
     "shaft_response": "floebreak.shaft.analysis",
@@ -78,7 +78,7 @@ _LAZY = {
     "thesis_observations": "floebreak.ice.observations",
     "thesis_study": "floebreak.studies.design",
     "unregister_mode": "floebreak.failure",
-    "write_shaft_analysis": "floebreak.io.shaft_files",
+    "write_shaft_analysis": "floebreak.app.shaft",
 }
 
 __all__ = [

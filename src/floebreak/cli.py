@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import atexit
-import gc
 import signal
 import sys
 from contextlib import contextmanager, nullcontext
@@ -18,8 +16,8 @@ from rich.markup import escape
 from rich.table import Table
 
 from floebreak import constants as c
-from floebreak.__main__ import EXIT_INTERRUPTED, INTERRUPTED_MESSAGE
 from floebreak.errors import InputError
+from floebreak.exit_codes import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_STORAGE, INTERRUPTED_MESSAGE
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
 app = typer.Typer(no_args_is_help=True, add_completion=False, help=__doc__, pretty_exceptions_enable=False)
@@ -303,11 +301,12 @@ def _prepare_kernels(quiet: bool) -> None:
         err_console.print(f"compiled the numba kernels in {seconds:.0f} s (cached for later runs)")
 
 
-def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then=None):
+def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then=None, engine_loaded=None):
     """Run a (validated) scenario with a progress bar, write the run directory, print the summary.
 
     `then(run_dir, run_id)`, if given, adds to the run directory before it appears under `out` (the whole
-    directory stays atomic); its return value is returned.
+    directory stays atomic); its return value is returned. `engine_loaded()`, if given, is called once the
+    engine is imported (`main`).
     """
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -318,7 +317,8 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
     _prepare_kernels(quiet)
-    gc.freeze()  # the engine's libraries live as long as the process: keep them out of the collector's walks
+    if engine_loaded is not None:
+        engine_loaded()  # the console's hook (`main`)
     try:
         progress = Progress(
             TextColumn("[progress.description]{task.description}"),
@@ -403,6 +403,7 @@ QuietOption = Annotated[bool, typer.Option("--quiet", "-q", help="no progress ba
 
 @app.command("run")
 def run_command(
+    ctx: typer.Context,
     scenario_file: Annotated[Path, typer.Argument(metavar="SCENARIO.toml", help="scenario file (TOML)")],
     out: Annotated[Path, typer.Option("--out", help="run directory to write (must not exist)")],
     overrides: SetOption = None,
@@ -413,11 +414,12 @@ def run_command(
     from floebreak.scenario import Scenario
 
     scenario = Scenario.from_toml(scenario_file, overrides=overrides or ())
-    _execute(scenario, out, overwrite, quiet, f"floebreak run: {scenario_file.name}")
+    _execute(scenario, out, overwrite, quiet, f"floebreak run: {scenario_file.name}", engine_loaded=ctx.obj)
 
 
 @app.command()
 def demo(
+    ctx: typer.Context,
     out: Annotated[Path, typer.Option("--out", help="output directory")] = Path("demo-output"),
     overwrite: OverwriteOption = False,
     seed: Annotated[
@@ -441,7 +443,7 @@ def demo(
     scenario = Scenario.reference(overrides=extra)
     label = f"floebreak demo: reference scenario, seed {scenario.seed}"
     then = None if no_propeller else _demo_propeller
-    propeller_summary = _execute(scenario, out, overwrite, quiet, label, then=then)
+    propeller_summary = _execute(scenario, out, overwrite, quiet, label, then=then, engine_loaded=ctx.obj)
     if propeller_summary is not None:
         _print_propeller_summary(propeller_summary, out / DEMO_PROPELLER_DIR, quiet)
 
@@ -453,9 +455,8 @@ def _demo_propeller(run_dir: Path, run_id: str) -> dict:
     """Propeller analysis (defaults: Agulhas II, FEM thesis Tables 10/11, the scenario's speed, fraction
     reaching and propellers) of `run_dir` into `run_dir/propeller`; returns its summary. `run_id` names the
     run (the folder is still temporary)."""
-    from floebreak.io.propeller import write_propeller
+    from floebreak.app.propeller import read_runs, write_propeller
     from floebreak.propeller.pipeline import analyse_propeller
-    from floebreak.propeller.runs import read_runs
     from floebreak.report import write_report
 
     inputs = read_runs(run_dir)
@@ -779,10 +780,9 @@ def propeller(
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
-    from floebreak.io.propeller import write_propeller
+    from floebreak.app.propeller import read_runs, write_propeller
     from floebreak.propeller.pipeline import analyse_propeller
     from floebreak.propeller.ruleform import OperatingProfile
-    from floebreak.propeller.runs import read_runs
 
     if (hours_per_year is None) != (years is None):
         raise InputError(
@@ -856,7 +856,7 @@ def _shaft_analysis(
                     name, "is an option of the shaft analysis", allowed="add --shaft-line NAME|FILE"
                 )
         return None
-    from floebreak.io.shaft_files import shaft_analysis_of_run
+    from floebreak.app.shaft import shaft_analysis_of_run
 
     return shaft_analysis_of_run(
         run_dir,
@@ -903,23 +903,19 @@ def _root(
     """floebreak: ship bow breaking sea-ice floes, and the cusps' propeller–ice loads."""
 
 
-def main() -> None:
+def main(engine_loaded=None) -> None:
     """The command line (the console command reaches it through `floebreak.__main__`). A user error
-    (InputError) prints one line naming the field and exits with code 2."""
-    # a run creates many long-lived objects and few reference cycles: a lazier collector, and none over
-    # everything alive at exit (it pays, benchmarks/README.md "Simple over clever")
-    gc.set_threshold(50_000, 20, 10)
-    atexit.unregister(gc.freeze)  # registered once, however often main() runs in one process
-    atexit.register(gc.freeze)
+    (InputError) prints one line naming the field and exits with code 2. `engine_loaded()`, if given, is
+    called once a run's engine is imported, before it runs (passed to the commands as the context's `obj`)."""
     from floebreak.io.storage import StorageError
 
     try:
         # Ctrl-C raises KeyboardInterrupt from here, reported below (`floebreak.__main__`: while loading)
         signal.signal(signal.SIGINT, signal.default_int_handler)
-        app()
+        app(obj=engine_loaded)
     except InputError as error:
         err_console.print(f"[bold red]error:[/] {escape(str(error))}", soft_wrap=True, highlight=False)
-        sys.exit(2)
+        sys.exit(EXIT_INPUT)
     except StorageError as error:
         err_console.print(f"[bold red]error:[/] {escape(error.strerror)}", soft_wrap=True, highlight=False)
         sys.exit(EXIT_STORAGE)
@@ -931,13 +927,10 @@ def main() -> None:
         raise
 
 
-EXIT_STORAGE = 3  # disk full, permission denied, read-only or pseudo file system (README, exit codes)
-
-
 def _report_interrupt() -> None:
     err_console.print(INTERRUPTED_MESSAGE, highlight=False)
     sys.exit(EXIT_INTERRUPTED)
 
 
-if __name__ == "__main__":  # `python -m floebreak.cli`, as the console command
+if __name__ == "__main__":  # `python -m floebreak.cli`: the console command without its collector settings
     main()

@@ -74,6 +74,7 @@ from floebreak.errors import Bounds, InputError, field_bounds
 from floebreak.failure import BOW_REGIONS, FAILURE_CLASSES, get_mode, mode_names
 from floebreak.ice.generation import floe_counts, generate_field
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
+from floebreak.io.atomic import write_text_atomic
 from floebreak.mechanics.fracture import wedge_splitting_fraction
 from floebreak.profiles import field_switches
 from floebreak.ship import bow as bows
@@ -788,9 +789,7 @@ def _campaign_scenarios(out: Path, n: int, campaign_seed: int) -> list[dict[str,
         return scenarios
     scenarios = draw_scenarios(n, campaign_seed)
     lines = [json.dumps({"n": n, "seed": campaign_seed}), *(json.dumps(data) for data in scenarios)]
-    temporary = path.with_name(path.name + ".tmp")
-    temporary.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    temporary.replace(path)
+    write_text_atomic(path, "\n".join(lines) + "\n")
     return scenarios
 
 
@@ -802,9 +801,8 @@ def _drop_flagged(out: Path, records: list[dict[str, Any]], max_rss_mb: float) -
             case = out / f"case-{record['index']:05d}"
             case.with_suffix(".toml").unlink(missing_ok=True)
             shutil.rmtree(case, ignore_errors=True)
-    temporary = out / "records.jsonl.tmp"
-    temporary.write_text("".join(json.dumps(record, default=str) + "\n" for record in kept), encoding="utf-8")
-    temporary.replace(out / "records.jsonl")
+    lines = "".join(json.dumps(record, default=str) + "\n" for record in kept)
+    write_text_atomic(out / "records.jsonl", lines)
     return kept
 
 

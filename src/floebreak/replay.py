@@ -1,7 +1,7 @@
 """Replay a run directory as an animation (``floebreak animate DIR``): GIF by default, MP4 with ffmpeg.
 
 Reads ``pieces.parquet`` (every piece with ``created_step``/``ended_step``, written by `floebreak.run`), the
-resolved scenario (the bow is rebuilt with `floebreak.api.build_bow`, as in the run) and draws the frames
+resolved scenario (the bow is rebuilt with `floebreak.app.run.build_bow`, as in the run) and draws the frames
 with `floebreak.plotting.animation`. The file is written under a temporary name and renamed when complete,
 so a failure leaves nothing; every input is checked before anything is written.
 """
@@ -114,7 +114,7 @@ def _check_out(out: Path, overwrite: bool) -> None:
 
 def load_transit(run_dir: str | os.PathLike[str]) -> tuple[Transit, str]:
     """The `Transit` of a run directory and a short label (scenario name, profile, seed) for titles."""
-    from floebreak.api import build_bow
+    from floebreak.app.run import build_bow
     from floebreak.io.field_files import load_field
     from floebreak.io.geoparquet import read_geoparquet
     from floebreak.scenario import Scenario

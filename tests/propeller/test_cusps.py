@@ -8,7 +8,8 @@ import shapely
 
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
-from floebreak.propeller.cusps import box_dimensions, class_means, cusp_columns, load_cusps, volume_class
+from floebreak.io.run_files import load_cusps
+from floebreak.propeller.cusps import box_dimensions, class_means, cusp_columns, volume_class
 
 
 def _write_run(directory, n, seed):

@@ -10,9 +10,9 @@ import pytest
 import shapely
 import xarray as xr
 
+from floebreak.app.propeller import propeller_analysis
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
-from floebreak.io.propeller import propeller_analysis
 from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.measured import synthetic_torque_path
 from floebreak.propeller.pipeline import load_spectra, torque_ranges_above

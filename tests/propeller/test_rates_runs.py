@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 import shapely
 
+from floebreak.app.propeller import read_runs, run_transit_distance_m
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
 from floebreak.propeller.pipeline import analyse_propeller
 from floebreak.propeller.rates import RateBasis, RunExposure, weighted_exceedance
-from floebreak.propeller.runs import read_runs, transit_distance_m
 from floebreak.scenario import Scenario
 
 
@@ -107,7 +107,7 @@ def test_transit_distance_and_pooling(tmp_path):
     base = Scenario.reference()
     _run_dir(tmp_path / "s" / "r1", base)
     _run_dir(tmp_path / "s" / "r2", Scenario.reference(overrides=["seed=2", "field.length_m=300.0"]))
-    assert transit_distance_m(tmp_path / "s" / "r1") == pytest.approx(240.0)
+    assert run_transit_distance_m(tmp_path / "s" / "r1") == pytest.approx(240.0)
     inputs = read_runs(tmp_path / "s")
     assert sorted(inputs.exposures) == ["r1", "r2"] and inputs.differing_keys == ()
     assert inputs.exposures["r1"].basis == RateBasis(3.0, 1.0, 2)  # the scenario defaults

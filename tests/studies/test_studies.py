@@ -202,7 +202,7 @@ def test_process_pool_and_dask_give_the_serial_results(tmp_path):
 def _worker_state(_: int) -> tuple[int, bool, str | None]:
     import os
 
-    return os.getpid(), "floebreak.api" in sys.modules, os.environ.get("OMP_NUM_THREADS")
+    return os.getpid(), "floebreak.app.run" in sys.modules, os.environ.get("OMP_NUM_THREADS")
 
 
 def test_pool_workers_start_prepared_with_one_thread(monkeypatch):

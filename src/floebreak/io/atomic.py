@@ -93,3 +93,11 @@ def scratch_directory(near: str | os.PathLike[str]) -> Iterator[Path]:
         yield temp
     finally:
         shutil.rmtree(temp, ignore_errors=True)
+
+
+def write_text_atomic(path: str | os.PathLike[str], text: str, field: str = "output") -> Path:
+    """Write `text` (UTF-8) to `path` through `atomic_path`: a unique temporary name, so two processes
+    writing the same folder never share one, then a rename. Returns `path`."""
+    with atomic_path(path, field) as temp:
+        temp.write_text(text, encoding="utf-8")
+    return Path(path)

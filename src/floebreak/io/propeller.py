@@ -1,67 +1,29 @@
-"""Writing a propeller analysis: CSV tables, the CF-1.8 NetCDF spectra, figures and summary.json, as one
-atomic directory (`floebreak.io.atomic.atomic_directory`: on any error nothing appears).
-
-`propeller_analysis(cusps_or_dir, out_dir, ...)` is the one call with side effects: read (a run or study
-directory, with its transit distances and scenarios), analyse (`floebreak.propeller.pipeline
-.analyse_propeller`, pure), write (`write_propeller`). Files: docs/propeller.md "Output directory".
+"""Writing a propeller analysis (a `floebreak.propeller.pipeline.PropellerResult` and its figures, drawn by
+`floebreak.plotting.propeller`): CSV tables, the CF-1.8 NetCDF spectra, figures and summary.json, as one
+atomic directory (`floebreak.io.atomic.atomic_directory`: on any error nothing appears). Reading, analysing
+and drawing are `floebreak.app.propeller`'s. Files: docs/propeller.md "Output directory".
 """
 
 from __future__ import annotations
 
-import csv
 import json
-import math
 import os
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from floebreak.errors import InputError
 from floebreak.io.atomic import atomic_directory
 from floebreak.io.figures import save_figure
 from floebreak.io.jsonable import jsonable
 from floebreak.io.provenance import provenance
-from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
-from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, spectrum_edges
+from floebreak.io.writers import write_csv, write_json, write_netcdf
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
-def write_csv(path: Path, columns: dict[str, Any], comments=()) -> None:
-    """A CSV with `#` comment lines, a header and one row per index of the equally long columns; floats
-    with 10 significant digits, non-finite as empty cells, booleans as true/false."""
-    names = list(columns)
-    n = len(next(iter(columns.values()))) if columns else 0
-    with open(path, "w", newline="", encoding="utf-8") as handle:
-        for line in comments:
-            handle.write(f"# {line}\n")
-        writer = csv.writer(handle)
-        writer.writerow(names)
-        for i in range(n):
-            row = []
-            for name in names:
-                value = columns[name][i]
-                if isinstance(value, bool | np.bool_):
-                    row.append("true" if value else "false")
-                elif isinstance(value, float | np.floating):
-                    row.append("" if not math.isfinite(value) else format(float(value), ".10g"))
-                else:
-                    row.append(str(value))
-            writer.writerow(row)
-
-
-def write_netcdf(ds, path: Path) -> str:
-    """``ds.to_netcdf`` (public API): NetCDF4 via h5netcdf when installed, else NetCDF3 via scipy.
-
-    Coordinates and bin bounds get no ``_FillValue`` (CF: coordinate values are never missing); bounds
-    inherit their coordinate's units (CF §7.1, and xarray writes them so)."""
-    import importlib.util
-
-    engine = "h5netcdf" if importlib.util.find_spec("h5netcdf") is not None else "scipy"
-    no_fill = [n for n in ds.variables if n in ds.coords or n.endswith("_bounds")]
-    ds.to_netcdf(
-        path, engine=engine, encoding={n: {"_FillValue": None} for n in no_fill if ds[n].dtype.kind == "f"}
-    )
-    return engine
+    from floebreak.propeller.pipeline import PropellerResult
 
 
 def _per_cusp_columns(loads: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -91,7 +53,8 @@ def _class_rows(class_tables) -> dict[str, np.ndarray]:
 def _spectrum_rows(ds, quantity: str) -> dict[str, np.ndarray]:
     """Long table of one spectrum: pitch, bin edges, density and (with a time base) counts per hour/km."""
     unit = "kn" if quantity == "force" else "knm"
-    edges = spectrum_edges(ds, quantity)
+    bounds = ds[f"{quantity}_{unit}_bounds"].values  # the CF bin bounds of `propeller.spectra`
+    edges = np.r_[bounds[:, 0], bounds[-1:, 1]] if bounds.size else np.zeros(1)
     n_bins, pitches = edges.size - 1, ds["pitch"].values
     columns = {
         "pitch_percent": np.repeat(pitches.astype(float), n_bins),
@@ -161,51 +124,16 @@ def _write_tables(result: PropellerResult, tmp: Path) -> None:
         )
 
 
-def _write_figures(result: PropellerResult, folder: Path) -> None:
-    from floebreak.plotting import propeller as figs
-    from floebreak.propeller.iceclass import WEIBULL_SHAPE
-
-    folder.mkdir()
-    o = result.options
-    save_figure(
-        figs.plot_volume_loads(result.tables, o["interpolation"], o["beyond"]), folder / "volume_loads.png"
-    )
-    for quantity, name in (("force", "load"), ("torque", "torque")):
-        for log in (False, True):
-            scale = "log" if log else "linear"
-            save_figure(
-                figs.plot_spectrum(result.spectra, quantity, log), folder / f"{name}_spectrum_{scale}.png"
-            )
-    torque = {p: result.amplitudes(p).torque_nm for p in result.tables}
-    save_figure(
-        figs.plot_rule_form(torque, result.exceedance, WEIBULL_SHAPE[o["weibull"]]), folder / "rule_form.png"
-    )
-    if result.measured is not None:
-        m = result.measured
-        for log in (False, True):
-            save_figure(
-                figs.plot_measured_comparison(
-                    m.edges_knm, m.density_per_knm, result.spectra, log, DENSITY_THRESHOLD_PER_KNM
-                ),
-                folder / f"torque_comparison_{'log' if log else 'linear'}.png",
-            )
-    if result.rule is not None:
-        force = {p: result.amplitudes(p).force_n for p in result.tables}
-        save_figure(
-            figs.plot_rule_exceedance(force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]]),
-            folder / "ice_class_exceedance.png",
-        )
-
-
-def write_propeller(
+def write_propeller_files(
     result: PropellerResult,
     out_dir: str | os.PathLike[str],
+    figures: Mapping[str, Figure],
     *,
     overwrite: bool = False,
     record: dict | None = None,
 ) -> Path:
-    """Write `result` to the new directory `out_dir` atomically and return it. `record` adds to the
-    provenance (e.g. the input files)."""
+    """Write `result` and its `figures` (file name → Figure, saved in ``figures/``) to the new directory
+    `out_dir` atomically and return it. `record` adds to the provenance (e.g. the input files)."""
     prov = provenance(command="propeller_analysis", **jsonable(result.options), **(record or {}))
     ds = result.spectra.copy()
     ds.attrs.update(
@@ -225,48 +153,10 @@ def write_propeller(
         tmp = Path(tmp)
         _write_tables(result, tmp)
         summary["netcdf_engine"] = write_netcdf(ds, tmp / "spectra.nc")
-        _write_figures(result, tmp / "figures")
+        (tmp / "figures").mkdir()
+        for name, figure in figures.items():
+            save_figure(figure, tmp / "figures" / name)
         written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
         summary["files"] = [*written, "summary.json"]
-        text = json.dumps(jsonable(summary), indent=2, sort_keys=True) + "\n"
-        (tmp / "summary.json").write_text(text, encoding="utf-8")
+        write_json(tmp / "summary.json", summary)
     return Path(out_dir)
-
-
-def propeller_analysis(
-    cusps,
-    out_dir: str | os.PathLike[str],
-    *,
-    overwrite: bool = False,
-    pool: bool = False,
-    speed_m_s: float | None = None,
-    fraction_reaching: float | None = None,
-    n_propellers: int | None = None,
-    **options,
-) -> Path:
-    """Analyse and write: `cusps` is a run or study directory (its transit distances and scenarios give
-    the rates; several runs need equal scenarios but for seed and field, or `pool=True`) or a table
-    (`options["exposures"]` then gives the rates). `options`: those of `analyse_propeller`."""
-    record: dict[str, Any] = {}
-    if isinstance(cusps, str | os.PathLike):
-        from floebreak.propeller.runs import read_runs
-
-        inputs = read_runs(
-            cusps,
-            pool=pool,
-            speed_m_s=speed_m_s,
-            fraction_reaching=fraction_reaching,
-            n_propellers=n_propellers,
-        )
-        if "exposures" in options:
-            raise InputError("exposures", "given with a directory, which has its own", allowed="one of them")
-        options["exposures"] = inputs.exposures
-        cusps = inputs.cusps
-        record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
-        if inputs.missing_transit:
-            record["no_transit_distance"] = list(inputs.missing_transit)
-    fem = options.get("fem_table")
-    record["fem_tables"] = None if fem is None else jsonable(fem if isinstance(fem, dict) else str(fem))
-    record["torque_csv"] = None if options.get("torque_csv") is None else str(options["torque_csv"])
-    result = analyse_propeller(cusps, **options)
-    return write_propeller(result, out_dir, overwrite=overwrite, record=record)

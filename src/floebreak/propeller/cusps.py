@@ -1,4 +1,5 @@
-"""Cusp tables: reading runs and studies, bounding-box volume classes, kinetic energy.
+"""Cusp tables (read by `floebreak.io.run_files.load_cusps`): validation, bounding-box volume classes, kinetic
+energy.
 
 Volume classes and class means follow thesis §6.1.1 / Alg. 1 / Fig. 26: cuboidal bounding box of each cusp
 (shorter side l_min, longer side l_max in the plane, thickness h), box volume l_max·l_min·h, classes
@@ -8,80 +9,16 @@ Volume classes and class means follow thesis §6.1.1 / Alg. 1 / Fig. 26: cuboida
 
 from __future__ import annotations
 
-import os
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 
 import numpy as np
 import pyarrow as pa
-import pyarrow.parquet as pq
 
 from floebreak.constants import ICE_DENSITY_KG_M3
 from floebreak.errors import InputError
+from floebreak.io.run_files import CUSP_COLUMNS as REQUIRED_COLUMNS
 
-REQUIRED_COLUMNS = ("volume_m3", "bbox_length_m", "bbox_width_m", "thickness_m", "area_m2")
-OPTIONAL_COLUMNS = ("bow_x_m",)  # the bow's position when the cusp was made (transit order); NaN if absent
 DEFAULT_CLASS_EDGES_M3 = (5.0, 8.0, 11.0, 14.0)
-CUSPS_FILE = "cusps.parquet"
-
-
-def load_cusps(run_or_study_dir: str | os.PathLike[str]) -> pa.Table:
-    """Cusp columns of one run directory, or of every run directory below a study directory.
-
-    A directory holding ``cusps.parquet`` is a run; otherwise every ``cusps.parquet`` below it (hidden
-    folders skipped) is read. The geometry column is ignored; a ``run_id`` column holds the run folder's
-    name (its path relative to the study folder if names repeat).
-    """
-    field = "run_or_study_dir"
-    tables = []
-    for run_id, path in cusp_files(run_or_study_dir).items():
-        try:
-            table = pq.ParquetFile(path).read()  # one file: no dataset layer (pyarrow.dataset)
-        except (OSError, pa.ArrowInvalid) as error:
-            raise InputError(field, f"cannot read {str(path)!r}: {error}", value=str(path)) from None
-        missing = [c for c in REQUIRED_COLUMNS if c not in table.column_names]
-        if missing:
-            raise InputError(
-                field,
-                f"{str(path)!r} lacks column(s) {', '.join(missing)}",
-                value=str(path),
-                allowed=", ".join(REQUIRED_COLUMNS),
-            )
-        present = [c for c in (*REQUIRED_COLUMNS, *OPTIONAL_COLUMNS) if c in table.column_names]
-        columns = {c: table.column(c).cast(pa.float64()) for c in present}
-        for c in OPTIONAL_COLUMNS:
-            if c not in columns:
-                columns[c] = pa.array(np.full(table.num_rows, np.nan), type=pa.float64())
-        columns["run_id"] = pa.array([run_id] * table.num_rows, type=pa.string())
-        tables.append(pa.table(columns))
-    return pa.concat_tables(tables)
-
-
-def cusp_files(run_or_study_dir: str | os.PathLike[str]) -> dict[str, Path]:
-    """run_id → ``cusps.parquet`` of the run directory, or of every run below a study directory (hidden
-    folders skipped); run_id is the run folder's name, or its path below the study folder if names repeat."""
-    root = Path(run_or_study_dir)
-    field = "run_or_study_dir"
-    if not root.is_dir():
-        raise InputError(field, f"{str(root)!r} is not a directory", value=str(root))
-    if (root / CUSPS_FILE).is_file():
-        return {root.name: root / CUSPS_FILE}
-    files = sorted(
-        p
-        for p in root.rglob(CUSPS_FILE)
-        if not any(part.startswith(".") for part in p.relative_to(root).parts)
-    )
-    if not files:
-        raise InputError(
-            field,
-            f"no {CUSPS_FILE} in or below {str(root)!r}",
-            value=str(root),
-            allowed="a run directory or a study directory containing run directories",
-        )
-    names = [f.parent.name for f in files]
-    if len(set(names)) < len(names):
-        names = [f.parent.relative_to(root).as_posix() for f in files]
-    return dict(zip(names, files, strict=True))
 
 
 def cusp_columns(cusps: pa.Table | Mapping[str, Sequence], field: str = "cusps") -> dict[str, np.ndarray]:

@@ -1,5 +1,6 @@
-"""Run directories as propeller-analysis input: their cusps, what each run stands for (transit distance,
-speed, fraction reaching, propellers) and the check that pooled runs describe the same conditions.
+"""Run directories as propeller-analysis input: what each run stands for (transit distance, speed, fraction
+reaching, propellers) and the check that pooled runs describe the same conditions. Pure: the files are read
+by `floebreak.io.run_files`, and `floebreak.app.propeller.read_runs` combines the two.
 
 Transit distance of a run (documented rule, docs/propeller.md §6): the length along x of the overlap of the
 stem's travel [x_start_m, x_start_m + (n_steps − 1) step_m] (``pieces.parquet`` metadata) with the field's
@@ -10,15 +11,12 @@ x-extent (``field.parquet`` metadata ``domain_m``): the ice the ship sailed thro
 from __future__ import annotations
 
 import json
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import pyarrow as pa
-import pyarrow.parquet as pq
 
 from floebreak.errors import InputError
-from floebreak.propeller.cusps import cusp_files, load_cusps
 from floebreak.propeller.rates import RateBasis, RunExposure
 
 POOLABLE_KEYS = ("seed", "field", "name")  # runs may differ in these and still be pooled without --pool
@@ -36,17 +34,9 @@ class RunInputs:
     missing_transit: tuple[str, ...]
 
 
-def _metadata(path: Path) -> dict:
-    try:
-        meta = pq.read_metadata(path).metadata or {}
-        return json.loads(meta.get(b"floebreak", b"{}"))
-    except (OSError, pa.ArrowInvalid, json.JSONDecodeError):
-        return {}
-
-
-def transit_distance_m(run_dir: Path) -> float | None:
-    """The run's transit distance in ice [m] (module docstring), None without the metadata."""
-    field, pieces = _metadata(run_dir / "field.parquet"), _metadata(run_dir / "pieces.parquet")
+def transit_distance_m(field: dict, pieces: dict) -> float | None:
+    """The run's transit distance in ice [m] (module docstring) from the metadata of its ``field.parquet``
+    and ``pieces.parquet``; None without the keys."""
     try:
         x_min, _, x_max, _ = (float(v) for v in field["domain_m"])
         x_start, step, n_steps = float(pieces["x_start_m"]), float(pieces["step_m"]), int(pieces["n_steps"])
@@ -55,19 +45,6 @@ def transit_distance_m(run_dir: Path) -> float | None:
     x_last = x_start + (n_steps - 1) * step
     distance = min(x_max, x_last) - max(x_min, x_start)
     return distance if distance > 0.0 else None
-
-
-def _scenario(run_dir: Path) -> dict | None:
-    """The run's resolved scenario (``scenario.resolved.toml``, every default written out) as a dict,
-    None if the run directory has none. Read as TOML only: the keys the rates use are validated by
-    `RateBasis`, naming them."""
-    path = run_dir / "scenario.resolved.toml"
-    if not path.is_file():
-        return None
-    try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as error:
-        raise InputError("run_or_study_dir", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
 
 
 def _differing(scenarios: dict[str, dict | None]) -> tuple[str, ...]:
@@ -109,29 +86,31 @@ def _basis(scenario: dict | None, overrides: dict, source: str = "") -> RateBasi
         ) from None
 
 
-def read_runs(root, *, pool: bool = False, **basis_overrides) -> RunInputs:
-    """Cusps and exposures of the run directory `root`, or of every run below it (`load_cusps`).
-
-    Several runs are pooled only if their resolved scenarios differ in nothing but seed, field and name,
-    or with `pool=True`; otherwise InputError naming the differing keys. `basis_overrides` (speed_m_s,
-    fraction_reaching, n_propellers) replace the scenarios' values."""
-    root = Path(root)
-    cusps = load_cusps(root)
-    run_dirs = {run: path.parent for run, path in cusp_files(root).items()}
-    scenarios = {r: _scenario(d) for r, d in run_dirs.items()}
-    differing = _differing(scenarios)
+def run_inputs(
+    root: Path,
+    cusps: pa.Table,
+    runs: dict[str, tuple[Path, dict | None, float | None]],
+    *,
+    pool: bool = False,
+    **basis_overrides,
+) -> RunInputs:
+    """`RunInputs` of the runs below `root`: `runs` maps run_id → (run directory, resolved scenario or None,
+    transit distance or None). Several runs are pooled only if their resolved scenarios differ in nothing
+    but seed, field and name, or with `pool=True`; otherwise InputError naming the differing keys.
+    `basis_overrides` (speed_m_s, fraction_reaching, n_propellers) replace the scenarios' values."""
+    differing = _differing({run: scenario for run, (_, scenario, _) in runs.items()})
     if differing and not pool:
         raise InputError(
             "run_or_study_dir",
-            f"{len(run_dirs)} runs below {str(root)!r} differ in {', '.join(differing)}",
+            f"{len(runs)} runs below {str(root)!r} differ in {', '.join(differing)}",
             allowed="runs that differ only in seed and field, or --pool to pool them anyway",
         )
     exposures, missing = {}, []
-    for run, run_dir in run_dirs.items():
-        distance = transit_distance_m(run_dir)
-        basis = _basis(scenarios[run], basis_overrides, str(run_dir / "scenario.resolved.toml"))
+    for run, (run_dir, scenario, distance) in runs.items():
+        basis = _basis(scenario, basis_overrides, str(run_dir / "scenario.resolved.toml"))
         if distance is None:
             missing.append(run)
         else:
             exposures[run] = RunExposure(distance, basis)
+    run_dirs = {run: run_dir for run, (run_dir, _, _) in runs.items()}
     return RunInputs(cusps, None if missing else exposures, run_dirs, differing, tuple(missing))

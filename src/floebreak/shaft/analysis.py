@@ -1,21 +1,19 @@
 """Shaft-torque analysis of the cusps of a run: excitation per rule case → shaft torque at a station.
 
 `shaft_response` is pure and takes plain per-cusp arrays (bow position, torque amplitude, thickness), so
-a voyage or a notebook can call it directly; `run_cusp_inputs` gets those arrays from a run directory
-(cusps.parquet, the FEM torque interpolation of floebreak.propeller). See docs/shaft.md.
+a voyage or a notebook can call it directly; `cusp_torque_inputs` gets those arrays from a run's cusp
+columns (read by `floebreak.app.shaft.run_cusp_inputs`; the FEM torque interpolation of floebreak.propeller).
+See docs/shaft.md.
 """
 
 from __future__ import annotations
 
-import os
-import tomllib
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from floebreak.errors import InputError, require_range
-from floebreak.propeller.cusps import CUSPS_FILE, box_dimensions
+from floebreak.propeller.cusps import box_dimensions
 from floebreak.propeller.fem import resolve_fem_tables
 from floebreak.propeller.interpolation import check_options, table_interpolant
 from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS, VOLUME_BASES
@@ -28,7 +26,7 @@ from floebreak.propeller.spectra import (
     fitting_width,
     ranges_above,
 )
-from floebreak.shaft.excitation import arrival_times_s, excitation_case, ice_torque_series
+from floebreak.shaft.excitation import EXCITATION_CASES, arrival_times_s, excitation_case, ice_torque_series
 from floebreak.shaft.line import Modes, ShaftLine, modal_analysis, with_operating_point
 from floebreak.shaft.response import station_torque_n_m
 
@@ -141,8 +139,11 @@ def shaft_response(
     )
 
 
-def run_cusp_inputs(
-    run_dir: str | os.PathLike[str],
+CUSP_INPUT_COLUMNS = ("bow_x_m", "step", "bbox_length_m", "bbox_width_m", "thickness_m", "volume_m3")
+
+
+def cusp_torque_inputs(
+    columns: dict[str, np.ndarray],
     *,
     fem_table=None,
     pitch_percent: float | None = None,
@@ -150,34 +151,14 @@ def run_cusp_inputs(
     beyond: str = "power_law",
     volume_basis: str = DEFAULT_VOLUME_BASIS,
 ) -> dict[str, np.ndarray | float]:
-    """Per cusp of a run, in transit order: ``bow_x_m``, ``thickness_m`` and ``torque_n_m`` (FEM torque
-    of the cusp's volume, "actual" area × thickness or "box", as the propeller analysis, thesis §6.1.3,
-    for the table nearest `pitch_percent`, default the propeller's 95.86 %), and the ``pitch_percent``
-    of that table."""
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
+    """Per cusp of a run's `columns` (CUSP_INPUT_COLUMNS of its cusps.parquet), in transit order:
+    ``bow_x_m``, ``thickness_m`` and ``torque_n_m`` (FEM torque of the cusp's volume, "actual" area ×
+    thickness or "box", as the propeller analysis, thesis §6.1.3, for the table nearest `pitch_percent`,
+    default the propeller's 95.86 %), and the ``pitch_percent`` of that table."""
     check_options(interpolation, beyond)
     if volume_basis not in VOLUME_BASES:
         raise InputError("volume_basis", f"unknown value {volume_basis!r}", allowed=", ".join(VOLUME_BASES))
-    path = Path(run_dir) / CUSPS_FILE
-    if not path.is_file():
-        raise InputError(
-            "run_dir",
-            f"no {CUSPS_FILE} in {str(run_dir)!r}",
-            value=str(run_dir),
-            allowed="a run directory (the shaft analysis needs one run's transit order)",
-        )
-    needed = ("bow_x_m", "step", "bbox_length_m", "bbox_width_m", "thickness_m", "volume_m3")
-    try:
-        parquet = pq.ParquetFile(path)
-        missing = [c for c in needed if c not in parquet.schema_arrow.names]
-        table = None if missing else parquet.read(columns=list(needed))
-    except (OSError, pa.ArrowInvalid) as error:
-        raise InputError("run_dir", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
-    if missing:
-        raise InputError("run_dir", f"{str(path)!r} lacks column(s) {', '.join(missing)}", value=str(path))
-    col = {c: table.column(c).to_numpy().astype(float) for c in needed}
+    col = columns
     order = np.lexsort((col["step"], col["bow_x_m"]))
     tables = resolve_fem_tables(fem_table)
     target = PropellerSpec().pitch_percent if pitch_percent is None else float(pitch_percent)
@@ -201,17 +182,6 @@ def run_cusp_inputs(
     }
 
 
-def run_ship_speed_m_s(run_dir: str | os.PathLike[str]) -> float | None:
-    """``ship.speed_m_s`` of the run's scenario.resolved.toml, None if the key (or file) is absent."""
-    path = Path(run_dir) / "scenario.resolved.toml"
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, tomllib.TOMLDecodeError):
-        return None
-    value = data.get("ship", {}).get("speed_m_s")
-    return None if value is None else float(value)
-
-
 def torque_densities(series_knm: dict[str, np.ndarray], bin_knm: float = 10.0):
     """Common bin edges [kN·m] over all `series_knm` (signed values) and each series' probability density
     [1/(kN·m)], its intervals above 0.1 %/(kN·m) and their envelope (thesis §6.2 comparison)."""
@@ -223,3 +193,91 @@ def torque_densities(series_knm: dict[str, np.ndarray], bin_knm: float = 10.0):
         intervals = ranges_above(edges, dens, DENSITY_THRESHOLD_PER_KNM)
         out[name] = {"density": dens, "intervals_knm": intervals, "envelope_knm": envelope(intervals)}
     return edges, out
+
+
+def torque_series_knm(result: ShaftResult, measured_torque_n_m=None) -> dict[str, np.ndarray]:
+    """The load and shaft torque of each case [kN m] (``load_case<n>``, ``shaft_case<n>``) and, if given,
+    the measured series (``measured``): what the spectra, files and figures show."""
+    series = {f"load_case{c}": q / 1e3 for c, q in zip(result.cases, result.load_torque_n_m, strict=True)}
+    series |= {f"shaft_case{c}": q / 1e3 for c, q in zip(result.cases, result.shaft_torque_n_m, strict=True)}
+    if measured_torque_n_m is not None:
+        series["measured"] = np.asarray(measured_torque_n_m) / 1e3
+    return series
+
+
+THESIS_MEASURED = {  # thesis §6.2 / Fig. 35, Agulhas II port shaft, 18/12/2019 20:20-20:30
+    "range_knm": [-100.0, 400.0],
+    "above_threshold_knm": [58.0, 152.0],
+    "source": "thesis §6.2 (measured shaft torque, including hydrodynamic torque)",
+}
+
+
+def shaft_summary(result: ShaftResult, densities: dict[str, dict], extra: dict | None = None) -> dict:
+    """The summary.json content: line, modes, excitation, Q_peak per case, spectra ranges (numpy values
+    as they are: `floebreak.io.writers.write_json` makes them JSON)."""
+    line = result.line
+    elements = []
+    for e, j in zip(line.elements, line.inertias_kg_m2, strict=True):
+        elements.append(
+            {
+                "name": e.name,
+                "inertia_kg_m2": j,
+                "shaft": e.shaft,
+                "stiffness_n_m_per_rad": e.stiffness_n_m_per_rad,
+                "damping_ratio": e.damping_ratio,
+            }
+        )
+    for e, c in zip(elements, line.damping_n_m_s_per_rad, strict=False):
+        e["damping_n_m_s_per_rad"] = c
+    blade_rate = result.blades * line.rpm / 60.0
+    return (
+        {
+            "shaft_line": {
+                "name": line.name,
+                "source": line.source,
+                "elements": elements,
+                "propeller_dry_inertia_kg_m2": line.elements[-1].inertia_kg_m2,
+                "entrained_water_fraction": line.entrained_water_fraction,
+                "speed_control_bandwidth_hz": line.speed_control_bandwidth_hz,
+                "speed_control_damping_ratio": line.speed_control_damping_ratio,
+                "hydrodynamic_damping": line.hydrodynamic_damping,
+            },
+            "operating_point": {
+                "rpm": line.rpm,
+                "mean_torque_knm": line.mean_torque() / 1e3,
+                "rated_power_w": line.rated_power_w,
+                "blade_passage_frequency_hz": blade_rate,
+            },
+            "modes_free_free": {
+                "natural_frequencies_hz": result.modes.frequency_hz,
+                "damping_ratios": result.modes.damping_ratio,
+                "mode_shapes": result.modes.shapes,
+                "frequency_over_blade_passage": result.modes.frequency_hz / blade_rate,
+            },
+            "station": result.station,
+            "excitation": {
+                "cases": {c: EXCITATION_CASES[c].__dict__ for c in result.cases},
+                "note": "rule cases as recalled (physics-notes §7.3): verify against the rule text",
+                "n_cusps": result.n_cusps,
+                "overlap": result.overlap,
+                "ship_speed_m_s": result.speed_m_s,
+                "samples_per_blade_passage": result.samples_per_blade_passage,
+                "time_step_s": float(result.time_s[1] - result.time_s[0]) if result.time_s.size > 1 else None,
+                "duration_s": float(result.time_s[-1]) if result.time_s.size else 0.0,
+            },
+            "q_peak_knm": {
+                c: {
+                    (k[:-4] + "_knm" if k.endswith("_n_m") else k): (v / 1e3 if k.endswith("_n_m") else v)
+                    for k, v in p.items()
+                }
+                for c, p in result.peaks().items()
+            },
+            "spectra_above_threshold_knm": {
+                n: {"intervals": d["intervals_knm"], "envelope": d["envelope_knm"]}
+                for n, d in densities.items()
+            },
+            "density_threshold_per_knm": DENSITY_THRESHOLD_PER_KNM,
+            "thesis_measured": THESIS_MEASURED,
+            **(extra or {}),
+        }
+    )

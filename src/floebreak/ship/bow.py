@@ -455,8 +455,9 @@ class Bow:
         ]
         for line, xy in (("upper", self.upper_xy_m), ("lower", self.lower_xy_m)):
             lines.extend(f"{line},{float(x)!r},{float(y)!r}" for x, y in xy)
-        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-        return path
+        from floebreak.io.atomic import write_text_atomic
+
+        return write_text_atomic(path, "\n".join(lines) + "\n", field="path")
 
 
 # --- CSV helpers ----------------------------------------------------------------------------------------

@@ -21,6 +21,8 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from floebreak.errors import InputError
+from floebreak.io.atomic import atomic_path
+from floebreak.io.writers import write_csv
 
 METRICS = (  # (summary key, table header) — thesis Tables 5–8 columns
     ("mean_cusp_volume_m3", "V̄_cusp [m³]"),
@@ -145,17 +147,15 @@ def aggregate(study_dir: str | Path) -> dict[str, Any]:
     records = collect_runs(study_dir)
     columns = sorted({key for record in records for key in record})
     table = pa.table({key: [record.get(key) for record in records] for key in columns})
-    temp = study_dir / ".study_runs.parquet.tmp"
-    pq.write_table(table, temp)
-    temp.replace(study_dir / "study_runs.parquet")
+    with atomic_path(study_dir / "study_runs.parquet") as temp:
+        pq.write_table(table, temp)
     tables = group_tables(records)
     (study_dir / "tables").mkdir(exist_ok=True)
     markdown = ["# Study tables (mean ± standard deviation over the random fields)", ""]
     for group, rows in tables.items():
         name = _slug(group)
         header = ["point", "n_fields"] + [f"{k}_{s}" for k, _ in METRICS for s in ("mean", "std")]
-        lines = [",".join(header)] + [",".join(_csv(row[h]) for h in header) for row in rows]
-        (study_dir / "tables" / f"{name}.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
+        write_csv(study_dir / "tables" / f"{name}.csv", {h: [row[h] for row in rows] for h in header})
         markdown.append(_markdown(group, rows))
     (study_dir / "tables" / "tables.md").write_text("\n".join(markdown), encoding="utf-8")
     _figures(study_dir, records, tables)
@@ -163,11 +163,6 @@ def aggregate(study_dir: str | Path) -> dict[str, Any]:
         status: sum(r["status"] == status for r in records) for status in ("complete", "failed", "missing")
     }
     return {"runs": len(records), **counts, "groups": list(tables)}
-
-
-def _csv(value: Any) -> str:
-    text = _fmt(value) if not isinstance(value, str) else value
-    return f'"{text}"' if "," in text else text
 
 
 def _cusp_volumes(study_dir: Path, run: str) -> np.ndarray:

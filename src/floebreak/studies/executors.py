@@ -66,7 +66,7 @@ def prepare_worker() -> None:
     (benchmarks/README.md, parallel efficiency)."""
     one_thread_per_worker()
     # what `execute_run` imports, and the modules of the run's figures
-    import floebreak.api
+    import floebreak.app.run
     import floebreak.plotting.field
     import floebreak.plotting.pattern
     import floebreak.plotting.spectra  # noqa: F401

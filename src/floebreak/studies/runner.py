@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from floebreak.io.atomic import write_text_atomic
 from floebreak.studies.design import Membership, RunSpec, StudySpec
 from floebreak.studies.executors import Executor, SerialExecutor
 
@@ -132,12 +133,6 @@ def common_field_file(scenario: dict[str, Any], fields_dir: Path) -> str | None:
         return None
 
 
-def _atomic_write_text(path: Path, text: str) -> None:
-    temp = path.with_name(f".{path.name}.tmp")
-    temp.write_text(text, encoding="utf-8")
-    temp.replace(path)
-
-
 def _study_document(spec: StudySpec, runs: list[RunSpec], members: list[Membership]) -> dict[str, Any]:
     """The content of study.json: the spec, every run and every group membership."""
     return {
@@ -173,7 +168,7 @@ def _record_failure(
         "scenario": scenario,
     }
     state.failures.append(record)
-    _atomic_write_text(failure_file, json.dumps(record, indent=2, default=str) + "\n")
+    write_text_atomic(failure_file, json.dumps(record, indent=2, default=str) + "\n")
 
 
 def _pending_tasks(
@@ -228,7 +223,7 @@ def run_study(
     failed_dir.mkdir(exist_ok=True)
     remove_temporary_runs(runs_dir)
     study_doc = _study_document(spec, runs, members)
-    _atomic_write_text(out_dir / "study.json", json.dumps(study_doc, indent=2) + "\n")
+    write_text_atomic(out_dir / "study.json", json.dumps(study_doc, indent=2) + "\n")
     state = StudyProgress(total=len(runs))
     if progress:
         progress(state)

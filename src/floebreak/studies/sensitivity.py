@@ -70,7 +70,7 @@ def reference_value(scenario: Scenario, key: str) -> float:
     """The value the run uses for the dotted scenario `key`: a failure-mode setting from the model the
     scenario builds (its profile's value unless the scenario sets one), any other key from the resolved
     scenario."""
-    from floebreak.api import build_model_for
+    from floebreak.app.run import build_model_for
     from floebreak.scenario import FLAT_FAILURE_KEYS
 
     section, _, name = key.partition(".")

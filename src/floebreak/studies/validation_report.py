@@ -160,7 +160,8 @@ def torque_range_lines(run_dirs: dict[str, list[Path]]) -> list[str]:
     density above 0.1 %"."""
     import pyarrow as pa
 
-    from floebreak.propeller.cusps import cusp_columns, load_cusps
+    from floebreak.io.run_files import load_cusps
+    from floebreak.propeller.cusps import cusp_columns
     from floebreak.propeller.fem import shipped_fem_tables
     from floebreak.propeller.pipeline import load_spectra, propeller_loads, torque_ranges_above
 

@@ -37,9 +37,9 @@ from floebreak.errors import InputError, require_range
 from floebreak.io.voyage_log import LogPeriod, VoyageLog
 from floebreak.scenario import FIELD_LENGTH_M, REFERENCE_TOML, SEED_MAX, SPEED_M_S, Scenario, apply_overrides
 from floebreak.studies.design import Membership, StudySpec, Sweep, check_n_fields, expand
+from floebreak.studies.voyage_results import FIELD_MARGIN_M
 
 DEFAULT_MAX_LENGTH_M = 400.0  # about the thesis' §5.3 field length (385–447 m inferred, docs/validation.md)
-FIELD_MARGIN_M = 5.0  # each side, beyond the largest floe diameter
 VOYAGE_FILE = "voyage.json"
 # scenario keys the log sets per period (a --set of them is refused)
 LOG_KEYS = (
@@ -138,7 +138,7 @@ def plan_voyage(
     if speed_m_s is not None:
         require_range("speed_m_s", speed_m_s, low=SPEED_M_S[0], high=SPEED_M_S[1], unit="m/s")
     require_range("max_length_m", max_length_m, low=0.0, high=FIELD_LENGTH_M[1], unit="m")
-    from floebreak.api import build_bow
+    from floebreak.app.run import build_bow
 
     plans = []
     beams: dict[float, float] = {}

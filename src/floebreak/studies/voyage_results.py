@@ -32,11 +32,13 @@ import numpy as np
 
 from floebreak.errors import InputError
 from floebreak.io.jsonable import jsonable
-from floebreak.studies.voyage import FIELD_MARGIN_M
+from floebreak.io.writers import rows_to_columns, write_csv, write_json
 
 RESULTS_DIR = "results"
 BEYOND_TABLE_WARNING = 0.10  # share of a period's cusps beyond the FEM table that is worth a warning
 QUANTITIES = {"force": ("kn", 10.0), "torque": ("knm", 10.0)}  # quantity → (unit in names, bin width)
+
+FIELD_MARGIN_M = 5.0  # each side beyond the largest floe diameter (`studies.voyage` sizes the fields)
 
 
 def period_weight(distance_m: float, simulated_length_m: float, n_fields_complete: int) -> float:
@@ -68,7 +70,8 @@ def read_voyage(voyage_dir: Path) -> dict[str, Any]:
 
 def _run_tables(voyage_dir: Path, names: set[str]) -> tuple[dict[str, dict], dict[str, dict]]:
     """Summaries and cusp columns of the complete runs among `names`."""
-    from floebreak.propeller.cusps import cusp_columns, load_cusps
+    from floebreak.io.run_files import load_cusps
+    from floebreak.propeller.cusps import cusp_columns
 
     summaries, cusps = {}, {}
     for name in sorted(names):
@@ -288,20 +291,6 @@ def _cell(value: Any, fmt: str = "g") -> str:
     return str(value)
 
 
-def _csv_text(rows: list[dict], comments: list[str]) -> str:
-    import csv
-    import io
-
-    buffer = io.StringIO()
-    for line in comments:
-        buffer.write(f"# {line}\n")
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(list(rows[0]) if rows else [])
-    for row in rows:
-        writer.writerow([_cell(v, ".10g") for v in row.values()])
-    return buffer.getvalue()
-
-
 def _periods_markdown(rows: list[dict], notes: list[str]) -> str:
     lines = ["# Voyage periods", "", *[f"- {note}" for note in notes], ""]
     lines.append("| " + " | ".join(h for _, h, _ in PERIOD_COLUMNS_MD) + " |")
@@ -462,21 +451,19 @@ def write_voyage_results(voyage_dir: str | Path, profile=None) -> dict[str, Any]
     )
     spectrum_rows, exceedance_rows = _spectra_rows(spectra)
     with atomic_directory(voyage_dir / RESULTS_DIR, overwrite=True, field="out") as temp:
-        (temp / "periods.csv").write_text(_csv_text(rows, notes), encoding="utf-8")
+        write_csv(temp / "periods.csv", rows_to_columns(rows), notes)
         markdown = _periods_markdown(rows, notes) + _rule_form_markdown(summary["rule_form"])
         (temp / "periods.md").write_text(markdown, encoding="utf-8")
         for name, table in (("spectra", spectrum_rows), ("exceedance", exceedance_rows)):
             for quantity, quantity_rows in _split_by_quantity(table).items():
                 comment = f"voyage {name} of |{quantity}|, time-weighted over the periods; {notes[0]}"
-                (temp / f"{name}_{quantity}.csv").write_text(
-                    _csv_text(quantity_rows, [comment]), encoding="utf-8"
-                )
+                write_csv(temp / f"{name}_{quantity}.csv", rows_to_columns(quantity_rows), [comment])
         _figures(temp / "figures", rows, spectra, list(loads["cases"]))
         _rule_form_figure(temp / "figures", loads, weights, spectra)
         _write_report(temp, summary, rows, spectra, loads)
         summary["files"] = sorted(p.relative_to(temp).as_posix() for p in temp.rglob("*") if p.is_file())
         summary["files"].append("summary.json")
-        (temp / "summary.json").write_text(json.dumps(jsonable(summary), indent=2) + "\n", encoding="utf-8")
+        write_json(temp / "summary.json", summary)
     return summary
 
 

@@ -1,0 +1,117 @@
+"""A propeller analysis of a run's or study's cusps: read the run directories (`floebreak.io.run_files`),
+analyse (`floebreak.propeller.pipeline.analyse_propeller`, pure), draw (`floebreak.plotting.propeller`) and
+write (`floebreak.io.propeller`). Files: docs/propeller.md "Output directory"."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+from floebreak.errors import InputError
+from floebreak.io.jsonable import jsonable
+from floebreak.io.propeller import write_propeller_files
+from floebreak.io.run_files import cusp_files, load_cusps, parquet_metadata, read_resolved_scenario
+from floebreak.propeller.iceclass import WEIBULL_SHAPE
+from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
+from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
+from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
+
+
+def run_transit_distance_m(run_dir: str | os.PathLike[str]) -> float | None:
+    """A run directory's transit distance in ice [m] (`floebreak.propeller.runs.transit_distance_m`), None
+    without the metadata."""
+    run_dir = Path(run_dir)
+    return transit_distance_m(
+        parquet_metadata(run_dir / "field.parquet"), parquet_metadata(run_dir / "pieces.parquet")
+    )
+
+
+def read_runs(root, *, pool: bool = False, **basis_overrides) -> RunInputs:
+    """Cusps and exposures of the run directory `root`, or of every run below it (`load_cusps`); pooling
+    and `basis_overrides` as `floebreak.propeller.runs.run_inputs`."""
+    root = Path(root)
+    cusps = load_cusps(root)
+    runs = {}
+    for run, path in cusp_files(root).items():
+        run_dir = path.parent
+        runs[run] = (run_dir, read_resolved_scenario(run_dir), run_transit_distance_m(run_dir))
+    return run_inputs(root, cusps, runs, pool=pool, **basis_overrides)
+
+
+def write_propeller(
+    result: PropellerResult,
+    out_dir: str | os.PathLike[str],
+    *,
+    overwrite: bool = False,
+    record: dict | None = None,
+) -> Path:
+    """Draw `result`'s figures and write it to the new directory `out_dir` atomically; return it. `record`
+    adds to the provenance (e.g. the input files)."""
+    return write_propeller_files(
+        result, out_dir, propeller_figures(result), overwrite=overwrite, record=record
+    )
+
+
+def propeller_figures(result: PropellerResult) -> dict[str, Any]:
+    """The analysis' figures (file name → matplotlib Figure), drawn by `floebreak.plotting.propeller`."""
+    from floebreak.plotting import propeller as figs
+
+    out = {}
+    o = result.options
+    out["volume_loads.png"] = figs.plot_volume_loads(result.tables, o["interpolation"], o["beyond"])
+    for quantity, name in (("force", "load"), ("torque", "torque")):
+        for log in (False, True):
+            scale = "log" if log else "linear"
+            out[f"{name}_spectrum_{scale}.png"] = figs.plot_spectrum(result.spectra, quantity, log)
+    torque = {p: result.amplitudes(p).torque_nm for p in result.tables}
+    out["rule_form.png"] = figs.plot_rule_form(torque, result.exceedance, WEIBULL_SHAPE[o["weibull"]])
+    if result.measured is not None:
+        m = result.measured
+        for log in (False, True):
+            out[f"torque_comparison_{'log' if log else 'linear'}.png"] = figs.plot_measured_comparison(
+                m.edges_knm, m.density_per_knm, result.spectra, log, DENSITY_THRESHOLD_PER_KNM
+            )
+    if result.rule is not None:
+        force = {p: result.amplitudes(p).force_n for p in result.tables}
+        out["ice_class_exceedance.png"] = figs.plot_rule_exceedance(
+            force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]]
+        )
+    return out
+
+
+def propeller_analysis(
+    cusps,
+    out_dir: str | os.PathLike[str],
+    *,
+    overwrite: bool = False,
+    pool: bool = False,
+    speed_m_s: float | None = None,
+    fraction_reaching: float | None = None,
+    n_propellers: int | None = None,
+    **options,
+) -> Path:
+    """Analyse and write: `cusps` is a run or study directory (its transit distances and scenarios give
+    the rates; several runs need equal scenarios but for seed and field, or `pool=True`) or a table
+    (`options["exposures"]` then gives the rates). `options`: those of `analyse_propeller`."""
+    record: dict[str, Any] = {}
+    if isinstance(cusps, str | os.PathLike):
+        inputs = read_runs(
+            cusps,
+            pool=pool,
+            speed_m_s=speed_m_s,
+            fraction_reaching=fraction_reaching,
+            n_propellers=n_propellers,
+        )
+        if "exposures" in options:
+            raise InputError("exposures", "given with a directory, which has its own", allowed="one of them")
+        options["exposures"] = inputs.exposures
+        cusps = inputs.cusps
+        record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
+        if inputs.missing_transit:
+            record["no_transit_distance"] = list(inputs.missing_transit)
+    fem = options.get("fem_table")
+    record["fem_tables"] = None if fem is None else jsonable(fem if isinstance(fem, dict) else str(fem))
+    record["torque_csv"] = None if options.get("torque_csv") is None else str(options["torque_csv"])
+    result = analyse_propeller(cusps, **options)
+    return write_propeller(result, out_dir, overwrite=overwrite, record=record)

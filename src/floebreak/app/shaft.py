@@ -1,0 +1,198 @@
+"""The shaft analysis of a run: read its cusps, resolved scenario and a measured torque series, compute
+(`floebreak.shaft.analysis.shaft_response`), draw (`floebreak.plotting.shaft`) and write
+(`floebreak.io.shaft_files`). Files: docs/shaft.md."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from floebreak.errors import InputError
+from floebreak.io.run_files import read_resolved_scenario, read_run_cusps
+from floebreak.io.shaft_files import write_shaft_files
+from floebreak.propeller.measured import TorqueSeries, read_torque_csv
+from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS
+from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
+from floebreak.shaft.analysis import (
+    CUSP_INPUT_COLUMNS,
+    ShaftResult,
+    cusp_torque_inputs,
+    shaft_response,
+    shaft_summary,
+    torque_densities,
+    torque_series_knm,
+)
+from floebreak.shaft.line import load_shaft_line
+
+
+def run_cusp_inputs(
+    run_dir: str | os.PathLike[str],
+    *,
+    fem_table=None,
+    pitch_percent: float | None = None,
+    interpolation: str = "newton",
+    beyond: str = "power_law",
+    volume_basis: str = DEFAULT_VOLUME_BASIS,
+) -> dict:
+    """Per cusp of the run directory `run_dir`, in transit order: ``bow_x_m``, ``thickness_m``,
+    ``torque_n_m`` and the table's ``pitch_percent`` (`floebreak.shaft.analysis.cusp_torque_inputs`)."""
+    return cusp_torque_inputs(
+        read_run_cusps(run_dir, CUSP_INPUT_COLUMNS),
+        fem_table=fem_table,
+        pitch_percent=pitch_percent,
+        interpolation=interpolation,
+        beyond=beyond,
+        volume_basis=volume_basis,
+    )
+
+
+def run_ship_speed_m_s(run_dir: str | os.PathLike[str]) -> float | None:
+    """``ship.speed_m_s`` of the run's scenario.resolved.toml, None if the key (or file) is absent."""
+    scenario = read_resolved_scenario(run_dir, strict=False) or {}
+    value = scenario.get("ship", {}).get("speed_m_s")
+    return None if value is None else float(value)
+
+
+def write_shaft_analysis(
+    result: ShaftResult,
+    out_dir: str | os.PathLike[str],
+    *,
+    measured: TorqueSeries | None = None,
+    bin_knm: float = 10.0,
+    overwrite: bool = False,
+    extra_summary: dict | None = None,
+) -> Path:
+    """Write `result` (and the comparison with `measured`) with its spectra, summary and figures to
+    `out_dir` atomically; return it."""
+    series = torque_series_knm(result, None if measured is None else measured.torque_nm)
+    edges, densities = torque_densities(series, bin_knm)
+    return write_shaft_files(
+        result,
+        out_dir,
+        series=series,
+        edges=edges,
+        densities=densities,
+        summary=shaft_summary(result, densities, extra_summary),
+        figures=shaft_figures(result, series, edges, densities, measured),
+        overwrite=overwrite,
+    )
+
+
+def shaft_figures(result: ShaftResult, series, edges, densities, measured: TorqueSeries | None) -> dict:
+    """The shaft analysis' figures (file name → matplotlib Figure), drawn by `floebreak.plotting.shaft`."""
+    from floebreak.plotting import shaft as figs
+
+    out = {}
+    primary = result.cases[0]
+    t = result.time_s
+    out["excitation_series.png"] = figs.plot_series(
+        t,
+        {f"propeller load, case {primary}": series[f"load_case{primary}"]},
+        f"propeller load torque Q(t) = Q_mean + Q_ice(t), case {primary}",
+    )
+    out["shaft_series.png"] = figs.plot_series(
+        t,
+        {
+            "propeller load": series[f"load_case{primary}"],
+            f"shaft at {result.station}": series[f"shaft_case{primary}"],
+        },
+        f"propeller load and shaft torque, case {primary}",
+    )
+    out["mode_shapes.png"] = figs.plot_modes(
+        [e.name for e in result.line.elements], result.modes.frequency_hz, result.modes.shapes
+    )
+    for log in (False, True):
+        scale = "log" if log else "linear"
+        shown = {
+            "propeller load": densities[f"load_case{primary}"]["density"],
+            f"shaft ({result.station})": densities[f"shaft_case{primary}"]["density"],
+        }
+        out[f"shaft_spectrum_{scale}.png"] = figs.plot_densities(
+            edges, shown, log, DENSITY_THRESHOLD_PER_KNM, f"torque spectra, case {primary}"
+        )
+        if measured is not None:
+            compared = {
+                f"simulated shaft ({result.station}), case {primary}": shown[f"shaft ({result.station})"],
+                "measured shaft": densities["measured"]["density"],
+            }
+            out[f"shaft_comparison_{scale}.png"] = figs.plot_densities(
+                edges,
+                compared,
+                log,
+                DENSITY_THRESHOLD_PER_KNM,
+                f"shaft torque: simulated vs measured ({Path(measured.source).name})",
+            )
+    return out
+
+
+@dataclass(frozen=True)
+class PreparedShaftAnalysis:
+    """A computed shaft analysis, validated and ready to write (`write`)."""
+
+    result: ShaftResult
+    measured: TorqueSeries | None
+    extra_summary: dict
+
+    def write(self, out_dir: str | os.PathLike[str], overwrite: bool = False) -> Path:
+        return write_shaft_analysis(
+            self.result,
+            out_dir,
+            measured=self.measured,
+            overwrite=overwrite,
+            extra_summary=self.extra_summary,
+        )
+
+
+def shaft_analysis_of_run(
+    run_dir: str | os.PathLike[str],
+    shaft_line: str | os.PathLike[str],
+    *,
+    station: str | None = None,
+    rpm: float | None = None,
+    speed_m_s: float | None = None,
+    mean_torque_knm: float | None = None,
+    cases=(1, 2, 3, 4),
+    fem_table=None,
+    pitch_percent: float | None = None,
+    torque_csv: str | os.PathLike[str] | None = None,
+    interpolation: str = "newton",
+    beyond: str = "power_law",
+    samples_per_blade_passage: int = 40,
+) -> PreparedShaftAnalysis:
+    """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is
+    written (write with ``.write(out_dir)``). The ship speed: `speed_m_s`, else the run's resolved
+    scenario's ``ship.speed_m_s``, else an InputError asking for it."""
+    line = load_shaft_line(shaft_line)
+    if speed_m_s is None:
+        speed_m_s = run_ship_speed_m_s(run_dir)
+        if speed_m_s is None:
+            raise InputError(
+                "speed_m_s",
+                f"not given, and {str(run_dir)!r} has no ship.speed_m_s in scenario.resolved.toml",
+                allowed="--speed-m-s SPEED (ship speed > 0 m/s)",
+            )
+    measured = None if torque_csv is None else read_torque_csv(torque_csv)
+    cusps = run_cusp_inputs(
+        run_dir, fem_table=fem_table, pitch_percent=pitch_percent, interpolation=interpolation, beyond=beyond
+    )
+    result = shaft_response(
+        cusps["bow_x_m"],
+        cusps["torque_n_m"],
+        cusps["thickness_m"],
+        line,
+        speed_m_s=speed_m_s,
+        rpm=rpm,
+        station=station,
+        cases=tuple(cases or ()),
+        mean_torque_n_m=None if mean_torque_knm is None else 1e3 * mean_torque_knm,
+        samples_per_blade_passage=samples_per_blade_passage,
+    )
+    extra = {
+        "run_dir": Path(run_dir).name,
+        "fem_pitch_percent": cusps["pitch_percent"],
+        "interpolation": interpolation,
+        "beyond": beyond,
+        "measured_source": None if measured is None else measured.source,
+    }
+    return PreparedShaftAnalysis(result, measured, extra)

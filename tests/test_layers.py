@@ -1,0 +1,237 @@
+"""The layers of docs/architecture.md, checked on the import graph of src/floebreak built from the source
+with `ast` (module-level and function-level imports; imports under ``if TYPE_CHECKING:`` are for type
+checkers only and are left out): no module imports a layer above its own, and no two files import each
+other, directly or through others."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src" / "floebreak"
+
+# layer rank (higher may import lower or equal), by module name prefix; the longest prefix decides
+ENTRY, APP, COMPUTING, LEAF, BASE = 4, 3, 2, 1, 0
+LAYERS = {
+    # the command line, the public API and the tools built on it
+    "floebreak": ENTRY,  # the package's __init__ (PEP 562 names) and anything not listed below
+    "floebreak.__main__": ENTRY,
+    "floebreak.cli": ENTRY,
+    "floebreak.api": ENTRY,
+    "floebreak.studies.cli": ENTRY,
+    "floebreak.studies.validate_cli": ENTRY,
+    "floebreak.fuzz": ENTRY,
+    "floebreak.testing": ENTRY,
+    # the application layer: reading + computing + writing; the study and voyage orchestration
+    "floebreak.app": APP,
+    "floebreak.replay": APP,
+    "floebreak.studies.runner": APP,
+    "floebreak.studies.executors": APP,
+    "floebreak.studies.aggregate": APP,
+    "floebreak.studies.voyage": APP,
+    "floebreak.studies.voyage_results": APP,
+    "floebreak.studies.validation_report": APP,
+    "floebreak.studies.sensitivity": APP,
+    # the computing packages
+    "floebreak.ice": COMPUTING,
+    "floebreak.ship": COMPUTING,
+    "floebreak.mechanics": COMPUTING,
+    "floebreak.failure": COMPUTING,
+    "floebreak.simulation": COMPUTING,
+    "floebreak.results": COMPUTING,
+    "floebreak.profiles": COMPUTING,
+    "floebreak.scenario": COMPUTING,
+    "floebreak.propeller": COMPUTING,
+    "floebreak.shaft": COMPUTING,
+    "floebreak.studies": COMPUTING,  # design, field size, statements, scoring, single-floe matrix
+    # the leaves: readers and writers, figures
+    "floebreak.io": LEAF,
+    "floebreak.plotting": LEAF,
+    "floebreak.report": LEAF,
+    # the base every layer may import
+    "floebreak.constants": BASE,
+    "floebreak.errors": BASE,
+    "floebreak.exit_codes": BASE,
+    "floebreak.data": BASE,
+}
+
+# io and plotting are siblings that do not know each other (figures are drawn by plotting and handed to io)
+SIBLINGS_APART = (("floebreak.io", "floebreak.plotting"), ("floebreak.plotting", "floebreak.io"))
+
+# upward imports that exist today, each a known debt (docs/architecture.md, "Known exceptions"); a new
+# one fails the test, and a fixed one must be removed from here
+KNOWN_UPWARD = {
+    ("floebreak.io.field_files", "floebreak.ice.field"),  # the FloeField dataclass it reads and writes
+    ("floebreak.io.voyage_log", "floebreak.ice.observations"),  # validates log rows as observations
+    ("floebreak.io.voyage_log", "floebreak.propeller.spec"),
+    ("floebreak.io.voyage_log", "floebreak.scenario"),
+    ("floebreak.plotting.field", "floebreak.ice.field"),  # the FloeField dataclass it draws
+    ("floebreak.plotting.propeller", "floebreak.propeller.iceclass"),  # draws curves it computes
+    ("floebreak.plotting.propeller", "floebreak.propeller.interpolation"),
+    ("floebreak.plotting.propeller", "floebreak.propeller.rates"),
+    ("floebreak.plotting.propeller", "floebreak.propeller.ruleform"),
+    ("floebreak.plotting.propeller", "floebreak.propeller.spectra"),
+    ("floebreak.studies.runner", "floebreak.api"),  # to become floebreak.app.run
+}
+
+
+def _modules() -> dict[str, Path]:
+    modules = {}
+    for path in SRC.rglob("*.py"):
+        parts = list(path.relative_to(SRC.parent).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        modules[".".join(parts)] = path
+    return modules
+
+
+def _type_checking_blocks(tree: ast.AST) -> set[int]:
+    """ids of the import nodes under ``if TYPE_CHECKING:``."""
+    skipped = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            skipped.update(id(n) for child in node.body for n in ast.walk(child))
+    return skipped
+
+
+def _targets(module: str, is_package: bool, node: ast.Import | ast.ImportFrom, modules) -> set[str]:
+    if isinstance(node, ast.Import):
+        names = [alias.name for alias in node.names]
+    else:
+        if node.level:
+            base = module.split(".")[: len(module.split(".")) - node.level + (1 if is_package else 0)]
+            prefix = ".".join(base + ([node.module] if node.module else []))
+        else:
+            prefix = node.module or ""
+        # `from package import module` imports the module; `from module import name` the module
+        names = [f"{prefix}.{a.name}" if f"{prefix}.{a.name}" in modules else prefix for a in node.names]
+    out = set()
+    for name in names:
+        if name.split(".")[0] != "floebreak":
+            continue
+        while name not in modules and "." in name:
+            name = name.rsplit(".", 1)[0]
+        if name != module:
+            out.add(name)
+    return out
+
+
+def import_graph() -> dict[str, set[str]]:
+    modules = _modules()
+    graph = {}
+    for module, path in modules.items():
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        skipped = _type_checking_blocks(tree)
+        edges: set[str] = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import | ast.ImportFrom) and id(node) not in skipped:
+                edges |= _targets(module, path.name == "__init__.py", node, modules)
+        graph[module] = edges
+    return graph
+
+
+def layer(module: str) -> int:
+    prefixes = [p for p in LAYERS if module == p or module.startswith(p + ".")]
+    return LAYERS[max(prefixes, key=len)]
+
+
+def upward_imports(graph: dict[str, set[str]]) -> set[tuple[str, str]]:
+    found = set()
+    for module, targets in graph.items():
+        for target in targets:
+            if layer(target) > layer(module):
+                found.add((module, target))
+            for low, high in SIBLINGS_APART:
+                if module.startswith(low) and target.startswith(high):
+                    found.add((module, target))
+    return found
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan), each a file cycle."""
+    index, low, stack, on_stack, components = {}, {}, [], set(), []
+
+    def visit(node: str) -> None:
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        on_stack.add(node)
+        for target in graph.get(node, ()):
+            if target not in index:
+                visit(target)
+                low[node] = min(low[node], low[target])
+            elif target in on_stack:
+                low[node] = min(low[node], index[target])
+        if low[node] == index[node]:
+            component = []
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component.append(member)
+                if member == node:
+                    break
+            if len(component) > 1:
+                components.append(sorted(component))
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return components
+
+
+def test_no_module_imports_a_layer_above_its_own():
+    new = upward_imports(import_graph()) - KNOWN_UPWARD
+    assert not new, "upward imports (docs/architecture.md, layers):\n" + "\n".join(
+        f"{a} -> {b}" for a, b in sorted(new)
+    )
+
+
+def test_the_known_exceptions_still_exist():
+    # a debt paid off is removed from KNOWN_UPWARD, so that it cannot come back unnoticed
+    assert KNOWN_UPWARD <= upward_imports(import_graph())
+
+
+def test_no_file_cycles():
+    assert cycles(import_graph()) == []
+
+
+def test_io_and_the_computing_packages_follow_the_rules_of_the_issue():
+    graph = import_graph()
+    for module, targets in graph.items():
+        if module.startswith("floebreak.io"):
+            analyses = ("floebreak.propeller.pipeline", "floebreak.shaft")
+            computing = {t for t in targets if t.startswith(analyses)}
+            assert not computing, f"{module} runs an analysis: {computing}"
+        if module.startswith(("floebreak.propeller", "floebreak.shaft")):
+            assert not {t for t in targets if layer(t) > COMPUTING}, module
+
+
+@pytest.mark.parametrize(
+    ("graph", "expected"),
+    [
+        ({"a": {"b"}, "b": {"a"}, "c": {"a"}}, [["a", "b"]]),
+        ({"a": {"b"}, "b": {"c"}, "c": {"a"}}, [["a", "b", "c"]]),
+        ({"a": {"b"}, "b": set()}, []),
+    ],
+)
+def test_the_cycle_finder_finds_cycles(graph, expected):
+    assert cycles(graph) == expected
+
+
+def test_the_checker_sees_function_level_and_relative_imports(tmp_path, monkeypatch):
+    # a hand-made package: `low` (a leaf) imports `high` inside a function, `b` imports `a` relatively
+    package = tmp_path / "floebreak"
+    (package / "io").mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "io" / "__init__.py").write_text("")
+    (package / "io" / "low.py").write_text("def f():\n    from floebreak.app import high\n")
+    (package / "app").mkdir()
+    (package / "app" / "__init__.py").write_text("")
+    (package / "app" / "high.py").write_text("from . import other\n")
+    (package / "app" / "other.py").write_text("from floebreak.app import high\n")
+    monkeypatch.setattr(f"{__name__}.SRC", package)
+    graph = import_graph()
+    assert graph["floebreak.io.low"] == {"floebreak.app.high"}
+    assert ("floebreak.io.low", "floebreak.app.high") in upward_imports(graph)
+    assert cycles(graph) == [["floebreak.app.high", "floebreak.app.other"]]
