@@ -45,6 +45,7 @@ from floebreak import constants as c
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons, first_overlap
 from floebreak.io.atomic import atomic_directory
+from floebreak.io.checksums import with_checksum
 from floebreak.io.contacts import ContactFile, read_contacts, write_contacts
 from floebreak.io.geoparquet import row_groups, write_geoparquet, write_geoparquet_groups
 from floebreak.io.jsonable import jsonable, to_json
@@ -761,6 +762,7 @@ def _write_run_files(
 
             write_report(temp, directory_name=directory_name or out.name)
         summary_doc["files"] = file_checksums(temp)  # a resumed study re-runs a run whose files differ
+        summary_doc = with_checksum(summary_doc)  # ... or whose summary was edited
         (temp / "summary.json").write_text(json.dumps(summary_doc, indent=2) + "\n", encoding="utf-8")
 
 
