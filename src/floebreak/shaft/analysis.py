@@ -205,7 +205,7 @@ def run_ship_speed_m_s(run_dir: str | os.PathLike[str]) -> float | None:
     """``ship.speed_m_s`` of the run's scenario.resolved.toml, None if the key (or file) is absent."""
     path = Path(run_dir) / "scenario.resolved.toml"
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, tomllib.TOMLDecodeError):
         return None
     value = data.get("ship", {}).get("speed_m_s")
