@@ -62,6 +62,22 @@ def _voyage_log(folder: Path, _) -> list[str]:
     return ["voyage", str(folder / "log.csv"), "--out", str(folder / "voyage"), "--workers", "1"]
 
 
+def _field_file_with_repeated_id(folder: Path, monkeypatch) -> list[str]:
+    import json
+
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+    import shapely
+
+    geo = {"version": "1.1.0", "primary_column": "geometry", "columns": {"geometry": {"encoding": "WKB"}}}
+    geo["columns"]["geometry"]["crs"] = None
+    wkb = [shapely.to_wkb(shapely.box(x, -5, x + 10, 5)) for x in (20, 40)]
+    table = pa.table({"geometry": pa.array(wkb, pa.binary()), "floe_id": [4, 4], "thickness_m": [1.0, 1.0]})
+    pq.write_table(table.replace_schema_metadata({"geo": json.dumps(geo)}), folder / "f.parquet")
+    scenario = _scenario(folder, '[field]\nfile = "f.parquet"\n')
+    return ["run", scenario, "--out", str(folder / "out"), "-q"]
+
+
 def _existing_run(folder: Path, monkeypatch) -> list[str]:
     (folder / "out").mkdir()
     (folder / "out" / "keep.txt").write_text("mine", encoding="utf-8")
@@ -124,6 +140,21 @@ def _damaged_study(folder: Path, monkeypatch) -> list[str]:
     run_study(spec, runs, members, folder / "study")
     cusps = folder / "study" / "runs" / "run-00000" / "cusps.parquet"
     cusps.write_bytes(cusps.read_bytes()[:300])  # truncated next to an intact summary.json
+    (folder / "study.toml").write_text(STUDY, encoding="utf-8")
+    return ["study", str(folder / "study.toml"), "--out", str(folder / "study"), "--workers", "1"]
+
+
+def _edited_summary_study(folder: Path, monkeypatch) -> list[str]:
+    import json
+
+    from floebreak.studies.design import expand, study_from_dict
+    from floebreak.studies.runner import run_study
+
+    spec = study_from_dict(tomllib.loads(STUDY))
+    run_study(spec, *expand(spec), folder / "study")
+    summary_file = folder / "study" / "runs" / "run-00000" / "summary.json"
+    summary = json.loads(summary_file.read_text(encoding="utf-8"))
+    summary_file.write_text(json.dumps({**summary, "n_cusps": 123456}), encoding="utf-8")  # files intact
     (folder / "study.toml").write_text(STUDY, encoding="utf-8")
     return ["study", str(folder / "study.toml"), "--out", str(folder / "study"), "--workers", "1"]
 
@@ -198,6 +229,39 @@ ROWS = [
         _voyage_log,
     ),
     Row(
+        "bad field file (file, row and column named; also text ids or thickness, no rows, a bad `domain_m`, "
+        "overlapping floes, a geographic CRS)",
+        '`run s.toml` with `[field] file = "f.parquet"` (floe_id 4 twice)',
+        2,
+        "error: field.file: '<folder>/f.parquet', row 2, column 'floe_id': 4 repeats row 1",
+        _field_file_with_repeated_id,
+    ),
+    Row(
+        "concentration whose circles would cover more than the field (`floe_area_factor` below ¼)",
+        "`run s.toml --set field.floe_area_factor=0.1`",
+        2,
+        "error: field.concentration: 0.44 (44 %) cannot be reached by 'circles' with "
+        "field.floe_area_factor = 0.1: a floe of diameter d counts as 0.1·π d² but is placed as a circle "
+        "(0.25·π d²), so the circles would have to cover 110 % of the field",
+        _run("--set", "field.floe_area_factor=0.1"),
+    ),
+    Row(
+        "field whose whole floes miss the concentration",
+        "`run s.toml --set field.width_m=40`",
+        2,
+        "error: field.length_m: whole floes cannot give concentration 44 % (±1 pp) in this 60 m × 40 m "
+        "field: its 12 floes (2 × 2.5 m, 5 × 7.5 m, 5 × 15 m, the observation's shares rounded to whole "
+        "floes) cover 46.4 %",
+        _run("--set", "field.width_m=40"),
+    ),
+    Row(
+        "hull flare that folds the lower waterline",
+        "`run s.toml --set ship.hull_parameters.shoulder_frame_angle_deg=89.999`",
+        2,
+        "error: ship.hull_parameters.shoulder_frame_angle_deg: 89.999° flares the hull side so much that",
+        _run("--set", "ship.hull_parameters.shoulder_frame_angle_deg=89.999"),
+    ),
+    Row(
         "existing run directory",
         "`run s.toml --out out` (out exists)",
         2,
@@ -259,6 +323,13 @@ ROWS = [
         0,
         "failed 0, resumed 0",  # the damaged run is not trusted: run again
         _damaged_study,
+    ),
+    Row(
+        "resuming a study with a hand-edited run `summary.json` (other files intact)",
+        "`study study.toml --out study` (again)",
+        0,
+        "failed 0, resumed 0",  # the edited summary is not trusted: run again
+        _edited_summary_study,
     ),
     Row(
         "Ctrl-C",

@@ -642,7 +642,7 @@ class Scenario(_Section):
         cls, text: str, base_dir: str | Path | None = None, overrides: Iterable[str] = (), source: str = ""
     ) -> Scenario:
         try:
-            data = tomllib.loads(text)
+            data = tomllib.loads(text.removeprefix("\ufeff"))  # a UTF-8 BOM (Windows editors) is no statement
         except tomllib.TOMLDecodeError as error:
             where = f"{source}: " if source else ""
             raise InputError("scenario", f"{where}malformed TOML: {error}", allowed="a TOML file") from None

@@ -78,3 +78,125 @@ def test_a_file_floebreak_wrote_loads_without_warning(tmp_path, floe_field):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert "domain_rule" not in load_field(path).metadata
+
+
+# --- field files validated like inline floes (issue 31, item 2) ------------------------------------------
+def _write_field_file(
+    path, columns, *, polygons=None, domain_m=(0.0, -20.0, 100.0, 20.0), crs=None, drop_crs=False
+):
+    """A GeoParquet field file built with pyarrow and shapely alone (not floebreak's writer), as another
+    tool would write it: two 10 m squares apart unless `polygons` are given."""
+    import pyarrow as pa
+
+    if polygons is None:
+        polygons = [shapely.box(20, -5, 30, 5), shapely.box(40, -5, 50, 5)]
+    column = {"encoding": "WKB", "geometry_types": ["Polygon"], "crs": crs, "edges": "planar"}
+    if drop_crs:
+        del column["crs"]
+    geo = {"version": "1.1.0", "primary_column": "geometry", "columns": {"geometry": column}}
+    metadata = {b"geo": json.dumps(geo).encode()}
+    if domain_m is not None:
+        metadata[b"floebreak"] = json.dumps({"domain_m": domain_m}).encode()
+    wkb = [shapely.to_wkb(p) for p in polygons]
+    table = pa.table({"geometry": pa.array(wkb, pa.binary()), **columns})
+    pq.write_table(table.replace_schema_metadata(metadata), path)
+    return path
+
+
+TWO = {"floe_id": [0, 1], "thickness_m": [1.0, 1.0]}
+BAD_FILES = [
+    # (what, columns, options, the message's place, the message's fragment)
+    ("duplicate floe_id", {**TWO, "floe_id": [4, 4]}, {}, "row 2, column 'floe_id'", "4 repeats row 1"),
+    (
+        "floe_id as strings",
+        {**TWO, "floe_id": ["a", "b"]},
+        {},
+        "row 1, column 'floe_id'",
+        "'a' is not an integer",
+    ),
+    ("float floe_id", {**TWO, "floe_id": [0.0, 1.5]}, {}, "row 2, column 'floe_id'", "1.5 is not an integer"),
+    (
+        "thickness as strings",
+        {**TWO, "thickness_m": ["thick", "1"]},
+        {},
+        "row 1, column 'thickness_m'",
+        "'thick' is not a number",
+    ),
+    (
+        "numeric strings",
+        {**TWO, "thickness_m": ["1.0", "1.0"]},
+        {},
+        "row 1, column 'thickness_m'",
+        "'1.0' is not a number",
+    ),
+    ("zero thickness", {**TWO, "thickness_m": [1.0, 0.0]}, {}, "row 2, column 'thickness_m'", "0.0"),
+    ("null thickness", {**TWO, "thickness_m": [1.0, None]}, {}, "row 2, column 'thickness_m'", "nan"),
+    ("domain_m text", TWO, {"domain_m": "abc"}, "metadata 'domain_m'", "'abc'"),
+    ("domain_m NaN", TWO, {"domain_m": [0, 0, float("nan"), 1]}, "metadata 'domain_m'", "nan"),
+    ("domain_m of 3", TWO, {"domain_m": [0, 0, 1]}, "metadata 'domain_m'", "[0, 0, 1]"),
+    ("inverted domain_m", TWO, {"domain_m": [100, 20, 0, -20]}, "metadata 'domain_m'", "inverted"),
+    ("geographic CRS", TWO, {"crs": "OGC:CRS84"}, "column 'geometry' (crs)", "'OGC:CRS84'"),
+    (
+        "projected CRS",
+        TWO,
+        {"crs": {"type": "ProjectedCRS", "name": "WGS 84 / UTM zone 33N"}},
+        "(crs)",
+        "UTM",
+    ),
+    ("no crs key (GeoParquet: CRS84)", TWO, {"drop_crs": True}, "(crs)", "OGC:CRS84"),
+    (
+        "overlapping polygons",
+        TWO,
+        {"polygons": [shapely.box(20, -5, 30, 5), shapely.box(29, -5, 39, 5)]},
+        "row 2, column 'geometry'",
+        "overlaps row 1",
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("what", "columns", "options", "place", "fragment"), BAD_FILES, ids=[b[0] for b in BAD_FILES]
+)
+def test_a_bad_field_file_is_an_input_error_naming_file_row_and_column(
+    tmp_path, what, columns, options, place, fragment
+):
+    path = _write_field_file(tmp_path / "f.parquet", columns, **options)
+    with pytest.raises(InputError) as caught:
+        load_field(path, field="field.file")
+    message = str(caught.value)
+    assert message.startswith(f"field.file: {str(path)!r}"), message
+    assert place in message and fragment in message, message
+
+
+def test_an_empty_field_file_is_an_input_error(tmp_path):
+    path = _write_field_file(tmp_path / "f.parquet", {"floe_id": [], "thickness_m": []}, polygons=[])
+    with pytest.raises(InputError, match="has no rows"):
+        load_field(path)
+
+
+def test_integral_float_ids_touching_floes_and_a_local_metre_crs_are_accepted(tmp_path):
+    local = {
+        "type": "EngineeringCRS",
+        "name": "ship frame",
+        "coordinate_system": {
+            "subtype": "Cartesian",
+            "axis": [
+                {"name": "x", "direction": "east", "unit": "metre"},
+                {"name": "y", "direction": "north", "unit": "metre"},
+            ],
+        },
+    }
+    touching = [shapely.box(20, -5, 30, 5), shapely.box(30, -5, 40, 5)]  # a shared edge: no area in common
+    columns = {"floe_id": [3.0, 7.0], "thickness_m": [1, 2]}  # integer thickness is a number too
+    path = _write_field_file(tmp_path / "f.parquet", columns, polygons=touching, crs=local)
+    loaded = load_field(path)
+    np.testing.assert_array_equal(loaded.floe_id, [3, 7])
+    np.testing.assert_array_equal(loaded.thickness_m, [1.0, 2.0])
+    assert loaded.domain_m == (0.0, -20.0, 100.0, 20.0)
+
+
+def test_a_local_crs_in_feet_is_refused(tmp_path):
+    feet = {"type": "EngineeringCRS", "coordinate_system": {"axis": [{"name": "x", "unit": "foot"}]}}
+    path = _write_field_file(tmp_path / "f.parquet", TWO, crs=feet)
+    with pytest.raises(InputError, match="crs"):
+        load_field(path)

@@ -43,8 +43,9 @@ import shapely
 
 from floebreak import constants as c
 from floebreak.errors import InputError
-from floebreak.ice.field import FloeField, circle_polygons
+from floebreak.ice.field import FloeField, circle_polygons, first_overlap
 from floebreak.io.atomic import atomic_directory
+from floebreak.io.checksums import with_checksum
 from floebreak.io.contacts import ContactFile, read_contacts, write_contacts
 from floebreak.io.geoparquet import row_groups, write_geoparquet, write_geoparquet_groups
 from floebreak.io.jsonable import jsonable, to_json
@@ -244,17 +245,11 @@ def _inline_field(scenario: Scenario) -> FloeField:
     centres = np.array([[f.x_m, f.y_m] for f in floes], dtype=float)
     radii = np.array([0.5 * f.diameter_m for f in floes], dtype=float)
     polygons = circle_polygons(centres, radii, c.CIRCLE_POLYGON_VERTICES)
-    # candidate pairs from a spatial index (10 000 floes: pairs that touch, not all 5e7 pairs)
-    first, second = shapely.STRtree(polygons).query(polygons, predicate="intersects")
-    pairs = first < second
-    first, second = first[pairs], second[pairs]
-    overlap = shapely.area(shapely.intersection(polygons[first], polygons[second])) > 0.0
-    if overlap.any():
-        order = np.lexsort((first[overlap], second[overlap]))[0]  # the first pair a loop over j, i would meet
-        i, j = int(first[overlap][order]), int(second[overlap][order])
+    overlap = first_overlap(polygons)
+    if overlap is not None:
         raise InputError(
-            f"field.floes[{j}]",
-            f"overlaps field.floes[{i}]",
+            f"field.floes[{overlap[1]}]",
+            f"overlaps field.floes[{overlap[0]}]",
             allowed="floes that do not overlap (distance between centres ≥ sum of radii)",
         )
     fallback = scenario.ice.thickness_m
@@ -768,6 +763,7 @@ def _write_run_files(
 
             write_report(temp, directory_name=directory_name or out.name)
         summary_doc["files"] = file_checksums(temp)  # a resumed study re-runs a run whose files differ
+        summary_doc = with_checksum(summary_doc)  # ... or whose summary was edited
         write_json(temp / "summary.json", summary_doc)
 
 

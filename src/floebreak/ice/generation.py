@@ -43,20 +43,53 @@ SQP_MAX_FLOES = 400  # beyond this SLSQP's dense O(n²) constraint Jacobian is i
 
 class ConcentrationError(InputError):
     """The user's concentration `target` (a fraction) could not be reached by `generator` in a field of
-    `size_m` (length, width); `reached` is the highest concentration reached, `reason` says what it is."""
+    `size_m` (length, width). `cover` is the highest share of the field the placed circles covered and
+    `reason` says what it is; `reached` is that cover as a concentration in the user's units.
+
+    A concentration counts each floe as `floe_area_factor`·π d² (thesis §2.1, erratum 1) while the floe is a
+    circle of diameter d (0.25·π d²): with another factor than 0.25 the circles must cover
+    target·0.25/factor of the field, and the message says so, in the user's units, with both fixes."""
 
     def __init__(
-        self, target: float, reached: float, reason: str, generator: str, size_m: tuple[float, float]
+        self,
+        target: float,
+        cover: float,
+        reason: str,
+        generator: str,
+        size_m: tuple[float, float],
+        floe_area_factor: float = c.FLOE_AREA_FACTOR,
     ):
-        self.reached = reached
-        super().__init__(
-            "concentration",
-            f"{target:g} ({100 * target:g} %) not reached by {generator!r} in this {size_m[0]:g} m × "
-            f"{size_m[1]:g} m field: highest concentration reached {100 * reached:.2f} %, {reason}",
-            value=target,
-            allowed=f"at most about {reached:.3g} with {generator!r} in this field, or generator 'voronoi', "
-            "which reaches any concentration up to 1",
-        )
+        per_cover = floe_area_factor / c.FLOE_AREA_FACTOR  # concentration per unit of circle cover
+        self.cover = cover
+        self.reached = cover * per_cover
+        field = f"this {size_m[0]:g} m × {size_m[1]:g} m field"
+        other = "or generator 'voronoi', which reaches any concentration up to 1"
+        if per_cover == 1.0:
+            message = (
+                f"{target:g} ({100 * target:g} %) not reached by {generator!r} in {field}: highest "
+                f"concentration reached {100 * cover:.2f} %, {reason}"
+            )
+            allowed = f"at most about {cover:.3g} with {generator!r} in this field, {other}"
+        else:
+            message = (
+                f"{target:g} ({100 * target:g} %) not reached by {generator!r} in {field} with "
+                f"{_factor_note(floe_area_factor)}, so the circles must cover "
+                f"{100 * target / per_cover:.1f} % of the field; the highest cover reached is "
+                f"{100 * cover:.2f} %, {reason}: a concentration of {self.reached:.3g} with this "
+                "floe_area_factor"
+            )
+            allowed = (
+                f"field.concentration ≤ about {self.reached:.3g}, or field.floe_area_factor ≥ about "
+                f"{floe_area_factor * target / self.reached:.3g}, {other}"
+            )
+        super().__init__("concentration", message, value=target, allowed=allowed)
+
+
+def _factor_note(floe_area_factor: float) -> str:
+    return (
+        f"field.floe_area_factor = {floe_area_factor:g}: a floe of diameter d counts as "
+        f"{floe_area_factor:g}·π d² but is placed as a circle (0.25·π d²)"
+    )
 
 
 @dataclass(frozen=True)
@@ -149,6 +182,7 @@ def _circle_field(
     clustering: float,
     vertices: int,
     on_round=None,
+    floe_area_factor: float = c.FLOE_AREA_FACTOR,
 ):
     """Circular floes of `counts` placed by `generator`; ConcentrationError naming the user's `target`
     (not the cover of the rounded counts) when they cannot all be placed without overlap."""
@@ -169,6 +203,7 @@ def _circle_field(
             f"the cover of the floes it placed without overlap ({failed})",
             generator,
             (domain[2] - domain[0], domain[3] - domain[1]),
+            floe_area_factor,
         )
     polygons = circle_polygons(packing.centers_m, packing.radii_m, vertices)
     info = {
@@ -226,18 +261,36 @@ def _voronoi_field(counts: FloeCounts, concentration: float, domain, rng):
     return polygons[order], nearest[order], {}
 
 
-def _refuse_full_cover_by_circles(concentration: float, generator: str) -> None:
-    """InputError for a concentration of 1 with a circle generator, before anything is placed (the placement
-    would run to its end and fail): circles always leave gaps, equal ones cover at most π/√12 = 90.7 % of a
-    plane (hexagonal packing, Thue's theorem)."""
-    if concentration >= 1.0:
+def _refuse_full_cover_by_circles(concentration: float, generator: str, floe_area_factor: float) -> None:
+    """InputError when the circles would have to cover the whole field (concentration·0.25/floe_area_factor
+    ≥ 1, `ConcentrationError`), before anything is placed (the placement would run to its end and fail):
+    circles always leave gaps, equal ones cover at most π/√12 = 90.7 % of a plane (hexagonal packing,
+    Thue's theorem)."""
+    cover = concentration * c.FLOE_AREA_FACTOR / floe_area_factor
+    if cover < 1.0:
+        return
+    gaps = (
+        "circular floes always leave gaps between them (equal circles cover at most π/√12 = 90.7 % of a "
+        "plane, hexagonally packed)"
+    )
+    voronoi = "generator 'voronoi' (any concentration up to 1)"
+    if floe_area_factor == c.FLOE_AREA_FACTOR:
         raise InputError(
             "concentration",
-            f"{concentration:g} (100 %) cannot be reached by {generator!r}: circular floes always leave gaps "
-            "between them (equal circles cover at most π/√12 = 90.7 % of a plane, hexagonally packed)",
+            f"{concentration:g} (100 %) cannot be reached by {generator!r}: {gaps}",
             value=concentration,
-            allowed=f"< 1 with {generator!r}, or generator 'voronoi' (any concentration up to 1)",
+            allowed=f"< 1 with {generator!r}, or {voronoi}",
         )
+    densest = np.pi / np.sqrt(12.0)
+    raise InputError(
+        "concentration",
+        f"{concentration:g} ({100 * concentration:g} %) cannot be reached by {generator!r} with "
+        f"{_factor_note(floe_area_factor)}, so the circles would have to cover {100 * cover:.0f} % of the "
+        f"field, and {gaps}",
+        value=concentration,
+        allowed=f"field.concentration < {densest * floe_area_factor / c.FLOE_AREA_FACTOR:.3g}, or "
+        f"field.floe_area_factor > {concentration * c.FLOE_AREA_FACTOR / densest:.3g}, or {voronoi}",
+    )
 
 
 def _checked_floe_counts(
@@ -259,8 +312,8 @@ def _checked_floe_counts(
     if generator not in GENERATORS:
         raise InputError("generator", f"unknown generator {generator!r}", allowed=", ".join(GENERATORS))
     require_range("clustering", clustering, low=0.0, low_inclusive=True)
-    if generator != "voronoi" and floe_area_factor == c.FLOE_AREA_FACTOR:
-        _refuse_full_cover_by_circles(observation.concentration, generator)
+    if generator != "voronoi":
+        _refuse_full_cover_by_circles(observation.concentration, generator, floe_area_factor)
     counts = floe_counts(observation, length_m * width_m, floe_area_factor)
     if max_floes is not None and counts.total > max_floes:
         raise InputError(
@@ -281,14 +334,45 @@ def _checked_floe_counts(
     if floe_area_factor == c.FLOE_AREA_FACTOR and generator != "voronoi":
         # discreteness: a few huge floes in a small field cannot represent the target concentration
         if abs(counts.circle_concentration - observation.concentration) > CONCENTRATION_TOLERANCE:
-            raise InputError(
-                "length_m",
-                f"the field is too small for this diameter distribution: whole floes give "
-                f"{100 * counts.circle_concentration:.1f} % for a target of "
-                f"{100 * observation.concentration:g} %",
-                allowed="a larger field (length_m × width_m)",
-            )
+            raise _whole_floes_error(observation, counts, length_m, width_m)
     return counts
+
+
+def _whole_floes_error(observation: Observation, counts: FloeCounts, length_m: float, width_m: float):
+    """InputError for a field whose whole floes cannot give the target concentration within
+    `CONCENTRATION_TOLERANCE`: it says what the rounded counts cover and names the nearest length and width
+    (1 m steps, same area rule, `floe_counts`) whose counts do."""
+    target = observation.concentration
+    mix = ", ".join(
+        f"{k} × {d:g} m" for d, k in zip(counts.diameter_classes_m, counts.counts, strict=True) if k
+    )
+    length = _nearest_fitting_size(observation, length_m, width_m)
+    width = _nearest_fitting_size(observation, width_m, length_m)
+    options = [f"length_m = {length:g}" if length else None, f"width_m = {width:g}" if width else None]
+    sizes = " or ".join(option for option in options if option) or "a much larger field"
+    return InputError(
+        "length_m",
+        f"whole floes cannot give concentration {100 * target:g} % (±{100 * CONCENTRATION_TOLERANCE:g} pp) "
+        f"in this {length_m:g} m × {width_m:g} m field: its {counts.total} floes ({mix}, the observation's "
+        f"shares rounded to whole floes) cover {100 * counts.circle_concentration:.1f} %; with so few floes, "
+        "one floe more or less moves the cover by more than the tolerance",
+        allowed=f"a field size whose whole floes give {100 * (target - CONCENTRATION_TOLERANCE):g}–"
+        f"{100 * (target + CONCENTRATION_TOLERANCE):g} %: e.g. {sizes} (or any much larger field), "
+        "or generator 'voronoi'",
+    )
+
+
+def _nearest_fitting_size(observation: Observation, size_m: float, other_m: float) -> float | None:
+    """The size nearest `size_m` (whole metres, within a factor 2; the other side `other_m` kept) at which
+    the whole floes of `floe_counts` cover the target concentration within the tolerance, or None."""
+    for step in range(1, int(max(size_m, 2.0)) + 1):
+        for candidate in (round(size_m) + step, round(size_m) - step):
+            if candidate < 1 or candidate < max(observation.diameter_classes_m):
+                continue
+            cover = floe_counts(observation, candidate * other_m).circle_concentration
+            if abs(cover - observation.concentration) <= CONCENTRATION_TOLERANCE:
+                return float(candidate)
+    return None
 
 
 def _floe_thicknesses_m(
@@ -349,7 +433,15 @@ def generate_field(
         polygons, diameter_class, info = _voronoi_field(counts, observation.concentration, domain, rng)
     else:
         polygons, diameter_class, info = _circle_field(
-            counts, observation.concentration, domain, rng, generator, clustering, vertices, report
+            counts,
+            observation.concentration,
+            domain,
+            rng,
+            generator,
+            clustering,
+            vertices,
+            report,
+            floe_area_factor,
         )
     if progress:
         progress(f"{counts.total:,} floes placed", 1, 1)

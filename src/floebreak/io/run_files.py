@@ -118,7 +118,7 @@ def read_resolved_scenario(run_dir: str | os.PathLike[str], *, strict: bool = Tr
     if not path.is_file():
         return None
     try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
+        return tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as error:
         if not strict:
             return None

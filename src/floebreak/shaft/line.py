@@ -294,7 +294,7 @@ def load_shaft_line(spec: str | os.PathLike[str]) -> ShaftLine:
             allowed=", ".join(BUILTIN_LINES) + ", or FILE.toml",
         )
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as error:
         raise InputError("shaft_line", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
     table = data.get("shaft_line")

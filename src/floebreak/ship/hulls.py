@@ -62,7 +62,12 @@ def hull_parameter_ranges() -> str:
         left, right = "[" if b.low_inclusive else "(", "]" if b.high_inclusive else ")"
         return f"{left}{b.low:g}, {b.high:g}{right}" + (f" {b.unit}" if b.unit else "")
 
-    ranges = [f"{key} {interval(b)}" for key, b in HULL_PARAMETER_BOUNDS.items() if key != "ice_thickness_m"]
+    flare = " (< arctan(beam_m / (2 · ice thickness)) unless the whole lower waterline collapses)"
+    ranges = [
+        f"{key} {interval(b)}" + (flare if key.endswith("frame_angle_deg") else "")
+        for key, b in HULL_PARAMETER_BOUNDS.items()
+        if key != "ice_thickness_m"
+    ]
     low, high = N_PANELS_PER_SIDE_RANGE
     return ", ".join([*ranges, f"n_panels_per_side {low} to {high}"])
 
@@ -135,13 +140,13 @@ def parametric_bow(
         midbody_length_m,
         midbody_frame_angle_deg,
     )
+    z_upper, z_lower = ice_waterline_heights(v["ice_thickness_m"])
+    dz = z_upper - z_lower
     alpha0, phi = math.radians(v["waterline_entrance_half_angle_deg"]), math.radians(v["stem_angle_deg"])
     length_bow = v["shape_exponent"] * (v["beam_m"] / 2.0) / math.tan(alpha0)
     beta0 = math.atan(math.tan(alpha0) / math.tan(phi))
     s, y, alpha, beta = _stations(v, alpha0, beta0, length_bow)
     psi = np.arctan(np.tan(beta) * np.cos(alpha))
-    z_upper, z_lower = ice_waterline_heights(v["ice_thickness_m"])
-    dz = z_upper - z_lower
     tip_x = -dz / math.tan(phi)
     upper, lower = mirror_lines(np.column_stack([-s, y]), alpha, psi, dz, tip_x)
     parameters: dict[str, Any] = {
@@ -153,7 +158,57 @@ def parametric_bow(
         "psi_shoulder_deg": v["shoulder_frame_angle_deg"],
         "lower_tip_x_m": tip_x,
     }
-    return Bow(name, upper, lower, z_upper, z_lower, parameters)
+    return _bow_naming_parameters(name, upper, lower, (z_upper, z_lower), parameters)
+
+
+def _bow_naming_parameters(name, upper, lower, heights_m, parameters: dict[str, Any]) -> Bow:
+    """The `Bow`; an InputError of its waterline checks (made on the node arrays) also names the hull
+    parameters that made them."""
+    try:
+        return Bow(name, upper, lower, *heights_m, parameters)
+    except InputError as error:  # a waterline check on the node arrays: say which parameters make them
+        dz_m = heights_m[0] - heights_m[1]
+        for key in ("shoulder_frame_angle_deg", "midbody_frame_angle_deg"):  # the usual cause, named
+            _check_flare_within_beam(key, parameters[key], parameters["beam_m"], dz_m)
+        made_by = ", ".join(
+            f"{key} = {parameters[key]:g}"
+            for key in (
+                "beam_m",
+                "shoulder_frame_angle_deg",
+                "flare_exponent",
+                "shape_exponent",
+                "ice_thickness_m",
+            )
+        )
+        raise InputError(
+            error.field,
+            f"{str(error).removeprefix(f'{error.field}: ')}, in the waterlines these hull parameters make "
+            f"({made_by})",
+            value=error.value,
+            allowed="less flare (shoulder_frame_angle_deg, midbody_frame_angle_deg, flare_exponent) or a "
+            "wider beam_m",
+        ) from None
+
+
+def _check_flare_within_beam(key: str, frame_angle_deg: float, beam_m: float, dz_m: float) -> None:
+    """InputError if the hull side at the shoulder (or along the midbody), flared by `frame_angle_deg` from
+    the vertical, moves inward by the half beam or more across the ice thickness Δz: the lower ice waterline
+    lies Δz·tan β inside the upper one there (α = 0, ψ_v = β, `mirror_lines`), so at β ≥ arctan(B / 2Δz)
+    its aft nodes collapse onto the lower stem tip while nodes further forward do not, and the line folds
+    across itself. (When every lower node collapses, the bow is valid: a lower waterline of one point.)"""
+    limit_deg = math.degrees(math.atan(beam_m / (2.0 * dz_m)))
+    if frame_angle_deg < limit_deg:
+        return
+    inward_m = dz_m * math.tan(math.radians(frame_angle_deg))
+    raise InputError(
+        key,
+        f"{frame_angle_deg:g}° flares the hull side so much that across the ice thickness "
+        f"(Δz = {dz_m:g} m) it moves inward by Δz·tan β = {inward_m:.4g} m, not less than the half beam "
+        f"{beam_m / 2.0:g} m: the lower ice waterline reaches the centreline there and folds across itself",
+        value=frame_angle_deg,
+        allowed=f"[0, {limit_deg:.4g})° for beam_m = {beam_m:g} m and ice thickness {dz_m:g} m "
+        "(below arctan(beam / (2 · thickness)))",
+    )
 
 
 def _stations(v: dict[str, Any], alpha0: float, beta0: float, length_bow: float):

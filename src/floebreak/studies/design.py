@@ -116,7 +116,7 @@ def check_n_fields(n_fields: Any) -> int:
 def load_study(path: str | Path) -> tuple[StudySpec, Path]:
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except OSError as error:
         raise InputError(
             "study", f"cannot read {str(path)!r}: {error}", allowed="a readable TOML file"
@@ -145,7 +145,7 @@ def base_scenario_dict(spec: StudySpec, base_dir: Path | None) -> tuple[dict[str
     if isinstance(spec.base, str):
         path = Path(spec.base) if base_dir is None else base_dir / spec.base
         try:
-            return tomllib.loads(path.read_text(encoding="utf-8")), path.parent
+            return tomllib.loads(path.read_text(encoding="utf-8-sig")), path.parent
         except (OSError, tomllib.TOMLDecodeError) as error:
             raise InputError(
                 "base", f"cannot read scenario {str(path)!r}: {error}", allowed="a scenario TOML"

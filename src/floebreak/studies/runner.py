@@ -18,9 +18,11 @@ seed (docs/model.md §4, Reproducibility), and a run's result does not depend on
 Resume: a run is complete when ``runs/<name>/summary.json`` exists with the scenario hash of the run and
 the fingerprint of its model's settings (a profile's value can change between versions while the scenario
 stays the same), and every file it lists (``files``: SHA-256 per file, `floebreak.api.file_checksums`) is
-there with that checksum: a damaged run (a truncated Parquet file) is run again. Since run directories
-appear only by an atomic rename, a study killed at any moment (even SIGKILL) resumes with no run lost or
-duplicated.
+there with that checksum: a damaged run (a truncated Parquet file) is run again. So is a run whose
+``summary.json`` does not match the checksum of its own content (``summary_sha256``,
+`floebreak.io.checksums`: an edited value, or a summary written before summaries carried one), since the
+aggregate reads its values. Since run directories appear only by an atomic rename, a study killed at any
+moment (even SIGKILL) resumes with no run lost or duplicated.
 Left-over temporary directories of killed runs (or of killed workers) are removed at the start and at the
 end. Paths are made absolute before they reach workers, whose working directory may be another.
 """
@@ -63,14 +65,18 @@ def run_identity(scenario: dict[str, Any]) -> tuple[str, str]:
 
 def is_complete(run_dir: Path, identity: tuple[str, str]) -> bool:
     """Whether `run_dir` holds the finished run of `identity` (`run_identity`: the same scenario run with the
-    same model settings) with every file intact (checksums)."""
+    same model settings) with every file intact (checksums), its summary included (the checksum of its own
+    content, `floebreak.io.checksums`)."""
     from floebreak.api import file_checksums
+    from floebreak.io.checksums import checksum_matches
 
     summary = run_dir / "summary.json"
     if not summary.exists():
         return False
     try:
         doc = json.loads(summary.read_text(encoding="utf-8"))
+        if not isinstance(doc, dict) or not checksum_matches(doc):
+            return False
         if (doc.get("scenario_hash"), doc.get("model_hash")) != identity or not isinstance(
             doc.get("files"), dict
         ):
