@@ -398,7 +398,7 @@ def scenario_dicts(draw) -> dict[str, Any]:
             ),
             "size_effect_law": draw(st.sampled_from(["BZ", "BZ1", "BZ2"])),
             "stress_mode": draw(st.sampled_from(["thesis", "strength", "sif"])),
-            "wedge_angle_deg": draw(_edge_or_inside(0.5, 60.0)),
+            "wedge_angle_deg": draw(_edge_or_inside(1.0, 60.0)),
             "next_crack_angle_deg": draw(_edge_or_inside(0.0, 90.0)),
             "shoulder_region_start": draw(_edge_or_inside(0.0, 1.0)),
             "flip_uncracked_at_shoulder": draw(st.booleans()),
