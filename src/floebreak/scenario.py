@@ -270,9 +270,9 @@ class IceSection(_Section):
         None,
         ge=THICKNESS_SUMMANDS[0],
         le=THICKNESS_SUMMANDS[1],
-        description="p_h of the Bates thickness (default 12; thesis profile 1180, erratum 6) [-], 1 to 10 000: "
-        "the spread (h_max − h_min)/√(12 p_h) is then ≥ 0.3 % of the range (3 mm for a 1 m range), below what "
-        "ice thickness is measured to; for a constant thickness give ice.thickness_m",
+        description="p_h of the Bates thickness (default 12; thesis profile 1180, erratum 6) [-], 1 to "
+        "10 000: the spread (h_max − h_min)/√(12 p_h) is then ≥ 0.3 % of the range (3 mm for a 1 m range), "
+        "below what ice thickness is measured to; for a constant thickness give ice.thickness_m",
     )
     fracture_toughness_pa_sqrt_m: Float = Field(
         c.FRACTURE_TOUGHNESS_PA_SQRT_M,

@@ -56,10 +56,10 @@ QUIET_CLEARANCE_M = 1e-9
 # written; benchmarks/README.md, memory), so a million pieces stay within ≈ 1.2 GB. A 100 km × 200 m transit
 # of the reference ice makes ≈ 0.34 million; runaway breaking of very thin ice is stopped.
 MAX_PIECES_DEFAULT = 1_000_000
-# Wall-clock guard (`SimulationParams.max_wall_s`): by default a run may take this much time plus this much per
-# km of transit. Measured runs take 1–10 s per km (a 100 km transit 300–990 s, benchmarks/README.md), so the
-# default is ≥ 6 × the slowest and stops only a runaway (ice breaking without end at one place, a transit of
-# empty water millions of steps long).
+# Wall-clock guard (`SimulationParams.max_wall_s`): by default a run may take this much time plus this much
+# per km of transit. Measured runs take 1–10 s per km (a 100 km transit 300–990 s, benchmarks/README.md),
+# so the default is ≥ 6 × the slowest and stops only a runaway (ice breaking without end at one place, a
+# transit of empty water millions of steps long).
 WALL_S_BASE = 600.0
 WALL_S_PER_KM = 60.0
 
@@ -92,7 +92,8 @@ class WallTimeError(InputError):
             f"{n_pieces:,} pieces, {n_cusps:,} cusps so far; ice that keeps breaking at one place, or a long "
             "transit through open water, can run without end)",
             value=limit_s,
-            allowed="raise simulation.max_wall_s, or use a shorter field, a coarser ship.step_m or thicker ice",
+            allowed="raise simulation.max_wall_s, or use a shorter field, a coarser ship.step_m or "
+            "thicker ice",
         )
 
 
