@@ -18,7 +18,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from floebreak import constants as c
-from floebreak.__main__ import EXIT_INTERRUPTED, INTERRUPTED_MESSAGE
+from floebreak.__main__ import EXIT_INTERRUPTED, interruption
 from floebreak.errors import InputError
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
@@ -935,8 +935,9 @@ EXIT_STORAGE = 3  # disk full, permission denied, read-only or pseudo file syste
 
 
 def _report_interrupt() -> None:
-    err_console.print(INTERRUPTED_MESSAGE, highlight=False)
-    sys.exit(EXIT_INTERRUPTED)
+    message, code = interruption()  # Ctrl-C's, or SIGTERM's (`floebreak.__main__`)
+    err_console.print(message, highlight=False)
+    sys.exit(code)
 
 
 if __name__ == "__main__":  # `python -m floebreak.cli`, as the console command
