@@ -83,6 +83,7 @@ from floebreak.ship.hulls import HULLS
 AREA_TOLERANCE = 1e-9  # the engine's own (`floebreak.simulation.AREA_BALANCE_TOLERANCE`)
 MAX_PIECES = 5_000
 MAX_STEPS = 500
+MAX_WALL_S = 100.0  # simulation.max_wall_s of every drawn scenario: a runaway is stopped (exit 2) in time
 SQP_MAX_FLOES = 30  # the `sqp` generator's fields are shrunk to at most about this many floes (docstring)
 FILES = "_files"  # the drawn record's key for the files a scenario names (not a scenario key)
 
@@ -403,7 +404,7 @@ def scenario_dicts(draw) -> dict[str, Any]:
             "shoulder_region_start": draw(_edge_or_inside(0.0, 1.0)),
             "flip_uncracked_at_shoulder": draw(st.booleans()),
         },
-        "simulation": {"max_pieces": MAX_PIECES},
+        "simulation": {"max_pieces": MAX_PIECES, "max_wall_s": MAX_WALL_S},
     }
     flat = {sc.FLAT_FAILURE_KEYS[key] for key in data["failure"] if key in sc.FLAT_FAILURE_KEYS}
     data["failure"].update(draw(_mode_tables(flat)))
@@ -440,10 +441,25 @@ def _import_every_module() -> None:
             importlib.import_module(module.name)
 
 
-def draw_scenarios(n: int, campaign_seed: int) -> list[dict[str, Any]]:
-    """`n` scenarios drawn by hypothesis from `campaign_seed` (same seed and floebreak source → same
+GENERATORS = ("valid", "adversarial")  # `scenario_dicts`, `floebreak.fuzz_adversarial.adversarial_dicts`
+
+
+def _strategy(generator: str) -> st.SearchStrategy[dict[str, Any]]:
+    if generator == "adversarial":
+        from floebreak.fuzz_adversarial import adversarial_dicts
+
+        return adversarial_dicts()
+    if generator != "valid":
+        raise ValueError(f"unknown generator {generator!r} (one of {', '.join(GENERATORS)})")
+    return scenario_dicts()
+
+
+def draw_scenarios(n: int, campaign_seed: int, generator: str = "valid") -> list[dict[str, Any]]:
+    """`n` scenarios drawn by hypothesis from `campaign_seed` with `generator` ("valid": `scenario_dicts`,
+    "adversarial": `floebreak.fuzz_adversarial.adversarial_dicts`; same seed and floebreak source → same
     scenarios; `_import_every_module`)."""
     _import_every_module()
+    strategy = _strategy(generator)
     drawn: list[dict[str, Any]] = []
 
     @seed(campaign_seed)
@@ -454,7 +470,7 @@ def draw_scenarios(n: int, campaign_seed: int) -> list[dict[str, Any]]:
         deadline=None,
         suppress_health_check=list(HealthCheck),
     )
-    @given(scenario_dicts())
+    @given(strategy)
     def collect(data):
         drawn.append(data)
 
@@ -495,6 +511,11 @@ def write_files(files: dict[str, Any], folder: Path) -> None:
     for name, spec in files.items():
         if "text" in spec:
             (folder / name).write_bytes(spec["text"].encode("utf-8"))  # bytes: CRLF line ends kept
+            continue
+        if "adversarial_field" in spec:
+            from floebreak.fuzz_adversarial import write_field_file
+
+            write_field_file(spec["adversarial_field"], folder / name)
             continue
         recipe = spec["field"]
         observation = get_observation(recipe["observation"])
@@ -663,8 +684,16 @@ def _distribution(values: list[float]) -> dict[str, float]:
     }
 
 
+MAX_SECONDS = 120.0  # a run longer than this (wall time) is flagged: a runaway the guards did not stop
+
+
 def _flagged(record: dict[str, Any], max_rss_mb: float) -> bool:
-    return record["status"] == "crash" or bool(record["problems"]) or record["peak_rss_mb"] > max_rss_mb
+    return (
+        record["status"] == "crash"
+        or bool(record["problems"])
+        or record["peak_rss_mb"] > max_rss_mb
+        or record["seconds"] > MAX_SECONDS
+    )
 
 
 def summarize(records: list[dict[str, Any]], n: int, campaign_seed: int, max_rss_mb: float) -> dict[str, Any]:
@@ -672,7 +701,9 @@ def summarize(records: list[dict[str, Any]], n: int, campaign_seed: int, max_rss
     worst area balance and peak memory, the time distribution and the 10 slowest scenarios."""
     counts = {"runs": len(records), "ok": 0, "refused": 0, "crash": 0, "violations": 0, "over_memory": 0}
     counts["warned"] = 0  # runs that raised a warning (recorded, not a violation)
+    counts["over_time"] = 0  # runs longer than MAX_SECONDS
     for record in records:
+        counts["over_time"] += record["seconds"] > MAX_SECONDS
         counts[record["status"]] += 1
         counts["violations"] += bool(record["problems"])
         counts["over_memory"] += record["peak_rss_mb"] > max_rss_mb
@@ -743,6 +774,7 @@ def run_campaign(
     resume: bool = False,
     check: Callable[[dict[str, Any]], dict[str, Any]] = check_one,
     retry: bool = False,
+    generator: str = "valid",
 ) -> dict[str, Any]:
     """Draw and `check` `n` scenarios. The drawn scenarios are kept in ``out/scenarios.jsonl``; each record is
     appended to ``out/records.jsonl`` as it completes (with `resume`, the indices already recorded there are
@@ -759,7 +791,7 @@ def run_campaign(
     if retry:
         records = _drop_flagged(out, records, max_rss_mb)
     done = {record["index"] for record in records}
-    scenarios = _campaign_scenarios(out, n, campaign_seed)
+    scenarios = _campaign_scenarios(out, n, campaign_seed, generator)
     todo = [(i, data) for i, data in enumerate(scenarios) if i not in done]
     with path.open("a", encoding="utf-8") as log, contextlib.closing(_records(todo, jobs, check)) as results:
         for record in results:
@@ -776,18 +808,24 @@ def run_campaign(
     return summary
 
 
-def _campaign_scenarios(out: Path, n: int, campaign_seed: int) -> list[dict[str, Any]]:
+def _campaign_scenarios(
+    out: Path, n: int, campaign_seed: int, generator: str = "valid"
+) -> list[dict[str, Any]]:
     """The campaign's scenarios: those kept in ``out/scenarios.jsonl`` (a resumed campaign runs what was
     drawn, even after a change of floebreak's source), else drawn and kept there."""
     path = out / "scenarios.jsonl"
     if path.exists():
         header, *scenarios = (json.loads(line) for line in path.read_text(encoding="utf-8").splitlines())
-        if (header["n"], header["seed"]) != (n, campaign_seed) or len(scenarios) != n:
-            held = f"n={header['n']} seed={header['seed']}"
-            raise SystemExit(f"{path} holds the campaign {held}, not n={n} seed={campaign_seed}")
+        held = (header["n"], header["seed"], header.get("generator", "valid"))
+        if held != (n, campaign_seed, generator) or len(scenarios) != n:
+            raise SystemExit(
+                f"{path} holds the campaign n={held[0]} seed={held[1]} generator={held[2]}, not n={n} "
+                f"seed={campaign_seed} generator={generator}"
+            )
         return scenarios
-    scenarios = draw_scenarios(n, campaign_seed)
-    lines = [json.dumps({"n": n, "seed": campaign_seed}), *(json.dumps(data) for data in scenarios)]
+    scenarios = draw_scenarios(n, campaign_seed, generator)
+    header = {"n": n, "seed": campaign_seed, "generator": generator}
+    lines = [json.dumps(header), *(json.dumps(data) for data in scenarios)]
     temporary = path.with_name(path.name + ".tmp")
     temporary.write_text("\n".join(lines) + "\n", encoding="utf-8")
     temporary.replace(path)
@@ -810,7 +848,8 @@ def _drop_flagged(out: Path, records: list[dict[str, Any]], max_rss_mb: float) -
 
 def _brief(records: list[dict[str, Any]], max_rss_mb: float) -> dict[str, int]:
     summary = summarize(records, 0, 0, max_rss_mb)
-    return {key: summary[key] for key in ("ok", "refused", "crash", "violations", "over_memory", "warned")}
+    keys = ("ok", "refused", "crash", "violations", "over_memory", "over_time", "warned")
+    return {key: summary[key] for key in keys}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -820,6 +859,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--out", type=Path, default=Path("fuzz-report"), help="records, violations")
     parser.add_argument("--max-rss-mb", type=float, default=1024.0, help="peak memory allowed per run")
+    parser.add_argument(
+        "--generator",
+        choices=GENERATORS,
+        default="valid",
+        help="valid scenarios over the options, or hostile files and policies (floebreak.fuzz_adversarial)",
+    )
     parser.add_argument("--resume", action="store_true", help="continue the campaign recorded in --out")
     parser.add_argument(
         "--retry", action="store_true", help="with --resume: run the flagged scenarios again (after a fix)"
@@ -836,7 +881,14 @@ def main(argv: list[str] | None = None) -> int:
         try:
             with exit_on_sigterm():
                 summary = run_campaign(
-                    args.n, args.seed, args.jobs, args.out, args.max_rss_mb, args.resume, retry=args.retry
+                    args.n,
+                    args.seed,
+                    args.jobs,
+                    args.out,
+                    args.max_rss_mb,
+                    args.resume,
+                    retry=args.retry,
+                    generator=args.generator,
                 )
         except KeyboardInterrupt:
             print(
@@ -844,7 +896,8 @@ def main(argv: list[str] | None = None) -> int:
             )
             return 130
     print(json.dumps(summary, indent=2), f"\n{time.perf_counter() - started:.0f} s")
-    return 1 if summary["crash"] or summary["violations"] or summary["over_memory"] else 0
+    flagged = ("crash", "violations", "over_memory", "over_time")
+    return 1 if any(summary[key] for key in flagged) else 0
 
 
 if __name__ == "__main__":

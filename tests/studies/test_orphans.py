@@ -13,7 +13,6 @@ from pathlib import Path
 
 import pytest
 
-
 STUDY = (
     'name = "orphans"\nn_fields = 6\n[base]\nseed = 1\n[base.field]\nobservation = "2019-12-18T20:20"\n'
     "length_m = 300.0\nwidth_m = 60.0\n"
