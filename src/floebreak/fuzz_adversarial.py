@@ -44,10 +44,13 @@ OUTLINES = ("regular", "repeated", "collinear", "bowtie", "sliver", "spike", "po
 
 
 @st.composite
-def _outline(draw, centre: tuple[float, float]) -> list[list[float]]:
-    """One floe's ring (closed), drawn to be hostile: see the module docstring."""
-    kind = draw(st.sampled_from(OUTLINES))
-    radius = draw(st.sampled_from([1e-3, 0.05, 1.0, 4.0, 10.0, 1e3]))
+def _outline(draw, centre: tuple[float, float], hostile: bool) -> list[list[float]]:
+    """One floe's ring (closed): a regular polygon, or (`hostile`) one drawn to be hostile (module
+    docstring)."""
+    kind = draw(st.sampled_from(OUTLINES)) if hostile else "regular"
+    radius = (
+        draw(st.sampled_from([1e-3, 0.05, 1.0, 4.0, 10.0, 1e3])) if hostile else draw(st.floats(1.0, 6.0))
+    )
     n = draw(st.integers(3, 12))
     angles = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
     ring = np.column_stack([np.cos(angles), np.sin(angles)]) * radius
@@ -68,8 +71,8 @@ def _outline(draw, centre: tuple[float, float]) -> list[list[float]]:
 
 
 @st.composite
-def _ids(draw, n: int) -> list[Any]:
-    kind = draw(st.sampled_from(["unique", "unique", "repeated", "negative", "huge", "float", "text"]))
+def _ids(draw, n: int, hostile: bool) -> list[Any]:
+    kind = draw(st.sampled_from(["repeated", "negative", "huge", "float", "text"])) if hostile else "unique"
     if kind == "repeated":
         return [i // 2 for i in range(n)]
     if kind == "negative":
@@ -84,29 +87,41 @@ def _ids(draw, n: int) -> list[Any]:
 
 
 @st.composite
-def _thicknesses(draw, n: int) -> list[Any]:
-    kind = draw(st.sampled_from(["valid", "valid", "edges", "zero", "negative", "nan", "huge", "text"]))
-    if kind == "valid":
+def _thicknesses(draw, n: int, hostile: bool) -> list[Any]:
+    if not hostile:
         return [draw(st.floats(0.2, 2.0)) for _ in range(n)]
+    kind = draw(st.sampled_from(["edges", "zero", "negative", "nan", "huge", "text"]))
     if kind == "edges":
         return [sc.THICKNESS_M[i % 2] for i in range(n)]
     special = {"zero": 0.0, "negative": -1.0, "nan": float("nan"), "huge": 1e6, "text": "1.0"}[kind]
     return [special if i == n - 1 else 1.0 for i in range(n)]
 
 
+FIELD_HOSTILITIES = ("outline", "ids", "thickness", "domain", "offset", "overlap", "empty", "several")
+
+
 @st.composite
 def field_recipes(draw) -> dict[str, Any]:
-    """The recipe of a hostile field file (written by `write_field_file`)."""
-    n = draw(st.integers(0, MAX_FLOES))
+    """The recipe of a hostile field file (written by `write_field_file`): one hostile trait (or several at
+    once), the rest benign, so that each trait reaches the code that meets it."""
+    trait = draw(st.sampled_from(FIELD_HOSTILITIES))
+    every = trait == "several"
+    n = 0 if trait == "empty" else draw(st.integers(1, MAX_FLOES))
     centres = [(draw(st.floats(5.0, 50.0)), draw(st.floats(-15.0, 15.0))) for _ in range(n)]
-    if n > 1 and draw(st.booleans()):  # two floes on one spot: overlapping
+    if n > 1 and (trait == "overlap" or every):  # two floes on one spot
         centres[1] = centres[0]
-    offset = (draw(st.sampled_from(OFFSETS_M)), draw(st.sampled_from(OFFSETS_M)))
-    domain = draw(st.sampled_from(["match", "match", "inverted", "text", "missing"]))
+    offset = (0.0, 0.0)
+    if trait == "offset" or every:
+        offset = (draw(st.sampled_from(OFFSETS_M)), draw(st.sampled_from(OFFSETS_M)))
+    domain = draw(st.sampled_from(["inverted", "text", "missing"])) if trait == "domain" or every else "match"
+    hostile_outline = trait == "outline" or every
     return {
-        "rings": [draw(_outline((x + offset[0], y + offset[1]))) for x, y in centres],
-        "floe_id": draw(_ids(n)),
-        "thickness_m": draw(_thicknesses(n)),
+        "rings": [
+            draw(_outline((x + offset[0], y + offset[1]), hostile_outline and draw(st.booleans())))
+            for x, y in centres
+        ],
+        "floe_id": draw(_ids(n, trait == "ids" or every)),
+        "thickness_m": draw(_thicknesses(n, trait == "thickness" or every)),
         "domain": domain,
     }
 

@@ -529,47 +529,31 @@ def require_floes_in_path(
     floe_field: FloeField,
     hull_box: tuple[float, float, float, float],
     x_start_m: float,
-    x_end_m: float,
     dist_bow_max_m: float,
 ) -> None:
-    """InputError (key ``field``) when the field has floes but none reaches into the band the bow sweeps
-    from `x_start_m` to `x_end_m` (the hull's bounding box, widened by `dist_bow_max_m`): such a run would
-    step through open water and break nothing — typically a file in other coordinates (UTM-like eastings of
-    10⁶–10⁷ m) than the field frame (the bow's stem tip at the origin at the start)."""
+    """InputError (key ``field``) when the field has floes but none reaches into the lane the bow sweeps
+    (the y-range of the hull's bounding box widened by `dist_bow_max_m`, ahead of the hull's aft end at
+    `x_start_m`): such a run would step through open water and break nothing — typically a file in other
+    coordinates (UTM-like eastings and northings of 10⁶–10⁷ m) than the field frame (the bow's stem tip at
+    the origin at the start). Floes beyond an explicit `x_end_m` are the user's choice, not refused."""
     if floe_field.n_floes == 0:
         return
-    x0, y0, x1, y1 = hull_box
-    band = (
-        x_start_m + x0 - dist_bow_max_m,
-        y0 - dist_bow_max_m,
-        x_end_m + x1 + dist_bow_max_m,
-        y1 + dist_bow_max_m,
-    )
+    x0, y0, _, y1 = hull_box
+    lane = (x_start_m + x0 - dist_bow_max_m, y0 - dist_bow_max_m, y1 + dist_bow_max_m)
     bounds = shapely.bounds(floe_field.polygons).reshape(-1, 4)
-    meets = (
-        (bounds[:, 0] <= band[2])
-        & (bounds[:, 2] >= band[0])
-        & (bounds[:, 1] <= band[3])
-        & (bounds[:, 3] >= band[1])
-    )
-    if meets.any():
+    if np.any((bounds[:, 2] >= lane[0]) & (bounds[:, 1] <= lane[2]) & (bounds[:, 3] >= lane[1])):
         return
     source = floe_field.metadata.get("source_file")
     name = "the field" if source is None else repr(str(source))
-    fx0, fy0, fx1, fy1 = (
-        np.nanmin(bounds[:, 0]),
-        np.nanmin(bounds[:, 1]),
-        np.nanmax(bounds[:, 2]),
-        np.nanmax(bounds[:, 3]),
-    )
+    fx0, fy0 = np.nanmin(bounds[:, 0]), np.nanmin(bounds[:, 1])
+    fx1, fy1 = np.nanmax(bounds[:, 2]), np.nanmax(bounds[:, 3])
     raise InputError(
         "field",
         f"no floe of {name} lies in the bow's path: its {floe_field.n_floes:,} floes span x ∈ [{fx0:.6g}, "
-        f"{fx1:.6g}] m, y ∈ [{fy0:.6g}, {fy1:.6g}] m, the bow sweeps x ∈ [{band[0]:.6g}, {band[2]:.6g}] m, "
-        f"y ∈ [{band[1]:.6g}, {band[3]:.6g}] m (field frame: the bow's stem tip at the origin at the start, "
-        "x forward, y to port)",
-        allowed="floes in the field frame: move the field (subtract its origin) or set ship.x_start_m / "
-        "ship.x_end_m",
+        f"{fx1:.6g}] m, y ∈ [{fy0:.6g}, {fy1:.6g}] m; the bow sweeps y ∈ [{lane[1]:.6g}, {lane[2]:.6g}] m "
+        f"from x = {lane[0]:.6g} m forward (field frame: the bow's stem tip at the origin at the start, x "
+        "forward, y to port)",
+        allowed="floes in the field frame: move the field (subtract its origin), or set ship.x_start_m",
     )
 
 
@@ -602,7 +586,7 @@ class _Run:
         self.x_end = _transit_end_m(floe_field, params, self.hull_box[0])
         self.n_steps = int(np.floor((self.x_end - params.x_start_m) / params.step_m + 1e-9)) + 1
         d = params.dist_bow_max_m
-        require_floes_in_path(floe_field, self.hull_box, params.x_start_m, self.x_end, d)
+        require_floes_in_path(floe_field, self.hull_box, params.x_start_m, d)
         self.pieces = _Pieces(floe_field, (self.hull_box[1] - d, self.hull_box[3] + d), params.max_pieces)
         transit_km = max(self.x_end - params.x_start_m, 0.0) / 1000.0
         self.max_wall_s = (
