@@ -45,8 +45,8 @@ def test_a_run_over_the_time_limit_is_flagged():
         "peak_rss_mb": 10.0,
         "seconds": fuzz.MAX_SECONDS + 1,
     }
-    summary = fuzz.summarize([record], 1, 1, max_rss_mb=1024.0)
-    assert summary["over_time"] == 1 and fuzz._flagged(record, 1024.0)
+    summary = fuzz.summarize([record], 1, 1, max_rss_mb=1024.0, max_seconds=fuzz.MAX_SECONDS)
+    assert summary["over_time"] == 1 and fuzz._flagged(record, 1024.0, fuzz.MAX_SECONDS)
 
 
 def test_the_makefile_runs_both_generators():

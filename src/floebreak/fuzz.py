@@ -684,26 +684,32 @@ def _distribution(values: list[float]) -> dict[str, float]:
     }
 
 
-MAX_SECONDS = 120.0  # a run longer than this (wall time) is flagged: a runaway the guards did not stop
+MAX_SECONDS = 120.0  # `--max-seconds`: a longer run (wall time) is flagged, a runaway the guards missed
 
 
-def _flagged(record: dict[str, Any], max_rss_mb: float) -> bool:
+def _flagged(record: dict[str, Any], max_rss_mb: float, max_seconds: float = math.inf) -> bool:
     return (
         record["status"] == "crash"
         or bool(record["problems"])
         or record["peak_rss_mb"] > max_rss_mb
-        or record["seconds"] > MAX_SECONDS
+        or record["seconds"] > max_seconds
     )
 
 
-def summarize(records: list[dict[str, Any]], n: int, campaign_seed: int, max_rss_mb: float) -> dict[str, Any]:
+def summarize(
+    records: list[dict[str, Any]],
+    n: int,
+    campaign_seed: int,
+    max_rss_mb: float,
+    max_seconds: float = math.inf,
+) -> dict[str, Any]:
     """The campaign's summary from its records (so it can be rebuilt from ``records.jsonl``): counts, the
     worst area balance and peak memory, the time distribution and the 10 slowest scenarios."""
     counts = {"runs": len(records), "ok": 0, "refused": 0, "crash": 0, "violations": 0, "over_memory": 0}
     counts["warned"] = 0  # runs that raised a warning (recorded, not a violation)
-    counts["over_time"] = 0  # runs longer than MAX_SECONDS
+    counts["over_time"] = 0  # runs longer than `max_seconds`
     for record in records:
-        counts["over_time"] += record["seconds"] > MAX_SECONDS
+        counts["over_time"] += record["seconds"] > max_seconds
         counts[record["status"]] += 1
         counts["violations"] += bool(record["problems"])
         counts["over_memory"] += record["peak_rss_mb"] > max_rss_mb
@@ -775,6 +781,7 @@ def run_campaign(
     check: Callable[[dict[str, Any]], dict[str, Any]] = check_one,
     retry: bool = False,
     generator: str = "valid",
+    max_seconds: float = math.inf,
 ) -> dict[str, Any]:
     """Draw and `check` `n` scenarios. The drawn scenarios are kept in ``out/scenarios.jsonl``; each record is
     appended to ``out/records.jsonl`` as it completes (with `resume`, the indices already recorded there are
@@ -789,7 +796,7 @@ def run_campaign(
     if path.exists():  # drop a line cut by a stopped campaign
         os.truncate(path, path.read_bytes().rfind(b"\n") + 1)
     if retry:
-        records = _drop_flagged(out, records, max_rss_mb)
+        records = _drop_flagged(out, records, max_rss_mb, max_seconds)
     done = {record["index"] for record in records}
     scenarios = _campaign_scenarios(out, n, campaign_seed, generator)
     todo = [(i, data) for i, data in enumerate(scenarios) if i not in done]
@@ -799,11 +806,12 @@ def run_campaign(
             log.write(json.dumps(record, default=str) + "\n")
             log.flush()
             records.append(record)
-            if _flagged(record, max_rss_mb):
+            if _flagged(record, max_rss_mb, max_seconds):
                 _write_case(out, record)
             if len(records) % 25 == 0:
-                print(f"{len(records)} of {n}: {_brief(records, max_rss_mb)}", file=sys.stderr, flush=True)
-    summary = summarize(records, n, campaign_seed, max_rss_mb)
+                brief = _brief(records, max_rss_mb, max_seconds)
+                print(f"{len(records)} of {n}: {brief}", file=sys.stderr, flush=True)
+    summary = summarize(records, n, campaign_seed, max_rss_mb, max_seconds)
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
 
@@ -832,11 +840,13 @@ def _campaign_scenarios(
     return scenarios
 
 
-def _drop_flagged(out: Path, records: list[dict[str, Any]], max_rss_mb: float) -> list[dict[str, Any]]:
+def _drop_flagged(
+    out: Path, records: list[dict[str, Any]], max_rss_mb: float, max_seconds: float = math.inf
+) -> list[dict[str, Any]]:
     """`records` without the flagged ones, also in ``out/records.jsonl``; their case files removed."""
-    kept = [record for record in records if not _flagged(record, max_rss_mb)]
+    kept = [record for record in records if not _flagged(record, max_rss_mb, max_seconds)]
     for record in records:
-        if _flagged(record, max_rss_mb):
+        if _flagged(record, max_rss_mb, max_seconds):
             case = out / f"case-{record['index']:05d}"
             case.with_suffix(".toml").unlink(missing_ok=True)
             shutil.rmtree(case, ignore_errors=True)
@@ -846,8 +856,8 @@ def _drop_flagged(out: Path, records: list[dict[str, Any]], max_rss_mb: float) -
     return kept
 
 
-def _brief(records: list[dict[str, Any]], max_rss_mb: float) -> dict[str, int]:
-    summary = summarize(records, 0, 0, max_rss_mb)
+def _brief(records: list[dict[str, Any]], max_rss_mb: float, max_seconds: float) -> dict[str, int]:
+    summary = summarize(records, 0, 0, max_rss_mb, max_seconds)
     keys = ("ok", "refused", "crash", "violations", "over_memory", "over_time", "warned")
     return {key: summary[key] for key in keys}
 
@@ -859,6 +869,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--out", type=Path, default=Path("fuzz-report"), help="records, violations")
     parser.add_argument("--max-rss-mb", type=float, default=1024.0, help="peak memory allowed per run")
+    parser.add_argument(
+        "--max-seconds", type=float, default=MAX_SECONDS, help="wall time allowed per run [s]"
+    )
     parser.add_argument(
         "--generator",
         choices=GENERATORS,
@@ -875,7 +888,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     started = time.perf_counter()
     if args.summarize:
-        summary = summarize(read_records(args.out, args.n, args.seed), args.n, args.seed, args.max_rss_mb)
+        records = read_records(args.out, args.n, args.seed)
+        summary = summarize(records, args.n, args.seed, args.max_rss_mb, args.max_seconds)
         (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     else:
         try:
@@ -889,6 +903,7 @@ def main(argv: list[str] | None = None) -> int:
                     args.resume,
                     retry=args.retry,
                     generator=args.generator,
+                    max_seconds=args.max_seconds,
                 )
         except KeyboardInterrupt:
             print(
