@@ -40,22 +40,26 @@ from floebreak.ship.hulls import HULLS
 MAX_TRANSIT_M = 60.0
 MAX_FLOES = 12
 OFFSETS_M = (0.0, 0.0, 0.0, 1.0e-9, 1.0e4, 1.0e7, -1.0e7)  # the field moved by (dx, dy) from the bow's path
+
+
+def _pick(rng: np.random.Generator, choices):
+    """One of `choices`, uniformly."""
+    return choices[int(rng.integers(len(choices)))]
+
+
 OUTLINES = ("regular", "repeated", "collinear", "bowtie", "sliver", "spike", "point")
 
 
-@st.composite
-def _outline(draw, centre: tuple[float, float], hostile: bool) -> list[list[float]]:
+def _outline(rng: np.random.Generator, centre: tuple[float, float], hostile: bool) -> list[list[float]]:
     """One floe's ring (closed): a regular polygon, or (`hostile`) one drawn to be hostile (module
     docstring)."""
-    kind = draw(st.sampled_from(OUTLINES)) if hostile else "regular"
-    radius = (
-        draw(st.sampled_from([1e-3, 0.05, 1.0, 4.0, 10.0, 1e3])) if hostile else draw(st.floats(1.0, 6.0))
-    )
-    n = draw(st.integers(3, 12))
+    kind = _pick(rng, OUTLINES) if hostile else "regular"
+    radius = _pick(rng, [1e-3, 0.05, 1.0, 4.0, 10.0, 1e3]) if hostile else float(rng.uniform(1.0, 6.0))
+    n = int(rng.integers(3, 12, endpoint=True))
     angles = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
     ring = np.column_stack([np.cos(angles), np.sin(angles)]) * radius
     if kind == "repeated":
-        ring = np.repeat(ring, draw(st.integers(2, 4)), axis=0)
+        ring = np.repeat(ring, int(rng.integers(2, 4, endpoint=True)), axis=0)
     elif kind == "collinear":
         ring = np.column_stack([np.linspace(-radius, radius, n), np.zeros(n)])
     elif kind == "bowtie":
@@ -70,9 +74,8 @@ def _outline(draw, centre: tuple[float, float], hostile: bool) -> list[list[floa
     return [[float(x), float(y)] for x, y in [*ring, ring[0]]]
 
 
-@st.composite
-def _ids(draw, n: int, hostile: bool) -> list[Any]:
-    kind = draw(st.sampled_from(["repeated", "negative", "huge", "float", "text"])) if hostile else "unique"
+def _ids(rng: np.random.Generator, n: int, hostile: bool) -> list[Any]:
+    kind = _pick(rng, ["repeated", "negative", "huge", "float", "text"]) if hostile else "unique"
     if kind == "repeated":
         return [i // 2 for i in range(n)]
     if kind == "negative":
@@ -86,11 +89,10 @@ def _ids(draw, n: int, hostile: bool) -> list[Any]:
     return list(range(n))
 
 
-@st.composite
-def _thicknesses(draw, n: int, hostile: bool) -> list[Any]:
+def _thicknesses(rng: np.random.Generator, n: int, hostile: bool) -> list[Any]:
     if not hostile:
-        return [draw(st.floats(0.2, 2.0)) for _ in range(n)]
-    kind = draw(st.sampled_from(["edges", "zero", "negative", "nan", "huge", "text"]))
+        return [float(rng.uniform(0.2, 2.0)) for _ in range(n)]
+    kind = _pick(rng, ["edges", "zero", "negative", "nan", "huge", "text"])
     if kind == "edges":
         return [sc.THICKNESS_M[i % 2] for i in range(n)]
     special = {"zero": 0.0, "negative": -1.0, "nan": float("nan"), "huge": 1e6, "text": "1.0"}[kind]
@@ -100,28 +102,27 @@ def _thicknesses(draw, n: int, hostile: bool) -> list[Any]:
 FIELD_HOSTILITIES = ("outline", "ids", "thickness", "domain", "offset", "overlap", "empty", "several")
 
 
-@st.composite
-def field_recipes(draw) -> dict[str, Any]:
+def field_recipes(rng: np.random.Generator) -> dict[str, Any]:
     """The recipe of a hostile field file (written by `write_field_file`): one hostile trait (or several at
     once), the rest benign, so that each trait reaches the code that meets it."""
-    trait = draw(st.sampled_from(FIELD_HOSTILITIES))
+    trait = _pick(rng, FIELD_HOSTILITIES)
     every = trait == "several"
-    n = 0 if trait == "empty" else draw(st.integers(1, MAX_FLOES))
-    centres = [(draw(st.floats(5.0, 50.0)), draw(st.floats(-15.0, 15.0))) for _ in range(n)]
+    n = 0 if trait == "empty" else int(rng.integers(1, MAX_FLOES, endpoint=True))
+    centres = [(float(rng.uniform(5.0, 50.0)), float(rng.uniform(-15.0, 15.0))) for _ in range(n)]
     if n > 1 and (trait == "overlap" or every):  # two floes on one spot
         centres[1] = centres[0]
     offset = (0.0, 0.0)
     if trait == "offset" or every:
-        offset = (draw(st.sampled_from(OFFSETS_M)), draw(st.sampled_from(OFFSETS_M)))
-    domain = draw(st.sampled_from(["inverted", "text", "missing"])) if trait == "domain" or every else "match"
+        offset = (_pick(rng, OFFSETS_M), _pick(rng, OFFSETS_M))
+    domain = _pick(rng, ["inverted", "text", "missing"]) if trait == "domain" or every else "match"
     hostile_outline = trait == "outline" or every
     return {
         "rings": [
-            draw(_outline((x + offset[0], y + offset[1]), hostile_outline and draw(st.booleans())))
+            _outline(rng, (x + offset[0], y + offset[1]), hostile_outline and bool(rng.integers(2)))
             for x, y in centres
         ],
-        "floe_id": draw(_ids(n, trait == "ids" or every)),
-        "thickness_m": draw(_thicknesses(n, trait == "thickness" or every)),
+        "floe_id": _ids(rng, n, trait == "ids" or every),
+        "thickness_m": _thicknesses(rng, n, trait == "thickness" or every),
         "domain": domain,
     }
 
@@ -151,25 +152,22 @@ def write_field_file(recipe: dict[str, Any], path: Path) -> None:
     write_geoparquet(path, polygons, columns, meta)
 
 
-@st.composite
-def bow_csv_texts(draw) -> str:
+def bow_csv_texts(rng: np.random.Generator) -> str:
     """A hostile bow CSV file's text (see the module docstring)."""
-    bow = HULLS[draw(st.sampled_from(sorted(HULLS)))]()
-    if draw(st.booleans()):  # format (b): stations from the stem aft
+    bow = HULLS[_pick(rng, sorted(HULLS))]()
+    if bool(rng.integers(2)):  # format (b): stations from the stem aft
         port = bow.upper_xy_m[bow.stem_index :: -1]
         rows = [[float(x), float(abs(y)), 30.0] for x, y in port]
-        if draw(st.booleans()):
+        if bool(rng.integers(2)):
             rows.insert(1, list(rows[1]))  # a repeated station
-        if draw(st.booleans()):
+        if bool(rng.integers(2)):
             rows[-1][0] = rows[-2][0]  # x not decreasing
         header = ",".join(bows.STATIONS_COLUMNS)
         return header + "\n" + "".join(",".join(repr(v) for v in row) + "\n" for row in rows)
     lines = {"upper": np.array(bow.upper_xy_m), "lower": np.array(bow.lower_xy_m)}
-    scale = draw(st.sampled_from([1.0, 1.0, 1e-6, 1e-3, 1e3, 1e6]))
-    shift = np.array([draw(st.sampled_from(OFFSETS_M)), draw(st.sampled_from(OFFSETS_M))])
-    mutation = draw(
-        st.sampled_from(["none", "repeated", "collinear", "two rows", "reversed", "nan", "empty"])
-    )
+    scale = _pick(rng, [1.0, 1.0, 1e-6, 1e-3, 1e3, 1e6])
+    shift = np.array([_pick(rng, OFFSETS_M), _pick(rng, OFFSETS_M)])
+    mutation = _pick(rng, ["none", "repeated", "collinear", "two rows", "reversed", "nan", "empty"])
     out = ["# z_upper_m = 0.1", "# z_lower_m = -0.9", ",".join(bows.LINES_COLUMNS)]
     for name, xy in lines.items():
         xy = xy * scale + shift
@@ -188,19 +186,22 @@ def bow_csv_texts(draw) -> str:
     return "\n".join(out) + "\n"
 
 
-@st.composite
-def policies(draw) -> dict[str, Any]:
+def policies(rng: np.random.Generator) -> dict[str, Any]:
     """A hostile `[failure.policy]` (see the module docstring)."""
-    names = [*mode_names(), "no_such_mode"]
-    weights = st.sampled_from(names[:-1] * 8 + names[-1:])  # an unknown mode now and then
-    modes = st.lists(weights, min_size=0, max_size=4)  # empty now and then: a refusal
+    names = [*mode_names()] * 8 + ["no_such_mode"]  # an unknown mode now and then
+
+    def modes() -> list[str]:  # 0 to 4 modes, repeats allowed: an empty list now and then (a refusal)
+        return [str(_pick(rng, names)) for _ in range(int(rng.integers(0, 4, endpoint=True)))]
+
     policy: dict[str, Any] = {}
-    for failure_class in draw(st.lists(st.sampled_from(FAILURE_CLASSES), unique=True)):
-        if draw(st.booleans()):
-            policy[failure_class] = draw(modes)
+    for failure_class in FAILURE_CLASSES:
+        if rng.random() < 0.4:
+            continue
+        if bool(rng.integers(2)):
+            policy[failure_class] = modes()
         else:
-            regions = draw(st.lists(st.sampled_from(BOW_REGIONS), unique=True, min_size=1))
-            policy[failure_class] = {region: draw(modes) for region in regions}
+            regions = [r for r in BOW_REGIONS if bool(rng.integers(2))] or [str(_pick(rng, BOW_REGIONS))]
+            policy[failure_class] = {region: modes() for region in regions}
     return policy
 
 
@@ -209,30 +210,34 @@ def adversarial_dicts(draw) -> dict[str, Any]:
     """A scenario with hostile files and policy (the shape of `floebreak.fuzz.scenario_dicts`' records)."""
     from floebreak.fuzz import FILES, MAX_PIECES, MAX_WALL_S
 
+    # hypothesis gives the seed (the campaign's reproducibility); the choices come from numpy, uniformly:
+    # hypothesis' own draws of a long chain of sampled_from favour the first elements
+    rng = np.random.default_rng(draw(st.integers(0, 2**63 - 1)))
+
     files: dict[str, Any] = {}
-    thickness = draw(st.sampled_from([sc.THICKNESS_M[0], 0.05, 0.3, 1.0, sc.THICKNESS_M[1]]))
+    thickness = _pick(rng, [sc.THICKNESS_M[0], 0.05, 0.3, 1.0, sc.THICKNESS_M[1]])
     data: dict[str, Any] = {
-        "profile": draw(st.sampled_from(["default", "thesis"])),
-        "seed": draw(st.integers(0, 2**31)),
+        "profile": _pick(rng, ["default", "thesis"]),
+        "seed": int(rng.integers(0, 2**31, endpoint=True)),
         "ice": {"thickness_m": thickness},
-        "ship": {"step_m": draw(st.sampled_from([0.1, 0.25, 1.0]))},
+        "ship": {"step_m": _pick(rng, [0.1, 0.25, 1.0])},
         "simulation": {"max_pieces": MAX_PIECES, "max_wall_s": MAX_WALL_S},
     }
-    if draw(st.booleans()):
+    if bool(rng.integers(2)):
         data["field"] = {"file": "field.parquet"}
-        files["field.parquet"] = {"adversarial_field": draw(field_recipes())}
+        files["field.parquet"] = {"adversarial_field": field_recipes(rng)}
     else:
         data["field"] = {
             "floes": [
-                {"x_m": 20.0, "y_m": 0.0, "diameter_m": 10.0},
-                {"x_m": 32.0, "y_m": 3.0, "diameter_m": 6.0},
+                {"x_m": 8.0, "y_m": 0.0, "diameter_m": 10.0},
+                {"x_m": 20.0, "y_m": 3.0, "diameter_m": 6.0},
             ]
         }
-    if draw(st.booleans()):
+    if bool(rng.integers(2)):
         data["ship"]["file"] = "bow.csv"
-        files["bow.csv"] = {"text": draw(bow_csv_texts())}
-    if draw(st.booleans()):
-        data["failure"] = {"policy": draw(policies())}
+        files["bow.csv"] = {"text": bow_csv_texts(rng)}
+    if bool(rng.integers(2)):
+        data["failure"] = {"policy": policies(rng)}
     data["ship"]["x_end_m"] = 10.0 if thickness < 0.1 else MAX_TRANSIT_M
     data[FILES] = files
     return data
