@@ -10,7 +10,9 @@ processes and checks: no internal error (an `InputError` is a refusal, allowed),
 each violation's scenario is saved there as TOML with its traceback (with the files it names beside it).
 Warnings a run raises are kept in its record. SIGTERM or Ctrl-C stops the campaign and its workers (the
 records so far are kept). The test suite runs a small fixed sample (tests/test_fuzz.py); the campaign is
-the documented command (benchmarks/README.md, fuzz).
+the documented command (benchmarks/README.md, fuzz). ``--generator adversarial`` draws hostile field files,
+bow CSVs and policies instead (`floebreak.fuzz_adversarial`); ``make fuzz`` runs both. A run longer than
+``--max-seconds`` (120 s) is flagged; every drawn scenario has the wall-time budget `MAX_WALL_S`.
 
 Ranges are those of the code, each from its one place: the scenario's sections (their pydantic schema), the
 failure modes' `Bounds`, the parametric hull's `floebreak.ship.hulls.HULL_PARAMETER_BOUNDS`, the bow reader's
