@@ -42,13 +42,16 @@ bytecode:
 bench: $(STAMP) bytecode
 	@for script in $(filter-out benchmarks/compare.py,$(wildcard benchmarks/*.py)); do echo "== $$script"; OMP_NUM_THREADS=1 $(BIN)/python $$script || exit 1; done
 
-# fuzz campaign (issue 20): N random valid scenarios from SEED, checked for internal errors, area balance,
-# valid polygons and peak memory; violations saved in fuzz-report/ (benchmarks/README.md, fuzz)
+# fuzz campaigns (issues 20, 31): N random valid scenarios from SEED, then N adversarial ones (hostile field
+# files, bow CSVs and policies: floebreak.fuzz_adversarial), checked for internal errors, area balance, valid
+# polygons, peak memory and wall time; violations saved in fuzz-report/{valid,adversarial}/
+# (benchmarks/README.md, fuzz)
 N ?= 200
 SEED ?= 1
 JOBS ?= 1
 fuzz: $(STAMP)
-	OMP_NUM_THREADS=1 $(BIN)/python -m floebreak.fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --out fuzz-report
+	OMP_NUM_THREADS=1 $(BIN)/python -m floebreak.fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --generator valid --out fuzz-report/valid
+	OMP_NUM_THREADS=1 $(BIN)/python -m floebreak.fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --generator adversarial --out fuzz-report/adversarial
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache

@@ -79,12 +79,12 @@ def test_summary_counts_areas_and_the_balance(run):
 
 def test_summary_of_a_run_without_cusps_has_nan_means():
     far = FloeField(
-        polygons=np.array([shapely.box(0.0, 40.0, 5.0, 45.0)], dtype=object),  # beside the bow's path
+        polygons=np.array([shapely.box(40.0, 0.0, 45.0, 5.0)], dtype=object),  # beyond the transit's end
         thickness_m=np.array([1.0]),
         diameter_class_m=np.array([5.0]),
         floe_id=np.array([0]),
         domain_m=(0.0, -50.0, 30.0, 50.0),
     )
-    out = summary(simulate(far, agulhas_ii(), params=SimulationParams(step_m=1.0)))
+    out = summary(simulate(far, agulhas_ii(), params=SimulationParams(step_m=1.0, x_end_m=5.0)))
     assert out["n_cusps"] == 0 and out["cusp_area_m2"] == 0.0
     assert math.isnan(out["mean_cusp_area_m2"]) and math.isnan(out["mean_cusp_volume_m3"])

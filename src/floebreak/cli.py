@@ -17,7 +17,7 @@ from rich.table import Table
 
 from floebreak import constants as c
 from floebreak.errors import InputError
-from floebreak.exit_codes import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_STORAGE, INTERRUPTED_MESSAGE
+from floebreak.exit_codes import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_STORAGE, interruption
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
 app = typer.Typer(no_args_is_help=True, add_completion=False, help=__doc__, pretty_exceptions_enable=False)
@@ -928,8 +928,9 @@ def main(engine_loaded=None) -> None:
 
 
 def _report_interrupt() -> None:
-    err_console.print(INTERRUPTED_MESSAGE, highlight=False)
-    sys.exit(EXIT_INTERRUPTED)
+    message, code = interruption()  # Ctrl-C's, or SIGTERM's (`floebreak.__main__`)
+    err_console.print(message, highlight=False)
+    sys.exit(code)
 
 
 if __name__ == "__main__":  # `python -m floebreak.cli`: the console command without its collector settings

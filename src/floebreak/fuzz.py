@@ -10,7 +10,9 @@ processes and checks: no internal error (an `InputError` is a refusal, allowed),
 each violation's scenario is saved there as TOML with its traceback (with the files it names beside it).
 Warnings a run raises are kept in its record. SIGTERM or Ctrl-C stops the campaign and its workers (the
 records so far are kept). The test suite runs a small fixed sample (tests/test_fuzz.py); the campaign is
-the documented command (benchmarks/README.md, fuzz).
+the documented command (benchmarks/README.md, fuzz). ``--generator adversarial`` draws hostile field files,
+bow CSVs and policies instead (`floebreak.fuzz_adversarial`); ``make fuzz`` runs both. A run longer than
+``--max-seconds`` (120 s) is flagged; every drawn scenario has the wall-time budget `MAX_WALL_S`.
 
 Ranges are those of the code, each from its one place: the scenario's sections (their pydantic schema), the
 failure modes' `Bounds`, the parametric hull's `floebreak.ship.hulls.HULL_PARAMETER_BOUNDS`, the bow reader's
@@ -84,6 +86,7 @@ from floebreak.ship.hulls import HULLS
 AREA_TOLERANCE = 1e-9  # the engine's own (`floebreak.simulation.AREA_BALANCE_TOLERANCE`)
 MAX_PIECES = 5_000
 MAX_STEPS = 500
+MAX_WALL_S = 100.0  # simulation.max_wall_s of every drawn scenario: a runaway is stopped (exit 2) in time
 SQP_MAX_FLOES = 30  # the `sqp` generator's fields are shrunk to at most about this many floes (docstring)
 FILES = "_files"  # the drawn record's key for the files a scenario names (not a scenario key)
 
@@ -399,12 +402,12 @@ def scenario_dicts(draw) -> dict[str, Any]:
             ),
             "size_effect_law": draw(st.sampled_from(["BZ", "BZ1", "BZ2"])),
             "stress_mode": draw(st.sampled_from(["thesis", "strength", "sif"])),
-            "wedge_angle_deg": draw(_edge_or_inside(0.5, 60.0)),
+            "wedge_angle_deg": draw(_edge_or_inside(1.0, 60.0)),
             "next_crack_angle_deg": draw(_edge_or_inside(0.0, 90.0)),
             "shoulder_region_start": draw(_edge_or_inside(0.0, 1.0)),
             "flip_uncracked_at_shoulder": draw(st.booleans()),
         },
-        "simulation": {"max_pieces": MAX_PIECES},
+        "simulation": {"max_pieces": MAX_PIECES, "max_wall_s": MAX_WALL_S},
     }
     flat = {sc.FLAT_FAILURE_KEYS[key] for key in data["failure"] if key in sc.FLAT_FAILURE_KEYS}
     data["failure"].update(draw(_mode_tables(flat)))
@@ -441,10 +444,25 @@ def _import_every_module() -> None:
             importlib.import_module(module.name)
 
 
-def draw_scenarios(n: int, campaign_seed: int) -> list[dict[str, Any]]:
-    """`n` scenarios drawn by hypothesis from `campaign_seed` (same seed and floebreak source → same
+GENERATORS = ("valid", "adversarial")  # `scenario_dicts`, `floebreak.fuzz_adversarial.adversarial_dicts`
+
+
+def _strategy(generator: str) -> st.SearchStrategy[dict[str, Any]]:
+    if generator == "adversarial":
+        from floebreak.fuzz_adversarial import adversarial_dicts
+
+        return adversarial_dicts()
+    if generator != "valid":
+        raise ValueError(f"unknown generator {generator!r} (one of {', '.join(GENERATORS)})")
+    return scenario_dicts()
+
+
+def draw_scenarios(n: int, campaign_seed: int, generator: str = "valid") -> list[dict[str, Any]]:
+    """`n` scenarios drawn by hypothesis from `campaign_seed` with `generator` ("valid": `scenario_dicts`,
+    "adversarial": `floebreak.fuzz_adversarial.adversarial_dicts`; same seed and floebreak source → same
     scenarios; `_import_every_module`)."""
     _import_every_module()
+    strategy = _strategy(generator)
     drawn: list[dict[str, Any]] = []
 
     @seed(campaign_seed)
@@ -455,7 +473,7 @@ def draw_scenarios(n: int, campaign_seed: int) -> list[dict[str, Any]]:
         deadline=None,
         suppress_health_check=list(HealthCheck),
     )
-    @given(scenario_dicts())
+    @given(strategy)
     def collect(data):
         drawn.append(data)
 
@@ -496,6 +514,11 @@ def write_files(files: dict[str, Any], folder: Path) -> None:
     for name, spec in files.items():
         if "text" in spec:
             (folder / name).write_bytes(spec["text"].encode("utf-8"))  # bytes: CRLF line ends kept
+            continue
+        if "adversarial_field" in spec:
+            from floebreak.fuzz_adversarial import write_field_file
+
+            write_field_file(spec["adversarial_field"], folder / name)
             continue
         recipe = spec["field"]
         observation = get_observation(recipe["observation"])
@@ -664,16 +687,32 @@ def _distribution(values: list[float]) -> dict[str, float]:
     }
 
 
-def _flagged(record: dict[str, Any], max_rss_mb: float) -> bool:
-    return record["status"] == "crash" or bool(record["problems"]) or record["peak_rss_mb"] > max_rss_mb
+MAX_SECONDS = 120.0  # `--max-seconds`: a longer run (wall time) is flagged, a runaway the guards missed
 
 
-def summarize(records: list[dict[str, Any]], n: int, campaign_seed: int, max_rss_mb: float) -> dict[str, Any]:
+def _flagged(record: dict[str, Any], max_rss_mb: float, max_seconds: float = math.inf) -> bool:
+    return (
+        record["status"] == "crash"
+        or bool(record["problems"])
+        or record["peak_rss_mb"] > max_rss_mb
+        or record["seconds"] > max_seconds
+    )
+
+
+def summarize(
+    records: list[dict[str, Any]],
+    n: int,
+    campaign_seed: int,
+    max_rss_mb: float,
+    max_seconds: float = math.inf,
+) -> dict[str, Any]:
     """The campaign's summary from its records (so it can be rebuilt from ``records.jsonl``): counts, the
     worst area balance and peak memory, the time distribution and the 10 slowest scenarios."""
     counts = {"runs": len(records), "ok": 0, "refused": 0, "crash": 0, "violations": 0, "over_memory": 0}
     counts["warned"] = 0  # runs that raised a warning (recorded, not a violation)
+    counts["over_time"] = 0  # runs longer than `max_seconds`
     for record in records:
+        counts["over_time"] += record["seconds"] > max_seconds
         counts[record["status"]] += 1
         counts["violations"] += bool(record["problems"])
         counts["over_memory"] += record["peak_rss_mb"] > max_rss_mb
@@ -744,6 +783,8 @@ def run_campaign(
     resume: bool = False,
     check: Callable[[dict[str, Any]], dict[str, Any]] = check_one,
     retry: bool = False,
+    generator: str = "valid",
+    max_seconds: float = math.inf,
 ) -> dict[str, Any]:
     """Draw and `check` `n` scenarios. The drawn scenarios are kept in ``out/scenarios.jsonl``; each record is
     appended to ``out/records.jsonl`` as it completes (with `resume`, the indices already recorded there are
@@ -758,9 +799,9 @@ def run_campaign(
     if path.exists():  # drop a line cut by a stopped campaign
         os.truncate(path, path.read_bytes().rfind(b"\n") + 1)
     if retry:
-        records = _drop_flagged(out, records, max_rss_mb)
+        records = _drop_flagged(out, records, max_rss_mb, max_seconds)
     done = {record["index"] for record in records}
-    scenarios = _campaign_scenarios(out, n, campaign_seed)
+    scenarios = _campaign_scenarios(out, n, campaign_seed, generator)
     todo = [(i, data) for i, data in enumerate(scenarios) if i not in done]
     with path.open("a", encoding="utf-8") as log, contextlib.closing(_records(todo, jobs, check)) as results:
         for record in results:
@@ -768,36 +809,45 @@ def run_campaign(
             log.write(json.dumps(record, default=str) + "\n")
             log.flush()
             records.append(record)
-            if _flagged(record, max_rss_mb):
+            if _flagged(record, max_rss_mb, max_seconds):
                 _write_case(out, record)
             if len(records) % 25 == 0:
-                print(f"{len(records)} of {n}: {_brief(records, max_rss_mb)}", file=sys.stderr, flush=True)
-    summary = summarize(records, n, campaign_seed, max_rss_mb)
+                brief = _brief(records, max_rss_mb, max_seconds)
+                print(f"{len(records)} of {n}: {brief}", file=sys.stderr, flush=True)
+    summary = summarize(records, n, campaign_seed, max_rss_mb, max_seconds)
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
 
 
-def _campaign_scenarios(out: Path, n: int, campaign_seed: int) -> list[dict[str, Any]]:
+def _campaign_scenarios(
+    out: Path, n: int, campaign_seed: int, generator: str = "valid"
+) -> list[dict[str, Any]]:
     """The campaign's scenarios: those kept in ``out/scenarios.jsonl`` (a resumed campaign runs what was
     drawn, even after a change of floebreak's source), else drawn and kept there."""
     path = out / "scenarios.jsonl"
     if path.exists():
         header, *scenarios = (json.loads(line) for line in path.read_text(encoding="utf-8").splitlines())
-        if (header["n"], header["seed"]) != (n, campaign_seed) or len(scenarios) != n:
-            held = f"n={header['n']} seed={header['seed']}"
-            raise SystemExit(f"{path} holds the campaign {held}, not n={n} seed={campaign_seed}")
+        held = (header["n"], header["seed"], header.get("generator", "valid"))
+        if held != (n, campaign_seed, generator) or len(scenarios) != n:
+            raise SystemExit(
+                f"{path} holds the campaign n={held[0]} seed={held[1]} generator={held[2]}, not n={n} "
+                f"seed={campaign_seed} generator={generator}"
+            )
         return scenarios
-    scenarios = draw_scenarios(n, campaign_seed)
-    lines = [json.dumps({"n": n, "seed": campaign_seed}), *(json.dumps(data) for data in scenarios)]
+    scenarios = draw_scenarios(n, campaign_seed, generator)
+    header = {"n": n, "seed": campaign_seed, "generator": generator}
+    lines = [json.dumps(header), *(json.dumps(data) for data in scenarios)]
     write_text_atomic(path, "\n".join(lines) + "\n")
     return scenarios
 
 
-def _drop_flagged(out: Path, records: list[dict[str, Any]], max_rss_mb: float) -> list[dict[str, Any]]:
+def _drop_flagged(
+    out: Path, records: list[dict[str, Any]], max_rss_mb: float, max_seconds: float = math.inf
+) -> list[dict[str, Any]]:
     """`records` without the flagged ones, also in ``out/records.jsonl``; their case files removed."""
-    kept = [record for record in records if not _flagged(record, max_rss_mb)]
+    kept = [record for record in records if not _flagged(record, max_rss_mb, max_seconds)]
     for record in records:
-        if _flagged(record, max_rss_mb):
+        if _flagged(record, max_rss_mb, max_seconds):
             case = out / f"case-{record['index']:05d}"
             case.with_suffix(".toml").unlink(missing_ok=True)
             shutil.rmtree(case, ignore_errors=True)
@@ -806,9 +856,10 @@ def _drop_flagged(out: Path, records: list[dict[str, Any]], max_rss_mb: float) -
     return kept
 
 
-def _brief(records: list[dict[str, Any]], max_rss_mb: float) -> dict[str, int]:
-    summary = summarize(records, 0, 0, max_rss_mb)
-    return {key: summary[key] for key in ("ok", "refused", "crash", "violations", "over_memory", "warned")}
+def _brief(records: list[dict[str, Any]], max_rss_mb: float, max_seconds: float) -> dict[str, int]:
+    summary = summarize(records, 0, 0, max_rss_mb, max_seconds)
+    keys = ("ok", "refused", "crash", "violations", "over_memory", "over_time", "warned")
+    return {key: summary[key] for key in keys}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -818,6 +869,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--out", type=Path, default=Path("fuzz-report"), help="records, violations")
     parser.add_argument("--max-rss-mb", type=float, default=1024.0, help="peak memory allowed per run")
+    parser.add_argument(
+        "--max-seconds", type=float, default=MAX_SECONDS, help="wall time allowed per run [s]"
+    )
+    parser.add_argument(
+        "--generator",
+        choices=GENERATORS,
+        default="valid",
+        help="valid scenarios over the options, or hostile files and policies (floebreak.fuzz_adversarial)",
+    )
     parser.add_argument("--resume", action="store_true", help="continue the campaign recorded in --out")
     parser.add_argument(
         "--retry", action="store_true", help="with --resume: run the flagged scenarios again (after a fix)"
@@ -828,13 +888,22 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     started = time.perf_counter()
     if args.summarize:
-        summary = summarize(read_records(args.out, args.n, args.seed), args.n, args.seed, args.max_rss_mb)
+        records = read_records(args.out, args.n, args.seed)
+        summary = summarize(records, args.n, args.seed, args.max_rss_mb, args.max_seconds)
         (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     else:
         try:
             with exit_on_sigterm():
                 summary = run_campaign(
-                    args.n, args.seed, args.jobs, args.out, args.max_rss_mb, args.resume, retry=args.retry
+                    args.n,
+                    args.seed,
+                    args.jobs,
+                    args.out,
+                    args.max_rss_mb,
+                    args.resume,
+                    retry=args.retry,
+                    generator=args.generator,
+                    max_seconds=args.max_seconds,
                 )
         except KeyboardInterrupt:
             print(
@@ -842,7 +911,8 @@ def main(argv: list[str] | None = None) -> int:
             )
             return 130
     print(json.dumps(summary, indent=2), f"\n{time.perf_counter() - started:.0f} s")
-    return 1 if summary["crash"] or summary["violations"] or summary["over_memory"] else 0
+    flagged = ("crash", "violations", "over_memory", "over_time")
+    return 1 if any(summary[key] for key in flagged) else 0
 
 
 if __name__ == "__main__":

@@ -96,7 +96,10 @@ FIELD_LENGTH_M = (1.0, 1.0e6)  # generated field length (the floe count is bound
 FIELD_WIDTH_M = (1.0, 1.0e5)
 STEP_M = (1.0e-3, 10.0)  # bow advance per step: below 1 mm a transit takes millions of steps
 SPEED_M_S = (0.0, 20.0)  # ship speed: 20 m/s ≈ 39 kn is above any ice-going ship's top speed in open water
+# p_h sets how many uniforms are drawn per floe (random numbers = floes × p_h)
+THICKNESS_SUMMANDS = (1, 10_000)
 PROPELLER_COUNT = (1, 8)  # ice-going ships have 1–4 propellers (Agulhas II 2, thesis §6.1); 8 leaves room
+WALL_S_MAX = 30 * 86_400.0  # simulation.max_wall_s: a month
 SEED_MAX = 2**63 - 1  # seeds are TOML integers: signed 64 bit (TOML 1.0)
 Thickness = Annotated[Float, Field(ge=THICKNESS_M[0], le=THICKNESS_M[1])]
 
@@ -266,9 +269,11 @@ class IceSection(_Section):
     )
     thickness_summands: Int | None = Field(
         None,
-        ge=1,
-        le=100_000,
-        description="p_h of the Bates thickness (default 12; thesis profile 1180, erratum 6) [-]",
+        ge=THICKNESS_SUMMANDS[0],
+        le=THICKNESS_SUMMANDS[1],
+        description="p_h of the Bates thickness (default 12; thesis profile 1180, erratum 6) [-], 1 to "
+        "10 000: the spread (h_max − h_min)/√(12 p_h) is then ≥ 0.3 % of the range (3 mm for a 1 m range), "
+        "below what ice thickness is measured to; for a constant thickness give ice.thickness_m",
     )
     fracture_toughness_pa_sqrt_m: Float = Field(
         c.FRACTURE_TOUGHNESS_PA_SQRT_M,
@@ -600,6 +605,13 @@ class SimulationSection(_Section):
         le=100_000_000,
         description="most pieces a run may create, initial floes included; beyond it the run stops with "
         "exit code 2 (default 1 000 000: ≈ 1.2 GB of memory; thin ice breaks into many small pieces) [-]",
+    )
+    max_wall_s: Float | None = Field(
+        None,
+        gt=0.0,
+        le=WALL_S_MAX,
+        description="most wall time a run's stepping may take [s]; beyond it the run stops with exit code 2 "
+        "(default 600 s + 60 s per km of transit, ≥ 6 × the slowest measured run: it stops only a runaway)",
     )
 
 

@@ -11,6 +11,7 @@ Initial ice area = cusps + flipped + remaining is checked at the end of every ru
 from __future__ import annotations
 
 import hashlib
+import time
 from array import array
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
@@ -55,6 +56,12 @@ QUIET_CLEARANCE_M = 1e-9
 # written; benchmarks/README.md, memory), so a million pieces stay within ≈ 1.2 GB. A 100 km × 200 m transit
 # of the reference ice makes ≈ 0.34 million; runaway breaking of very thin ice is stopped.
 MAX_PIECES_DEFAULT = 1_000_000
+# Wall-clock guard (`SimulationParams.max_wall_s`): by default a run may take this much time plus this much
+# per km of transit. Measured runs take 1–10 s per km (a 100 km transit 300–990 s, benchmarks/README.md),
+# so the default is ≥ 6 × the slowest and stops only a runaway (ice breaking without end at one place, a
+# transit of empty water millions of steps long).
+WALL_S_BASE = 600.0
+WALL_S_PER_KM = 60.0
 
 
 class AreaBalanceError(RuntimeError):
@@ -75,6 +82,21 @@ class PieceBudgetError(InputError):
         )
 
 
+class WallTimeError(InputError):
+    """The run took longer than `SimulationParams.max_wall_s` (runaway guard; a user choice)."""
+
+    def __init__(self, limit_s: float, bow_x_m: float, n_pieces: int, n_cusps: int):
+        super().__init__(
+            "simulation.max_wall_s",
+            f"the run took more than {limit_s:g} s of wall time and was stopped (bow at x = {bow_x_m:.2f} m, "
+            f"{n_pieces:,} pieces, {n_cusps:,} cusps so far; ice that keeps breaking at one place, or a long "
+            "transit through open water, can run without end)",
+            value=limit_s,
+            allowed="raise simulation.max_wall_s, or use a shorter field, a coarser ship.step_m or "
+            "thicker ice",
+        )
+
+
 @dataclass(frozen=True)
 class SimulationParams:
     """Stepping parameters (thesis §3.2). Positions: upper-waterline stem tip, in the field frame."""
@@ -87,8 +109,13 @@ class SimulationParams:
     initial_clearance_m: float = 1e-3
     max_evaluations_per_floe_step: int = 256  # guard against endless re-breaking at one position
     max_pieces: int = MAX_PIECES_DEFAULT  # memory guard: `PieceBudgetError` beyond this many pieces
+    # time guard: `WallTimeError` beyond this many seconds, checked at every step and every evaluation;
+    # None: WALL_S_BASE + WALL_S_PER_KM per km of transit
+    max_wall_s: float | None = None
 
     def __post_init__(self) -> None:
+        if self.max_wall_s is not None:
+            require_range("simulation.max_wall_s", self.max_wall_s, low=0.0, unit="s")
         require_range("ship.step_m", self.step_m, low=0.0, unit="m")
         require_range("simulation.dist_bow_max_m", self.dist_bow_max_m, low=0.0, low_inclusive=True, unit="m")
         if self.x_end_m is not None and not self.x_end_m > self.x_start_m:
@@ -498,6 +525,38 @@ def simulate(
     return result
 
 
+def require_floes_in_path(
+    floe_field: FloeField,
+    hull_box: tuple[float, float, float, float],
+    x_start_m: float,
+    dist_bow_max_m: float,
+) -> None:
+    """InputError (key ``field``) when the field has floes but none reaches into the lane the bow sweeps
+    (the y-range of the hull's bounding box widened by `dist_bow_max_m`, ahead of the hull's aft end at
+    `x_start_m`): such a run would step through open water and break nothing — typically a file in other
+    coordinates (UTM-like eastings and northings of 10⁶–10⁷ m) than the field frame (the bow's stem tip at
+    the origin at the start). Floes beyond an explicit `x_end_m` are the user's choice, not refused."""
+    if floe_field.n_floes == 0:
+        return
+    x0, y0, _, y1 = hull_box
+    lane = (x_start_m + x0 - dist_bow_max_m, y0 - dist_bow_max_m, y1 + dist_bow_max_m)
+    bounds = shapely.bounds(floe_field.polygons).reshape(-1, 4)
+    if np.any((bounds[:, 2] >= lane[0]) & (bounds[:, 1] <= lane[2]) & (bounds[:, 3] >= lane[1])):
+        return
+    source = floe_field.metadata.get("source_file")
+    name = "the field" if source is None else repr(str(source))
+    fx0, fy0 = np.nanmin(bounds[:, 0]), np.nanmin(bounds[:, 1])
+    fx1, fy1 = np.nanmax(bounds[:, 2]), np.nanmax(bounds[:, 3])
+    raise InputError(
+        "field",
+        f"no floe of {name} lies in the bow's path: its {floe_field.n_floes:,} floes span x ∈ [{fx0:.6g}, "
+        f"{fx1:.6g}] m, y ∈ [{fy0:.6g}, {fy1:.6g}] m; the bow sweeps y ∈ [{lane[1]:.6g}, {lane[2]:.6g}] m "
+        f"from x = {lane[0]:.6g} m forward (field frame: the bow's stem tip at the origin at the start, x "
+        "forward, y to port)",
+        allowed="floes in the field frame: move the field (subtract its origin), or set ship.x_start_m",
+    )
+
+
 def _transit_end_m(floe_field: FloeField, params: SimulationParams, hull_x0: float) -> float:
     """Stem position of the last step: `x_end_m`, or where the aft end of the modelled hull has passed the
     field (thesis §3.2)."""
@@ -527,7 +586,13 @@ class _Run:
         self.x_end = _transit_end_m(floe_field, params, self.hull_box[0])
         self.n_steps = int(np.floor((self.x_end - params.x_start_m) / params.step_m + 1e-9)) + 1
         d = params.dist_bow_max_m
+        require_floes_in_path(floe_field, self.hull_box, params.x_start_m, d)
         self.pieces = _Pieces(floe_field, (self.hull_box[1] - d, self.hull_box[3] + d), params.max_pieces)
+        transit_km = max(self.x_end - params.x_start_m, 0.0) / 1000.0
+        self.max_wall_s = (
+            params.max_wall_s if params.max_wall_s is not None else WALL_S_BASE + WALL_S_PER_KM * transit_km
+        )
+        self.deadline = time.monotonic() + self.max_wall_s
         self.context = FailureContext(bow=bow, bow_geometry=self.geometry)
         self.bow_length = float(getattr(bow, "length_bow_m", -self.hull_box[0]))
         self.counters = {"contacts": 0, "breaks": 0, "cusps": 0, "flipped": 0}
@@ -540,9 +605,15 @@ class _Run:
         for callback in self.callbacks:
             callback(event)
 
+    def check_time(self, bow_x: float) -> None:
+        """Stop a runaway: `WallTimeError` once the run has taken more than its wall-time budget."""
+        if time.monotonic() > self.deadline:
+            raise WallTimeError(self.max_wall_s, bow_x, len(self.pieces.polygon), self.counters["cusps"])
+
     # --- one step: the bow at x_start + step·Δx ------------------------------------------------------
     def advance(self, step: int) -> None:
         bow_x = self.params.x_start_m + step * self.params.step_m
+        self.check_time(bow_x)
         x0, y0, x1, y1 = self.hull_box
         d = self.params.dist_bow_max_m
         candidates = self.pieces.candidates((bow_x + x0 - d, y0 - d, bow_x + x1 + d, y1 + d))
@@ -575,6 +646,7 @@ class _Run:
                 batch.extend(evaluate_contacts(polygons, thickness, self.geometry, self.model.contact))
             pid, polygon_bf = queue.popleft()
             evaluations += 1
+            self.check_time(bow_x)
             children = self._evaluate_piece(step, bow_x, pid, polygon_bf, batch.popleft())
             if evaluations < self.params.max_evaluations_per_floe_step:
                 queue.extend(children)

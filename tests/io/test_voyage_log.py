@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import datetime as dt
+import itertools
+import tracemalloc
 from pathlib import Path
 
 import pytest
 
 from floebreak.errors import InputError
-from floebreak.io.voyage_log import parse_voyage_log, read_voyage_log
+from floebreak.io.voyage_log import iter_voyage_log, parse_voyage_log, read_voyage_log
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "agu1920_log.csv"
 
@@ -132,3 +134,78 @@ def test_bad_logs_name_file_row_and_column(text, expected):
 def test_unreadable_file_names_it(tmp_path):
     with pytest.raises(InputError, match=r"missing\.csv"):
         read_voyage_log(tmp_path / "missing.csv")
+
+
+# --- issue 31: streaming, progress, and the separator named -------------------------------------------
+
+
+def _rows(n: int):
+    start = dt.datetime(2020, 1, 1)
+    for i in range(n):
+        a, b = start + dt.timedelta(minutes=10 * i), start + dt.timedelta(minutes=10 * i + 10)
+        yield f"{a:%Y-%m-%dT%H:%M},{b:%Y-%m-%dT%H:%M},50,0.5,60,40\n"
+
+
+def test_a_log_is_validated_row_by_row_as_it_is_read():
+    # an endless log: the first periods come out without the rest being read
+    def endless():
+        yield HEADER + "\n"
+        yield from _rows(10**12)
+
+    columns, periods = iter_voyage_log(endless(), "endless.csv")
+    first = list(itertools.islice(periods, 3))
+    assert columns[0] == "start_utc" and [p.row for p in first] == [1, 2, 3]
+
+
+def test_reading_a_long_log_reports_progress_and_holds_only_its_periods(tmp_path):
+    # issue 31: a 10⁶-row log gave no progress for 120 s and reached 1.8 GB (its text, its lines and its
+    # cells held at once next to the periods)
+    path = tmp_path / "long.csv"
+    with path.open("w", encoding="utf-8") as stream:
+        stream.write(HEADER + "\n")
+        stream.writelines(_rows(25_000))
+    reports = []
+    tracemalloc.start()
+    try:
+        log = read_voyage_log(path, progress=reports.append)
+        kept, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert len(log.periods) == 25_000 and reports == [10_000, 20_000, 25_000]
+    assert peak < 1.2 * kept  # what the reading needs beyond the periods themselves is small
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        (
+            HEADER.replace(",", ";") + "\n" + ROW1.replace(",", ";").replace("0.5", "0,5"),
+            "separated by semicolons",
+        ),
+        (HEADER.replace(",", "\t") + "\n" + ROW1.replace(",", "\t"), "separated by tabs"),
+    ],
+    ids=["semicolon", "tab"],
+)
+def test_a_log_separated_by_semicolons_or_tabs_names_the_separator(tmp_path, text, expected):
+    # issue 31, message 6: a semicolon or decimal-comma log blamed a "unit"
+    path = tmp_path / "log.csv"
+    path.write_text(text + "\n", encoding="utf-8")
+    with pytest.raises(InputError) as info:
+        read_voyage_log(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}, header (line 1): the columns are {expected}, not by commas")
+    assert "unit" not in message and "decimal" in message
+
+
+def test_a_decimal_comma_in_a_comma_separated_log_is_named(tmp_path):
+    unquoted = parse_error(HEADER + "\n" + ROW1.replace("0.5", "0,5"))
+    assert "7 cells for 6 columns (a decimal comma? numbers take a decimal point" in unquoted
+    quoted = parse_error(HEADER + "\n" + ROW1.replace("0.5", '"0,5"'))
+    assert quoted.startswith("log.csv, row 1 (line 2), column 'mean_thickness_m': '0,5' has a decimal comma")
+    assert "'0.5'" in quoted
+
+
+def parse_error(text: str) -> str:
+    with pytest.raises(InputError) as info:
+        parse_voyage_log(text, "log.csv")
+    return str(info.value)

@@ -500,6 +500,7 @@ def run(
         x_end_m=ship.x_end_m,
         initial_contact=ship.initial_contact,
         max_pieces=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
+        max_wall_s=scenario.simulation.max_wall_s,
     )
     contacts_file = (
         None

@@ -7,6 +7,8 @@ import numpy as np
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
 
+BLOCK_VALUES = 1 << 20  # uniforms drawn at once (8 MB)
+
 
 def bounded_random_thickness_m(
     rng: np.random.Generator,
@@ -34,6 +36,12 @@ def bounded_random_thickness_m(
     if int(summands) < 1:
         raise InputError("thickness_summands", f"{summands} < 1", allowed=">= 1")
     terms = int(summands) + (1 if thesis_sum_from_zero else 0)
-    uniforms = rng.random((int(size), terms))
-    fraction = uniforms.sum(axis=1) / int(summands)
+    # drawn in blocks of rows (the same stream as one (size, terms) array): memory O(BLOCK_VALUES), not
+    # O(size · p_h)
+    rows = max(1, BLOCK_VALUES // terms)
+    fraction = np.empty(int(size))
+    for start in range(0, int(size), rows):
+        stop = min(start + rows, int(size))
+        fraction[start:stop] = rng.random((stop - start, terms)).sum(axis=1)
+    fraction /= int(summands)
     return thickness_min_m + (thickness_max_m - thickness_min_m) * fraction

@@ -1,6 +1,7 @@
 """Voyage logs: a ship's ice observation log, one row per observation period (issue 18 §4).
 
-A CSV file (UTF-8, comma-separated, lines starting with ``#`` are comments). Units are part of every column
+A CSV file (UTF-8, comma-separated with decimal points, lines starting with ``#`` are comments), read
+row by row (`iter_voyage_log`). Units are part of every column
 name; docs/studies.md ("Voyages") is the user's reference:
 
 =============================  ==========================================================================
@@ -34,6 +35,7 @@ import io
 import itertools
 import math
 import re
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -64,7 +66,7 @@ OPTIONAL = ("speed_m_s", "speed_kn", "propeller_rpm", "propeller_pitch_percent",
 KNOWN = (*REQUIRED, "concentration_percent", "concentration_fraction", *OPTIONAL)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class LogPeriod:
     """One period of a log (SI; times in UTC). `row`: data row counted from 1; `line`: line of the file."""
 
@@ -150,31 +152,47 @@ def _check_header(source: str, header: list[str], line: int) -> None:
         )
 
 
-def _number(text: str, where: str, low: float, high: float | None, low_inclusive: bool, unit: str) -> float:
-    text = text.strip()
-    if not text:
-        raise InputError(where, "empty cell", allowed="a number")
+DECIMAL_COMMA = re.compile(r"^[+-]?[0-9]*,[0-9]+$")
+PROGRESS_ROWS = 10_000  # rows between two progress reports
+
+
+def _number(
+    text: str, where: Callable[[], str], low: float, high: float | None, low_inclusive: bool, unit: str
+) -> float:
+    """`text` as a number in the interval; `where()` builds the error key (only on an error: a log may have
+    millions of rows)."""
     try:
         value = float(text)
     except ValueError:
-        raise InputError(where, f"{text!r} is not a number", value=text, allowed="a number") from None
+        text = text.strip()
+        if not text:
+            raise InputError(where(), "empty cell", allowed="a number") from None
+        if DECIMAL_COMMA.match(text):
+            raise InputError(
+                where(),
+                f"{text!r} has a decimal comma",
+                value=text,
+                allowed=f"a decimal point, {text.replace(',', '.')!r} (the log is comma-separated)",
+            ) from None
+        raise InputError(where(), f"{text!r} is not a number", value=text, allowed="a number") from None
     if not math.isfinite(value):
-        raise InputError(where, f"{text!r} is not a finite number", value=text, allowed="a finite number")
-    left = "[" if low_inclusive else "("
-    interval = f"{left}{low:g}, {'inf)' if high is None else f'{high:g}]'}" + (f" {unit}" if unit else "")
+        raise InputError(
+            where(), f"{text.strip()!r} is not a finite number", value=text, allowed="a finite number"
+        )
     if (value < low if low_inclusive else value <= low) or (high is not None and value > high):
-        raise InputError(where, f"{value:g} is outside {interval}", value=value, allowed=interval)
+        left = "[" if low_inclusive else "("
+        interval = f"{left}{low:g}, {'inf)' if high is None else f'{high:g}]'}" + (f" {unit}" if unit else "")
+        raise InputError(where(), f"{value:g} is outside {interval}", value=value, allowed=interval)
     return value
 
 
-def _time(text: str, where: str) -> dt.datetime:
-    text = text.strip()
+def _time(text: str, where: Callable[[], str]) -> dt.datetime:
     try:
-        value = dt.datetime.fromisoformat(text)
+        value = dt.datetime.fromisoformat(text.strip())
     except ValueError:
         raise InputError(
-            where,
-            f"{text!r} is not an ISO 8601 date and time",
+            where(),
+            f"{text.strip()!r} is not an ISO 8601 date and time",
             value=text,
             allowed="e.g. 2019-12-18T20:20, 2019-12-18T20:20Z or 2019-12-18T22:20+02:00",
         ) from None
@@ -183,47 +201,61 @@ def _time(text: str, where: str) -> dt.datetime:
     return value.astimezone(dt.UTC)
 
 
-def _period(source: str, row: int, line: int, cells: dict[str, str], shares: list[tuple[str, float]]):
-    def where(column: str) -> str:
-        return csv_where(source, column, row, line)
+class _Row:
+    """Error keys of one data row, built only when an error is raised."""
 
-    start = _time(cells["start_utc"], where("start_utc"))
-    end = _time(cells["end_utc"], where("end_utc"))
+    __slots__ = ("line", "row", "source")
+
+    def __init__(self, source: str, row: int, line: int):
+        self.source, self.row, self.line = source, row, line
+
+    def at(self, column: str) -> Callable[[], str]:
+        return lambda: csv_where(self.source, column, self.row, self.line)
+
+
+def _period(source: str, row: int, line: int, cells: dict[str, str], shares: list[tuple[str, float]]):
+    here = _Row(source, row, line)
+    start = _time(cells["start_utc"], here.at("start_utc"))
+    end = _time(cells["end_utc"], here.at("end_utc"))
     if not end > start:
         raise InputError(
-            where("end_utc"),
+            here.at("end_utc")(),
             f"{end.isoformat()} is not after the start {start.isoformat()}",
             allowed="end > start",
         )
     if "concentration_percent" in cells:
-        c = _number(cells["concentration_percent"], where("concentration_percent"), 0.0, 100.0, False, "%")
+        c = _number(cells["concentration_percent"], here.at("concentration_percent"), 0.0, 100.0, False, "%")
         concentration = c / 100.0
     else:
         concentration = _number(
-            cells["concentration_fraction"], where("concentration_fraction"), 0.0, 1.0, False, ""
+            cells["concentration_fraction"], here.at("concentration_fraction"), 0.0, 1.0, False, ""
         )
-    thickness = _number(cells["mean_thickness_m"], where("mean_thickness_m"), 0.0, THICKNESS_M[1], False, "m")
-    percentages = [_number(cells[name], where(name), 0.0, 100.0, True, "%") for name, _ in shares]
+    thickness = _number(
+        cells["mean_thickness_m"], here.at("mean_thickness_m"), 0.0, THICKNESS_M[1], False, "m"
+    )
+    percentages = [_number(cells[name], here.at(name), 0.0, 100.0, True, "%") for name, _ in shares]
     total = sum(percentages)
     if abs(total - 100.0) > PERCENT_SUM_TOLERANCE:
         raise InputError(
-            where(", ".join(name for name, _ in shares)),
+            here.at(", ".join(name for name, _ in shares))(),
             f"shares sum to {total:g} %",
             value=total,
             allowed=f"100 ± {PERCENT_SUM_TOLERANCE:g} %",
         )
     speed = None
     if "speed_m_s" in cells:
-        speed = _number(cells["speed_m_s"], where("speed_m_s"), 0.0, SPEED_M_S[1], False, "m/s")
+        speed = _number(cells["speed_m_s"], here.at("speed_m_s"), 0.0, SPEED_M_S[1], False, "m/s")
     elif "speed_kn" in cells:
         top_kn = math.floor(10.0 * SPEED_M_S[1] / KNOT_M_S) / 10.0  # 38.8 kn: not above 20 m/s
-        speed = _number(cells["speed_kn"], where("speed_kn"), 0.0, top_kn, False, "kn") * KNOT_M_S
+        speed = _number(cells["speed_kn"], here.at("speed_kn"), 0.0, top_kn, False, "kn") * KNOT_M_S
     rpm = pitch = None
     if "propeller_rpm" in cells:
-        rpm = _number(cells["propeller_rpm"], where("propeller_rpm"), 0.0, MAX_PROPELLER_RPM, False, "1/min")
+        rpm = _number(
+            cells["propeller_rpm"], here.at("propeller_rpm"), 0.0, MAX_PROPELLER_RPM, False, "1/min"
+        )
     if "propeller_pitch_percent" in cells:
         pitch = _number(
-            cells["propeller_pitch_percent"], where("propeller_pitch_percent"), 0.0, 100.0, True, "%"
+            cells["propeller_pitch_percent"], here.at("propeller_pitch_percent"), 0.0, 100.0, True, "%"
         )
     kept = [(d, p) for (_, d), p in zip(shares, percentages, strict=True) if p > 0.0]
     return LogPeriod(
@@ -242,35 +274,43 @@ def _period(source: str, row: int, line: int, cells: dict[str, str], shares: lis
     )
 
 
-def _check_order(source: str, periods: list[LogPeriod]) -> None:
-    for before, period in itertools.pairwise(periods):
-        where = csv_where(source, "start_utc", period.row, period.line)
-        if period.start_utc < before.start_utc:
+def _check_order(source: str, before: LogPeriod, period: LogPeriod) -> None:
+    if period.start_utc >= before.end_utc:
+        return
+    where = csv_where(source, "start_utc", period.row, period.line)
+    if period.start_utc < before.start_utc:
+        raise InputError(
+            where,
+            f"{period.start_utc.isoformat()} is before the previous period's start "
+            f"{before.start_utc.isoformat()} (row {before.row})",
+            allowed="periods in increasing time order",
+        )
+    if period.start_utc < before.end_utc:
+        raise InputError(
+            where,
+            f"{period.start_utc.isoformat()} overlaps the previous period (row {before.row}), which ends "
+            f"{before.end_utc.isoformat()}",
+            allowed=f"a start ≥ {before.end_utc.isoformat()}",
+        )
+
+
+def _check_delimiter(source: str, header: list[str], raw: str, line: int) -> None:
+    """A log separated by semicolons or tabs (a spreadsheet's export where the decimal mark is a comma) is
+    read as one column: name the separator, not the column's "unit"."""
+    if len(header) != 1:
+        return
+    for separator, name in ((";", "semicolons"), ("\t", "tabs")):
+        if separator in raw:
             raise InputError(
-                where,
-                f"{period.start_utc.isoformat()} is before the previous period's start "
-                f"{before.start_utc.isoformat()} (row {before.row})",
-                allowed="periods in increasing time order",
-            )
-        if period.start_utc < before.end_utc:
-            raise InputError(
-                where,
-                f"{period.start_utc.isoformat()} overlaps the previous period (row {before.row}), which ends "
-                f"{before.end_utc.isoformat()}",
-                allowed=f"a start ≥ {before.end_utc.isoformat()}",
+                csv_where(source, line=line),
+                f"the columns are separated by {name}, not by commas (a spreadsheet export for a locale with "
+                "a decimal comma?)",
+                allowed="a comma-separated file with decimal points (e.g. 0.5, not 0,5): export as CSV with "
+                "',' as the separator and '.' as the decimal mark",
             )
 
 
-def parse_voyage_log(text: str, source: str = "log") -> VoyageLog:
-    """Validate the text of a voyage log (see the module docstring); `source` names it in errors."""
-    numbered = [(i + 1, line) for i, line in enumerate(text.splitlines())]
-    numbered = [(n, line) for n, line in numbered if line.strip() and not line.lstrip().startswith("#")]
-    if not numbered:
-        raise InputError(source, "no header", allowed="a CSV header and one row per observation period")
-    rows = list(csv.reader(io.StringIO("\n".join(line for _, line in numbered))))
-    header = [name.strip() for name in rows[0]]
-    header_line = numbered[0][0]
-    _check_header(source, header, header_line)
+def _shares(source: str, header: list[str], line: int) -> list[tuple[str, float]]:
     shares = sorted(
         ((name, float(SHARE_COLUMN.match(name)["diameter"])) for name in header if SHARE_COLUMN.match(name)),
         key=lambda item: item[1],
@@ -278,36 +318,95 @@ def parse_voyage_log(text: str, source: str = "log") -> VoyageLog:
     for (name, diameter), (_, other) in itertools.pairwise(shares):
         if diameter <= 0.0 or diameter == other:
             raise InputError(
-                csv_where(source, name, line=header_line),
+                csv_where(source, name, line=line),
                 "diameter must be > 0 and distinct from the other classes",
                 allowed=SHARE_FORM,
             )
     if shares[0][1] <= 0.0:
         raise InputError(
-            csv_where(source, shares[0][0], line=header_line), "diameter must be > 0", allowed=SHARE_FORM
+            csv_where(source, shares[0][0], line=line), "diameter must be > 0", allowed=SHARE_FORM
         )
-    periods = []
-    for row, ((line, _), cells) in enumerate(zip(numbered[1:], rows[1:], strict=True), start=1):
-        if len(cells) != len(header):
-            raise InputError(
-                csv_where(source, None, row, line),
-                f"{len(cells)} cells for {len(header)} columns",
-                allowed="one cell per column",
-            )
-        periods.append(_period(source, row, line, dict(zip(header, cells, strict=True)), shares))
-    if not periods:
-        raise InputError(source, "no observation period", allowed="at least one row after the header")
-    _check_order(source, periods)
-    return VoyageLog(source=source, periods=tuple(periods), columns=tuple(header))
+    return shares
 
 
-def read_voyage_log(path: str | Path) -> VoyageLog:
-    """Read and validate a voyage log CSV file; errors name the file, row and column."""
+def _cell_count(source: str, row: int, line: int, cells: list[str], header: list[str]) -> InputError:
+    hint = ""
+    if len(cells) > len(header) and any(
+        a.strip().lstrip("+-").isdigit() and b.strip().isdigit() for a, b in itertools.pairwise(cells)
+    ):
+        hint = " (a decimal comma? numbers take a decimal point, 0.5, not 0,5)"
+    return InputError(
+        csv_where(source, None, row, line),
+        f"{len(cells)} cells for {len(header)} columns{hint}",
+        allowed="one cell per column",
+    )
+
+
+def _data_lines(lines: Iterable[str], position: list[int]) -> Iterator[str]:
+    """The lines that are neither blank nor comments; `position[0]` is the file line of the last one given."""
+    for number, line in enumerate(lines, start=1):
+        if line.strip() and not line.lstrip().startswith("#"):
+            position[0] = number
+            yield line
+
+
+def iter_voyage_log(
+    lines: Iterable[str], source: str = "log", progress: Callable[[int], None] | None = None
+) -> tuple[tuple[str, ...], Iterator[LogPeriod]]:
+    """(columns, periods) of a voyage log given line by line: the header is validated at once, the periods
+    one at a time as the iterator is consumed (memory independent of the number of rows); `progress(rows)`
+    every `PROGRESS_ROWS` rows and at the end."""
+    position = [0]
+    reader = csv.reader(_data_lines(lines, position))
+    first = next(reader, None)
+    if first is None:
+        raise InputError(source, "no header", allowed="a CSV header and one row per observation period")
+    header = [name.strip() for name in first]
+    header_line = position[0]
+    _check_delimiter(source, header, ",".join(first), header_line)
+    _check_header(source, header, header_line)
+    shares = _shares(source, header, header_line)
+    classes: dict[tuple, tuple] = {}  # one tuple object per distinct set of classes, shared by the periods
+
+    def periods() -> Iterator[LogPeriod]:
+        before = None
+        row = 0
+        for row, cells in enumerate(reader, start=1):
+            line = position[0]
+            if len(cells) != len(header):
+                raise _cell_count(source, row, line, cells, header)
+            period = _period(source, row, line, dict(zip(header, cells, strict=True)), shares)
+            key = period.diameter_classes_m
+            object.__setattr__(period, "diameter_classes_m", classes.setdefault(key, key))
+            if before is not None:
+                _check_order(source, before, period)
+            before = period
+            if progress is not None and row % PROGRESS_ROWS == 0:
+                progress(row)
+            yield period
+        if before is None:
+            raise InputError(source, "no observation period", allowed="at least one row after the header")
+        if progress is not None:
+            progress(row)
+
+    return tuple(header), periods()
+
+
+def parse_voyage_log(text: str, source: str = "log") -> VoyageLog:
+    """Validate the text of a voyage log (see the module docstring); `source` names it in errors."""
+    columns, periods = iter_voyage_log(io.StringIO(text), source)
+    return VoyageLog(source=source, periods=tuple(periods), columns=columns)
+
+
+def read_voyage_log(path: str | Path, progress: Callable[[int], None] | None = None) -> VoyageLog:
+    """Read and validate a voyage log CSV file, streaming it (the file's text is never held whole);
+    `progress(rows)` as in `iter_voyage_log`; errors name the file, row and column."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        with path.open(encoding="utf-8-sig", newline="") as stream:
+            columns, periods = iter_voyage_log(stream, str(path), progress)
+            return VoyageLog(source=str(path), periods=tuple(periods), columns=columns)
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(
             str(path), f"cannot read the log: {error}", allowed="a readable UTF-8 CSV file"
         ) from None
-    return parse_voyage_log(text, source=str(path))

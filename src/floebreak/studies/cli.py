@@ -152,8 +152,11 @@ def voyage(
             "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
         )
     profile = None if years is None else OperatingProfile(hours_per_year, years)
+    with Progress(TextColumn("reading {task.fields[name]}: {task.completed:,} rows"), console=console) as bar:
+        reading = bar.add_task("log", total=None, name=log.name)
+        voyage_log = read_voyage_log(log, progress=lambda rows: bar.update(reading, completed=rows))
     setup = prepare_voyage(  # everything validated before anything is written or started
-        read_voyage_log(log),
+        voyage_log,
         n_fields=n_fields,
         seed=seed,
         overrides=overrides or [],

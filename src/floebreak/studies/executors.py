@@ -11,6 +11,8 @@ from __future__ import annotations
 import concurrent.futures as cf
 import multiprocessing
 import os
+import threading
+import time
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, Protocol
 
@@ -57,13 +59,39 @@ def one_thread_per_worker() -> None:
         os.environ.setdefault(name, "1")
 
 
-def prepare_worker() -> None:
-    """Worker initializer: one thread, then the modules a run imports (matplotlib for its figures) and the
-    numba kernels loaded.
+# A worker whose parent died (SIGKILL, the out-of-memory killer) would otherwise live on, holding its
+# memory (≈ 370 MB with the modules a run imports; issue 31): it polls its parent and ends itself.
+PARENT_POLL_S = 0.5
+EXIT_PARENT_GONE = 1
+
+
+def exit_with_parent(parent_pid: int, poll_s: float = PARENT_POLL_S) -> threading.Thread:
+    """End this process (exit code `EXIT_PARENT_GONE`, no clean-up: its run is half-done and runs are
+    written atomically) as soon as its parent `parent_pid` is gone: a daemon thread compares
+    ``os.getppid()`` with it every `poll_s` seconds (a dead parent's children are re-parented, to init or a
+    subreaper). Portable: where ``getppid`` keeps a dead parent's id (Windows), it never fires. Not Linux's
+    ``PR_SET_PDEATHSIG``: that fires when the parent's *thread* that started the worker ends, which is not
+    the parent's death when a pool is created from a thread."""
+
+    def watch() -> None:
+        while os.getppid() == parent_pid:
+            time.sleep(poll_s)
+        os._exit(EXIT_PARENT_GONE)
+
+    thread = threading.Thread(target=watch, name="floebreak-parent-watchdog", daemon=True)
+    thread.start()
+    return thread
+
+
+def prepare_worker(parent_pid: int | None = None) -> None:
+    """Worker initializer: exit with the parent (`exit_with_parent`, when `parent_pid` is given), one
+    thread, then the modules a run imports (matplotlib for its figures) and the numba kernels loaded.
 
     Done here, at the pool's creation, a spawned worker's start overlaps the parent's own preparation
     (checking resumed runs, generating the common fields) instead of delaying its first run
     (benchmarks/README.md, parallel efficiency)."""
+    if parent_pid is not None:
+        exit_with_parent(parent_pid)
     one_thread_per_worker()
     # what `execute_run` imports, and the modules of the run's figures
     import floebreak.app.run
@@ -90,8 +118,14 @@ class ProcessPoolExecutor:
         # spawn, not fork: forking a parent that runs threads (BLAS, rich's progress, a notebook's kernel)
         # can deadlock the child; the start this costs is overlapped with the parent's work instead
         # (benchmarks/README.md, parallel efficiency)
+        # the parent's id is passed, not read in the worker: a parent killed before the worker starts is
+        # noticed too. multiprocessing's resource tracker needs nothing: it ends when the last process
+        # holding its pipe (the parent and the workers) is gone
         self._pool = cf.ProcessPoolExecutor(
-            self.workers, mp_context=multiprocessing.get_context("spawn"), initializer=prepare_worker
+            self.workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=prepare_worker,
+            initargs=(os.getpid(),),
         )
         for _ in range(self.workers):  # the pool spawns a worker per submitted task: start them all now
             self._pool.submit(_worker_pid)

@@ -142,8 +142,11 @@ def plan_voyage(
 
     plans = []
     beams: dict[float, float] = {}
+    ships: dict[float, Scenario] = {}  # one validated scenario per thickness, not per period
     for index, period in enumerate(log.periods):
-        ship = _ship_scenario(base, period.mean_thickness_m)
+        if period.mean_thickness_m not in ships:
+            ships[period.mean_thickness_m] = _ship_scenario(base, period.mean_thickness_m)
+        ship = ships[period.mean_thickness_m]
         if period.speed_m_s is not None:
             speed, source = period.speed_m_s, "log"
         elif speed_m_s is not None:
