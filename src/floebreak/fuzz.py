@@ -74,6 +74,7 @@ from hypothesis import strategies as st
 from floebreak import scenario as sc
 from floebreak.errors import Bounds, InputError, field_bounds
 from floebreak.failure import BOW_REGIONS, FAILURE_CLASSES, get_mode, mode_names
+from floebreak.fuzz_limits import FILES, MAX_PIECES, MAX_WALL_S
 from floebreak.ice.generation import floe_counts, generate_field
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 from floebreak.io.atomic import write_text_atomic
@@ -84,11 +85,8 @@ from floebreak.ship import hulls
 from floebreak.ship.hulls import HULLS
 
 AREA_TOLERANCE = 1e-9  # the engine's own (`floebreak.simulation.AREA_BALANCE_TOLERANCE`)
-MAX_PIECES = 5_000
 MAX_STEPS = 500
-MAX_WALL_S = 100.0  # simulation.max_wall_s of every drawn scenario: a runaway is stopped (exit 2) in time
 SQP_MAX_FLOES = 30  # the `sqp` generator's fields are shrunk to at most about this many floes (docstring)
-FILES = "_files"  # the drawn record's key for the files a scenario names (not a scenario key)
 
 
 def _edge_or_inside(low: float, high: float, log: bool = False) -> st.SearchStrategy[float]:

@@ -34,6 +34,7 @@ from hypothesis import strategies as st
 
 from floebreak import scenario as sc
 from floebreak.failure import BOW_REGIONS, FAILURE_CLASSES, mode_names
+from floebreak.fuzz_limits import FILES, MAX_PIECES, MAX_WALL_S
 from floebreak.ship import bow as bows
 from floebreak.ship.hulls import HULLS
 
@@ -208,8 +209,6 @@ def policies(rng: np.random.Generator) -> dict[str, Any]:
 @st.composite
 def adversarial_dicts(draw) -> dict[str, Any]:
     """A scenario with hostile files and policy (the shape of `floebreak.fuzz.scenario_dicts`' records)."""
-    from floebreak.fuzz import FILES, MAX_PIECES, MAX_WALL_S
-
     # hypothesis gives the seed (the campaign's reproducibility); the choices come from numpy, uniformly:
     # hypothesis' own draws of a long chain of sampled_from favour the first elements
     rng = np.random.default_rng(draw(st.integers(0, 2**63 - 1)))
