@@ -5,7 +5,7 @@ inertias J_i from the motor (0) to the propeller (last), joined by shafts k_i, c
 rigid inertia (motor + shafts + propeller with entrained water):
 
     J_0 ω̇_0 = Q_motor − T_0,   J_i ω̇_i = T_{i−1} − T_i,   J_p ω̇_p = T_{p−1} − Q_hydro − Q_ice
-    T_i = k_i (θ_i − θ_{i+1}) + c_i (ω_i − ω_{i+1})                         (rigid: J ω̇ = Q_motor − Q_hydro − Q_ice)
+    T_i = k_i (θ_i − θ_{i+1}) + c_i (ω_i − ω_{i+1})      (rigid: J ω̇ = Q_motor − Q_hydro − Q_ice)
     Q_motor = clip(K_p (ω_set − ω_0) + q_I, −Q_limit, Q_limit),   q̇_I = K_i (ω_set − ω_0)
     Q_hydro = c_h ω_p |ω_p|,   c_h = Q_mean / ω_set²
 
@@ -89,8 +89,12 @@ class DriveTrain:
 
     def __post_init__(self):
         for i, j in enumerate(self.inertias_kg_m2):
-            require_range(f"inertias_kg_m2[{i}]" if len(self.inertias_kg_m2) > 1 else "inertia_kg_m2", j,
-                          low=0.0, unit="kg m^2")
+            require_range(
+                f"inertias_kg_m2[{i}]" if len(self.inertias_kg_m2) > 1 else "inertia_kg_m2",
+                j,
+                low=0.0,
+                unit="kg m^2",
+            )
         n = len(self.inertias_kg_m2)
         if n < 1 or len(self.stiffnesses_n_m_per_rad) != n - 1 or len(self.damping_n_m_s_per_rad) != n - 1:
             raise InputError("inertias_kg_m2", "n inertias need n − 1 stiffnesses and dampings")
@@ -126,8 +130,12 @@ def train_from_line(line: ShaftLine, station: str | None = None, *, rigid: bool 
     i = line.station_index(station)
     j = line.inertias_kg_m2
     if rigid:
-        return DriveTrain((float(j.sum()),), station=i, station_name=line.stations[i],
-                          upstream_inertia_kg_m2=float(j[: i + 1].sum()))
+        return DriveTrain(
+            (float(j.sum()),),
+            station=i,
+            station_name=line.stations[i],
+            upstream_inertia_kg_m2=float(j[: i + 1].sum()),
+        )
     return DriveTrain(
         tuple(map(float, j)),
         tuple(map(float, line.stiffnesses_n_m_per_rad)),
@@ -150,8 +158,9 @@ def drive_for_line(
     rpm_set = line.rpm if rpm is None else rpm
     if rated_torque_n_m is None:
         if line.rated_power_w is None:
-            raise InputError("rated_torque_n_m", "the line has no rated power: give the rated torque",
-                             allowed="> 0 N m")
+            raise InputError(
+                "rated_torque_n_m", "the line has no rated power: give the rated torque", allowed="> 0 N m"
+            )
         rated_torque_n_m = line.rated_power_w / (2.0 * math.pi * line.rpm / 60.0)
     require_range("rated_torque_n_m", rated_torque_n_m, low=0.0, unit="N m")
     require_range("overload_factor", overload_factor, low=0.0)
@@ -169,7 +178,7 @@ def drive_for_line(
 def _derivative(x, n, inertia, stiffness, damping, par, pulse_start, pulse_amp, dx, torques):
     """dx/dt of x = (θ_0..θ_p, ω_0..ω_p, q_I); torques = (Q_motor, Q_hydro, Q_ice). par = (ω_set, K_p, K_i,
     Q_limit, c_h, α_i [rad], rectangular)."""
-    omega_set, kp, ki, q_limit, c_h, alpha, rectangular = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
+    omega_set, kp, ki, q_limit, c_h, alpha, rectangular = par[:7]
     error = omega_set - x[n]
     q_cmd = kp * error + x[2 * n]
     q_motor = min(max(q_cmd, -q_limit), q_limit)
@@ -196,8 +205,24 @@ def _derivative(x, n, inertia, stiffness, damping, par, pulse_start, pulse_amp, 
 
 
 @numba.njit(cache=True, nogil=True)
-def _advance(x, step, step_end, dt, phi_next, n, inertia, stiffness, damping, par, station, j_up,
-             pulse_start, pulse_amp, out, row):
+def _advance(
+    x,
+    step,
+    step_end,
+    dt,
+    phi_next,
+    n,
+    inertia,
+    stiffness,
+    damping,
+    par,
+    station,
+    j_up,
+    pulse_start,
+    pulse_amp,
+    out,
+    row,
+):
     """RK4 steps from `step` until `step_end`, the buffer `out` is full, or a step would carry the propeller
     past the angle `phi_next` (then that step is not taken). Each step records the state before it in
     out[row] = (ω_motor, ω_prop, Q_motor, Q_hydro, Q_ice, station torque).
@@ -286,15 +311,21 @@ def _cusp_inputs(arrival_s, n_impacts):
     raw = np.asarray(n_impacts).reshape(-1)
     if raw.shape != arrival.shape:
         raise InputError("n_impacts", f"{raw.size} values for {arrival.size} cusps")
-    if raw.size and (not np.all(np.isfinite(raw.astype(float))) or np.any(raw != np.rint(raw)) or raw.min() < 1):
+    if raw.size and (
+        not np.all(np.isfinite(raw.astype(float))) or np.any(raw != np.rint(raw)) or raw.min() < 1
+    ):
         raise InputError("n_impacts", "impacts per cusp must be integers ≥ 1", allowed="integers ≥ 1")
     return arrival, raw.astype(np.int64)
 
 
 def _time_step_s(train: DriveTrain, drive: MotorDrive, alpha_deg: float, points_per_pulse: int) -> float:
     if int(points_per_pulse) != points_per_pulse or points_per_pulse < MIN_POINTS_PER_PULSE:
-        raise InputError("points_per_pulse", f"{points_per_pulse!r}", value=points_per_pulse,
-                         allowed=f"an integer ≥ {MIN_POINTS_PER_PULSE}")
+        raise InputError(
+            "points_per_pulse",
+            f"{points_per_pulse!r}",
+            value=points_per_pulse,
+            allowed=f"an integer ≥ {MIN_POINTS_PER_PULSE}",
+        )
     pulse_s = alpha_deg / 360.0 * 60.0 / drive.rpm_set
     dt = pulse_s / points_per_pulse
     f_max = train.highest_natural_frequency_hz()
@@ -319,7 +350,9 @@ class _Schedule:
 
     @property
     def finished(self) -> bool:
-        return self.next_cusp == self.arrival.size and (self.current < 0 or self.done == self.n_imp[self.current])
+        return self.next_cusp == self.arrival.size and (
+            self.current < 0 or self.done == self.n_imp[self.current]
+        )
 
     def passage(self, m: int, time_s: float, omega_rad_s: float) -> None:
         """Blade passage m (propeller angle 2π m/Z) at `time_s`: close a finished cusp, start the next one if
@@ -337,8 +370,11 @@ class _Schedule:
         cusp = int(self.order[self.current])
         value = float(self.torque_fn(cusp, rpm))
         if not math.isfinite(value):
-            raise InputError("impact_torque_n_m", f"{value!r} for cusp {cusp} at {rpm:g} rpm",
-                             allowed="a finite torque [N m]")
+            raise InputError(
+                "impact_torque_n_m",
+                f"{value!r} for cusp {cusp} at {rpm:g} rpm",
+                allowed="a finite torque [N m]",
+            )
         amplitude = self.spec.c_q * abs(value)
         phi = 2.0 * math.pi * m / self.blades
         for block in range(self.spec.blocks):  # a second block shifted by 360°/(2Z) (case 3)
@@ -362,6 +398,35 @@ def _initial_state(train: DriveTrain, drive: MotorDrive, mean_torque_n_m: float)
     twist = mean_torque_n_m / np.asarray(train.stiffnesses_n_m_per_rad, dtype=float)
     theta = np.concatenate([np.cumsum(twist[::-1])[::-1], [0.0]]) if n > 1 else np.zeros(1)
     return np.concatenate([theta, np.full(n, drive.omega_set_rad_s), [mean_torque_n_m]])
+
+
+def _check_options(impact_torque_n_m, pulse, blades, case, tail_s) -> ExcitationCase:
+    if not callable(impact_torque_n_m):
+        raise InputError("impact_torque_n_m", "must be a function (cusp_index, rpm) -> torque [N m]")
+    if pulse not in ("half_sine", "rectangular"):
+        raise InputError("pulse", f"unknown shape {pulse!r}", allowed="half_sine, rectangular")
+    if isinstance(blades, bool) or int(blades) != blades or blades < 1:
+        raise InputError("blades", f"{blades!r} is not a positive integer", value=blades)
+    require_range("tail_s", tail_s, low=0.0, low_inclusive=True, unit="s")
+    spec = case if isinstance(case, ExcitationCase) else excitation_case(case)
+    require_range("excitation_case.alpha_deg", spec.alpha_deg, low=0.0, high=360.0)
+    return spec
+
+
+def _kernel_arguments(train: DriveTrain, drive: MotorDrive, q_mean: float, schedule: _Schedule) -> tuple:
+    """(n, J, k, c, par, station, J_up) for `_advance`; par as `_derivative` reads it."""
+    omega = drive.omega_set_rad_s
+    par = np.array([omega, drive.kp_n_m_s_per_rad, drive.ki_n_m_per_rad, drive.torque_limit_n_m])
+    par = np.concatenate([par, [q_mean / omega**2, schedule.alpha, float(schedule.rectangular)]])
+    return (
+        len(train.inertias_kg_m2),
+        np.asarray(train.inertias_kg_m2, float),
+        np.asarray(train.stiffnesses_n_m_per_rad, float),
+        np.asarray(train.damping_n_m_s_per_rad, float),
+        par,
+        train.station,
+        train.upstream_inertia_kg_m2,
+    )
 
 
 def simulate_drive(
@@ -389,16 +454,8 @@ def simulate_drive(
     over α_i). The run ends `tail_s` after the last impact starts, at `duration_s` if given, and at the
     latest (a stalled propeller) when every impact would have been milled ten times over at the set speed.
     """
-    if not callable(impact_torque_n_m):
-        raise InputError("impact_torque_n_m", "must be a function (cusp_index, rpm) -> torque [N m]")
-    if pulse not in ("half_sine", "rectangular"):
-        raise InputError("pulse", f"unknown shape {pulse!r}", allowed="half_sine, rectangular")
-    if isinstance(blades, bool) or int(blades) != blades or blades < 1:
-        raise InputError("blades", f"{blades!r} is not a positive integer", value=blades)
-    spec = case if isinstance(case, ExcitationCase) else excitation_case(case)
-    require_range("excitation_case.alpha_deg", spec.alpha_deg, low=0.0, high=360.0)
+    spec = _check_options(impact_torque_n_m, pulse, blades, case, tail_s)
     q_mean = require_range("mean_torque_n_m", mean_torque_n_m, low=0.0, low_inclusive=True, unit="N m")
-    require_range("tail_s", tail_s, low=0.0, low_inclusive=True, unit="s")
     arrival, n_imp = _cusp_inputs(arrival_s, n_impacts)
     dt = _time_step_s(train, drive, spec.alpha_deg, points_per_pulse)
     passage_s = 60.0 / (drive.rpm_set * blades)
@@ -408,13 +465,8 @@ def simulate_drive(
         last = arrival.max() if arrival.size else 0.0
         cap = math.ceil((last + 10.0 * (n_imp.sum() + 1) * passage_s + tail_s) / dt)
     schedule = _Schedule(arrival, n_imp, impact_torque_n_m, spec, int(blades), pulse == "rectangular")
-    n = len(train.inertias_kg_m2)
     x = _initial_state(train, drive, q_mean)
-    omega = drive.omega_set_rad_s
-    par = np.array([omega, drive.kp_n_m_s_per_rad, drive.ki_n_m_per_rad, drive.torque_limit_n_m,
-                    q_mean / omega**2, schedule.alpha, 1.0 if schedule.rectangular else 0.0])
-    mech = (n, np.asarray(train.inertias_kg_m2, float), np.asarray(train.stiffnesses_n_m_per_rad, float),
-            np.asarray(train.damping_n_m_s_per_rad, float), par, train.station, train.upstream_inertia_kg_m2)
+    mech = _kernel_arguments(train, drive, q_mean, schedule)
     out = np.empty((min(cap, 1 << 16), 6))
     step, row, m, step_end = 0, 0, 0, cap
     starts, amps = schedule.active_pulses(0.0)
@@ -429,7 +481,7 @@ def simulate_drive(
         else:
             schedule.passage(m, t_cross, w_cross)
             m += 1
-            starts, amps = schedule.active_pulses(float(x[n - 1]))
+            starts, amps = schedule.active_pulses(float(x[mech[0] - 1]))
             if duration_s is None and schedule.finished:
                 step_end = min(step_end, math.ceil((t_cross + tail_s) / dt))
     return _result(schedule, drive, train, dt, out[:row], arrival.size)
