@@ -104,6 +104,11 @@ def test_above_the_limit_the_speed_falls_at_the_torque_deficit_then_stalls_witho
     assert np.all(r.rpm[stalled] == 0.0)
     np.testing.assert_allclose(r.ice_torque_n_m[stalled][5:], limit, rtol=1e-9)
     assert not r.complete
+    assert r.stalled_at_s == pytest.approx(r.time_s[np.argmax(r.rpm == 0.0)], abs=1.5 * r.dt_s)
+    # without a given duration the run ends `tail_s` after the stall
+    short = run(q_ice, 200, kp=2000.0, ki=4000.0, limit=limit, tail_s=0.5)
+    assert short.stalled_at_s == pytest.approx(r.stalled_at_s)
+    assert short.time_s[-1] == pytest.approx(short.stalled_at_s + 0.5, abs=2 * r.dt_s)
 
 
 def test_impacts_at_the_blade_passages_when_the_speed_holds():

@@ -48,7 +48,7 @@ from floebreak.shaft.line import ShaftLine
 DEFAULT_OVERLOAD_FACTOR = 1.6
 MIN_POINTS_PER_PULSE = 20
 POINTS_PER_PERIOD = 20  # of the highest natural frequency (RK4 phase error < 0.1 % per period)
-_CROSSING, _END, _FULL = 1, 0, 2
+_CROSSING, _END, _FULL, _STALL = 1, 0, 2, 3
 
 
 @dataclass(frozen=True)
@@ -222,10 +222,12 @@ def _advance(
     pulse_amp,
     out,
     row,
+    watch_stall,
 ):
     """RK4 steps from `step` until `step_end`, the buffer `out` is full, or a step would carry the propeller
     past the angle `phi_next` (then that step is not taken). Each step records the state before it in
-    out[row] = (ω_motor, ω_prop, Q_motor, Q_hydro, Q_ice, station torque).
+    out[row] = (ω_motor, ω_prop, Q_motor, Q_hydro, Q_ice, station torque). With `watch_stall`, also
+    returns after the step in which the propeller came to a stop.
     Returns (status, step, row, crossing time, propeller speed at the crossing)."""
     m = x.size
     k1, k2, k3, k4 = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
@@ -257,10 +259,12 @@ def _advance(
             out[row, 5] = torques[0] - j_up * k1[n]
         for i in range(m):
             x[i] = y[i]
-        if x[2 * n - 1] < 0.0:  # no reverse rotation (the ice holds the blade)
-            x[2 * n - 1] = 0.0
         step += 1
         row += 1
+        if x[2 * n - 1] < 0.0:  # no reverse rotation (the ice holds the blade)
+            x[2 * n - 1] = 0.0
+            if watch_stall:
+                return 3, step, row, 0.0, 0.0
     return 0, step, row, 0.0, 0.0
 
 
@@ -286,6 +290,7 @@ class DriveResult:
     impact_torque_n_m: np.ndarray  # peak of the pulse: C_q · impact_torque_n_m(cusp, rpm)
     impact_rpm: np.ndarray  # propeller rpm at the passage
     complete: bool  # every impact of every cusp started within the run
+    stalled_at_s: float = math.nan  # when the propeller first came to a stop held by the ice (NaN: never)
 
     def summary(self) -> dict[str, float]:
         """Extremes [rpm, N·m] and the time spent at the torque limit and at standstill [s]."""
@@ -301,6 +306,7 @@ class DriveResult:
             "peak_ice_torque_n_m": float(self.ice_torque_n_m.max()),
             "time_at_torque_limit_s": float(at_limit.sum() * self.dt_s),
             "time_stalled_s": float((self.rpm <= 0.0).sum() * self.dt_s),
+            "stalled_at_s": self.stalled_at_s,
         }
 
 
@@ -451,8 +457,8 @@ def simulate_drive(
     propeller's rpm at the blade passage [N·m] (its magnitude, times the case's C_q, is the pulse peak);
     `mean_torque_n_m`: hydrodynamic torque at the set speed (calibrates Q_hydro ∝ ω²); `case`: a rule case
     number (`EXCITATION_CASES`) or an `ExcitationCase`; `pulse`: "half_sine" or "rectangular" (C_q Q_imp
-    over α_i). The run ends `tail_s` after the last impact starts, at `duration_s` if given, and at the
-    latest (a stalled propeller) when every impact would have been milled ten times over at the set speed.
+    over α_i). The run ends `tail_s` after the last impact starts or after the propeller stalls (the ice
+    holding it against the torque limit: `stalled_at_s`), or at `duration_s` if given.
     """
     spec = _check_options(impact_torque_n_m, pulse, blades, case, tail_s)
     q_mean = require_range("mean_torque_n_m", mean_torque_n_m, low=0.0, low_inclusive=True, unit="N m")
@@ -468,26 +474,40 @@ def simulate_drive(
     x = _initial_state(train, drive, q_mean)
     mech = _kernel_arguments(train, drive, q_mean, schedule)
     out = np.empty((min(cap, 1 << 16), 6))
-    step, row, m, step_end = 0, 0, 0, cap
+    step, row, m, step_end, stalled_at = 0, 0, 0, cap, math.nan
     starts, amps = schedule.active_pulses(0.0)
     while True:
         status, step, row, t_cross, w_cross = _advance(
-            x, step, step_end, dt, 2.0 * math.pi * m / blades, *mech, starts, amps, out, row
+            x,
+            step,
+            step_end,
+            dt,
+            2.0 * math.pi * m / blades,
+            *mech,
+            starts,
+            amps,
+            out,
+            row,
+            math.isnan(stalled_at),
         )
         if status == _FULL:
             out = np.concatenate([out, np.empty((min(out.shape[0], cap - row), 6))])
         elif status == _END:
             break
+        elif status == _STALL:
+            stalled_at = step * dt
+            if duration_s is None:
+                step_end = min(step_end, step + math.ceil(tail_s / dt))
         else:
             schedule.passage(m, t_cross, w_cross)
             m += 1
             starts, amps = schedule.active_pulses(float(x[mech[0] - 1]))
             if duration_s is None and schedule.finished:
                 step_end = min(step_end, math.ceil((t_cross + tail_s) / dt))
-    return _result(schedule, drive, train, dt, out[:row], arrival.size)
+    return _result(schedule, drive, train, dt, out[:row], arrival.size, stalled_at)
 
 
-def _result(schedule: _Schedule, drive, train, dt, out, n_cusps) -> DriveResult:
+def _result(schedule: _Schedule, drive, train, dt, out, n_cusps, stalled_at) -> DriveResult:
     to_rpm = 60.0 / (2.0 * math.pi)
     time = np.arange(out.shape[0]) * dt
     start, end = np.full(n_cusps, np.nan), np.full(n_cusps, np.nan)
@@ -519,4 +539,5 @@ def _result(schedule: _Schedule, drive, train, dt, out, n_cusps) -> DriveResult:
         impact_torque_n_m=imp[:, 2],
         impact_rpm=imp[:, 3],
         complete=schedule.finished,
+        stalled_at_s=stalled_at,
     )
