@@ -1,0 +1,345 @@
+"""Blade milling model: ice torque and axial force per blade impact, for any open propeller, without FEM.
+
+A blade-element form of the propeller–ice milling models of Kotras et al. (1987), Veitch (1995) and Wang
+(2007): each blade passage cuts a layer of the block (the advance per blade passage), every radial strip of
+the blade that lies inside the block crushes the part of that layer in its path, and the crushing pressure
+follows a process pressure–area relation over the blade's whole contact. Equations, parameter values with
+their sources and the validity range: docs/propeller.md, section "Blade milling model".
+
+Geometry (docs/propeller.md, "Blade milling model"): the block lies flat against the hull above the disc and
+the blade tip enters it first, so the block's thickness is its radial extent in the disc (from the tip
+inwards); its length lies along the shaft axis (milled through at the cut depth per passage); its width
+sets the angle the blade turns through inside it. Pure functions on numpy arrays and frozen dataclasses.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from floebreak.constants import CRUSHING_STRENGTH_PA, FRICTION_COEFFICIENT
+from floebreak.errors import InputError, require_range
+from floebreak.propeller.cusps import box_dimensions
+from floebreak.propeller.spec import MAX_PROPELLER_RPM, PropellerSpec
+
+# Wageningen B-series chord: c(r) = K(r/R) · D · EAR / Z (Oosterveld & van Oossanen 1975; Kuiper 1992)
+B_SERIES_RADIUS_RATIO = (0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+B_SERIES_CHORD_FACTOR = (1.662, 1.882, 2.050, 2.152, 2.187, 2.144, 1.970, 1.582, 0.0)
+DEFAULT_STRIPS = 64
+CHORD_DISTRIBUTIONS = ("b_series", "constant")
+MAX_ADVANCE_SPEED_M_S = 20.0  # far above any ship's speed in ice; bounds the input check only
+
+
+def b_series_chord_factor(radius_ratio) -> np.ndarray:
+    """K(r/R) of the Wageningen B-series chord c = K D EAR/Z, linear between the tabulated radii."""
+    return np.interp(np.asarray(radius_ratio, dtype=float), B_SERIES_RADIUS_RATIO, B_SERIES_CHORD_FACTOR)
+
+
+@dataclass(frozen=True)
+class BladeGeometry:
+    """An open propeller for the milling model.
+
+    max_pitch_ratio: P_0.7/D at 100 % pitch; the operating pitch P = pitch_percent/100 · max_pitch_ratio · D
+    is taken constant over the radius (the pitch distribution is seldom published). chord_07_m: the chord at
+    0.7R; None takes the Wageningen B-series chord 2.144 D EAR/Z, and the chord at other radii follows the
+    B-series shape scaled through it ("b_series", chord 0 at the tip), or is chord_07 at every radius
+    ("constant": the wide tips of many ice-class blades). The section thickness in the ice is t_0.7 at
+    every radius.
+    """
+
+    diameter_m: float
+    blades: int
+    hub_ratio: float
+    max_pitch_ratio: float
+    expanded_area_ratio: float
+    thickness_07_m: float
+    pitch_percent: float = 100.0
+    chord_07_m: float | None = None
+    chord_distribution: str = "b_series"
+
+    def __post_init__(self) -> None:
+        require_range("blade.diameter_m", self.diameter_m, low=0.0, unit="m")
+        if isinstance(self.blades, bool) or int(self.blades) != self.blades or self.blades < 2:
+            raise InputError("blade.blades", f"{self.blades!r} is not an integer >= 2", value=self.blades)
+        require_range(
+            "blade.hub_ratio", self.hub_ratio, low=0.0, high=1.0, low_inclusive=True, high_inclusive=False
+        )
+        require_range("blade.max_pitch_ratio", self.max_pitch_ratio, low=0.0, high=5.0)
+        require_range("blade.expanded_area_ratio", self.expanded_area_ratio, low=0.0, high=1.5)
+        require_range(
+            "blade.thickness_07_m", self.thickness_07_m, low=0.0, high=self.diameter_m / 2, unit="m"
+        )
+        require_range("blade.pitch_percent", self.pitch_percent, low=0.0, high=100.0, low_inclusive=True)
+        if self.chord_07_m is not None:
+            require_range("blade.chord_07_m", self.chord_07_m, low=0.0, high=self.diameter_m, unit="m")
+        if self.chord_distribution not in CHORD_DISTRIBUTIONS:
+            raise InputError(
+                "blade.chord_distribution",
+                f"unknown value {self.chord_distribution!r}",
+                value=self.chord_distribution,
+                allowed=", ".join(CHORD_DISTRIBUTIONS),
+            )
+
+    @classmethod
+    def from_spec(cls, spec: PropellerSpec, chord_07_m: float | None = None) -> BladeGeometry:
+        """The geometry of a PropellerSpec (its pitch percent included)."""
+        return cls(
+            diameter_m=spec.diameter_m,
+            blades=spec.blades,
+            hub_ratio=spec.hub_ratio,
+            max_pitch_ratio=spec.max_pitch_m / spec.diameter_m,
+            expanded_area_ratio=spec.expanded_area_ratio,
+            thickness_07_m=spec.blade_thickness_07_m,
+            pitch_percent=spec.pitch_percent,
+            chord_07_m=chord_07_m,
+        )
+
+    @property
+    def radius_m(self) -> float:
+        return 0.5 * self.diameter_m
+
+    @property
+    def hub_radius_m(self) -> float:
+        return self.hub_ratio * self.radius_m
+
+    @property
+    def pitch_m(self) -> float:
+        return self.pitch_percent / 100.0 * self.max_pitch_ratio * self.diameter_m
+
+    @property
+    def chord_at_07_m(self) -> float:
+        if self.chord_07_m is not None:
+            return float(self.chord_07_m)
+        return float(b_series_chord_factor(0.7)) * self.diameter_m * self.expanded_area_ratio / self.blades
+
+    def chord_m(self, radius_m) -> np.ndarray:
+        """Chord at radius r: the B-series shape through chord_at_07_m (0 at the tip), or constant."""
+        r = np.asarray(radius_m, dtype=float)
+        if self.chord_distribution == "constant":
+            return np.full(r.shape, self.chord_at_07_m)
+        shape = b_series_chord_factor(r / self.radius_m)
+        return self.chord_at_07_m * shape / float(b_series_chord_factor(0.7))
+
+
+@dataclass(frozen=True)
+class IceStrength:
+    """Crushing pressure p = p_ref (A / A_ref)^ex over the blade's contact area A, and ice–steel friction.
+
+    Defaults (docs/propeller.md, "Blade milling model"): p_ref = 1.28 MPa at A_ref = 1 m² (the project's
+    crushing strength, thesis Alg. 3); ex = −0.1, the process pressure–area exponent of the IACS Polar
+    Class ice load model (Daley 2000); μ = 0.15 (thesis Alg. 3).
+    """
+
+    crushing_pressure_pa: float = CRUSHING_STRENGTH_PA
+    reference_area_m2: float = 1.0
+    area_exponent: float = -0.1
+    friction: float = FRICTION_COEFFICIENT
+
+    def __post_init__(self) -> None:
+        require_range("ice.crushing_pressure_pa", self.crushing_pressure_pa, low=0.0, high=1e8, unit="Pa")
+        require_range("ice.reference_area_m2", self.reference_area_m2, low=0.0, high=1e3, unit="m²")
+        require_range("ice.area_exponent", self.area_exponent, low=-1.0, high=0.0, low_inclusive=True)
+        require_range(
+            "ice.friction", self.friction, low=0.0, high=1.0, low_inclusive=True, high_inclusive=False
+        )
+
+    def pressure_pa(self, area_m2) -> np.ndarray:
+        """p(A); 0 where A = 0 (no contact)."""
+        area = np.asarray(area_m2, dtype=float)
+        safe = np.where(area > 0.0, area, self.reference_area_m2)
+        return np.where(
+            area > 0.0, self.crushing_pressure_pa * (safe / self.reference_area_m2) ** self.area_exponent, 0.0
+        )
+
+
+@dataclass(frozen=True)
+class IceBlock:
+    """Ice blocks (arrays of equal shape): thickness = radial extent in the disc, length along the shaft
+    axis, width across it."""
+
+    thickness_m: np.ndarray
+    length_m: np.ndarray
+    width_m: np.ndarray
+
+    def __post_init__(self) -> None:
+        arrays = np.broadcast_arrays(
+            *(np.asarray(a, dtype=float) for a in (self.thickness_m, self.length_m, self.width_m))
+        )
+        for name, values in zip(("thickness_m", "length_m", "width_m"), arrays, strict=True):
+            bad = np.flatnonzero(~np.isfinite(values) | (values < 0.0))
+            if bad.size:
+                raise InputError(
+                    f"block.{name}",
+                    f"row {bad[0]}: {values.reshape(-1)[bad[0]]!r}",
+                    allowed="finite values >= 0",
+                )
+            object.__setattr__(self, name, np.atleast_1d(values).astype(float))
+
+    @classmethod
+    def from_box(cls, side_a_m, side_b_m, thickness_m) -> IceBlock:
+        """A cusp bounding box (cusps.box_dimensions): longer side along the axis, shorter across."""
+        longer, shorter, _ = box_dimensions(side_a_m, side_b_m, thickness_m)
+        return cls(thickness_m=np.asarray(thickness_m, dtype=float), length_m=longer, width_m=shorter)
+
+
+@dataclass(frozen=True)
+class ImpactLoads:
+    """Loads of one blade impact (fully engaged) and the milling of each block; arrays, one value a block.
+
+    torque_n_m: ice torque about the shaft, positive against the rotation. force_n: |axial blade force|;
+    axial_force_aft_n: the same signed, positive aft (a backward force, contact on the blade back).
+    cut_depth_m: advance per blade passage V_a/(Z n). n_impacts: blade impacts to mill the block through,
+    ceil(length / cut depth) (0 without advance or rotation). impact_angle_deg: shaft angle the blade turns
+    inside the block (width over the mean contact radius). removed_fraction: the part of the advancing
+    layer the blade's frontal width removes, Σ(w_n + w_f)Δr / Σ s Δr; below 1 the rest is not cut (where
+    the section is narrower than the layer, e.g. near a B-series tip or at low pitch): the block is then
+    pressed onto the blades rather than milled, beyond this model.
+    """
+
+    torque_n_m: np.ndarray
+    force_n: np.ndarray
+    axial_force_aft_n: np.ndarray
+    cut_depth_m: np.ndarray
+    n_impacts: np.ndarray
+    contact_area_m2: np.ndarray
+    pressure_pa: np.ndarray
+    radial_extent_m: np.ndarray
+    impact_angle_deg: np.ndarray
+    milling_time_s: np.ndarray
+    removed_fraction: np.ndarray
+
+
+def cut_depth_m(advance_speed_m_s, rpm, blades: int) -> np.ndarray:
+    """Axial advance of the ice per blade passage h = V_a / (Z n) [m]; 0 without advance, inf at n = 0."""
+    v = np.asarray(advance_speed_m_s, dtype=float)
+    n = np.asarray(rpm, dtype=float) / 60.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(v > 0.0, np.where(n > 0.0, v / (blades * np.where(n > 0.0, n, 1.0)), np.inf), 0.0)
+
+
+def section_contact(radius_m, chord_m, thickness_m, pitch_m, rpm, advance_speed_m_s, blades: int):
+    """Contact widths of a blade section with the layer it mills (per unit radial length).
+
+    Kinematics: β = atan(V_a / (ω r)) (advance angle), φ = atan(P / (2π r)) (pitch angle, thesis Eq. 22),
+    α = φ − β. The layer each blade removes, measured across the section's path relative to the ice, is
+    s = h cos β = 2π r V_a / (Z U) with U = √(V_a² + (ω r)²). The section's frontal width across its path
+    is t|cos α| (the nose) + c|sin α| (the face if α > 0, the back if α < 0); only the part inside the layer
+    meets ice: nose w_n = min(t|cos α|, s), flank w_f = min(c|sin α|, s − w_n).
+    Returns (w_n, w_f, flank contact length along the chord, α, β, φ, s).
+    """
+    r = np.asarray(radius_m, dtype=float)
+    v = np.asarray(advance_speed_m_s, dtype=float)
+    tangential = 2.0 * math.pi * np.asarray(rpm, dtype=float) / 60.0 * r
+    speed = np.hypot(v, tangential)
+    beta = np.arctan2(v, tangential)
+    phi = np.arctan2(pitch_m, 2.0 * math.pi * r)
+    alpha = phi - beta
+    with np.errstate(divide="ignore", invalid="ignore"):
+        layer = np.where(speed > 0.0, 2.0 * math.pi * r * v / (blades * np.where(speed > 0, speed, 1.0)), 0.0)
+        nose = np.minimum(np.asarray(thickness_m, dtype=float) * np.abs(np.cos(alpha)), layer)
+        sin_a = np.abs(np.sin(alpha))
+        flank = np.minimum(np.asarray(chord_m, dtype=float) * sin_a, layer - nose)
+        flank_length = np.where(sin_a > 0.0, flank / np.where(sin_a > 0.0, sin_a, 1.0), 0.0)
+    return nose, flank, flank_length, alpha, beta, phi, layer
+
+
+def strip_forces(pressure_pa, nose_area_m2, flank_area_m2, alpha, beta, phi, friction: float):
+    """(force against the rotation, axial force aft) [N] on blade strips.
+
+    Nose: p A_n against the section's motion relative to the ice, i.e. (aft, against rotation) =
+    p A_n (sin β, cos β). Flank: normal force N = p A_f on the face (α > 0: pushes the blade forward and
+    against the rotation, −N(cos φ, sin φ)) or on the back (α < 0: +N(cos φ, sin φ)); friction μN along the
+    chord in the direction the ice slides, μN (sin φ, cos φ).
+    """
+    p = np.asarray(pressure_pa, dtype=float)
+    nose = p * nose_area_m2
+    normal = p * flank_area_m2
+    side = np.sign(alpha)
+    resisting = nose * np.cos(beta) + normal * (side * np.sin(phi) + friction * np.cos(phi))
+    aft = nose * np.sin(beta) + normal * (-side * np.cos(phi) + friction * np.sin(phi))
+    return resisting, aft
+
+
+def _check_operation(rpm, advance_speed_m_s):
+    rpm = np.asarray(rpm, dtype=float)
+    speed = np.asarray(advance_speed_m_s, dtype=float)
+    for key, values, high in (
+        ("rpm", rpm, MAX_PROPELLER_RPM),
+        ("advance_speed_m_s", speed, MAX_ADVANCE_SPEED_M_S),
+    ):
+        bad = np.flatnonzero(~np.isfinite(values) | (values < 0.0) | (values > high))
+        if bad.size:
+            value = float(values.reshape(-1)[bad[0]])
+            raise InputError(
+                key, f"{value:g} is outside [0, {high:g}]", value=value, allowed=f"[0, {high:g}]"
+            )
+    return rpm, speed
+
+
+def impact_loads(
+    block: IceBlock,
+    blade: BladeGeometry,
+    rpm,
+    advance_speed_m_s,
+    ice: IceStrength | None = None,
+    strips: int = DEFAULT_STRIPS,
+) -> ImpactLoads:
+    """Ice torque and axial force of one blade impact on each block, and the impacts to mill it through.
+
+    The blade span [r_hub, R] is cut into `strips` radial strips; the block covers [R − e, R] with
+    e = min(thickness, R − r_hub), each strip counting with its overlap and the overlap's mid radius. The
+    contact area A = Σ (w_n + w_f / |sin α|) Δr sets one pressure p(A) for the blade (process
+    pressure–area), and Q = Σ r · (force against rotation), F = Σ axial force (`strip_forces`).
+    rpm and advance_speed_m_s broadcast against the blocks, so a drive model can pass its changing rpm.
+    """
+    if isinstance(strips, bool) or int(strips) != strips or not 1 <= strips <= 10_000:
+        raise InputError("strips", f"{strips!r} is not an integer in [1, 10000]", value=strips)
+    ice = IceStrength() if ice is None else ice
+    rpm, speed = _check_operation(rpm, advance_speed_m_s)
+    thickness, length, width, rpm, speed = np.broadcast_arrays(
+        block.thickness_m, block.length_m, block.width_m, rpm, speed
+    )
+    radius, hub = blade.radius_m, blade.hub_radius_m
+    extent = np.minimum(thickness, radius - hub)
+    edges = np.linspace(hub, radius, int(strips) + 1)
+    inner = np.maximum(edges[:-1], (radius - extent)[..., None])
+    overlap = np.clip(edges[1:] - inner, 0.0, None)
+    mid = np.where(overlap > 0.0, 0.5 * (inner + edges[1:]), edges[1:])
+    nose, flank, flank_length, alpha, beta, phi, layer = section_contact(
+        mid,
+        blade.chord_m(mid),
+        blade.thickness_07_m,
+        blade.pitch_m,
+        rpm[..., None],
+        speed[..., None],
+        blade.blades,
+    )
+    nose_area, flank_area = nose * overlap, flank_length * overlap
+    area = np.sum(nose_area + flank_area, axis=-1)
+    pressure = ice.pressure_pa(area)
+    resisting, aft = strip_forces(pressure[..., None], nose_area, flank_area, alpha, beta, phi, ice.friction)
+    axial = np.sum(aft, axis=-1)
+    layer_area = np.sum(layer * overlap, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        removed = np.where(layer_area > 0.0, np.sum((nose + flank) * overlap, axis=-1) / layer_area, 1.0)
+    cut = cut_depth_m(speed, rpm, blade.blades)
+    finite = np.isfinite(cut) & (cut > 0.0)
+    n_impacts = np.where(finite, np.ceil(length / np.where(finite, cut, 1.0) - 1e-12), 0).astype(int)
+    centre = radius - 0.5 * extent
+    with np.errstate(divide="ignore", invalid="ignore"):
+        milling_time = np.where(speed > 0.0, length / np.where(speed > 0.0, speed, 1.0), np.inf)
+    return ImpactLoads(
+        torque_n_m=np.sum(resisting * mid, axis=-1),
+        force_n=np.abs(axial),
+        axial_force_aft_n=axial,
+        cut_depth_m=cut,
+        n_impacts=n_impacts,
+        contact_area_m2=area,
+        pressure_pa=pressure,
+        radial_extent_m=extent,
+        impact_angle_deg=np.degrees(np.minimum(width / centre, math.pi)),
+        milling_time_s=milling_time,
+        removed_fraction=np.where(layer_area > 0.0, removed, 1.0),
+    )

@@ -1,0 +1,184 @@
+"""Blade milling model (docs/propeller.md, "Blade milling model"): analytic limits computed here."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from floebreak.errors import InputError
+from floebreak.propeller.milling import (
+    BladeGeometry,
+    IceBlock,
+    IceStrength,
+    cut_depth_m,
+    impact_loads,
+)
+from floebreak.propeller.spec import PropellerSpec
+
+AGULHAS = BladeGeometry.from_spec(PropellerSpec())  # D 4.3 m, Z 4, hub 0.3, EAR 0.55, t 0.105 m, 95.86 %
+
+
+def block(thickness, length=3.0, width=2.0) -> IceBlock:
+    return IceBlock(np.atleast_1d(thickness), np.atleast_1d(length), np.atleast_1d(width))
+
+
+def one_strip_by_hand(geom: BladeGeometry, extent, rpm, speed, ice: IceStrength):
+    """Torque and aft axial force of one strip [R − e, R] at its mid radius, written out from the docs."""
+    r = geom.radius_m - extent / 2
+    chord = geom.chord_m(r).item() if geom.chord_distribution == "b_series" else geom.chord_07_m
+    t = geom.thickness_07_m
+    omega_r = 2 * math.pi * rpm / 60 * r
+    beta = math.atan(speed / omega_r)
+    phi = math.atan(geom.pitch_m / (2 * math.pi * r))
+    alpha = phi - beta
+    layer = speed / (geom.blades * rpm / 60) * math.cos(beta)
+    w_nose = min(t * abs(math.cos(alpha)), layer)
+    w_flank = min(chord * abs(math.sin(alpha)), layer - w_nose)
+    a_nose, a_flank = w_nose * extent, w_flank / abs(math.sin(alpha)) * extent
+    area = a_nose + a_flank
+    p = ice.crushing_pressure_pa * (area / ice.reference_area_m2) ** ice.area_exponent
+    s = 1.0 if alpha > 0 else -1.0
+    against = p * a_nose * math.cos(beta) + p * a_flank * (s * math.sin(phi) + ice.friction * math.cos(phi))
+    aft = p * a_nose * math.sin(beta) + p * a_flank * (-s * math.cos(phi) + ice.friction * math.sin(phi))
+    return against * r, aft, area
+
+
+@pytest.mark.parametrize("pitch_percent", [0.0, 50.0, 95.8551])
+@pytest.mark.parametrize("strips", [1, 64])
+def test_one_radial_strip_torque_is_force_times_radius(pitch_percent, strips):
+    geom = replace(AGULHAS, pitch_percent=pitch_percent)
+    ice = IceStrength()
+    extent = 0.01  # thinner than one of 64 strips (1.505 m / 64 = 0.0235 m): only the tip strip is in ice
+    q, f_aft, area = one_strip_by_hand(geom, extent, 140.0, 3.0, ice)
+    loads = impact_loads(block(extent), geom, 140.0, 3.0, ice, strips=strips)
+    assert loads.torque_n_m[0] == pytest.approx(q, rel=1e-9)
+    assert loads.axial_force_aft_n[0] == pytest.approx(f_aft, rel=1e-9)
+    assert loads.force_n[0] == pytest.approx(abs(f_aft), rel=1e-9)
+    assert loads.contact_area_m2[0] == pytest.approx(area, rel=1e-9)
+    assert loads.radial_extent_m[0] == pytest.approx(extent)
+
+
+def test_face_contact_at_pitch_pushes_forward_and_back_contact_at_zero_pitch_pushes_aft():
+    loads95 = impact_loads(block(1.0), AGULHAS, 140.0, 3.0)
+    loads0 = impact_loads(block(1.0), replace(AGULHAS, pitch_percent=0.0), 140.0, 3.0)
+    assert loads95.axial_force_aft_n[0] < 0.0 < loads0.axial_force_aft_n[0]
+    assert loads95.torque_n_m[0] > 0.0 and loads0.torque_n_m[0] > 0.0
+
+
+def test_doubling_the_cut_depth_scales_loads_by_two_to_one_plus_the_area_exponent():
+    # constant chord 3 m: the face (α ≈ 20°, c sin α ≈ 1 m) is wider than both layers, nose ≈ 0, no friction:
+    # every load is p(A)·A·const, A ∝ cut depth → ratio 2^(1 + ex). Halving Z doubles the cut, angles equal.
+    geom = replace(AGULHAS, chord_07_m=3.0, chord_distribution="constant", thickness_07_m=1e-9)
+    ice = IceStrength(friction=0.0, area_exponent=-0.3)
+    four = impact_loads(block(1.2), geom, 140.0, 1.0, ice)
+    two = impact_loads(block(1.2), replace(geom, blades=2), 140.0, 1.0, ice)
+    assert two.cut_depth_m[0] == pytest.approx(2 * four.cut_depth_m[0])
+    assert two.torque_n_m[0] / four.torque_n_m[0] == pytest.approx(2**0.7, rel=1e-6)
+    assert two.force_n[0] / four.force_n[0] == pytest.approx(2**0.7, rel=1e-6)
+    assert four.removed_fraction[0] == pytest.approx(1.0) and two.removed_fraction[0] == pytest.approx(1.0)
+
+
+def test_cut_depth_is_advance_per_blade_passage():
+    assert cut_depth_m(3.0, 140.0, 4) == pytest.approx(3.0 / (4 * 140 / 60))
+    assert cut_depth_m(3.0, 280.0, 4) == pytest.approx(0.5 * 3.0 / (4 * 140 / 60))
+    assert cut_depth_m(0.0, 140.0, 4) == 0.0
+    assert np.isinf(cut_depth_m(3.0, 0.0, 4))
+
+
+def test_zero_advance_cuts_nothing():
+    loads = impact_loads(block(1.0), AGULHAS, 140.0, 0.0)
+    assert loads.cut_depth_m[0] == 0.0 and loads.n_impacts[0] == 0
+    assert loads.torque_n_m[0] == 0.0 and loads.force_n[0] == 0.0 and loads.contact_area_m2[0] == 0.0
+
+
+def test_block_thinner_than_the_blade_meets_fewer_strips():
+    span = AGULHAS.radius_m - AGULHAS.hub_radius_m
+    thin, full, thick = (impact_loads(block(h), AGULHAS, 140.0, 3.0) for h in (0.3, span, span + 2.0))
+    assert thin.radial_extent_m[0] == pytest.approx(0.3)
+    assert full.radial_extent_m[0] == pytest.approx(span) == thick.radial_extent_m[0]
+    assert thin.contact_area_m2[0] < full.contact_area_m2[0]
+    assert thin.torque_n_m[0] < full.torque_n_m[0] == pytest.approx(thick.torque_n_m[0])
+
+
+def test_monotone_in_thickness_and_length():
+    h = np.linspace(0.05, 2.0, 30)
+    loads = impact_loads(block(h, 3.0, 2.0), AGULHAS, 140.0, 3.0)
+    inside = h[1:] <= AGULHAS.radius_m - AGULHAS.hub_radius_m  # beyond the span the block meets no more blade
+    assert np.all(np.diff(loads.torque_n_m)[inside] > 0.0) and np.all(
+        np.diff(loads.contact_area_m2)[inside] > 0.0
+    )
+    beyond = h[:-1] >= AGULHAS.radius_m - AGULHAS.hub_radius_m
+    assert np.all(np.diff(loads.torque_n_m)[beyond] == 0.0) and inside.any() and beyond.any()
+    lengths = np.linspace(0.1, 8.0, 30)
+    by_length = impact_loads(block(1.0, lengths, 2.0), AGULHAS, 140.0, 3.0)
+    assert np.all(np.diff(by_length.n_impacts) >= 0) and by_length.n_impacts[-1] > by_length.n_impacts[0]
+    assert np.ptp(by_length.torque_n_m) == 0.0  # the length sets the number of impacts, not their size
+    cut = 3.0 / (4 * 140 / 60)
+    assert list(by_length.n_impacts) == [math.ceil(x / cut - 1e-12) for x in lengths]
+    assert by_length.milling_time_s == pytest.approx(lengths / 3.0)
+
+
+def test_vectorised_equals_scalar_with_changing_rpm():
+    rng = np.random.default_rng(7)
+    h, length, width = rng.uniform(0.1, 2.0, 12), rng.uniform(0.5, 6.0, 12), rng.uniform(0.5, 4.0, 12)
+    rpm = rng.uniform(60.0, 160.0, 12)
+    together = impact_loads(IceBlock(h, length, width), AGULHAS, rpm, 3.0)
+    for i in range(12):
+        alone = impact_loads(block(h[i], length[i], width[i]), AGULHAS, rpm[i], 3.0)
+        for name in (
+            "torque_n_m",
+            "force_n",
+            "cut_depth_m",
+            "n_impacts",
+            "impact_angle_deg",
+            "removed_fraction",
+        ):
+            assert getattr(together, name)[i] == pytest.approx(getattr(alone, name)[0], rel=1e-12)
+
+
+def test_from_spec_and_b_series_chord():
+    assert AGULHAS.pitch_m == pytest.approx(0.958551 * 5.15)
+    assert AGULHAS.chord_at_07_m == pytest.approx(2.144 * 4.3 * 0.55 / 4)
+    assert AGULHAS.chord_m(0.9 * 2.15) == pytest.approx(1.582 / 2.144 * AGULHAS.chord_at_07_m)
+    assert AGULHAS.chord_m(2.15) == pytest.approx(0.0)
+
+
+def test_from_box_puts_the_longer_side_along_the_axis():
+    b = IceBlock.from_box([1.0, 4.0], [3.0, 2.0], [0.5, 0.7])
+    assert list(b.length_m) == [3.0, 4.0] and list(b.width_m) == [1.0, 2.0]
+
+
+@pytest.mark.parametrize(
+    ("change", "key"),
+    [
+        ({"diameter_m": 0.0}, "blade.diameter_m"),
+        ({"diameter_m": -1.0}, "blade.diameter_m"),
+        ({"blades": 1}, "blade.blades"),
+        ({"hub_ratio": 1.0}, "blade.hub_ratio"),
+        ({"max_pitch_ratio": 0.0}, "blade.max_pitch_ratio"),
+        ({"expanded_area_ratio": 0.0}, "blade.expanded_area_ratio"),
+        ({"thickness_07_m": 0.0}, "blade.thickness_07_m"),
+        ({"pitch_percent": 101.0}, "blade.pitch_percent"),
+        ({"chord_distribution": "elliptic"}, "blade.chord_distribution"),
+    ],
+)
+def test_bad_geometry_names_the_key(change, key):
+    with pytest.raises(InputError) as err:
+        replace(AGULHAS, **change)
+    assert err.value.field == key and key in str(err.value)
+
+
+def test_bad_operation_block_and_ice_name_the_key():
+    for kwargs, key in (({"rpm": -1.0}, "rpm"), ({"advance_speed_m_s": np.nan}, "advance_speed_m_s")):
+        args = {"rpm": 140.0, "advance_speed_m_s": 3.0} | kwargs
+        with pytest.raises(InputError, match=key):
+            impact_loads(block(1.0), AGULHAS, args["rpm"], args["advance_speed_m_s"])
+    with pytest.raises(InputError, match=r"block\.thickness_m"):
+        block(-0.1)
+    with pytest.raises(InputError, match=r"ice\.area_exponent"):
+        IceStrength(area_exponent=0.2)
+    with pytest.raises(InputError, match="strips"):
+        impact_loads(block(1.0), AGULHAS, 140.0, 3.0, strips=0)
