@@ -42,7 +42,7 @@ class PieceState:
 
 
 class _Piece:
-    __slots__ = ("awake", "body", "geometry", "mass_kg", "moment_kg_m2", "pinned", "shapes", "thickness_m")
+    __slots__ = ("awake", "body", "bounds", "geometry", "mass_kg", "moment_kg_m2", "pinned", "shapes", "thickness_m")
 
     def __init__(self, geometry: BodyGeometry, thickness_m: float, settings: IceMotionSettings):
         self.geometry = geometry
@@ -59,6 +59,7 @@ class _Piece:
             shape.elasticity = math.sqrt(settings.ice_ice_restitution)
         self.pinned = False
         self.awake = True
+        self.bounds = (0.0, 0.0, 0.0, 0.0)  # field-frame box; kept current for awake pieces only
 
 
 class IceMotionEngine:
@@ -149,6 +150,7 @@ class IceMotionEngine:
         self.space.add(piece.body, *piece.shapes)
         self._pieces[piece_id] = piece
         self._by_body[piece.body] = piece_id
+        piece.bounds = _bounds(piece)
         if pinned:
             self.set_pinned(piece_id, True)
         else:
@@ -269,7 +271,9 @@ class IceMotionEngine:
         behind = window[0]
         for pid in list(self._pieces):
             piece = self._pieces[pid]
-            bb = _bounds(piece)
+            if piece.awake:  # a static piece's box does not change
+                piece.bounds = _bounds(piece)
+            bb = piece.bounds
             if bb[2] < behind:
                 self._retired.append(self.remove_piece(pid))
             elif not piece.pinned:
@@ -278,7 +282,7 @@ class IceMotionEngine:
                     self._set_awake(piece, awake)
 
     def _in_window(self, piece: _Piece, window: tuple[float, float, float, float]) -> bool:
-        x0, y0, x1, y1 = _bounds(piece)
+        x0, y0, x1, y1 = piece.bounds
         return x1 >= window[0] and x0 <= window[2] and y1 >= window[1] and y0 <= window[3]
 
     def _set_awake(self, piece: _Piece, awake: bool) -> None:
