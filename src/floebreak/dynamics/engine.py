@@ -42,7 +42,17 @@ class PieceState:
 
 
 class _Piece:
-    __slots__ = ("awake", "body", "bounds", "geometry", "mass_kg", "moment_kg_m2", "pinned", "shapes", "thickness_m")
+    __slots__ = (
+        "awake",
+        "body",
+        "bounds",
+        "geometry",
+        "mass_kg",
+        "moment_kg_m2",
+        "pinned",
+        "shapes",
+        "thickness_m",
+    )
 
     def __init__(self, geometry: BodyGeometry, thickness_m: float, settings: IceMotionSettings):
         self.geometry = geometry
