@@ -1,0 +1,154 @@
+"""Rigid-body properties of a piece from its shapely polygon (field frame, metres): pure functions.
+
+Mass ρ_i·A·h and the polar moment about the centroid from the polygon's vertices (exact for any simple
+polygon, independent of the convex decomposition); convex parts for the collision shapes (Chipmunk takes
+convex polygons only); the geometric integrals of the water drag (docs/model.md, "Ice motion").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+_CONVEX_REL_TOL = 1e-12
+
+
+@dataclass(frozen=True)
+class BodyGeometry:
+    """A piece in its body frame: the centroid at the origin, axes those of the field at angle 0."""
+
+    centroid_xy_m: tuple[float, float]  # field frame, where the body was built
+    area_m2: float
+    polar_moment_m4: float  # ∫ r² dA about the centroid
+    ring_xy_m: np.ndarray  # (n, 2) exterior ring, body frame, not closed, counter-clockwise
+    convex_parts: tuple[np.ndarray, ...]  # body frame, each (k, 2) counter-clockwise
+    yaw_form_m3: tuple[float, float]  # ∫ max(±s, 0)³ dl along the edge, s = (r × n)·ẑ: yaw form drag
+    yaw_skin_m5: float  # ∫ r³ dA: yaw skin drag
+
+
+def polygon_area_moment(ring_xy_m: np.ndarray) -> tuple[float, np.ndarray, float]:
+    """(area, centroid, ∫r² dA about the centroid) of a simple polygon's ring (shoelace sums; the polar
+    second moment J_o = 1/12 Σ c_i (x_i² + x_i x_j + x_j² + y_i² + y_i y_j + y_j²), c_i = x_i y_j − x_j y_i,
+    moved to the centroid by the parallel-axis theorem)."""
+    x, y = ring_xy_m[:, 0], ring_xy_m[:, 1]
+    xj, yj = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yj - xj * y
+    area = cross.sum() / 2.0
+    cx = ((x + xj) * cross).sum() / (6.0 * area)
+    cy = ((y + yj) * cross).sum() / (6.0 * area)
+    j_origin = (cross * (x * x + x * xj + xj * xj + y * y + y * yj + yj * yj)).sum() / 12.0
+    return abs(area), np.array([cx, cy]), abs(j_origin) - abs(area) * (cx * cx + cy * cy)
+
+
+def _ccw_ring(polygon: shapely.Polygon) -> np.ndarray:
+    ring = np.asarray(shapely.orient_polygons(polygon).exterior.coords)[:-1]
+    return ring.astype(float)
+
+
+def _is_convex(polygon: shapely.Polygon) -> bool:
+    return polygon.convex_hull.area - polygon.area <= _CONVEX_REL_TOL * polygon.area
+
+
+def convex_parts(polygon: shapely.Polygon) -> list[shapely.Polygon]:
+    """Convex polygons whose union is `polygon` exactly: the polygon itself if convex, else its constrained
+    Delaunay triangles merged greedily while the merge stays convex (Hertel–Mehlhorn style; deterministic:
+    triangles in GEOS's order)."""
+    if _is_convex(polygon):
+        return [polygon]
+    triangles = list(shapely.constrained_delaunay_triangles(polygon).geoms)
+    parts: list[shapely.Polygon] = []
+    while triangles:
+        part = triangles.pop(0)
+        merged = True
+        while merged:
+            merged = False
+            for k, tri in enumerate(triangles):
+                if part.intersection(tri).length > 0.0:  # share an edge
+                    union = shapely.union(part, tri)
+                    if isinstance(union, shapely.Polygon) and _is_convex(union):
+                        part = shapely.Polygon(union.exterior.coords)
+                        triangles.pop(k)
+                        merged = True
+                        break
+        parts.append(part)
+    return parts
+
+
+def _yaw_form_integrals(ring: np.ndarray) -> tuple[float, float]:
+    """∫ max(s, 0)³ dl and ∫ max(−s, 0)³ dl over the edges, s = (r × n)·ẑ: the normal speed of the edge per
+    unit yaw rate. s is linear along an edge (s0 → s1 over length L), so the integral is exact:
+    L·(F(s1) − F(s0))/(s1 − s0) with F(σ) = max(σ, 0)⁴/4 (L·max(s0, 0)³ where s1 = s0)."""
+    a, b = ring, np.roll(ring, -1, axis=0)
+    edge = b - a
+    length = np.hypot(edge[:, 0], edge[:, 1])
+    nx, ny = edge[:, 1] / length, -edge[:, 0] / length  # outward for a counter-clockwise ring
+    s0 = a[:, 0] * ny - a[:, 1] * nx
+    s1 = b[:, 0] * ny - b[:, 1] * nx
+
+    def positive_part(u0: np.ndarray, u1: np.ndarray) -> float:
+        du = u1 - u0
+        flat = np.abs(du) <= 1e-12 * np.maximum(np.abs(u0), 1e-300)
+        f = (np.maximum(u1, 0.0) ** 4 - np.maximum(u0, 0.0) ** 4) / 4.0
+        return float(
+            np.where(flat, length * np.maximum(u0, 0.0) ** 3, length * f / np.where(flat, 1.0, du)).sum()
+        )
+
+    return positive_part(s0, s1), positive_part(-s0, -s1)
+
+
+# Dunavant's 7-point rule (degree 5) on the reference triangle: barycentric points and weights
+_A1, _B1, _A2, _B2 = 0.059715871789770, 0.470142064105115, 0.797426985353087, 0.101286507323456
+_RULE_POINTS = np.array(
+    [[1 / 3, 1 / 3], [_A1, _B1], [_B1, _A1], [_B1, _B1], [_A2, _B2], [_B2, _A2], [_B2, _B2]]
+)  # (u, v); the third coordinate is 1 − u − v
+_RULE_WEIGHTS = np.array([0.225] + [0.132394152788506] * 3 + [0.125939180544827] * 3)
+_SPLIT = 4  # each fan triangle split into _SPLIT² sub-triangles
+
+
+def _sub_triangles() -> list[np.ndarray]:
+    n = _SPLIT
+    up = [((i, j), (i + 1, j), (i, j + 1)) for i in range(n) for j in range(n - i)]
+    down = [((i + 1, j), (i + 1, j + 1), (i, j + 1)) for i in range(n) for j in range(n - i - 1)]
+    return [np.array(t, dtype=float) / n for t in up + down]
+
+
+def _yaw_skin_integral(ring: np.ndarray) -> float:
+    """∫ |r|³ dA over the polygon about its centroid: the signed fan of triangles (centroid, a_i, a_i+1),
+    each split into 16 sub-triangles integrated by Dunavant's degree-5 rule."""
+    a, b = ring, np.roll(ring, -1, axis=0)
+    signed_area = (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) / 2.0
+    total = 0.0
+    for corners in _sub_triangles():  # corners (3, 2) in fan coordinates: point = u·a + v·b
+        c0, c1, c2 = corners
+        uv = c0 + _RULE_POINTS[:, :1] * (c1 - c0) + _RULE_POINTS[:, 1:] * (c2 - c0)
+        pts = uv[None, :, 0, None] * a[:, None, :] + uv[None, :, 1, None] * b[:, None, :]
+        r3 = np.hypot(pts[..., 0], pts[..., 1]) ** 3
+        total += float((signed_area[:, None] / _SPLIT**2 * _RULE_WEIGHTS[None, :] * r3).sum())
+    return abs(total)
+
+
+def body_geometry(polygon: shapely.Polygon) -> BodyGeometry:
+    """The body-frame geometry of `polygon` (a valid polygon without holes; field frame)."""
+    ring_field = _ccw_ring(polygon)
+    area, centroid, polar = polygon_area_moment(ring_field)
+    ring = ring_field - centroid
+    local = shapely.Polygon(ring)
+    parts = tuple(_ccw_ring(p) for p in convex_parts(local))
+    return BodyGeometry(
+        (float(centroid[0]), float(centroid[1])),
+        area,
+        polar,
+        ring,
+        parts,
+        _yaw_form_integrals(ring),
+        _yaw_skin_integral(ring),
+    )
+
+
+def projected_width_m(ring_xy_m: np.ndarray, direction_xy: np.ndarray) -> float:
+    """Width of the polygon's shadow across the unit `direction_xy` (both in the same frame): max − min of
+    the vertices' projection on the perpendicular; exact for any polygon (its shadow is one interval)."""
+    p = ring_xy_m[:, 1] * direction_xy[0] - ring_xy_m[:, 0] * direction_xy[1]
+    return float(p.max() - p.min())

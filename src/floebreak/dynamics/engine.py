@@ -1,0 +1,347 @@
+"""The rigid-body engine of moving ice: a pymunk (Chipmunk2D) space with a kinematic hull and the pieces.
+
+Field frame (x forward, y to port), metres, seconds. Each piece is a dynamic body at its centroid with mass
+(1 + C_a)·ρ_i·A·h and moment (1 + C_a,ψ)·ρ_i·h·∫r²dA, its convex parts as collision shapes; the water forces
+(`forces.py`) are applied at the start of every step. Only pieces whose bounding box meets the awake window
+around the hull are dynamic; the others are static bodies (frozen where they are, still obstacles to the
+awake ones), pinned pieces are static always, and pieces wholly behind the window are retired: removed,
+their last state kept for `drain_retired`. Nothing here draws random numbers: the same calls give the same
+states (Chipmunk is deterministic for the same sequence of operations).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+import shapely
+
+from floebreak.dynamics.bodies import BodyGeometry, body_geometry
+from floebreak.dynamics.forces import water_force_and_moment
+from floebreak.dynamics.settings import IceMotionSettings
+
+ICE_COLLISION_TYPE = 1
+HULL_COLLISION_TYPE = 2
+
+
+@dataclass(frozen=True)
+class PieceState:
+    """A piece's rigid-body state: centroid position, rotation from its shape when added, velocities."""
+
+    piece_id: int
+    x_m: float
+    y_m: float
+    angle_rad: float
+    vx_m_s: float
+    vy_m_s: float
+    angular_velocity_rad_s: float
+    awake: bool
+    pinned: bool
+
+
+class _Piece:
+    __slots__ = (
+        "awake",
+        "body",
+        "bounds",
+        "geometry",
+        "mass_kg",
+        "moment_kg_m2",
+        "pinned",
+        "shapes",
+        "thickness_m",
+    )
+
+    def __init__(self, geometry: BodyGeometry, thickness_m: float, settings: IceMotionSettings):
+        self.geometry = geometry
+        self.thickness_m = thickness_m
+        areal = settings.ice_density_kg_m3 * thickness_m
+        self.mass_kg = (1.0 + settings.added_mass_coefficient) * areal * geometry.area_m2
+        self.moment_kg_m2 = (1.0 + settings.added_inertia_coefficient) * areal * geometry.polar_moment_m4
+        self.body = pymunk.Body(self.mass_kg, self.moment_kg_m2)
+        self.shapes = [pymunk.Poly(self.body, [tuple(v) for v in part]) for part in geometry.convex_parts]
+        for shape in self.shapes:
+            shape.collision_type = ICE_COLLISION_TYPE
+            # Chipmunk multiplies the two shapes' values: √ on each gives μ and e of an ice–ice pair
+            shape.friction = math.sqrt(settings.ice_ice_friction)
+            shape.elasticity = math.sqrt(settings.ice_ice_restitution)
+        self.pinned = False
+        self.awake = True
+        self.bounds = (0.0, 0.0, 0.0, 0.0)  # field-frame box; kept current for awake pieces only
+
+
+class IceMotionEngine:
+    """Pieces by id, a kinematic hull moving at a set velocity, `step(dt)` with the water forces."""
+
+    def __init__(
+        self,
+        hull_polygon: shapely.Polygon,
+        hull_velocity_m_s: tuple[float, float],
+        settings: IceMotionSettings | None = None,
+        *,
+        water: bool = True,
+    ):
+        """`hull_polygon`: the ship's ice waterline, field frame, at time 0. `water=False` applies no water
+        forces (checks of the collision mechanics alone)."""
+        self.settings = settings if settings is not None else IceMotionSettings()
+        self.water = water
+        self.time_s = 0.0
+        self.space = pymunk.Space()
+        self.space.iterations = self.settings.solver_iterations
+        self.hull = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        self._hull_shapes = [
+            pymunk.Poly(self.hull, [tuple(v) for v in part]) for part in body_geometry_parts(hull_polygon)
+        ]
+        for shape in self._hull_shapes:
+            shape.collision_type = HULL_COLLISION_TYPE
+            # Chipmunk takes a contact's restitution as the product of the shapes' (an arbiter's value set
+            # in a callback does not reach the bounce); friction is set per hull contact in pre_solve
+            shape.elasticity = _hull_shape_elasticity(self.settings)
+        self.space.add(self.hull, *self._hull_shapes)
+        self._hull_bounds0 = hull_polygon.bounds
+        self.set_hull_velocity(hull_velocity_m_s)
+        self._pieces: dict[int, _Piece] = {}
+        self._by_body: dict[pymunk.Body, int] = {}
+        self._forces: dict[int, list[tuple[float, float, float, float]]] = {}
+        self._impulses: dict[int, tuple[float, float]] = {}
+        self._retired: list[PieceState] = []
+        self.space.on_collision(
+            HULL_COLLISION_TYPE,
+            ICE_COLLISION_TYPE,
+            pre_solve=self._hull_contact_values,
+            post_solve=self._record_hull_impulse,
+        )
+
+    # --- the hull ------------------------------------------------------------------------------------
+    def set_hull_velocity(self, velocity_m_s: tuple[float, float]) -> None:
+        """Set the hull's velocity; InputError if the time step cannot resolve its speed."""
+        self.settings.check_time_step(math.hypot(*velocity_m_s))
+        self.hull.velocity = (float(velocity_m_s[0]), float(velocity_m_s[1]))
+
+    @property
+    def hull_offset_m(self) -> tuple[float, float]:
+        """How far the hull has moved from its position at time 0."""
+        return float(self.hull.position.x), float(self.hull.position.y)
+
+    def window(self) -> tuple[float, float, float, float]:
+        """The awake window (x_min, y_min, x_max, y_max) around the hull now."""
+        x0, y0, x1, y1 = self._hull_bounds0
+        dx, dy = self.hull_offset_m
+        s = self.settings
+        return (
+            x0 + dx - s.window_behind_m,
+            y0 + dy - s.window_side_m,
+            x1 + dx + s.window_ahead_m,
+            y1 + dy + s.window_side_m,
+        )
+
+    # --- pieces --------------------------------------------------------------------------------------
+    def add_piece(
+        self,
+        piece_id: int,
+        polygon: shapely.Polygon,
+        thickness_m: float,
+        *,
+        velocity_m_s: tuple[float, float] = (0.0, 0.0),
+        angular_velocity_rad_s: float = 0.0,
+        pinned: bool = False,
+    ) -> None:
+        """Add a piece (a valid polygon without holes, field frame) moving at the given rigid-body velocity
+        (of its centroid). A pinned piece never moves."""
+        if piece_id in self._pieces:
+            raise ValueError(f"piece {piece_id} is in the engine already")
+        geometry = body_geometry(polygon)
+        piece = _Piece(geometry, float(thickness_m), self.settings)
+        piece.body.position = geometry.centroid_xy_m
+        piece.body.velocity = (float(velocity_m_s[0]), float(velocity_m_s[1]))
+        piece.body.angular_velocity = float(angular_velocity_rad_s)
+        self.space.add(piece.body, *piece.shapes)
+        self._pieces[piece_id] = piece
+        self._by_body[piece.body] = piece_id
+        piece.bounds = _bounds(piece)
+        if pinned:
+            self.set_pinned(piece_id, True)
+        else:
+            self._set_awake(piece, self._in_window(piece, self.window()))
+
+    def remove_piece(self, piece_id: int) -> PieceState:
+        """Remove a piece (broken, or leaving); returns its last state."""
+        state = self.state(piece_id)
+        piece = self._pieces.pop(piece_id)
+        del self._by_body[piece.body]
+        self._forces.pop(piece_id, None)
+        self.space.remove(piece.body, *piece.shapes)
+        return state
+
+    def set_pinned(self, piece_id: int, pinned: bool) -> None:
+        """Pin a piece (static: no motion, zero velocity) or release it."""
+        piece = self._pieces[piece_id]
+        piece.pinned = pinned
+        self._set_awake(piece, not pinned and self._in_window(piece, self.window()))
+
+    def apply_force(
+        self, piece_id: int, force_n: tuple[float, float], point_xy_m: tuple[float, float]
+    ) -> None:
+        """Add a force at a field-frame point for the next step (e.g. floebreak's contact force)."""
+        self._forces.setdefault(piece_id, []).append((force_n[0], force_n[1], point_xy_m[0], point_xy_m[1]))
+
+    def piece_ids(self) -> list[int]:
+        return list(self._pieces)
+
+    def awake_ids(self) -> list[int]:
+        return [pid for pid, piece in self._pieces.items() if piece.awake]
+
+    def mass_kg(self, piece_id: int) -> float:
+        """The effective (with added mass) mass of a piece."""
+        return self._pieces[piece_id].mass_kg
+
+    def moment_kg_m2(self, piece_id: int) -> float:
+        """The effective (with added inertia) moment of inertia of a piece about its centroid."""
+        return self._pieces[piece_id].moment_kg_m2
+
+    def state(self, piece_id: int) -> PieceState:
+        piece = self._pieces[piece_id]
+        body = piece.body
+        return PieceState(
+            piece_id,
+            float(body.position.x),
+            float(body.position.y),
+            float(body.angle),
+            float(body.velocity.x),
+            float(body.velocity.y),
+            float(body.angular_velocity),
+            piece.awake,
+            piece.pinned,
+        )
+
+    def velocity_at(self, piece_id: int, point_xy_m: tuple[float, float]) -> tuple[float, float]:
+        """The rigid-body velocity of a piece at a field-frame point, v + ω ẑ × (p − c) (a child's velocity
+        at its centroid when the piece breaks)."""
+        body = self._pieces[piece_id].body
+        rx, ry = point_xy_m[0] - body.position.x, point_xy_m[1] - body.position.y
+        w = body.angular_velocity
+        return float(body.velocity.x - w * ry), float(body.velocity.y + w * rx)
+
+    def polygon(self, piece_id: int) -> shapely.Polygon:
+        """The piece's outline now, field frame (its ring rotated by the angle and moved to the centroid)."""
+        piece = self._pieces[piece_id]
+        c, s = math.cos(piece.body.angle), math.sin(piece.body.angle)
+        ring = piece.geometry.ring_xy_m
+        x = piece.body.position.x + c * ring[:, 0] - s * ring[:, 1]
+        y = piece.body.position.y + s * ring[:, 0] + c * ring[:, 1]
+        return shapely.Polygon(np.column_stack([x, y]))
+
+    def hull_impulses(self) -> dict[int, tuple[float, float]]:
+        """Impulse of the hull on each piece during the last step [N·s], field frame; the ship receives the
+        opposite. Divided by the step: the mean contact force."""
+        return dict(self._impulses)
+
+    def drain_retired(self) -> list[PieceState]:
+        """The last states of the pieces retired (behind the window) since the last call."""
+        retired, self._retired = self._retired, []
+        return retired
+
+    # --- stepping ------------------------------------------------------------------------------------
+    def step(self, dt_s: float | None = None) -> None:
+        """Advance by `dt_s` (default `settings.time_step_s`): water and applied forces, contacts, window."""
+        dt = self.settings.time_step_s if dt_s is None else float(dt_s)
+        self.settings.check_time_step(self.hull.velocity.length, dt)
+        self._impulses = {}
+        for pid, piece in self._pieces.items():
+            if piece.awake:
+                self._load(pid, piece, dt)
+        self._forces.clear()
+        self.space.step(dt)
+        self.time_s += dt
+        self._update_window()
+
+    def _load(self, pid: int, piece: _Piece, dt: float) -> None:
+        body = piece.body
+        if self.water:
+            fx, fy, m = water_force_and_moment(
+                piece.geometry,
+                piece.thickness_m,
+                body.angle,
+                (body.velocity.x, body.velocity.y),
+                body.angular_velocity,
+                piece.mass_kg,
+                piece.moment_kg_m2,
+                dt,
+                self.settings,
+            )
+            body.force = (fx, fy)
+            body.torque = m
+        for fx, fy, px, py in self._forces.get(pid, ()):
+            body.apply_force_at_world_point((fx, fy), (px, py))
+
+    def _update_window(self) -> None:
+        window = self.window()
+        behind = window[0]
+        for pid in list(self._pieces):
+            piece = self._pieces[pid]
+            if piece.awake:  # a static piece's box does not change
+                piece.bounds = _bounds(piece)
+            bb = piece.bounds
+            if bb[2] < behind:
+                self._retired.append(self.remove_piece(pid))
+            elif not piece.pinned:
+                awake = bb[0] <= window[2] and bb[1] <= window[3] and bb[3] >= window[1]
+                if awake != piece.awake:
+                    self._set_awake(piece, awake)
+
+    def _in_window(self, piece: _Piece, window: tuple[float, float, float, float]) -> bool:
+        x0, y0, x1, y1 = piece.bounds
+        return x1 >= window[0] and x0 <= window[2] and y1 >= window[1] and y0 <= window[3]
+
+    def _set_awake(self, piece: _Piece, awake: bool) -> None:
+        """Dynamic inside the window; static (frozen, at rest) outside it or when pinned."""
+        piece.awake = awake
+        body = piece.body
+        wanted = pymunk.Body.DYNAMIC if awake else pymunk.Body.STATIC
+        if body.body_type == wanted:
+            return
+        if not awake:
+            body.velocity = (0.0, 0.0)
+            body.angular_velocity = 0.0
+        body.body_type = wanted
+        if awake:  # Chipmunk recomputes the mass from the shapes (massless here): set ours again
+            body.mass = piece.mass_kg
+            body.moment = piece.moment_kg_m2
+        self.space.reindex_shapes_for_body(body)
+
+    # --- contact callbacks ---------------------------------------------------------------------------
+    def _hull_contact_values(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+        arbiter.friction = self.settings.ice_hull_friction
+
+    def _record_hull_impulse(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+        pid = self._by_body.get(arbiter.shapes[1].body)
+        if pid is None:
+            return
+        jx, jy = -arbiter.total_impulse  # total_impulse is the one on the first shape (the hull)
+        old = self._impulses.get(pid, (0.0, 0.0))
+        self._impulses[pid] = (old[0] + jx, old[1] + jy)
+
+
+def _hull_shape_elasticity(settings: IceMotionSettings) -> float:
+    """The hull shapes' elasticity e_ih/√e_ii, so that its product with an ice shape's √e_ii is e_ih."""
+    if settings.ice_hull_restitution == 0.0:
+        return 0.0
+    return settings.ice_hull_restitution / math.sqrt(settings.ice_ice_restitution)
+
+
+def _bounds(piece: _Piece) -> tuple[float, float, float, float]:
+    boxes = [shape.cache_bb() for shape in piece.shapes]
+    return (
+        min(b.left for b in boxes),
+        min(b.bottom for b in boxes),
+        max(b.right for b in boxes),
+        max(b.top for b in boxes),
+    )
+
+
+def body_geometry_parts(polygon: shapely.Polygon) -> tuple[np.ndarray, ...]:
+    """The convex parts of a polygon in its own (field) frame: the hull's collision shapes."""
+    geometry = body_geometry(polygon)
+    return tuple(part + np.array(geometry.centroid_xy_m) for part in geometry.convex_parts)

@@ -1,0 +1,85 @@
+"""Mass properties of pieces and the bad inputs of the ice-motion settings."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+import shapely
+from shapely import affinity
+
+from floebreak.dynamics import IceMotionSettings, body_geometry
+from floebreak.dynamics.bodies import projected_width_m
+from floebreak.errors import InputError
+
+
+def test_rectangle_moment_is_m_a2_plus_b2_over_12():
+    g = body_geometry(affinity.rotate(shapely.box(3, 4, 7, 6), 33.0))
+    assert g.area_m2 == pytest.approx(8.0)
+    assert g.polar_moment_m4 == pytest.approx(8.0 * (16 + 4) / 12)
+    assert g.centroid_xy_m == pytest.approx((5.0, 5.0))
+
+
+def test_concave_piece_decomposes_exactly_and_its_moment_follows_the_parallel_axis_theorem():
+    ell = shapely.Polygon([(0, 0), (3, 0), (3, 1), (1, 1), (1, 3), (0, 3)])
+    g = body_geometry(ell)
+    parts = [shapely.Polygon(p) for p in g.convex_parts]
+    assert len(parts) > 1
+    for p in parts:
+        assert p.convex_hull.area == pytest.approx(p.area, rel=1e-12)
+    assert shapely.union_all(parts).symmetric_difference(shapely.Polygon(g.ring_xy_m)).area < 1e-12
+    # two rectangles 3×1 (centre (1.5, .5)) and 1×2 (centre (.5, 2)); centroid (1.1, 1.1)
+    cx = cy = (3 * 1.5 * 0 + 3 * 0.5 + 2 * 2.0) / 5.0
+    assert g.centroid_xy_m == pytest.approx((1.1, 1.1)) and cy == pytest.approx(1.1) and cx == cx
+    rects = [(3.0, 1.0, 1.5, 0.5), (1.0, 2.0, 0.5, 2.0)]
+    j = sum(a * b * (a * a + b * b) / 12 + a * b * ((x - 1.1) ** 2 + (y - 1.1) ** 2) for a, b, x, y in rects)
+    assert g.polar_moment_m4 == pytest.approx(j, rel=1e-12)
+
+
+def test_yaw_drag_integrals_of_a_disc():
+    r = 3.0
+    g = body_geometry(shapely.Point(0, 0).buffer(r, 512))
+    assert g.yaw_skin_m5 == pytest.approx(2 * math.pi * r**5 / 5, rel=1e-3)  # ∫ r³ dA
+    assert max(g.yaw_form_m3) < 1e-6 * r**4  # a disc's edge moves tangentially: no form drag in yaw
+
+
+def test_projected_width_of_a_square_seen_diagonally():
+    ring = body_geometry(shapely.box(0, 0, 2, 2)).ring_xy_m
+    assert projected_width_m(ring, [1.0, 0.0]) == pytest.approx(2.0)
+    assert projected_width_m(ring, [math.sqrt(0.5), math.sqrt(0.5)]) == pytest.approx(2 * math.sqrt(2))
+
+
+@pytest.mark.parametrize(
+    ("key", "value"),
+    [
+        ("form_drag_coefficient", 0.0),
+        ("form_drag_coefficient", -1.0),
+        ("skin_drag_coefficient", 0.0),
+        ("ice_ice_friction", -0.1),
+        ("ice_hull_friction", -0.1),
+        ("ice_ice_restitution", 1.5),
+        ("ice_hull_restitution", -0.2),
+        ("added_mass_coefficient", -0.1),
+        ("added_inertia_coefficient", -0.1),
+        ("window_ahead_m", 0.0),
+        ("window_behind_m", -5.0),
+        ("window_side_m", 0.0),
+        ("time_step_s", 0.0),
+    ],
+)
+def test_bad_setting_names_its_key(key, value):
+    with pytest.raises(InputError, match=rf"ice_motion\.{key}"):
+        IceMotionSettings(**{key: value})
+
+
+def test_time_step_that_cannot_resolve_the_speed_is_an_input_error():
+    s = IceMotionSettings(time_step_s=0.1)  # 0.25·1 m per step allows 2.5 m/s
+    s.check_time_step(2.5)
+    with pytest.raises(InputError, match=r"ice_motion\.time_step_s"):
+        s.check_time_step(3.0)
+
+
+def test_zero_ice_ice_restitution_with_a_hull_restitution_is_refused():
+    IceMotionSettings(ice_ice_restitution=0.0, ice_hull_restitution=0.0)
+    with pytest.raises(InputError, match=r"ice_motion\.ice_ice_restitution"):
+        IceMotionSettings(ice_ice_restitution=0.0, ice_hull_restitution=0.1)
