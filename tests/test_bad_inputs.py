@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import errno
 import importlib
+import signal
 import sys
 import tomllib
 from collections.abc import Callable
@@ -108,6 +109,28 @@ def _interrupted(folder: Path, monkeypatch) -> list[str]:
         raise KeyboardInterrupt
 
     monkeypatch.setattr(importlib.import_module("floebreak.app.run"), "simulate", ctrl_c)
+    return _run()(folder, monkeypatch)
+
+
+def _far_field(folder: Path, _) -> list[str]:
+    text = '[field]\nfloes = [{ x_m = 20.0, y_m = 500.0, diameter_m = 10.0 }]\n[ice]\nthickness_m = 1.0\n'
+    return ["run", _scenario(folder, text), "--out", str(folder / "out"), "-q"]
+
+
+def _semicolon_log(folder: Path, _) -> list[str]:
+    header = "start_utc;end_utc;concentration_percent;mean_thickness_m;share_d5m_percent;share_d20m_percent"
+    (folder / "log.csv").write_text(header + "\n2020-01-01T00:00;2020-01-01T00:10;50;0,5;60;40\n", "utf-8")
+    return ["voyage", str(folder / "log.csv"), "--out", str(folder / "voyage"), "--workers", "1"]
+
+
+def _terminated(folder: Path, monkeypatch) -> list[str]:
+    from floebreak.exit_codes import Terminated, record_signal
+
+    def sigterm(*args, **kwargs):
+        record_signal(signal.SIGTERM)  # what floebreak.__main__'s handler records before it raises
+        raise Terminated
+
+    monkeypatch.setattr(importlib.import_module("floebreak.app.run"), "simulate", sigterm)
     return _run()(folder, monkeypatch)
 
 
@@ -262,6 +285,28 @@ ROWS = [
         _run("--set", "ship.hull_parameters.shoulder_frame_angle_deg=89.999"),
     ),
     Row(
+        "a setting that would make a count unbounded (wedge rays, thickness summands)",
+        "`run s.toml --set failure.bending.wedge_angle_deg=0.001`",
+        2,
+        "error: failure.bending.wedge_angle_deg: Input should be greater than or equal to 1 (got 0.001) "
+        "(allowed: [1, 60])",
+        _run("--set", "failure.bending.wedge_angle_deg=0.001"),
+    ),
+    Row(
+        "a field with no floe in the bow's path (e.g. UTM coordinates), refused before stepping",
+        "`run s.toml` with one floe at y = 500 m",
+        2,
+        "error: field: no floe of the field lies in the bow's path",
+        _far_field,
+    ),
+    Row(
+        "voyage log separated by semicolons (decimal commas)",
+        "`voyage log.csv --out voyage`",
+        2,
+        "log.csv, header (line 1): the columns are separated by semicolons, not by commas",
+        _semicolon_log,
+    ),
+    Row(
         "existing run directory",
         "`run s.toml --out out` (out exists)",
         2,
@@ -339,6 +384,13 @@ ROWS = [
         _interrupted,
     ),
     Row(
+        "SIGTERM (e.g. a batch system's time limit)",
+        "SIGTERM during `run`",
+        143,
+        "terminated (SIGTERM); nothing half-written was kept",
+        _terminated,
+    ),
+    Row(
         "internal error (a bug)",
         "(none known)",
         1,
@@ -359,7 +411,7 @@ def test_bad_input_gives_its_exit_code_and_message(row, tmp_path, monkeypatch, c
     text = "".join((out + err).split()).replace("".join(str(tmp_path).split()), "<folder>")
     assert code == row.code, err
     assert "".join(row.message.split()) in text, text
-    if row.code in (2, 3, 130):  # refused or stopped: nothing written, nothing half-written
+    if row.code in (2, 3, 130, 143):  # refused or stopped: nothing written, nothing half-written
         assert "Traceback" not in err
         assert {path: path.stat().st_mtime_ns for path in tmp_path.rglob("*")} == before
 
