@@ -40,9 +40,8 @@ class SimulatedLoads:
     fit_range_force_n: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
-        for name in ("max_abs_torque_n_m", "max_abs_force_n", "n_loads_profile"):
-            _check_non_negative(name, getattr(self, name))
-        for name in ("x_max_torque_n_m", "x_max_force_n"):
+        quantities = ("max_abs_torque_n_m", "max_abs_force_n", "n_loads_profile")
+        for name in (*quantities, "x_max_torque_n_m", "x_max_force_n"):
             _check_non_negative(name, getattr(self, name))
 
 
