@@ -20,6 +20,10 @@ CUSP_COLOUR = "#d62728"  # red
 SPECTRUM_MARGINS_IN = (0.85, 0.5, 0.18, 0.3)
 PATTERN_MARGINS_IN = (0.78, 0.5, 1.38, 0.3)  # legend outside on the right (≤ 1.31 in)
 FIELD_MARGINS_IN = (0.78, 0.5, 1.18, 0.3)  # legend "floe class" outside on the right (≤ 1.07 in)
+# Legend text of a figure as wide as the single-panel ones (7.5 in); wider figures (two panels side by side)
+# get a proportionally larger font, since report.html scales every figure to the same page width
+LEGEND_PT = 7.0
+LEGEND_REFERENCE_WIDTH_IN = 7.5
 NOTE_LINE_IN = 0.22  # a second title line (the window note) at the default 12 pt title size, with its spacing
 
 
@@ -75,6 +79,21 @@ def place_axes(
         top=1.0 - top / height,
         wspace=gap / axes_width,
     )
+
+
+def legend_font_pt(figure: Figure) -> float:
+    """Legend font size [pt] that reads as `LEGEND_PT` once the figure is scaled to the page width:
+    `LEGEND_PT` × width / `LEGEND_REFERENCE_WIDTH_IN`, never smaller than `LEGEND_PT`."""
+    return LEGEND_PT * max(1.0, float(figure.get_size_inches()[0]) / LEGEND_REFERENCE_WIDTH_IN)
+
+
+def add_legend(ax, **kwargs):
+    """`ax.legend` at `legend_font_pt` of its figure, one entry per distinct label (a repeated label,
+    e.g. one style drawn per pitch, is listed once)."""
+    handles, labels = ax.get_legend_handles_labels()
+    unique = dict(zip(labels, handles, strict=True))
+    kwargs.setdefault("fontsize", legend_font_pt(ax.figure.figure))  # .figure.figure: the root figure
+    return ax.legend(list(unique.values()), list(unique.keys()), **kwargs)
 
 
 def polygon_collection(polygons, **kwargs) -> PolyCollection:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from floebreak.plotting.common import SPECTRUM_MARGINS_IN, new_figure, place_axes
+from floebreak.plotting.common import SPECTRUM_MARGINS_IN, add_legend, new_figure, place_axes
 from floebreak.propeller.iceclass import empirical_exceedance, weibull_exceedance
 from floebreak.propeller.interpolation import VolumeInterpolant
 from floebreak.propeller.rates import weighted_exceedance
@@ -53,7 +53,7 @@ def plot_volume_loads(
         ax.axvline(np.nanmax([t.max_volume_m3 for t in tables.values()]), color="0.5", lw=0.6, ls=":")
         ax.set_xlabel("cusp volume V [m³]")
         ax.set_ylabel(label)
-        ax.legend(fontsize=7)
+        add_legend(ax)
     figure.suptitle(f"Volume–load interpolation through (0, 0); beyond the table: {beyond}")
     return figure
 
@@ -105,9 +105,13 @@ def plot_measured_comparison(
     return figure
 
 
-def plot_rule_exceedance(force_n: dict, torque_nm: dict, rule, shape: float = 0.75) -> Figure:
-    """Empirical exceedance of |F|/F_b and |Q|/Q_max per pitch with the rule's Weibull shape
-    exp(−x^k ln N) for N = the number of simulated loads (notes §7.3)."""
+def plot_rule_exceedance(
+    force_n: dict, torque_nm: dict, rule, shape: float = 0.75, n_ice: float | None = None
+) -> Figure:
+    """Empirical exceedance of |F|/F_b and |Q|/Q_max per pitch and, with the rule's number of loads
+    `n_ice` (`floebreak.propeller.ruleform.rule_n_ice`), the rule's exceedance exp(−x^k ln N_ice) (notes
+    §7.3), one curve per panel: the rule's, not one per pitch. Without `n_ice` no rule curve is drawn and
+    the title says so."""
     figure = Figure(figsize=(11.0, 4.0), constrained_layout=True)
     axes = figure.subplots(1, 2)
     for ax, data, cap, label in (
@@ -122,21 +126,26 @@ def plot_rule_exceedance(force_n: dict, torque_nm: dict, rule, shape: float = 0.
             x = v / cap
             x_top = max(x_top, float(x.max()))
             ax.step(x, p, where="post", color=_colour(i), label=f"simulated P = {pitch:g} % (n = {v.size})")
+        if n_ice is not None:
             xs = np.linspace(0.0, x_top * 1.05, 200)
             ax.plot(
                 xs,
-                weibull_exceedance(xs, v.size, shape),
-                color=_colour(i),
+                weibull_exceedance(xs, n_ice, shape),
+                color="k",
                 ls="--",
-                lw=0.8,
-                label=f"UR I3 Weibull k = {shape:g}, N = {v.size}",
+                lw=0.9,
+                label=f"UR I3 exp(−x^{shape:g} ln N_ice), N_ice = {n_ice:.3g}",
             )
+            ax.set_ylim(bottom=0.1 / n_ice)  # down to the rule maximum's 1/N_ice, not the curve's tail
         ax.axvline(1.0, color="k", lw=0.8, ls=":", label=f"rule maximum ({rule.polar_class})")
         ax.set_yscale("log")
         ax.set_xlabel(label)
         ax.set_ylabel("P(X ≥ x)")
-        ax.legend(fontsize=7)
-    figure.suptitle("Simulated loads against the IACS UR I3 exceedance shape")
+        add_legend(ax)
+    title = "Simulated loads against the IACS UR I3 exceedance shape"
+    if n_ice is None:
+        title += " (no rule curve: the rule's N_ice is not given)"
+    figure.suptitle(title)
     return figure
 
 
@@ -186,14 +195,14 @@ def plot_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float = 0.75,
     axes[0].set_xlabel("torque |Q| [kN m]")
     axes[0].set_ylabel("P(X ≥ x)")
     if axes[0].lines:
-        axes[0].legend(fontsize=7)
+        add_legend(axes[0])
     else:
         axes[0].text(0.5, 0.5, "fewer than 10 distinct loads", transform=axes[0].transAxes, ha="center")
     axes[1].set_xlabel("torque level [kN m]")
     axes[1].set_ylabel("exceedances per hour in ice, one propeller [1/h]")
     if axes[1].lines:
         axes[1].set_yscale("log")
-        axes[1].legend(fontsize=7)
+        add_legend(axes[1])
     else:
         axes[1].text(
             0.5, 0.5, "no time base (transit distance unknown)", transform=axes[1].transAxes, ha="center"

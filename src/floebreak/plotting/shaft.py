@@ -1,12 +1,13 @@
 """Shaft figures: load and shaft torque series, their spectra, the measured comparison (as thesis Figs.
-35/37, but shaft against shaft) and the free-free mode shapes (docs/shaft.md)."""
+35/37, but shaft against shaft), the free-free mode shapes, the Campbell diagram and the rainflow
+histogram (docs/shaft.md)."""
 
 from __future__ import annotations
 
 import numpy as np
 from matplotlib.figure import Figure
 
-from floebreak.plotting.common import SPECTRUM_MARGINS_IN, new_figure
+from floebreak.plotting.common import SPECTRUM_MARGINS_IN, add_legend, new_figure, with_note_line
 
 MAX_PLOTTED_POINTS = 3_000  # ≈ 2 groups per pixel column at 150 dpi
 
@@ -41,7 +42,7 @@ def plot_series(time_s, series_knm: dict[str, np.ndarray], title: str, zoom_s: f
     for ax in (full, zoom):
         ax.set_xlabel("time t [s]")
         ax.set_ylabel("torque [kN m]")
-        ax.legend(fontsize=7)
+        add_legend(ax)
     full.set_title(title, fontsize=9)
     zoom.set_title(f"{zoom_s:g} s around the largest value", fontsize=9)
     return figure
@@ -62,7 +63,7 @@ def plot_densities(edges_knm, densities: dict[str, np.ndarray], log: bool, thres
     ax.set_xlabel("torque Q [kN m]")
     ax.set_ylabel("probability density [1/(kN m)]")
     ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7)
+    add_legend(ax)
     return figure
 
 
@@ -76,5 +77,77 @@ def plot_modes(element_names, frequency_hz, shapes) -> Figure:
     ax.set_xticks(x, element_names, fontsize=8)
     ax.set_ylabel("relative angle amplitude [-]")
     ax.set_title("free-free torsional modes (motor → propeller)", fontsize=9)
-    ax.legend(fontsize=7)
+    add_legend(ax)
+    return figure
+
+
+def plot_campbell(
+    rpm_grid,
+    natural_frequency_hz,
+    blades: int,
+    operating_rpm: float,
+    margin: float,
+    harmonics=(1, 2, 3),
+) -> Figure:
+    """Campbell diagram: blade-passage orders f = k·Z·n/60 [Hz] (k in `harmonics`, Z = `blades`) over
+    the rpm grid [1/min], the natural frequencies as horizontal lines, the operating rpm with a shaded
+    band of ± `margin` (a fraction) around it, and the crossings n = 60 f_j/(k Z), filled red where they
+    lie inside the band (the resonance margin of `floebreak.shaft.resonance`: |f_j − f_k(n_op)| /
+    f_k(n_op) < margin exactly when the crossing lies within n_op (1 ± margin))."""
+    rpm = np.asarray(rpm_grid, dtype=float)
+    f_n = np.asarray(natural_frequency_hz, dtype=float).reshape(-1)
+    figure, ax = new_figure(7.5, 4.5, with_note_line(SPECTRUM_MARGINS_IN))
+    band = (operating_rpm * (1.0 - margin), operating_rpm * (1.0 + margin))
+    ax.axvspan(*band, color="0.85", lw=0, label=f"operating {operating_rpm:g} rpm ± {margin:.0%}")
+    ax.axvline(operating_rpm, color="0.3", lw=0.8, ls=":")
+    for i, k in enumerate(harmonics):
+        ax.plot(rpm, k * blades * rpm / 60.0, color=f"C{i}", lw=1.2, label=f"order {k * blades} (k = {k})")
+    inside, outside = [], []
+    for j, f in enumerate(f_n):
+        ax.axhline(f, color="0.2", lw=0.8, ls="--" if j % 2 == 0 else "-.", label=f"mode {j + 1}: {f:.2f} Hz")
+        for k in harmonics:
+            n_cross = 60.0 * f / (k * blades)
+            if rpm.min() <= n_cross <= rpm.max():
+                (inside if band[0] <= n_cross <= band[1] else outside).append((n_cross, f))
+    marks = ((outside, "white", "crossing"), (inside, "#d62728", "crossing in the band"))
+    for points, colour, label in marks:
+        if points:
+            x, y = np.array(points).T
+            ax.plot(x, y, "o", mfc=colour, mec="k", ms=6, ls="none", label=label)
+    top = max(float(f_n.max(initial=0.0)), max(harmonics) * blades * float(rpm.max()) / 60.0)
+    ax.set_xlim(rpm.min(), rpm.max())
+    ax.set_ylim(0.0, 1.1 * top)
+    ax.set_xlabel("propeller speed n [1/min]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_title(
+        f"Campbell diagram: blade-passage orders k·Z·n/60 (Z = {blades}) and natural frequencies\n"
+        f"{len(inside)} crossing(s) within ± {margin:.0%} of the operating speed",
+        fontsize=9,
+    )
+    add_legend(ax, loc="upper left")
+    return figure
+
+
+def plot_rainflow_histogram(range_edges_n_m, counts, title: str = "", damage: float | None = None) -> Figure:
+    """Rainflow cycle counts (half cycles as 0.5) per torque-range bin [kN·m] on a log scale, and the
+    cumulative number of cycles with a range at or above each bin's lower edge; `damage` (Miner's sum of
+    the same cycles) in the title."""
+    edges_knm = np.asarray(range_edges_n_m, dtype=float) / 1e3
+    counts = np.asarray(counts, dtype=float)
+    figure, ax = new_figure(7.5, 4.0, with_note_line(SPECTRUM_MARGINS_IN))
+    ax.stairs(counts, edges_knm, fill=True, color="C0", alpha=0.7, label="cycles per bin")
+    cumulative = np.cumsum(counts[::-1])[::-1]
+    ax.step(edges_knm[:-1], cumulative, where="post", color="C1", lw=1.0, label="cycles with range ≥ x")
+    if np.any(counts > 0):
+        ax.set_yscale("log")
+        ax.set_ylim(bottom=0.3)  # a half cycle (0.5) stays visible
+    else:
+        ax.text(0.5, 0.5, "no cycles", transform=ax.transAxes, ha="center")
+    ax.set_xlabel("torque range ΔQ [kN m]")
+    ax.set_ylabel("cycles [-]")
+    summary = f"{counts.sum():g} cycles (rainflow, ASTM E1049)"
+    if damage is not None:
+        summary += f", Miner's damage D = {damage:.3g}"
+    ax.set_title(f"{title}\n{summary}" if title else summary, fontsize=9)
+    add_legend(ax)
     return figure

@@ -21,6 +21,9 @@ from floebreak.propeller.spec import propeller_pitch_angle_deg
 from floebreak.propeller.spectra import envelope, pitch_label, torque_ranges_above
 
 BEYOND_WARNING_FRACTION = 0.10  # warn (terminal, summary, report) when more cusps lie beyond the FEM table
+# A horizon beyond a million years (in hours) is "never": no ship, fleet or material record spans it, and
+# the fitted tail says nothing that far out. Such horizons are null in the summary and "never" in text.
+NEVER_HOURS = 1e6 * 8766.0
 
 
 def finite_range(values) -> list[float] | None:
@@ -96,12 +99,36 @@ def rule_form_entry(
         entry["x_max_lifetime_ci95"] = [v / unit_scale for v in fit.x_max_interval(n_life)]
     if rule_max is not None:
         entry["rule_maximum"] = rule_max / unit_scale  # F_b (backward blade force) or Q_max
-        n_star = math.exp(min((rule_max / fit.scale) ** fit.shape_k, 700.0))
-        entry["loads_until_rule_maximum"] = n_star
-        entry["hours_until_rule_maximum"] = n_star / per_hour if per_hour else None
+        entry.update(rule_maximum_horizon(rule_max, fit.scale, fit.shape_k, per_hour))
         if rule_n is not None:
             entry["x_max_at_rule_n_ice"] = fit.x_max(rule_n) / unit_scale
     return entry
+
+
+def rule_maximum_horizon(rule_max: float, scale: float, shape_k: float, per_hour: float | None) -> dict:
+    """Loads N* and hours until the rule maximum is expected once: x_max(N*) = rule_max, so
+    ln N* = (rule_max / λ)^k (notes §7.3), and hours = N* / (loads per hour).
+
+    Both are None (JSON null, "never" in text: `horizon_text`) where N* overflows a float or the hours
+    exceed `NEVER_HOURS`; the hours are also None without a time base."""
+    with np.errstate(over="ignore", divide="ignore"):
+        log_n = (rule_max / scale) ** shape_k if scale > 0.0 else math.inf
+    n_star = math.exp(log_n) if log_n < math.log(np.finfo(float).max) else math.inf
+    hours = n_star / per_hour if per_hour else None
+    never = not math.isfinite(n_star) or (hours is not None and not hours <= NEVER_HOURS)
+    return {
+        "loads_until_rule_maximum": None if not math.isfinite(n_star) else n_star,
+        "hours_until_rule_maximum": None if never else hours,
+        "rule_maximum_never": bool(never),
+    }
+
+
+def horizon_text(hours: float | None, never: bool = False) -> str:
+    """A horizon in hours for tables: "never" (`never`, or hours non-finite or beyond `NEVER_HOURS`),
+    "–" without a time base (None), else three significant digits."""
+    if never or (hours is not None and not (math.isfinite(hours) and hours <= NEVER_HOURS)):
+        return "never"
+    return "–" if hours is None else f"{hours:.3g} h"
 
 
 def _rule_form(result, rates, profile: OperatingProfile | None, sn_curve: BasquinCurve | None) -> dict:

@@ -1,0 +1,221 @@
+"""The design-load table of a propeller (issue 30 §1): per pitch, the design ice torque and blade force
+from the simulation, the ice-class rule's values, their ratio, the basis of every number and the number of
+loads over the operating profile against the rule's N_ice (pure; the summary, terminal and report show it).
+
+Design value: the rule-form extrapolation x_max over the operating profile's number of loads
+(`floebreak.propeller.ruleform.RuleFormFit.x_max`, notes §7.3) where the caller has it, else the largest
+simulated load (not extrapolated). Rule values: IACS UR I3 Q_max and the backward blade force F_b
+(`floebreak.propeller.iceclass.ur_i3_loads`, notes §7.2, as recalled); the simulated |F| has no direction,
+and is compared with F_b as in the summary's rule form (the forward force F_f is listed beside it). Rule
+N_ice: `floebreak.propeller.ruleform.rule_n_ice`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from floebreak.errors import InputError
+from floebreak.propeller.iceclass import IceClassLoads, ur_i3_loads
+from floebreak.propeller.ruleform import rule_n_ice
+from floebreak.propeller.spec import PropellerSpec
+
+RULE_SOURCE = "IACS UR I3 (2006/Rev.1, as recalled: physics-notes §7.2; verify against the rule text)"
+
+
+@dataclass(frozen=True)
+class SimulatedLoads:
+    """One pitch's simulated loads on one propeller (SI): the largest |Q| and |F| over the runs, and, where
+    available, the rule-form x_max over the operating profile, the number of loads over the profile, the
+    number of simulated loads and the range of the fitted amplitudes."""
+
+    max_abs_torque_n_m: float
+    max_abs_force_n: float
+    n_simulated: int | None = None
+    n_loads_profile: float | None = None
+    x_max_torque_n_m: float | None = None
+    x_max_force_n: float | None = None
+    fit_range_torque_n_m: tuple[float, float] | None = None
+    fit_range_force_n: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        quantities = ("max_abs_torque_n_m", "max_abs_force_n", "n_loads_profile")
+        for name in (*quantities, "x_max_torque_n_m", "x_max_force_n"):
+            _check_non_negative(name, getattr(self, name))
+
+
+def _check_non_negative(name: str, value) -> None:
+    if value is not None and not (math.isfinite(value) and value >= 0.0):
+        raise InputError(name, f"{value!r}", value=value, allowed="finite, ≥ 0")
+
+
+@dataclass(frozen=True)
+class DesignLoadRow:
+    """One pitch's design loads against the rule (SI), with the basis of each number."""
+
+    propeller: str
+    pitch_percent: float
+    max_abs_torque_n_m: float
+    design_torque_n_m: float
+    rule_torque_n_m: float
+    max_abs_force_n: float
+    design_force_n: float
+    rule_backward_force_n: float
+    rule_forward_force_n: float
+    n_loads_profile: float | None
+    rule_n_ice: float
+    basis: dict[str, str]
+
+    @property
+    def torque_ratio(self) -> float:
+        """Design Q / rule Q_max."""
+        return self.design_torque_n_m / self.rule_torque_n_m
+
+    @property
+    def force_ratio(self) -> float:
+        """Design F / rule F_b."""
+        return self.design_force_n / self.rule_backward_force_n
+
+    @property
+    def loads_ratio(self) -> float | None:
+        """Loads over the profile / N_ice (None without a profile)."""
+        return None if self.n_loads_profile is None else self.n_loads_profile / self.rule_n_ice
+
+    def as_dict(self) -> dict:
+        """JSON-ready, in kN and kN·m, units in the keys."""
+        return {
+            "propeller": self.propeller,
+            "pitch_percent": self.pitch_percent,
+            "max_abs_torque_kn_m": self.max_abs_torque_n_m / 1e3,
+            "design_torque_kn_m": self.design_torque_n_m / 1e3,
+            "rule_max_torque_kn_m": self.rule_torque_n_m / 1e3,
+            "torque_ratio": self.torque_ratio,
+            "max_abs_force_kn": self.max_abs_force_n / 1e3,
+            "design_force_kn": self.design_force_n / 1e3,
+            "rule_backward_force_kn": self.rule_backward_force_n / 1e3,
+            "rule_forward_force_kn": self.rule_forward_force_n / 1e3,
+            "force_ratio": self.force_ratio,
+            "n_loads_profile": self.n_loads_profile,
+            "rule_n_ice": self.rule_n_ice,
+            "loads_ratio": self.loads_ratio,
+            "basis": dict(self.basis),
+        }
+
+
+@dataclass(frozen=True)
+class DesignLoadTable:
+    """The design loads of one propeller, one row per pitch, and the rule's loads they are set against."""
+
+    propeller: str
+    rule: IceClassLoads
+    rule_n_ice: float
+    rows: tuple[DesignLoadRow, ...]
+
+    def as_dict(self) -> dict:
+        return {
+            "propeller": self.propeller,
+            "polar_class": self.rule.polar_class,
+            "rule_n_ice": self.rule_n_ice,
+            "rows": [row.as_dict() for row in self.rows],
+        }
+
+    def to_rows(self) -> list[dict[str, object]]:
+        """Table rows, a unit in every header (kN, kN·m; [-] for counts and ratios)."""
+        return [
+            {
+                "propeller": row.propeller,
+                "pitch [%]": row.pitch_percent,
+                "max |Q| [kN·m]": row.max_abs_torque_n_m / 1e3,
+                "design Q [kN·m]": row.design_torque_n_m / 1e3,
+                "rule Q_max [kN·m]": row.rule_torque_n_m / 1e3,
+                "Q / Q_max [-]": row.torque_ratio,
+                "max |F| [kN]": row.max_abs_force_n / 1e3,
+                "design F [kN]": row.design_force_n / 1e3,
+                "rule F_b [kN]": row.rule_backward_force_n / 1e3,
+                "F / F_b [-]": row.force_ratio,
+                "loads over profile [-]": row.n_loads_profile,
+                "rule N_ice [-]": row.rule_n_ice,
+                "loads / N_ice [-]": row.loads_ratio,
+            }
+            for row in self.rows
+        ]
+
+    def basis_rows(self) -> list[dict[str, object]]:
+        """The basis of every number: one row per (pitch, number)."""
+        return [
+            {"propeller": row.propeller, "pitch [%]": row.pitch_percent, "number": key, "basis": text}
+            for row in self.rows
+            for key, text in row.basis.items()
+        ]
+
+
+def _design_value(sim: SimulatedLoads, quantity: str) -> tuple[float, str]:
+    """The design torque ("torque") or force ("force") and its basis: x_max over the profile where given,
+    else the largest simulated load."""
+    if quantity == "torque":
+        x_max, largest, fit_range, unit = (
+            sim.x_max_torque_n_m,
+            sim.max_abs_torque_n_m,
+            sim.fit_range_torque_n_m,
+            "kN·m",
+        )
+    else:
+        x_max, largest, fit_range, unit = sim.x_max_force_n, sim.max_abs_force_n, sim.fit_range_force_n, "kN"
+    n_sim = "" if sim.n_simulated is None else f" of {sim.n_simulated} simulated loads"
+    if x_max is None:
+        return largest, f"largest simulated load{n_sim} (not extrapolated to the operating profile)"
+    fit = "" if fit_range is None else f", fitted {fit_range[0] / 1e3:.3g}–{fit_range[1] / 1e3:.3g} {unit}"
+    over = "" if sim.n_loads_profile is None else f" of N = {sim.n_loads_profile:.3g} loads"
+    return (
+        x_max,
+        f"rule-form x_max over the operating profile{over} (fit on the loads{n_sim}{fit}; notes §7.3)",
+    )
+
+
+def design_loads(
+    spec: PropellerSpec,
+    polar_class: str,
+    simulated: Mapping[float, SimulatedLoads],
+    *,
+    propeller: str = "propeller",
+    rule_factor: float = 1.0,
+) -> DesignLoadTable:
+    """The design-load table of one propeller: `simulated` maps pitch [%] → `SimulatedLoads`; the rule's
+    loads and N_ice follow from `spec`, `polar_class` and `rule_factor` (k_1 k_2 k_3 k_4; see the module)."""
+    rule = ur_i3_loads(spec, polar_class)
+    n_ice = rule_n_ice(polar_class, spec.revolutions_per_s, rule_factor)
+    rows = []
+    for pitch in sorted(simulated):
+        sim = simulated[pitch]
+        q, q_basis = _design_value(sim, "torque")
+        f, f_basis = _design_value(sim, "force")
+        basis = {
+            "design Q": q_basis,
+            "design F": f_basis,
+            "rule Q_max": f"{RULE_SOURCE}, {rule.polar_class}, branch {rule.torque_branch}",
+            "rule F_b": f"{RULE_SOURCE}, {rule.polar_class}, branch {rule.backward_branch}; "
+            f"|F| compared with the backward force (F_f = {rule.forward_force_n / 1e3:.4g} kN)",
+            "rule N_ice": f"N_ice = k1 k2 k3 k4 N_class n = {rule_factor:g} × N_class({rule.polar_class}) × "
+            f"{spec.revolutions_per_s:.4g} 1/s (notes §7, as recalled)",
+            "loads over profile": "not given (no time base or operating profile)"
+            if sim.n_loads_profile is None
+            else "loads per hour on one propeller × operating-profile hours",
+        }
+        rows.append(
+            DesignLoadRow(
+                propeller,
+                float(pitch),
+                sim.max_abs_torque_n_m,
+                q,
+                rule.max_torque_nm,
+                sim.max_abs_force_n,
+                f,
+                rule.backward_force_n,
+                rule.forward_force_n,
+                sim.n_loads_profile,
+                n_ice,
+                basis,
+            )
+        )
+    return DesignLoadTable(propeller, rule, n_ice, tuple(rows))

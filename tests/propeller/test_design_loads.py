@@ -1,0 +1,104 @@
+"""The design-load table (issue 30 §1), checked against numbers computed by hand."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from floebreak.errors import InputError
+from floebreak.propeller.design_loads import SimulatedLoads, design_loads
+from floebreak.propeller.spec import PropellerSpec
+
+# Agulhas II at PC5 with EAR 0.45 and t_0.7 = 0.08 m (as tests/propeller/test_iceclass.py), by hand:
+SPEC = PropellerSpec(expanded_area_ratio=0.45, blade_thickness_07_m=0.08)
+D, ND, H = 4.3, 140 / 60 * 4.3, 2.0
+F_B = 23 * 1.1 * ND**0.7 * (0.45 / 4) ** 0.3 * D * H**1.4 * 1e3  # [N], branch D > 0.85 H^1.4
+F_F = 250 * (0.45 / 4) * D**2 * 1e3  # [N]
+Q_MAX = 202 * 0.7 * 1.15 * H**1.1 * (0.7 * 5.15 / D) ** 0.16 * (0.08 / D) ** 0.6 * ND**0.17 * D**1.9 * 1e3
+N_ICE = 6e6 * 140 / 60  # N_class(PC5) · n, k1…k4 = 1
+
+
+def _table():
+    return design_loads(
+        SPEC,
+        "PC5",
+        {
+            95.9: SimulatedLoads(
+                max_abs_torque_n_m=420e3,
+                max_abs_force_n=610e3,
+                n_simulated=511,
+                n_loads_profile=2.8e6,
+                x_max_torque_n_m=880e3,
+                x_max_force_n=1.2e6,
+                fit_range_torque_n_m=(3e3, 420e3),
+            ),
+            0.0: SimulatedLoads(max_abs_torque_n_m=50e3, max_abs_force_n=300e3, n_simulated=511),
+        },
+        propeller="port",
+    )
+
+
+def test_rows_by_hand():
+    table = _table()
+    assert [row.pitch_percent for row in table.rows] == [0.0, 95.9]
+    zero, full = table.rows
+    assert table.rule_n_ice == pytest.approx(N_ICE, rel=1e-12)
+    # with a profile: design = x_max over the profile
+    assert full.design_torque_n_m == 880e3 and full.design_force_n == 1.2e6
+    assert full.torque_ratio == pytest.approx(880e3 / Q_MAX, rel=1e-12)
+    assert full.force_ratio == pytest.approx(1.2e6 / F_B, rel=1e-12)
+    assert full.loads_ratio == pytest.approx(2.8e6 / 14e6, rel=1e-12)
+    # without: design = the largest simulated load, no loads ratio
+    assert zero.design_torque_n_m == 50e3 and zero.design_force_n == 300e3
+    assert zero.torque_ratio == pytest.approx(50e3 / Q_MAX, rel=1e-12)
+    assert zero.loads_ratio is None
+
+
+def test_to_rows_has_units_in_every_header():
+    rows = _table().to_rows()
+    assert len(rows) == 2
+    units = ("[%]", "[kN·m]", "[kN]", "[-]")
+    assert all(key == "propeller" or key.endswith(units) for key in rows[0])
+    full = rows[1]
+    assert full["max |Q| [kN·m]"] == pytest.approx(420.0)
+    assert full["rule Q_max [kN·m]"] == pytest.approx(Q_MAX / 1e3, rel=1e-12)
+    assert full["rule F_b [kN]"] == pytest.approx(F_B / 1e3, rel=1e-12)
+    assert full["design F [kN]"] == pytest.approx(1200.0)
+    assert full["rule N_ice [-]"] == pytest.approx(14e6)
+    assert full["loads / N_ice [-]"] == pytest.approx(0.2)
+    assert rows[0]["loads over profile [-]"] is None
+
+
+def test_basis_of_each_number():
+    table = _table()
+    zero, full = table.rows
+    assert "x_max over the operating profile of N = 2.8e+06 loads" in full.basis["design Q"]
+    assert "511 simulated loads" in full.basis["design Q"] and "3–420 kN·m" in full.basis["design Q"]
+    assert zero.basis["design Q"].startswith("largest simulated load of 511")
+    assert "UR I3" in full.basis["rule Q_max"] and "D > 1.8 H_ice" in full.basis["rule Q_max"]
+    assert f"F_f = {F_F / 1e3:.4g} kN" in full.basis["rule F_b"]
+    assert zero.basis["loads over profile"].startswith("not given")
+    basis_rows = table.basis_rows()
+    assert len(basis_rows) == 2 * len(full.basis)
+    assert set(basis_rows[0]) == {"propeller", "pitch [%]", "number", "basis"}
+
+
+def test_as_dict_is_json_ready_in_kn():
+    out = json.loads(json.dumps(_table().as_dict()))
+    assert out["polar_class"] == "PC5" and out["propeller"] == "port"
+    full = out["rows"][1]
+    assert full["rule_max_torque_kn_m"] == pytest.approx(Q_MAX / 1e3, rel=1e-12)
+    assert full["rule_forward_force_kn"] == pytest.approx(F_F / 1e3, rel=1e-12)
+    assert full["loads_ratio"] == pytest.approx(0.2)
+
+
+def test_rule_factor_scales_n_ice_and_bad_inputs_are_named():
+    table = design_loads(SPEC, "pc5", {50.0: SimulatedLoads(1.0, 1.0)}, rule_factor=0.5)
+    assert table.rule_n_ice == pytest.approx(0.5 * N_ICE)
+    with pytest.raises(InputError) as info:
+        SimulatedLoads(max_abs_torque_n_m=-1.0, max_abs_force_n=1.0)
+    assert info.value.field == "max_abs_torque_n_m"
+    with pytest.raises(InputError) as info:
+        design_loads(SPEC, "PC9", {50.0: SimulatedLoads(1.0, 1.0)})
+    assert info.value.field == "polar_class"
