@@ -748,6 +748,18 @@ _RpmOption = Annotated[float | None, typer.Option("--rpm", help="propeller speed
 _MeanTorqueOption = Annotated[
     float | None, typer.Option("--mean-torque-knm", help="mean hydrodynamic torque [kN m] (shaft)")
 ]
+_ShaftModelOption = Annotated[
+    str | None,
+    typer.Option(
+        "--shaft-model",
+        help="drive (transport + milling + torque-limited motor) | linear (every cusp, FEM, constant rpm); "
+        "default: the run's profile's (default → drive, thesis → linear)",
+    ),
+]
+_TorqueLimitOption = Annotated[
+    float | None,
+    typer.Option("--torque-limit-knm", help="motor torque limit [kN m] (drive model; default 1.6 × rated)"),
+]
 _ExcitationCasesOption = Annotated[
     str, typer.Option("--excitation-cases", help="ice excitation cases, first plotted, e.g. 1,2,3,4")
 ]
@@ -776,6 +788,8 @@ def propeller(
     rpm: _RpmOption = None,
     mean_torque_knm: _MeanTorqueOption = None,
     cases: _ExcitationCasesOption = "1,2,3,4",
+    shaft_model: _ShaftModelOption = None,
+    torque_limit_knm: _TorqueLimitOption = None,
 ) -> None:
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
@@ -803,6 +817,8 @@ def propeller(
         torque_csv,
         interpolation,
         beyond,
+        shaft_model,
+        torque_limit_knm,
     )
     inputs = read_runs(
         run_or_study_dir,
@@ -829,8 +845,15 @@ def propeller(
     console.print(f"pooled {n_runs} runs{differing}" if n_runs > 1 else "1 run", highlight=False)
     _print_propeller_summary(result.summary, written, quiet)
     if shaft is not None:
-        shaft_dir = shaft.write(Path(written) / "shaft", overwrite=overwrite)
-        console.print(f"shaft torque written to {shaft_dir}", highlight=False)
+        _write_shaft(shaft, Path(written) / "shaft", overwrite)
+
+
+def _write_shaft(shaft, out: Path, overwrite: bool) -> None:
+    """Write the prepared shaft analysis; print where, the drive's outcome, the margin and warnings."""
+    shaft_dir = shaft.write(out, overwrite=overwrite)
+    console.print(f"shaft torque written to {shaft_dir}", highlight=False)
+    for line in shaft.messages():
+        console.print(line, highlight=False, soft_wrap=True)
 
 
 def _shaft_analysis(
@@ -845,11 +868,19 @@ def _shaft_analysis(
     torque_csv,
     interpolation,
     beyond,
+    shaft_model=None,
+    torque_limit_knm=None,
 ):
     """The `propeller` command's shaft analysis, computed (not written) before anything is written; None
     without --shaft-line (then its own options are refused)."""
     if shaft_line is None:
-        given = {"--station": station, "--rpm": rpm, "--mean-torque-knm": mean_torque_knm}
+        given = {
+            "--station": station,
+            "--rpm": rpm,
+            "--mean-torque-knm": mean_torque_knm,
+            "--shaft-model": shaft_model,
+            "--torque-limit-knm": torque_limit_knm,
+        }
         for name, value in given.items():
             if value is not None:
                 raise InputError(
@@ -870,6 +901,8 @@ def _shaft_analysis(
         torque_csv=torque_csv,
         interpolation=interpolation,
         beyond=beyond,
+        shaft_model=shaft_model,
+        torque_limit_knm=torque_limit_knm,
     )
 
 

@@ -13,10 +13,12 @@ from floebreak.shaft.analysis import shaft_response
 from floebreak.shaft.line import load_shaft_line
 
 
-def make_run(path, speed_m_s=None):
+def make_run(path, speed_m_s=None, profile="thesis"):
+    """Six cusps; three to port on the port shaft's line (y = 5.5 m), two to starboard, one amidships."""
     path.mkdir()
     length = np.array([3.7, 6.5, 2.0, 9.4, 1.0, 3.0])
     n = length.size
+    bow_x = np.array([1.0, 5.0, 5.0, 12.0, 20.0, 31.0])
     pq.write_table(
         pa.table(
             {
@@ -26,13 +28,17 @@ def make_run(path, speed_m_s=None):
                 "bbox_length_m": length,
                 "bbox_width_m": np.ones(n),
                 "step": np.arange(n),
-                "bow_x_m": np.array([1.0, 5.0, 5.0, 12.0, 20.0, 31.0]),
+                "bow_x_m": bow_x,
+                "centroid_x_m": bow_x - 2.0,
+                "centroid_y_m": np.array([5.5, -5.5, 5.5, 0.0, -5.5, 5.5]),
             }
         ),
         path / "cusps.parquet",
     )
+    text = f'profile = "{profile}"\n'
     if speed_m_s is not None:
-        (path / "scenario.resolved.toml").write_text(f"[ship]\nspeed_m_s = {speed_m_s}\n", encoding="utf-8")
+        text += f"[ship]\nspeed_m_s = {speed_m_s}\n"
+    (path / "scenario.resolved.toml").write_text(text, encoding="utf-8")
     return path
 
 
@@ -177,3 +183,94 @@ def test_non_boolean_flag_names_its_key(tmp_path, cli):
     )
     assert code == 2 and "error: shaft_line.hydrodynamic_damping:" in err
     assert not (tmp_path / "out").exists()
+
+
+PORT = [0, 2, 5]  # make_run's cusps on the port shaft's line
+
+
+def _drive_run(tmp_path, cli, *args):
+    run = make_run(tmp_path / "run", profile="default")
+    out = tmp_path / "out"
+    code, stdout, err = cli(
+        "propeller",
+        run,
+        "--out",
+        out,
+        "--shaft-line",
+        "agulhas_ii",
+        "--speed-m-s",
+        "3",
+        "--mean-torque-knm",
+        "105",
+        *args,
+    )
+    assert code == 0, err
+    return out / "shaft", stdout
+
+
+def test_default_profile_mills_the_port_cusps_with_the_drive(tmp_path, cli):
+    shaft, _ = _drive_run(tmp_path, cli, "--excitation-cases", "1,3")
+    summary = json.loads((shaft / "summary.json").read_text())
+    assert summary["shaft_model"] == "drive"
+    assert summary["transport"]["reaching_port"] == len(PORT)
+    # blade impacts: ⌈length / cut depth⌉, cut depth V/(Z n) = 3 / (4 · 140/60) m
+    length = np.array([3.7, 6.5, 2.0, 9.4, 1.0, 3.0])[PORT]
+    drive = summary["drive"]["cases"]["1"]
+    assert drive["impacts"] == int(np.ceil(length / (3.0 / (4 * 140 / 60))).sum())
+    assert drive["complete"] and not drive["stalled"]
+    assert 0 < drive["min_rpm"] < 140.0  # the ice slows the propeller
+    # default limit: 1.6 × rated torque P/(2π n) = 1.6 × 4.5 MW / (2π · 140/60)
+    assert summary["drive"]["torque_limit_knm"] == pytest.approx(1.6 * 4.5e6 / (2 * np.pi * 140 / 60) / 1e3)
+    assert drive["peak_motor_torque_knm"] > 105.0
+    with open(shaft / "shaft_series.csv", encoding="utf-8") as f:
+        header = next(line for line in f if not line.startswith("#")).strip().split(",")
+    assert header[0] == "time_s"
+    assert next(h for h in header if h.startswith("shaft_torque_knm_")) == "shaft_torque_knm_case1"
+    assert {"rpm_case1", "rpm_case3", "motor_torque_knm_case1"} <= set(header)
+    with xr.open_dataset(shaft / "shaft_series.nc") as ds:
+        assert ds.attrs["shaft_model"] == "drive" and ds["rpm"].attrs["units"] == "1/min"
+        # steady running before the first cusp (arrives at 2 s): the measured-level mean torque
+        quiet = ds["shaft_torque"].sel(case=1).where(ds["time"] < 1.5, drop=True)
+        assert float(quiet.mean()) == pytest.approx(105.0, rel=1e-3)
+
+
+def test_resonance_warning_of_the_built_in_line(tmp_path, cli):
+    shaft, stdout = _drive_run(tmp_path, cli, "--excitation-cases", "4")
+    resonance = json.loads((shaft / "summary.json").read_text())["resonance"]
+    # first mode 7.76 Hz (docs/shaft.md §2) against the blade passage 4 · 140/60 = 9.33 Hz
+    assert resonance["margin"][0][0] == pytest.approx(abs(7.76 - 4 * 140 / 60) / (4 * 140 / 60), abs=2e-3)
+    assert resonance["required_margin"] == 0.2
+    assert len(resonance["warnings"]) == 1 and "9.33 Hz" in resonance["warnings"][0]
+    assert "assumed; IACS UR I3 text not available" in resonance["warnings"][0]
+    assert "warning: mode 1 (7.76 Hz)" in stdout and "not stalled" in stdout
+
+
+def test_thesis_profile_keeps_the_linear_model(tmp_path, cli):
+    run = make_run(tmp_path / "run", profile="thesis")
+    code, _, err = cli(
+        "propeller", run, "--out", tmp_path / "out", "--shaft-line", "agulhas_ii", "--speed-m-s", "3"
+    )
+    assert code == 0, err
+    summary = json.loads((tmp_path / "out" / "shaft" / "summary.json").read_text())
+    assert summary["shaft_model"] == "linear" and summary["torque_model"] == "fem"
+    assert summary["excitation"]["n_cusps"] == 6 and "drive" not in summary
+    assert summary["resonance"]["warnings"]  # the margin is the line's, whatever the model
+
+
+@pytest.mark.parametrize(
+    ("args", "key"),
+    [
+        (["--torque-limit-knm", "0"], "torque_limit_knm"),
+        (["--torque-limit-knm", "-300"], "torque_limit_knm"),
+        (["--shaft-model", "rigid"], "shaft_model"),
+        (["--shaft-model", "linear", "--torque-limit-knm", "400"], "torque_limit_knm"),
+    ],
+)
+def test_bad_drive_input_exit_2_nothing_written(tmp_path, cli, args, key):
+    run = make_run(tmp_path / "run", profile="default")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    code, _, err = cli(
+        "propeller", run, "--out", tmp_path / "out", "--shaft-line", "agulhas_ii", "--speed-m-s", "3", *args
+    )
+    assert code == 2 and f"error: {key}:" in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == before

@@ -8,7 +8,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from floebreak.errors import InputError
+from floebreak.errors import InputError, require_range
 from floebreak.io.run_files import read_resolved_scenario, read_run_cusps
 from floebreak.io.shaft_files import write_shaft_files
 from floebreak.propeller.measured import TorqueSeries, read_torque_csv
@@ -16,8 +16,14 @@ from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
 from floebreak.shaft.analysis import (
     CUSP_INPUT_COLUMNS,
+    MILLING_INPUT_COLUMNS,
+    PROFILE_SHAFT_MODEL,
+    SHAFT_MODELS,
     ShaftResult,
     cusp_torque_inputs,
+    milled_cusps,
+    resonance_summary,
+    shaft_drive_response,
     shaft_response,
     shaft_summary,
     torque_densities,
@@ -45,6 +51,26 @@ def run_cusp_inputs(
         beyond=beyond,
         volume_basis=volume_basis,
     )
+
+
+def run_profile(run_dir: str | os.PathLike[str]) -> str:
+    """``profile`` of the run's scenario.resolved.toml; "default" (the scenario's default) if absent."""
+    scenario = read_resolved_scenario(run_dir, strict=False) or {}
+    return str(scenario.get("profile", "default"))
+
+
+def shaft_model_of_run(run_dir: str | os.PathLike[str], shaft_model: str | None) -> str:
+    """`shaft_model` if given, else the run's profile's: "drive" (default profile), "linear" (thesis)."""
+    if shaft_model is None:
+        return PROFILE_SHAFT_MODEL.get(run_profile(run_dir), "drive")
+    if shaft_model not in SHAFT_MODELS:
+        raise InputError(
+            "shaft_model",
+            f"unknown model {shaft_model!r}",
+            value=shaft_model,
+            allowed=", ".join(SHAFT_MODELS),
+        )
+    return shaft_model
 
 
 def run_ship_speed_m_s(run_dir: str | os.PathLike[str]) -> float | None:
@@ -134,6 +160,30 @@ class PreparedShaftAnalysis:
     measured: TorqueSeries | None
     extra_summary: dict
 
+    def messages(self) -> list[str]:
+        """Lines for the terminal: the model, the drive's outcome per case, the resonance margin and
+        the warnings (as in summary.json)."""
+        r = self.result
+        lines = [f"shaft model: {r.model} ({self.extra_summary.get('torque_model', '')})"]
+        if "transport" in self.extra_summary:
+            lines.append(
+                f"cusps milled by the port propeller: {self.extra_summary['transport']['reaching_port']}"
+            )
+        for c, d in zip(r.cases, r.drive_summaries, strict=False):
+            lines.append(
+                f"case {c}: min {d['min_rpm']:.1f} rpm, peak motor torque "
+                f"{d['peak_motor_torque_knm']:.0f} kN·m (limit {d['torque_limit_knm']:.0f}), "
+                f"{'stalled' if d['stalled'] else 'not stalled'}"
+            )
+        resonance = resonance_summary(r.line, r.blades)
+        lowest = float(resonance["margin"].min())
+        lines.append(
+            f"resonance margin at {r.line.rpm:g} rpm: {lowest:.1%} (closest blade-passage order to a mode; "
+            f"required {resonance['required_margin_note']})"
+        )
+        lines += [f"warning: {w}" for w in resonance["warnings"]]
+        return lines
+
     def write(self, out_dir: str | os.PathLike[str], overwrite: bool = False) -> Path:
         return write_shaft_analysis(
             self.result,
@@ -142,6 +192,29 @@ class PreparedShaftAnalysis:
             overwrite=overwrite,
             extra_summary=self.extra_summary,
         )
+
+
+def _drive_response(run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases):
+    """The drive model on the cusps the transport sends to the port propeller (`milled_cusps`)."""
+    milled = milled_cusps(read_run_cusps(run_dir, MILLING_INPUT_COLUMNS), speed_m_s=speed_m_s)
+    result = shaft_drive_response(
+        milled.arrival_s,
+        milled.n_impacts,
+        milled.impact_torque_n_m,
+        line,
+        speed_m_s=speed_m_s,
+        rpm=rpm,
+        mean_torque_n_m=mean_torque_n_m,
+        torque_limit_n_m=None if torque_limit_knm is None else 1e3 * torque_limit_knm,
+        station=station,
+        cases=tuple(cases or ()),
+        n_cusps=milled.n_cusps_run,
+    )
+    extra = {
+        "torque_model": "milling (propeller.milling.impact_loads at the rpm of each blade passage)",
+        "transport": milled.counts,
+    }
+    return result, extra
 
 
 def shaft_analysis_of_run(
@@ -159,10 +232,21 @@ def shaft_analysis_of_run(
     interpolation: str = "newton",
     beyond: str = "power_law",
     samples_per_blade_passage: int = 40,
+    shaft_model: str | None = None,
+    torque_limit_knm: float | None = None,
 ) -> PreparedShaftAnalysis:
     """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is
     written (write with ``.write(out_dir)``). The ship speed: `speed_m_s`, else the run's resolved
-    scenario's ``ship.speed_m_s``, else an InputError asking for it."""
+    scenario's ``ship.speed_m_s``, else an InputError asking for it. `shaft_model`: "drive" (the cusps the
+    transport sends to the port propeller, milled by the drive model) or "linear" (every cusp, FEM torque,
+    constant rpm); default: the run's profile's (default → drive, thesis → linear)."""
+    model = shaft_model_of_run(run_dir, shaft_model)
+    if torque_limit_knm is not None:
+        require_range("torque_limit_knm", torque_limit_knm, low=0.0, unit="kN m")
+        if model != "drive":
+            raise InputError(
+                "torque_limit_knm", "applies to the drive model only", allowed="--shaft-model drive"
+            )
     line = load_shaft_line(shaft_line)
     if speed_m_s is None:
         speed_m_s = run_ship_speed_m_s(run_dir)
@@ -173,6 +257,13 @@ def shaft_analysis_of_run(
                 allowed="--speed-m-s SPEED (ship speed > 0 m/s)",
             )
     measured = None if torque_csv is None else read_torque_csv(torque_csv)
+    mean_torque_n_m = None if mean_torque_knm is None else 1e3 * mean_torque_knm
+    extra = {"run_dir": Path(run_dir).name, "measured_source": None if measured is None else measured.source}
+    if model == "drive":
+        result, more = _drive_response(
+            run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases
+        )
+        return PreparedShaftAnalysis(result, measured, extra | more)
     cusps = run_cusp_inputs(
         run_dir, fem_table=fem_table, pitch_percent=pitch_percent, interpolation=interpolation, beyond=beyond
     )
@@ -185,14 +276,13 @@ def shaft_analysis_of_run(
         rpm=rpm,
         station=station,
         cases=tuple(cases or ()),
-        mean_torque_n_m=None if mean_torque_knm is None else 1e3 * mean_torque_knm,
+        mean_torque_n_m=mean_torque_n_m,
         samples_per_blade_passage=samples_per_blade_passage,
     )
-    extra = {
-        "run_dir": Path(run_dir).name,
+    extra |= {
+        "torque_model": "fem",
         "fem_pitch_percent": cusps["pitch_percent"],
         "interpolation": interpolation,
         "beyond": beyond,
-        "measured_source": None if measured is None else measured.source,
     }
     return PreparedShaftAnalysis(result, measured, extra)

@@ -30,8 +30,19 @@ def series_dataset(result: ShaftResult):
     import xarray as xr
 
     line = result.line
+    drive = {}
+    if result.rpm is not None:
+        drive = {
+            "rpm": (("case", "time"), result.rpm, {"units": "1/min", "long_name": "propeller speed"}),
+            "motor_torque": (
+                ("case", "time"),
+                result.motor_torque_n_m / 1e3,
+                {"units": "kN m", "long_name": "motor torque (torque-limited PI speed controller)"},
+            ),
+        }
     return xr.Dataset(
         data_vars={
+            **drive,
             "load_torque": (
                 ("case", "time"),
                 result.load_torque_n_m / 1e3,
@@ -80,8 +91,19 @@ def series_dataset(result: ShaftResult):
             "ship_speed_m_s": result.speed_m_s,
             "mean_torque_knm": line.mean_torque() / 1e3,
             "samples_per_blade_passage": result.samples_per_blade_passage,
+            "shaft_model": result.model,
         },
     )
+
+
+def drive_columns(result: ShaftResult) -> dict[str, np.ndarray]:
+    """The drive model's propeller rpm and motor torque [kN m] per case (none for the linear model)."""
+    if result.rpm is None:
+        return {}
+    out = {f"rpm_case{c}": r for c, r in zip(result.cases, result.rpm, strict=True)}
+    for c, q in zip(result.cases, result.motor_torque_n_m, strict=True):
+        out[f"motor_torque_knm_case{c}"] = q / 1e3
+    return out
 
 
 def spectra_dataset(edges_knm, densities: dict[str, dict]):
@@ -134,10 +156,13 @@ def write_shaft_files(
                     for k, v in series.items()
                     if k != "measured"
                 },
+                **drive_columns(result),
             },
             [
                 f"floebreak shaft analysis: line {result.line.name}, station {result.station}",
-                "load = mean hydrodynamic + ice torque at the propeller; shaft = torque at the station",
+                "load = hydrodynamic + ice torque at the propeller; shaft = torque at the station",
+                f"shaft model: {result.model}"
+                + (", rpm = propeller speed [1/min]" if result.rpm is not None else ""),
             ],
         )
         write_csv(

@@ -8,6 +8,7 @@ See docs/shaft.md.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,6 +17,7 @@ from floebreak.errors import InputError, require_range
 from floebreak.propeller.cusps import box_dimensions
 from floebreak.propeller.fem import resolve_fem_tables
 from floebreak.propeller.interpolation import check_options, table_interpolant
+from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
 from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS, VOLUME_BASES
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
@@ -26,9 +28,15 @@ from floebreak.propeller.spectra import (
     fitting_width,
     ranges_above,
 )
+from floebreak.propeller.transport import PropellerArrangement, transport_cusps
+from floebreak.shaft.drive import DriveResult, drive_for_line, simulate_drive, train_from_line
 from floebreak.shaft.excitation import EXCITATION_CASES, arrival_times_s, excitation_case, ice_torque_series
 from floebreak.shaft.line import Modes, ShaftLine, modal_analysis, with_operating_point
+from floebreak.shaft.resonance import DEFAULT_REQUIRED_MARGIN, campbell
 from floebreak.shaft.response import station_torque_n_m
+
+SHAFT_MODELS = ("drive", "linear")
+PROFILE_SHAFT_MODEL = {"default": "drive", "thesis": "linear"}
 
 
 @dataclass(frozen=True)
@@ -47,6 +55,11 @@ class ShaftResult:
     modes: Modes
     n_cusps: int
     overlap: str = "queue"
+    model: str = "linear"  # "drive": torque-limited PI motor (shaft.drive); "linear": constant rpm
+    rpm: np.ndarray | None = None  # (case, time), drive model only: propeller rpm
+    motor_torque_n_m: np.ndarray | None = None  # (case, time), drive model only
+    drive_summaries: tuple[dict, ...] = ()  # per case, drive model only (`drive_case_summary`)
+    torque_limit_n_m: float | None = None  # drive model only
 
     @property
     def mean_torque_n_m(self) -> float:
@@ -139,6 +152,117 @@ def shaft_response(
     )
 
 
+def shaft_drive_response(
+    arrival_s,
+    n_impacts,
+    impact_torque_n_m: Callable[[int, float], float],
+    line: ShaftLine,
+    *,
+    speed_m_s: float,
+    rpm: float | None = None,
+    mean_torque_n_m: float | None = None,
+    torque_limit_n_m: float | None = None,
+    blades: int = PropellerSpec().blades,
+    cases=(1, 2, 3, 4),
+    station: str | None = None,
+    tail_s: float = 5.0,
+    n_cusps: int | None = None,
+) -> ShaftResult:
+    """The drive model (`floebreak.shaft.drive.simulate_drive` on the line's 3-inertia train) per case.
+
+    Per cusp: arrival at the propeller [s], blade impacts, and `impact_torque_n_m(cusp, rpm)` [N·m] at the
+    rpm of each blade passage. The torque limit defaults to `drive_for_line`'s (overload factor × the
+    line's rated torque P/(2π n); a line without rated power: its mean torque). Cases after the first run
+    for the first case's duration, on its time axis (resampled linearly if their step differs).
+    """
+    rated = None if line.rated_power_w is not None else line.mean_torque()
+    drive = drive_for_line(line, rated_torque_n_m=rated, rpm=rpm)
+    if torque_limit_n_m is not None:
+        limit = require_range("torque_limit_n_m", torque_limit_n_m, low=0.0, unit="N m")
+        drive = type(drive)(drive.rpm_set, limit, drive.kp_n_m_s_per_rad, drive.ki_n_m_per_rad)
+    line = with_operating_point(line, rpm, mean_torque_n_m)
+    station_name = line.stations[line.station_index(station)]
+    cases = tuple(int(excitation_case(c).number) for c in cases)
+    if not cases:
+        raise InputError("excitation_case", "no case given", allowed="1, 2, 3, 4")
+    require_range("speed_m_s", speed_m_s, low=0.0, unit="m/s")
+    train = train_from_line(line, station_name)
+    runs: list[DriveResult] = []
+    for case in cases:
+        runs.append(
+            simulate_drive(
+                train,
+                drive,
+                arrival_s,
+                n_impacts,
+                impact_torque_n_m,
+                mean_torque_n_m=line.mean_torque(),
+                blades=blades,
+                case=case,
+                tail_s=tail_s,
+                duration_s=None if not runs else float(runs[0].time_s[-1]) + runs[0].dt_s,
+            )
+        )
+    t = runs[0].time_s
+
+    def stacked(name):
+        return np.vstack([np.interp(t, r.time_s, getattr(r, name)) for r in runs])
+
+    return ShaftResult(
+        line=line,
+        station=station_name,
+        cases=cases,
+        blades=int(blades),
+        speed_m_s=float(speed_m_s),
+        samples_per_blade_passage=round(60.0 / (line.rpm * blades) / runs[0].dt_s),
+        time_s=t,
+        load_torque_n_m=stacked("hydro_torque_n_m") + stacked("ice_torque_n_m"),
+        shaft_torque_n_m=stacked("shaft_torque_n_m"),
+        modes=modal_analysis(line),
+        n_cusps=int(np.size(arrival_s)) if n_cusps is None else int(n_cusps),
+        model="drive",
+        rpm=stacked("rpm"),
+        motor_torque_n_m=stacked("motor_torque_n_m"),
+        drive_summaries=tuple(drive_case_summary(r) for r in runs),
+        torque_limit_n_m=drive.torque_limit_n_m,
+    )
+
+
+def drive_case_summary(result: DriveResult) -> dict:
+    """Min rpm, peak motor torque, time at the limit, stall of one drive run [rpm, kN·m, s]."""
+    s = result.summary()
+    return {
+        "min_rpm": s["min_rpm"],
+        "peak_motor_torque_knm": s["peak_motor_torque_n_m"] / 1e3,
+        "torque_limit_knm": result.drive.torque_limit_n_m / 1e3,
+        "time_at_torque_limit_s": s["time_at_torque_limit_s"],
+        "stalled": bool(np.isfinite(s["stalled_at_s"])),
+        "stalled_at_s": None if not np.isfinite(s["stalled_at_s"]) else s["stalled_at_s"],
+        "impacts": int(result.impact_time_s.size),
+        "complete": result.complete,
+        "time_step_s": result.dt_s,
+    }
+
+
+RESONANCE_MARGIN_NOTE = f"margin {DEFAULT_REQUIRED_MARGIN:.0%} (assumed; IACS UR I3 text not available)"
+
+
+def resonance_summary(line: ShaftLine, blades: int) -> dict:
+    """Campbell margins of the blade-passage orders against the line's free-free modes at its rpm
+    (`floebreak.shaft.resonance`), with the warnings inside the required margin (module default, assumed)."""
+    data = campbell(line, blades=blades)
+    return {
+        "operating_rpm": data.operating_rpm,
+        "orders": data.orders,
+        "natural_frequencies_hz": data.natural_frequency_hz,
+        "margin": data.margin,
+        "crossing_rpm": data.crossing_rpm,
+        "required_margin": data.required_margin,
+        "required_margin_note": RESONANCE_MARGIN_NOTE,
+        "warnings": [f"{w}; {RESONANCE_MARGIN_NOTE}" for w in data.warnings()],
+    }
+
+
 CUSP_INPUT_COLUMNS = ("bow_x_m", "step", "bbox_length_m", "bbox_width_m", "thickness_m", "volume_m3")
 
 
@@ -180,6 +304,84 @@ def cusp_torque_inputs(
         "torque_n_m": torque[order],
         "pitch_percent": float(pitch),
     }
+
+
+TRANSPORT_INPUT_COLUMNS = ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")
+MILLING_INPUT_COLUMNS = (*CUSP_INPUT_COLUMNS, "centroid_x_m", "centroid_y_m", "area_m2")
+
+
+def port_propeller_index(arrangement: PropellerArrangement) -> int:
+    """The transport's propeller on the port side (offset y > 0; the built-in line is the port shaft)."""
+    for k, prop in enumerate(arrangement.propellers):
+        if prop.offset_y_m > 0.0:
+            return k
+    raise InputError("transport.arrangement.propellers", "no propeller to port (offset_y_m > 0)")
+
+
+@dataclass(frozen=True)
+class MilledCusps:
+    """The cusps one propeller mills (`milled_cusps`): per cusp its arrival [s], blade impacts, ice block,
+    and the transport's counts over all cusps of the run."""
+
+    arrival_s: np.ndarray
+    n_impacts: np.ndarray
+    block: IceBlock
+    blade: BladeGeometry
+    advance_speed_m_s: float
+    n_cusps_run: int
+    counts: dict
+
+    def impact_torque_n_m(self, cusp: int, rpm: float) -> float:
+        """Torque of one blade impact on cusp `cusp` at `rpm` (`propeller.milling.impact_loads`) [N·m]."""
+        block = IceBlock(
+            self.block.thickness_m[cusp : cusp + 1],
+            self.block.length_m[cusp : cusp + 1],
+            self.block.width_m[cusp : cusp + 1],
+        )
+        return float(impact_loads(block, self.blade, rpm, self.advance_speed_m_s).torque_n_m[0])
+
+
+def milled_cusps(
+    columns: dict[str, np.ndarray],
+    *,
+    speed_m_s: float,
+    spec: PropellerSpec | None = None,
+    lead_s: float = 2.0,
+    transport: bool = True,
+) -> MilledCusps:
+    """The cusps of a run's `columns` (MILLING_INPUT_COLUMNS) that reach the port propeller, at their
+    arrival times (`propeller.transport.transport_cusps`, default hull and arrangement), shifted so the
+    first arrives at `lead_s` (the constant bow-to-propeller delay is left out, as in the linear model);
+    blade impacts from the milling model at the nominal rpm (`impact_loads`: ⌈length / cut depth⌉, ≥ 1;
+    advance speed = ship speed). `transport=False`: every cusp, at the linear model's arrival times."""
+    col, spec = columns, PropellerSpec() if spec is None else spec
+    if transport:
+        moved = transport_cusps(*(col[k] for k in TRANSPORT_INPUT_COLUMNS), speed_m_s=speed_m_s)
+        port = port_propeller_index(PropellerArrangement())
+        chosen = np.flatnonzero(moved.propeller_index == port)
+        arrival = moved.arrival_time_s[chosen]
+        counts = {"reaching_port": int(chosen.size), **moved.path_counts()}
+        counts["reaching"] = moved.counts().tolist()
+    else:
+        chosen = np.arange(col["bow_x_m"].size)
+        arrival = arrival_times_s(col["bow_x_m"], speed_m_s, lead_s)
+        counts = {"reaching_port": int(chosen.size), "all_cusps": True}
+    if arrival.size:
+        arrival = arrival - arrival.min() + lead_s
+    block = IceBlock.from_box(
+        col["bbox_length_m"][chosen], col["bbox_width_m"][chosen], col["thickness_m"][chosen]
+    )
+    blade = BladeGeometry.from_spec(spec)
+    nominal = impact_loads(block, blade, spec.rpm, speed_m_s)
+    return MilledCusps(
+        arrival_s=arrival,
+        n_impacts=np.maximum(nominal.n_impacts, 1),
+        block=block,
+        blade=blade,
+        advance_speed_m_s=float(speed_m_s),
+        n_cusps_run=int(col["bow_x_m"].size),
+        counts=counts,
+    )
 
 
 def torque_densities(series_knm: dict[str, np.ndarray], bin_knm: float = 10.0):
@@ -230,54 +432,73 @@ def shaft_summary(result: ShaftResult, densities: dict[str, dict], extra: dict |
     for e, c in zip(elements, line.damping_n_m_s_per_rad, strict=False):
         e["damping_n_m_s_per_rad"] = c
     blade_rate = result.blades * line.rpm / 60.0
-    return (
-        {
-            "shaft_line": {
-                "name": line.name,
-                "source": line.source,
-                "elements": elements,
-                "propeller_dry_inertia_kg_m2": line.elements[-1].inertia_kg_m2,
-                "entrained_water_fraction": line.entrained_water_fraction,
-                "speed_control_bandwidth_hz": line.speed_control_bandwidth_hz,
-                "speed_control_damping_ratio": line.speed_control_damping_ratio,
-                "hydrodynamic_damping": line.hydrodynamic_damping,
-            },
-            "operating_point": {
-                "rpm": line.rpm,
-                "mean_torque_knm": line.mean_torque() / 1e3,
-                "rated_power_w": line.rated_power_w,
-                "blade_passage_frequency_hz": blade_rate,
-            },
-            "modes_free_free": {
-                "natural_frequencies_hz": result.modes.frequency_hz,
-                "damping_ratios": result.modes.damping_ratio,
-                "mode_shapes": result.modes.shapes,
-                "frequency_over_blade_passage": result.modes.frequency_hz / blade_rate,
-            },
-            "station": result.station,
-            "excitation": {
-                "cases": {c: EXCITATION_CASES[c].__dict__ for c in result.cases},
-                "note": "rule cases as recalled (physics-notes §7.3): verify against the rule text",
-                "n_cusps": result.n_cusps,
-                "overlap": result.overlap,
-                "ship_speed_m_s": result.speed_m_s,
-                "samples_per_blade_passage": result.samples_per_blade_passage,
-                "time_step_s": float(result.time_s[1] - result.time_s[0]) if result.time_s.size > 1 else None,
-                "duration_s": float(result.time_s[-1]) if result.time_s.size else 0.0,
-            },
-            "q_peak_knm": {
-                c: {
-                    (k[:-4] + "_knm" if k.endswith("_n_m") else k): (v / 1e3 if k.endswith("_n_m") else v)
-                    for k, v in p.items()
-                }
-                for c, p in result.peaks().items()
-            },
-            "spectra_above_threshold_knm": {
-                n: {"intervals": d["intervals_knm"], "envelope": d["envelope_knm"]}
-                for n, d in densities.items()
-            },
-            "density_threshold_per_knm": DENSITY_THRESHOLD_PER_KNM,
-            "thesis_measured": THESIS_MEASURED,
-            **(extra or {}),
+    return {
+        "shaft_line": {
+            "name": line.name,
+            "source": line.source,
+            "elements": elements,
+            "propeller_dry_inertia_kg_m2": line.elements[-1].inertia_kg_m2,
+            "entrained_water_fraction": line.entrained_water_fraction,
+            "speed_control_bandwidth_hz": line.speed_control_bandwidth_hz,
+            "speed_control_damping_ratio": line.speed_control_damping_ratio,
+            "hydrodynamic_damping": line.hydrodynamic_damping,
+        },
+        "operating_point": {
+            "rpm": line.rpm,
+            "mean_torque_knm": line.mean_torque() / 1e3,
+            "rated_power_w": line.rated_power_w,
+            "blade_passage_frequency_hz": blade_rate,
+        },
+        "modes_free_free": {
+            "natural_frequencies_hz": result.modes.frequency_hz,
+            "damping_ratios": result.modes.damping_ratio,
+            "mode_shapes": result.modes.shapes,
+            "frequency_over_blade_passage": result.modes.frequency_hz / blade_rate,
+        },
+        "station": result.station,
+        "excitation": {
+            "cases": {c: EXCITATION_CASES[c].__dict__ for c in result.cases},
+            "note": "rule cases as recalled (physics-notes §7.3): verify against the rule text",
+            "n_cusps": result.n_cusps,
+            "overlap": result.overlap,
+            "ship_speed_m_s": result.speed_m_s,
+            "samples_per_blade_passage": result.samples_per_blade_passage,
+            "time_step_s": float(result.time_s[1] - result.time_s[0]) if result.time_s.size > 1 else None,
+            "duration_s": float(result.time_s[-1]) if result.time_s.size else 0.0,
+        },
+        "q_peak_knm": {
+            c: {
+                (k[:-4] + "_knm" if k.endswith("_n_m") else k): (v / 1e3 if k.endswith("_n_m") else v)
+                for k, v in p.items()
+            }
+            for c, p in result.peaks().items()
+        },
+        "spectra_above_threshold_knm": {
+            n: {"intervals": d["intervals_knm"], "envelope": d["envelope_knm"]} for n, d in densities.items()
+        },
+        "density_threshold_per_knm": DENSITY_THRESHOLD_PER_KNM,
+        "thesis_measured": THESIS_MEASURED,
+        **_model_summary(result),
+        **(extra or {}),
+    }
+
+
+def _model_summary(result: ShaftResult) -> dict:
+    """The shaft model, the drive's outcome per case (drive model) and the resonance margin, with the
+    warnings (resonance, stall)."""
+    resonance = resonance_summary(result.line, result.blades)
+    warnings = list(resonance["warnings"])
+    out: dict = {"shaft_model": result.model, "resonance": resonance}
+    if result.model == "drive":
+        out["drive"] = {
+            "torque_limit_knm": result.torque_limit_n_m / 1e3,
+            "cases": dict(zip(result.cases, result.drive_summaries, strict=True)),
         }
-    )
+        for c, d in zip(result.cases, result.drive_summaries, strict=True):
+            if d["stalled"]:
+                warnings.append(
+                    f"case {c}: the propeller stalls at {d['stalled_at_s']:.1f} s (ice torque above the "
+                    f"motor's {d['torque_limit_knm']:.0f} kN·m limit)"
+                )
+    out["warnings"] = warnings
+    return out
