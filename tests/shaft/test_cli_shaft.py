@@ -27,6 +27,8 @@ def make_run(path, speed_m_s=None):
                 "bbox_width_m": np.ones(n),
                 "step": np.arange(n),
                 "bow_x_m": np.array([1.0, 5.0, 5.0, 12.0, 20.0, 31.0]),
+                "centroid_x_m": np.array([1.0, 5.0, 5.0, 12.0, 20.0, 31.0]),  # for the cusp transport
+                "centroid_y_m": np.full(n, 5.5),
             }
         ),
         path / "cusps.parquet",
