@@ -117,14 +117,15 @@ def _rows(columns, runs) -> np.ndarray:
 
 def transport_summary(transports: dict[str, tuple[np.ndarray, CuspTransport]], n_cusps: int) -> dict:
     """Fractions reaching (all and per propeller) and the paths of the cusps that do not."""
-    counts = None
     paths = dict.fromkeys(PATHS, 0)
     for _, t in transports.values():
-        counts = t.counts() if counts is None or counts.size != t.n_propellers else counts + t.counts()
         for k, v in t.path_counts().items():
             paths[k] += v
     n = sum(t.n_cusps for _, t in transports.values())
-    per_prop = [] if counts is None or n == 0 else (counts / n).tolist()
+    sizes = {t.n_propellers for _, t in transports.values()}
+    per_prop = []  # runs with different propeller counts (pooled with --pool) have no common list
+    if n and len(sizes) == 1:
+        per_prop = (sum(t.counts() for _, t in transports.values()) / n).tolist()
     return {
         "n_cusps": n,
         "n_reaching": int(paths["propeller"]),
