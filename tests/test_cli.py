@@ -154,7 +154,10 @@ def test_demo_runs_the_reference_scenario(tmp_path):
     assert summary["area_balance_rel_error"] <= 1e-9 and summary["n_cusps"] > 0
     # the field covers the observation's 44 % of 385 m × 100 m within ±1 percentage point (issue 2)
     assert summary["initial_ice_area_m2"] / (385.0 * 100.0) == pytest.approx(0.44, abs=0.01)
-    assert summary["warnings"] == [] and "warning" not in result.stderr  # wide enough for the largest floes
+    # wide enough for the largest floes: no run warning (the propeller's own warnings are its summary's)
+    propeller_warnings = json.loads((out / "propeller" / "summary.json").read_text())["warnings"]
+    others = [line for line in result.stderr.splitlines() if "warning" in line]
+    assert summary["warnings"] == [] and len(others) == len(propeller_warnings)
     assert "cusps" in result.stdout and "wall time" in result.stdout
     check_demo_propeller(out, summary["n_cusps"], result.stdout + result.stderr)
 
@@ -178,37 +181,42 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
     for quantity in ("torque", "load"):
         for scale in ("linear", "log"):
             assert (prop / "figures" / f"{quantity}_spectrum_{scale}.png").stat().st_size > 0
+    summary = json.loads((prop / "summary.json").read_text())
+    # the default profile: the blade milling model at 0 % and the spec's pitch, the transport model decides
+    # which cusps reach a propeller; those that do not carry no load
+    assert summary["load_model"]["name"] == "milling" and summary["transport"]["rule"] == "hull"
+    n_reaching = summary["transport"]["n_reaching"]
+    assert 0 < n_reaching < n_cusps
+    assert len(summary["transport"]["fraction_reaching_per_propeller"]) == 2
     with xr.open_dataset(prop / "spectra.nc") as ds:
-        assert ds["pitch"].values.tolist() == [0.0, 95.0]  # Agulhas II: neutral and 95 % pitch
+        assert ds["pitch"].values.tolist() == [0.0, 95.8551]  # Agulhas II: neutral and its 95.86 % pitch
         assert ds["run"].values.tolist() == [out.name]  # the final folder name, not a temporary one
-        assert ds["n_loads"].values.tolist() == [[n_cusps, n_cusps]]
+        assert ds["n_loads"].values.tolist() == [[n_reaching, n_reaching]]
         width = ds.attrs["torque_bin_width_knm"]
         # probability densities: each pitch integrates to 1 over its bins
         assert (ds["torque_density"].sum("torque_knm") * width).values == pytest.approx([1.0, 1.0])
-        # rates: the field is 385 m long, sailed at 3 m/s (thesis §6.3); the cusps are shared by the
-        # two propellers (thesis §6.1): n/2 loads per propeller over 385 m / 3 m/s = 0.0356 h
+        # rates: the field is 385 m long, sailed at 3 m/s (thesis §6.3); the cusps that reach are shared by
+        # the two propellers (thesis §6.1): n/2 loads per propeller over 385 m / 3 m/s = 0.0356 h
         hours = 385.0 / 3.0 / 3600.0
         counts = ds["torque_count_run"].sum("torque_knm").values[0]
+        assert counts.tolist() == [n_reaching, n_reaching]
         assert (ds["torque_rate_per_hour"].sum("torque_knm").values * hours) == pytest.approx(counts / 2)
         assert (ds["torque_rate_per_km"].sum("torque_knm").values * 0.385) == pytest.approx(counts / 2)
+    assert summary["rates"]["loads_per_hour_per_propeller"] == pytest.approx(n_reaching / 2 / hours)
     text = (prop / "cusp_loads.csv").read_bytes()
     lines = [line for line in text.splitlines() if not line.startswith(b"#")]  # provenance comments
     loads = pyarrow.csv.read_csv(io.BytesIO(b"\n".join(lines))).to_pydict()
-    assert len(loads["torque_knm_p95"]) == n_cusps
-    # beyond the largest FEM cusp (12.5043 m³) the loads grow with volume (power law), no clamp spike:
-    # thesis Table 11's −1658.78 kN·m is the torque at 12.5043 m³, larger cusps get more
-    beyond = [i for i, v in enumerate(loads["volume_m3"]) if v > 12.5043]  # the volume interpolated
-    assert beyond, "the reference run (h = 1 m) has cusps beyond the FEM table"
-    assert all(loads["beyond_table_p95"][i] for i in beyond)
-    assert all(loads["torque_knm_p95"][i] < -1658.78 for i in beyond)
-    assert len({round(loads["torque_knm_p95"][i], 2) for i in beyond}) > len(beyond) // 2
-    summary = json.loads((prop / "summary.json").read_text())
-    # where users look: the terminal and the report show the rates, the rule-form fit and — when more than
-    # 10 % of the cusps lie beyond the FEM table (issue 18) — the warning
-    warned = len(beyond) > 0.1 * n_cusps
-    assert any("beyond the FEM table" in w for w in summary["warnings"]) is warned
-    assert ("beyond the FEM table" in stdout) is warned
-    assert "loads per hour" in stdout and "rule form" in stdout
+    assert len(loads["torque_knm_p95.8551"]) == n_cusps
+    assert sum(v is not None for v in loads["torque_knm_p95.8551"]) == n_reaching
+    assert not any(loads["beyond_table_p95.8551"])  # no table
+    # where users look: the terminal, the summary and the report state the model, the fraction reaching
+    # and the warnings (a per-cusp torque above twice the rated 306.9 kN·m, issue 33 item 5)
+    assert "milling model" in stdout and "fraction of cusps reaching a propeller" in stdout
+    assert "loads per hour" in stdout
+    top = summary["pitches"]["p95.8551"]["torque_range_knm"][1]
+    warned = top > 2 * 306.9
+    assert any("rated torque" in w for w in summary["warnings"]) is warned
+    assert ("rated torque (306.9" in stdout) is warned
     report = (out / "report.html").read_text()
     assert "<h2>Propeller loads</h2>" in report and "rule_form.png" in report
     assert ("Warning:" in report) is warned

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import signal
 import sys
 from contextlib import contextmanager, nullcontext
@@ -16,7 +17,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from floebreak import constants as c
-from floebreak.errors import InputError
+from floebreak.errors import InputError, require_range
 from floebreak.exit_codes import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_STORAGE, interruption
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
@@ -452,10 +453,11 @@ DEMO_PROPELLER_DIR = "propeller"
 
 
 def _demo_propeller(run_dir: Path, run_id: str) -> dict:
-    """Propeller analysis (defaults: Agulhas II, FEM thesis Tables 10/11, the scenario's speed, fraction
-    reaching and propellers) of `run_dir` into `run_dir/propeller`; returns its summary. `run_id` names the
-    run (the folder is still temporary)."""
+    """Propeller analysis (defaults: Agulhas II; the profile's load model and transport, the scenario's
+    speed, fraction reaching and propellers) of `run_dir` into `run_dir/propeller`; returns its summary.
+    `run_id` names the run (the folder is still temporary)."""
     from floebreak.app.propeller import read_runs, write_propeller
+    from floebreak.propeller.load_models import profile_defaults
     from floebreak.propeller.pipeline import analyse_propeller
     from floebreak.report import write_report
 
@@ -464,7 +466,8 @@ def _demo_propeller(run_dir: Path, run_id: str) -> dict:
         inputs.cusps.column_names.index("run_id"), "run_id", pa_array([run_id] * inputs.cusps.num_rows)
     )
     exposures = None if inputs.exposures is None else {run_id: next(iter(inputs.exposures.values()))}
-    result = analyse_propeller(cusps, exposures=exposures)
+    load_model, transport = profile_defaults(inputs.profile)
+    result = analyse_propeller(cusps, exposures=exposures, load_model=load_model, transport=transport)
     write_propeller(result, run_dir / DEMO_PROPELLER_DIR, record={"runs": [run_id]})
     write_report(run_dir, directory_name=run_id)  # again, now with the propeller section
     return result.summary
@@ -509,7 +512,14 @@ def _rule_form_table(summary: dict) -> Table | None:
     largest |Q| per hour and over the operating profile (notes §7.3)."""
     rule_form = summary.get("rule_form") or {}
     table = Table(title="rule form P(Q ≥ q) = exp(−(q/q_max)^k ln N) fitted to |Q|, one propeller")
-    for name in (r"pitch \[%]", "k (95 % CI)", "rule k", r"q_max per h \[kN·m]", r"q_max profile \[kN·m]"):
+    for name in (
+        r"pitch \[%]",
+        "k (95 % CI)",
+        "rule k",
+        r"fitted |Q| \[kN·m]",
+        r"q_max per h \[kN·m]",
+        r"q_max profile \[kN·m]",
+    ):
         table.add_column(name, justify="right")
     rows = 0
     for label, info in summary["pitches"].items():
@@ -521,10 +531,31 @@ def _rule_form_table(summary: dict) -> Table | None:
             f"{info['pitch_percent']:g}",
             f"{fit['k']:.2f} ({fit['k_ci95'][0]:.2f}–{fit['k_ci95'][1]:.2f})",
             f"{fit['rule_k']:g}",
+            "–" if not fit.get("validity_range") else "{:.0f}–{:.0f}".format(*fit["validity_range"]),
             _fmt(fit.get("x_max_per_hour"), ".0f"),
             _fmt(fit.get("x_max_lifetime"), ".0f"),
         )
     return table if rows else None
+
+
+def _model_line(summary: dict) -> str:
+    """The per-cusp torque model and which cusps reach a propeller (fractions per propeller)."""
+    model = summary.get("load_model") or {}
+    transport = summary.get("transport") or {}
+    rule = transport.get("rule")
+    fraction = transport.get("fraction_reaching")
+    reach = "–" if fraction is None else f"{fraction:.3g}"
+    if rule == "hull":
+        per = ", ".join(f"{f:.3g}" for f in transport.get("fraction_reaching_per_propeller", []))
+        reach = f"{reach} (transport model; per propeller {per})"
+    elif rule == "override":
+        reach += " (override)"
+    else:
+        reach += " (every cusp)"
+    return (
+        f"per-cusp loads: {model.get('name', '–')} model; fraction of cusps reaching a propeller: {reach}; "
+        f"rated torque {model.get('rated_torque_knm', math.nan):.1f} kN·m"
+    )
 
 
 def _print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
@@ -534,6 +565,7 @@ def _print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
         rule_table = _rule_form_table(summary)
         if rule_table is not None:
             console.print(rule_table)
+        console.print(_model_line(summary), highlight=False, soft_wrap=True)
         rates = summary.get("rates")
         if rates:
             console.print(
@@ -689,6 +721,58 @@ def _fem_tables(items: list[str] | None) -> list[tuple[float | None, Path]] | No
     return out
 
 
+def _print_pooling(inputs) -> None:
+    n_runs = len(inputs.run_dirs)
+    differing = f" (differing in {', '.join(inputs.differing_keys)})" if inputs.differing_keys else ""
+    console.print(f"pooled {n_runs} runs{differing}" if n_runs > 1 else "1 run", highlight=False)
+
+
+def _load_options(load_model, transport, rated_torque_knm, geometry):
+    """The `propeller` command's load-model options, checked before anything is read: a function of the
+    runs' profile giving `analyse_propeller`'s load_model, transport, propeller and rated torque."""
+    from floebreak.propeller.load_models import LOAD_MODELS, TRANSPORTS, check_choice, profile_defaults
+
+    if load_model is not None:
+        check_choice("--load-model", load_model, LOAD_MODELS)
+    if transport is not None:
+        check_choice("--transport", transport, TRANSPORTS)
+    if rated_torque_knm is not None:
+        require_range("--rated-torque-knm", rated_torque_knm, low=0.0, unit="kN m")
+    spec = _propeller_spec(geometry)
+
+    def for_profile(profile: str) -> dict:
+        default_model, default_transport = profile_defaults(profile)
+        return {
+            "load_model": load_model or default_model,
+            "transport": transport or default_transport,
+            "propeller": spec,
+            "rated_torque_n_m": None if rated_torque_knm is None else rated_torque_knm * 1e3,
+        }
+
+    return for_profile
+
+
+def _propeller_spec(items: list[str] | None):
+    """`--propeller-geometry KEY=VALUE …` → PropellerSpec (Agulhas II for the keys not given)."""
+    from dataclasses import fields
+
+    from floebreak.propeller.spec import PropellerSpec
+
+    keys = [f.name for f in fields(PropellerSpec)]
+    values: dict = {}
+    for item in items or ():
+        key, sep, text = item.partition("=")
+        key = key.strip()
+        if not sep or key not in keys:
+            allowed = f"KEY=VALUE, KEY one of {', '.join(keys)}"
+            raise InputError("--propeller-geometry", f"{item!r}", allowed=allowed)
+        try:
+            values[key] = int(text) if key == "blades" else float(text)
+        except ValueError:
+            raise InputError(f"propeller.{key}", f"{text!r} is not a number", value=text) from None
+    return PropellerSpec(**values)
+
+
 def _sn_curve(text: str):
     """`--sn-curve QUANTITY,M,AMPLITUDE,CYCLES` → BasquinCurve in SI (amplitude given in kN or kN·m)."""
     from floebreak.propeller.ruleform import BasquinCurve
@@ -724,6 +808,38 @@ _SpeedOption = Annotated[
 _FractionReachingOption = Annotated[
     float | None,
     typer.Option("--fraction-reaching", help="fraction of cusps reaching a propeller (0, 1]"),
+]
+_LoadModelOption = Annotated[
+    str | None,
+    typer.Option(
+        "--load-model",
+        help="per-cusp loads: milling (blade milling model) | fem (FEM tables); default: the runs' profile "
+        "(default → milling, thesis → fem); --fem-table implies fem",
+    ),
+]
+_TransportOption = Annotated[
+    str | None,
+    typer.Option(
+        "--transport",
+        help="which cusps reach a propeller: hull (transport model) | all (every cusp); default: the runs' "
+        "profile (default → hull, thesis → all); --fraction-reaching overrides both",
+    ),
+]
+_RatedTorqueOption = Annotated[
+    float | None,
+    typer.Option(
+        "--rated-torque-knm",
+        help="the drive's rated torque [kN m] for the warnings (default: 4.5 MW / (2π · rpm), the built-in "
+        "Agulhas II line: 306.9 kN m)",
+    ),
+]
+_GeometryOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--propeller-geometry",
+        help="propeller as KEY=VALUE (repeatable): radius_m, max_pitch_m, pitch_percent, rpm, blades, "
+        "expanded_area_ratio, hub_ratio, blade_thickness_07_m, bollard_pitch_m (default: Agulhas II)",
+    ),
 ]
 _HoursPerYearOption = Annotated[
     float | None, typer.Option("--hours-in-ice-per-year", help="operating profile [h/a]")
@@ -778,6 +894,10 @@ def propeller(
     speed: _SpeedOption = None,
     fraction_reaching: _FractionReachingOption = None,
     propellers: Annotated[int | None, typer.Option("--propellers", help="number of propellers")] = None,
+    load_model: _LoadModelOption = None,
+    transport: _TransportOption = None,
+    rated_torque_knm: _RatedTorqueOption = None,
+    geometry: _GeometryOption = None,
     hours_per_year: _HoursPerYearOption = None,
     years: _YearsOption = None,
     sn_curve: _SnCurveOption = None,
@@ -798,6 +918,7 @@ def propeller(
     from floebreak.propeller.pipeline import analyse_propeller
     from floebreak.propeller.ruleform import OperatingProfile
 
+    models = _load_options(load_model, transport, rated_torque_knm, geometry)
     if (hours_per_year is None) != (years is None):
         raise InputError(
             "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
@@ -820,15 +941,11 @@ def propeller(
         shaft_model,
         torque_limit_knm,
     )
-    inputs = read_runs(
-        run_or_study_dir,
-        pool=pool,
-        speed_m_s=speed,
-        fraction_reaching=fraction_reaching,
-        n_propellers=propellers,
-    )
+    overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
+    inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
     result = analyse_propeller(
         inputs.cusps,
+        **models(inputs.profile),
         fem_table=tables,
         torque_csv=torque_csv,
         polar_class=polar_class,
@@ -840,9 +957,7 @@ def propeller(
     )
     record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
     written = write_propeller(result, out, overwrite=overwrite, record=record)
-    n_runs = len(inputs.run_dirs)
-    differing = f" (differing in {', '.join(inputs.differing_keys)})" if inputs.differing_keys else ""
-    console.print(f"pooled {n_runs} runs{differing}" if n_runs > 1 else "1 run", highlight=False)
+    _print_pooling(inputs)
     _print_propeller_summary(result.summary, written, quiet)
     if shaft is not None:
         _write_shaft(shaft, Path(written) / "shaft", overwrite)

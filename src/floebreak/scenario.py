@@ -581,11 +581,12 @@ def _normalised_policy(policy: Mapping[str, Any]) -> dict[str, dict[str, list[st
 class PropellerSection(_Section):
     """How the cusps meet the propellers (docs/propeller.md §6; used by the propeller rates only)."""
 
-    fraction_reaching: Float = Field(
-        c.FRACTION_REACHING_PROPELLER,
+    fraction_reaching: Float | None = Field(
+        None,
         gt=0.0,
         le=1.0,
-        description="fraction of the cusps that reach a propeller, in (0, 1] (default 1: thesis §6.2)",
+        description="fraction of the cusps that reach a propeller, in (0, 1]: an override (default: the "
+        "transport model decides per cusp; thesis profile: every cusp reaches, thesis §6.2)",
     )
     count: Int = Field(
         c.PROPELLER_COUNT,

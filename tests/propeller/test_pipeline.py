@@ -34,6 +34,10 @@ def _cusps():
     }
 
 
+# the thesis' path (FEM tables, every cusp reaches); the default is the milling model and the transport
+THESIS_PATH = {"load_model": "fem", "transport": "all"}
+
+
 def _rows(path):
     with open(path) as handle:
         return list(csv.DictReader(line for line in handle if not line.startswith("#")))
@@ -46,6 +50,7 @@ def test_outputs_and_numbers(tmp_path):
         torque_csv=synthetic_torque_path(),
         polar_class="PC5",
         volume_basis="box",
+        **THESIS_PATH,
     )
     summary = json.loads((out / "summary.json").read_text())
     for name in (
@@ -93,7 +98,7 @@ def test_outputs_and_numbers(tmp_path):
 
 def test_spectra_netcdf_is_the_run_average(tmp_path):
     cusps = _cusps()
-    out = propeller_analysis(cusps, tmp_path / "prop", force_bin_kn=50.0, torque_bin_knm=50.0)
+    out = propeller_analysis(cusps, tmp_path / "prop", force_bin_kn=50.0, torque_bin_knm=50.0, **THESIS_PATH)
     ds = xr.open_dataset(out / "spectra.nc")
     assert ds["pitch"].values.tolist() == [0.0, 95.0]
     assert ds["torque_density"].attrs["units"] == "kN-1 m-1"
@@ -141,7 +146,13 @@ def test_study_directory_and_options(tmp_path):
         propeller_analysis(study, tmp_path / "a")
     assert not (tmp_path / "a").exists()
     out = propeller_analysis(
-        study, tmp_path / "a", interpolation="pchip", beyond="flag", pool=True, volume_basis="box"
+        study,
+        tmp_path / "a",
+        interpolation="pchip",
+        beyond="flag",
+        pool=True,
+        volume_basis="box",
+        **THESIS_PATH,
     )
     rows = _rows(out / "cusp_loads.csv")
     assert [r["run_id"] for r in rows] == ["run_r1"] * 5 + ["run_r2"] * 3
@@ -151,7 +162,7 @@ def test_study_directory_and_options(tmp_path):
     assert summary["options"]["interpolation"] == "pchip" and summary["n_runs"] == 2
     assert summary["pitches"]["p0"]["n_without_load"] == 1
     # the cusp's own volume (0.8 of the box, 12 m³) lies inside the table
-    out = propeller_analysis(cusps, tmp_path / "b", beyond="flag")  # default: the cusp's own volume
+    out = propeller_analysis(cusps, tmp_path / "b", beyond="flag", **THESIS_PATH)  # default: own volume
     assert _rows(out / "cusp_loads.csv")[4]["force_kn_p0"] != ""
     classes = _rows(out / "volume_classes.csv")
     assert [r["run_id"] for r in classes] == ["r1"] * 4 + ["r2"] * 4 + ["ALL"] * 4
@@ -189,10 +200,10 @@ def test_bad_input_writes_nothing(tmp_path, kwargs, field):
 
 
 def test_existing_output_needs_overwrite(tmp_path):
-    propeller_analysis(_cusps(), tmp_path / "out")
+    propeller_analysis(_cusps(), tmp_path / "out", **THESIS_PATH)
     with pytest.raises(InputError, match="exists"):
-        propeller_analysis(_cusps(), tmp_path / "out")
-    propeller_analysis(_cusps(), tmp_path / "out", overwrite=True)
+        propeller_analysis(_cusps(), tmp_path / "out", **THESIS_PATH)
+    propeller_analysis(_cusps(), tmp_path / "out", overwrite=True, **THESIS_PATH)
 
 
 def test_no_cusps(tmp_path):
@@ -254,7 +265,7 @@ def test_report_section_without_time_base(tmp_path):
     """A table of cusps has no transit distance: densities only, said so in the summary and the report."""
     from floebreak.report import propeller_section
 
-    out = propeller_analysis(_cusps(), tmp_path / "prop")
+    out = propeller_analysis(_cusps(), tmp_path / "prop", **THESIS_PATH)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["rates"] is None and not (out / "torque_exceedance.csv").exists()
     html = "\n".join(propeller_section(out))

@@ -64,7 +64,7 @@ def test_rates_pool_runs_time_weighted():
         "a": RunExposure(300.0, RateBasis(3.0, 1.0, 2)),
         "b": RunExposure(600.0, RateBasis(2.0, 0.5, 1)),
     }
-    result = analyse_propeller(cusps, exposures=exposures)
+    result = analyse_propeller(cusps, exposures=exposures, load_model="fem")  # fractions given: override
     rates = result.summary["rates"]
     assert rates["hours_in_ice"] == pytest.approx(300 / 3 / 3600 + 600 / 2 / 3600)
     assert rates["loads_per_hour_per_propeller"] == pytest.approx(27.0)
@@ -84,7 +84,7 @@ def test_rates_pool_runs_time_weighted():
         analyse_propeller(cusps, exposures={"a": exposures["a"]})
     # a run without cusps still took its time: 900 m at 3 m/s more → 3 loads in (100 + 300 + 300) s
     quiet = {**exposures, "c": RunExposure(900.0, RateBasis(3.0, 1.0, 2))}
-    rates = analyse_propeller(cusps, exposures=quiet).summary["rates"]
+    rates = analyse_propeller(cusps, exposures=quiet, load_model="fem").summary["rates"]
     assert rates["loads_per_hour_per_propeller"] == pytest.approx(3 / (700 / 3600))
     assert rates["loads_per_km_per_propeller"] == pytest.approx(3 / 1.8)
 
@@ -110,7 +110,7 @@ def test_transit_distance_and_pooling(tmp_path):
     assert run_transit_distance_m(tmp_path / "s" / "r1") == pytest.approx(240.0)
     inputs = read_runs(tmp_path / "s")
     assert sorted(inputs.exposures) == ["r1", "r2"] and inputs.differing_keys == ()
-    assert inputs.exposures["r1"].basis == RateBasis(3.0, 1.0, 2)  # the scenario defaults
+    assert inputs.exposures["r1"].basis == RateBasis(3.0, None, 2)  # the scenario defaults: no override
     _run_dir(
         tmp_path / "s" / "r3", Scenario.reference(overrides=["ice.thickness_m=0.4", "ship.speed_m_s=2.0"])
     )
@@ -139,6 +139,7 @@ def test_propeller_command(tmp_path, cli):
     (tmp_path / "fem.csv").write_text(FEM)
     out = tmp_path / "prop"
     args = ("propeller", str(tmp_path / "s"), "--out", str(out), "--fem-table", f"0={tmp_path / 'fem.csv'}")
+    args += ("--transport", "all")  # every cusp reaches (the default is the transport model)
     extra = ("--fem-table", f"50={tmp_path / 'fem.csv'}", "--sn-curve", "torque,3,100,1e6")
     extra += ("--hours-in-ice-per-year", "100", "--years", "2")
     code, stdout, err = cli(*args, *extra)

@@ -13,6 +13,7 @@ from floebreak.io.jsonable import jsonable
 from floebreak.io.propeller import write_propeller_files
 from floebreak.io.run_files import cusp_files, load_cusps, parquet_metadata, read_resolved_scenario
 from floebreak.propeller.iceclass import WEIBULL_SHAPE
+from floebreak.propeller.load_models import profile_defaults
 from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
 from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
@@ -59,12 +60,13 @@ def propeller_figures(result: PropellerResult) -> dict[str, Any]:
 
     out = {}
     o = result.options
-    out["volume_loads.png"] = figs.plot_volume_loads(result.tables, o["interpolation"], o["beyond"])
+    if result.tables:  # the FEM tables' curves; the milling model has none
+        out["volume_loads.png"] = figs.plot_volume_loads(result.tables, o["interpolation"], o["beyond"])
     for quantity, name in (("force", "load"), ("torque", "torque")):
         for log in (False, True):
             scale = "log" if log else "linear"
             out[f"{name}_spectrum_{scale}.png"] = figs.plot_spectrum(result.spectra, quantity, log)
-    torque = {p: result.amplitudes(p).torque_nm for p in result.tables}
+    torque = {p: result.amplitudes(p).torque_nm for p in result.pitches}
     out["rule_form.png"] = figs.plot_rule_form(torque, result.exceedance, WEIBULL_SHAPE[o["weibull"]])
     if result.measured is not None:
         m = result.measured
@@ -73,7 +75,7 @@ def propeller_figures(result: PropellerResult) -> dict[str, Any]:
                 m.edges_knm, m.density_per_knm, result.spectra, log, DENSITY_THRESHOLD_PER_KNM
             )
     if result.rule is not None:
-        force = {p: result.amplitudes(p).force_n for p in result.tables}
+        force = {p: result.amplitudes(p).force_n for p in result.pitches}
         out["ice_class_exceedance.png"] = figs.plot_rule_exceedance(
             force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]]
         )
@@ -93,7 +95,8 @@ def propeller_analysis(
 ) -> Path:
     """Analyse and write: `cusps` is a run or study directory (its transit distances and scenarios give
     the rates; several runs need equal scenarios but for seed and field, or `pool=True`) or a table
-    (`options["exposures"]` then gives the rates). `options`: those of `analyse_propeller`."""
+    (`options["exposures"]` then gives the rates). `options`: those of `analyse_propeller`; a directory's
+    scenario profile sets the load model and transport unless given (`load_models.profile_defaults`)."""
     record: dict[str, Any] = {}
     if isinstance(cusps, str | os.PathLike):
         inputs = read_runs(
@@ -106,6 +109,9 @@ def propeller_analysis(
         if "exposures" in options:
             raise InputError("exposures", "given with a directory, which has its own", allowed="one of them")
         options["exposures"] = inputs.exposures
+        load_model, transport = profile_defaults(inputs.profile)
+        options.setdefault("load_model", load_model)
+        options.setdefault("transport", transport)
         cusps = inputs.cusps
         record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
         if inputs.missing_transit:

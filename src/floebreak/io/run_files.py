@@ -18,7 +18,8 @@ from floebreak.errors import InputError
 CUSPS_FILE = "cusps.parquet"
 RESOLVED_SCENARIO_FILE = "scenario.resolved.toml"
 CUSP_COLUMNS = ("volume_m3", "bbox_length_m", "bbox_width_m", "thickness_m", "area_m2")
-OPTIONAL_CUSP_COLUMNS = ("bow_x_m",)  # the bow at the cusp's making (transit order); NaN if absent
+# the bow at the cusp's making (transit order) and the centroid (the transport model); NaN if absent
+OPTIONAL_CUSP_COLUMNS = ("bow_x_m", "centroid_x_m", "centroid_y_m")
 
 
 def load_cusps(run_or_study_dir: str | os.PathLike[str]) -> pa.Table:

@@ -17,13 +17,14 @@ import pyarrow as pa
 from floebreak.constants import ICE_DENSITY_KG_M3
 from floebreak.errors import InputError
 from floebreak.io.run_files import CUSP_COLUMNS as REQUIRED_COLUMNS
+from floebreak.io.run_files import OPTIONAL_CUSP_COLUMNS as OPTIONAL_COLUMNS
 
 DEFAULT_CLASS_EDGES_M3 = (5.0, 8.0, 11.0, 14.0)
 
 
 def cusp_columns(cusps: pa.Table | Mapping[str, Sequence], field: str = "cusps") -> dict[str, np.ndarray]:
-    """Validated float arrays of the required columns plus ``run_id`` (default "run") and ``bow_x_m``
-    (NaN where absent; finite or NaN)."""
+    """Validated float arrays of the required columns plus ``run_id`` (default "run") and the optional
+    ``bow_x_m``, ``centroid_x_m``, ``centroid_y_m`` (NaN where absent; finite or NaN)."""
     if isinstance(cusps, pa.Table):
         names = cusps.column_names
 
@@ -70,14 +71,15 @@ def cusp_columns(cusps: pa.Table | Mapping[str, Sequence], field: str = "cusps")
     if run_id.size != n:
         raise InputError(field, f"column 'run_id' has {run_id.size} rows, expected {n}")
     out["run_id"] = run_id.astype(str).astype(object)
-    out["bow_x_m"] = np.full(n, np.nan)
-    if "bow_x_m" in names:
-        try:
-            out["bow_x_m"] = np.asarray(get("bow_x_m"), dtype=float).reshape(-1)
-        except (TypeError, ValueError):
-            raise InputError(field, "column 'bow_x_m' is not numeric") from None
-        if out["bow_x_m"].size != n or np.isinf(out["bow_x_m"]).any():
-            raise InputError(field, "column 'bow_x_m' needs one finite (or NaN) value per cusp")
+    for c in OPTIONAL_COLUMNS:
+        out[c] = np.full(n, np.nan)
+        if c in names:
+            try:
+                out[c] = np.asarray(get(c), dtype=float).reshape(-1)
+            except (TypeError, ValueError):
+                raise InputError(field, f"column {c!r} is not numeric") from None
+            if out[c].size != n or np.isinf(out[c]).any():
+                raise InputError(field, f"column {c!r} needs one finite (or NaN) value per cusp")
     return out
 
 

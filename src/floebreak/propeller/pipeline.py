@@ -24,8 +24,21 @@ from floebreak.propeller.cusps import (
 from floebreak.propeller.fem import FemTable, resolve_fem_tables
 from floebreak.propeller.iceclass import WEIBULL_SHAPE, IceClassLoads, check_polar_class, ur_i3_loads
 from floebreak.propeller.interpolation import check_options, table_interpolant
+from floebreak.propeller.load_models import (
+    LOAD_MODELS,
+    TRANSPORTS,
+    check_choice,
+    drive_rated_torque_n_m,
+    extrapolation_warnings,
+    milling_loads,
+    milling_pitches,
+    override_warning,
+    torque_warnings,
+    transport_of_runs,
+    transport_summary,
+)
 from floebreak.propeller.measured import TorqueSeries, read_torque_csv
-from floebreak.propeller.rates import RunExposure, check_exposures, weighted_exceedance
+from floebreak.propeller.rates import RateBasis, RunExposure, check_exposures, weighted_exceedance
 from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
@@ -101,11 +114,16 @@ class PropellerResult:
     measured: MeasuredSpectrum | None = None
     exposures: dict[str, RunExposure] = field(default_factory=dict)
 
+    @property
+    def pitches(self) -> tuple[float, ...]:
+        """The pitches [%] with per-cusp loads: the FEM tables' or the milling model's."""
+        return tuple(self.options["pitches"])
+
     def amplitudes(self, pitch_percent: float) -> CuspAmplitudes:
         """The per-cusp amplitudes at one pitch (transit order, see `CuspAmplitudes`)."""
-        if float(pitch_percent) not in self.tables:
+        if float(pitch_percent) not in self.pitches:
             raise InputError(
-                "pitch_percent", f"no table for {pitch_percent!r}", allowed=str(list(self.tables))
+                "pitch_percent", f"no loads at pitch {pitch_percent!r}", allowed=str(list(self.pitches))
             )
         label = pitch_label(float(pitch_percent))
         return CuspAmplitudes(
@@ -128,7 +146,7 @@ def propeller_loads(
     cusp_speed_m_s: float = 3.0,
 ) -> dict[str, np.ndarray]:
     """Per-cusp table (pure): box dimensions, class, kinetic energy, and per pitch force [N], torque [N·m]
-    and whether the cusp lies beyond the table. `columns` as returned by `cusp_columns`."""
+    and whether the cusp lies beyond the FEM table. `columns` as returned by `cusp_columns`."""
     check_options(interpolation, beyond)
     if volume_basis not in VOLUME_BASES:
         raise InputError(
@@ -137,21 +155,9 @@ def propeller_loads(
             value=volume_basis,
             allowed=", ".join(VOLUME_BASES),
         )
-    longer, shorter, box_volume = box_dimensions(
-        columns["bbox_length_m"], columns["bbox_width_m"], columns["thickness_m"]
-    )
-    volume = box_volume if volume_basis == "box" else columns["volume_m3"]
-    out: dict[str, np.ndarray] = {
-        "run_id": columns["run_id"],
-        "bow_x_m": columns.get("bow_x_m", np.full(columns["run_id"].size, math.nan)),
-        "area_m2": columns["area_m2"],
-        "thickness_m": columns["thickness_m"],
-        "volume_m3": columns["volume_m3"],
-        "bbox_longer_m": longer,
-        "bbox_shorter_m": shorter,
-        "box_volume_m3": box_volume,
-        "kinetic_energy_j": kinetic_energy_j(columns["volume_m3"], cusp_speed_m_s),
-    }
+    out = _cusp_geometry(columns, cusp_speed_m_s)
+    longer, shorter = out["bbox_longer_m"], out["bbox_shorter_m"]
+    volume = out["box_volume_m3"] if volume_basis == "box" else columns["volume_m3"]
     coordinates = {"volume": volume, "thickness": columns["thickness_m"], "length": longer, "width": shorter}
     coordinates["height"] = columns["thickness_m"]
     for pitch, table in tables.items():
@@ -164,15 +170,34 @@ def propeller_loads(
     return out
 
 
+def _cusp_geometry(columns: dict[str, np.ndarray], cusp_speed_m_s: float) -> dict[str, np.ndarray]:
+    """The per-cusp table's columns that need no load model: run, bow position, box, kinetic energy."""
+    longer, shorter, box_volume = box_dimensions(
+        columns["bbox_length_m"], columns["bbox_width_m"], columns["thickness_m"]
+    )
+    return {
+        "run_id": columns["run_id"],
+        "bow_x_m": columns.get("bow_x_m", np.full(columns["run_id"].size, math.nan)),
+        "area_m2": columns["area_m2"],
+        "thickness_m": columns["thickness_m"],
+        "volume_m3": columns["volume_m3"],
+        "bbox_longer_m": longer,
+        "bbox_shorter_m": shorter,
+        "box_volume_m3": box_volume,
+        "kinetic_energy_j": kinetic_energy_j(columns["volume_m3"], cusp_speed_m_s),
+    }
+
+
 def load_spectra(
     loads: dict[str, np.ndarray],
-    tables: dict[float, FemTable],
+    tables,
     force_bin_kn: float = 10.0,
     torque_bin_knm: float = 10.0,
     attrs: dict | None = None,
 ):
-    """Spectra dataset (pure) of |F| [kN] and |Q| [kN·m] per pitch from a `propeller_loads` table: each
-    run's density and their mean, every run weighted equally (thesis Figs. 32–33; see `spectra_dataset`)."""
+    """Spectra dataset (pure) of |F| [kN] and |Q| [kN·m] per pitch (`tables`: the FEM tables or the
+    pitches) from a per-cusp table: each run's density and their mean, every run weighted equally (thesis
+    Figs. 32–33; see `spectra_dataset`)."""
     run_id = loads["run_id"]
     runs = sorted(set(run_id.tolist()))
     force_kn = {}
@@ -200,29 +225,27 @@ def _measured_spectrum(series: TorqueSeries, torque_bin_knm: float) -> MeasuredS
     return MeasuredSpectrum(series, edges, dens, ranges_above(edges, dens, DENSITY_THRESHOLD_PER_KNM))
 
 
-def _table_info(loads, tables, rule) -> dict[str, dict]:
-    """Per pitch: table points, counts beyond the table / without load / with reversed sign, ranges, and
-    the rule flags (added to `loads`)."""
+def _table_info(loads, tables, pitches, rule) -> dict[str, dict]:
+    """Per pitch: table points (FEM), counts beyond the table / without load / with reversed sign, ranges,
+    and the rule flags (added to `loads`)."""
     info = {}
     n = loads["run_id"].size
-    for pitch, table in tables.items():
+    for pitch in pitches:
+        table = tables.get(pitch)
         label = pitch_label(pitch)
         f, q = loads[f"force_n_{label}"], loads[f"torque_nm_{label}"]
         n_beyond = int(loads[f"beyond_table_{label}"].sum())
+        sign_f, sign_q = (1.0, -1.0) if table is None else (np.sum(table.force_n), np.sum(table.torque_nm))
         info[label] = {
             "pitch_percent": pitch,
-            "source": table.source,
-            "dimensions": list(table.dimensions),
-            "max_volume_m3": table.max_volume_m3,
+            "source": "blade milling model" if table is None else table.source,
+            "dimensions": [] if table is None else list(table.dimensions),
+            "max_volume_m3": None if table is None else table.max_volume_m3,
             "n_beyond_table": n_beyond,
             "fraction_beyond_table": n_beyond / n if n else 0.0,
             "n_without_load": int((~np.isfinite(f)).sum()),
-            "n_sign_reversed_force": int(
-                np.sum(np.sign(f[np.isfinite(f)]) == -np.sign(np.sum(table.force_n)))
-            ),
-            "n_sign_reversed_torque": int(
-                np.sum(np.sign(q[np.isfinite(q)]) == -np.sign(np.sum(table.torque_nm)))
-            ),
+            "n_sign_reversed_force": int(np.sum(np.sign(f[np.isfinite(f)]) == -np.sign(sign_f))),
+            "n_sign_reversed_torque": int(np.sum(np.sign(q[np.isfinite(q)]) == -np.sign(sign_q))),
             "force_range_kn": finite_range(np.abs(f) / 1e3),
             "torque_range_knm": finite_range(np.abs(q) / 1e3),
         }
@@ -250,12 +273,14 @@ def _class_tables(loads, edges_m3) -> dict[str, dict[str, np.ndarray]]:
 def _add_rates(ds, loads, exposures: dict[str, RunExposure]) -> tuple[Any, dict[str, dict[str, np.ndarray]]]:
     """Rates per bin (per hour in ice and per km on one propeller) into `ds`, and exceedance tables.
 
-    Counts of all runs are summed, each cusp weighted by its run's fraction reaching / propellers, and
-    divided by the summed hours and km of the runs (time-weighted pooling)."""
+    Counts of all runs are summed, each loaded cusp weighted by its run's share per propeller (f / n_p with
+    an override, else 1 / n_p; cusps that reach no propeller carry no load and weigh 0), and divided by the
+    summed hours and km of the runs (time-weighted pooling)."""
     share = np.array([exposures[r].basis.share_per_propeller for r in ds["run"].values.tolist()])
     hours = sum(e.hours for e in exposures.values())  # runs without cusps too
     km = sum(e.km for e in exposures.values())
     weight = np.array([exposures[r].basis.share_per_propeller for r in loads["run_id"].tolist()])
+    weight = np.where(loads["reaches_propeller"], weight, 0.0)
     loads["loads_per_propeller"] = weight
     tables: dict[str, dict[str, np.ndarray]] = {}
     for quantity, axis, scale in (("force", "force_kn", 1e3), ("torque", "torque_knm", 1e3)):
@@ -278,21 +303,61 @@ def _add_rates(ds, loads, exposures: dict[str, RunExposure]) -> tuple[Any, dict[
     return ds, tables
 
 
-def _cusp_loads(columns, tables, options) -> dict[str, np.ndarray]:
-    """`propeller_loads` of the cusps in transit order, with their volume class; loads per cusp on one
-    propeller NaN until a time base is known (`_add_rates`)."""
-    order = transit_order(columns)
-    loads = propeller_loads(
-        {k: v[order] for k, v in columns.items()},
-        tables,
-        interpolation=options["interpolation"],
-        beyond=options["beyond"],
-        volume_basis=options["volume_basis"],
-        cusp_speed_m_s=options["cusp_speed_m_s"],
-    )
+def _cusp_loads(columns, tables, options, propeller, speed_m_s) -> dict[str, np.ndarray]:
+    """The per-cusp table of the cusps (in transit order) by the load model, with their volume class;
+    loads per cusp on one propeller NaN until a time base is known (`_add_rates`)."""
+    if options["load_model"] == "fem":
+        loads = propeller_loads(
+            columns,
+            tables,
+            interpolation=options["interpolation"],
+            beyond=options["beyond"],
+            volume_basis=options["volume_basis"],
+            cusp_speed_m_s=options["cusp_speed_m_s"],
+        )
+    else:
+        loads = _cusp_geometry(columns, options["cusp_speed_m_s"])
+        loads.update(
+            milling_loads(
+                loads["bbox_longer_m"], loads["bbox_shorter_m"], loads["thickness_m"], propeller, speed_m_s
+            )
+        )
     loads["volume_class"] = volume_class(loads["box_volume_m3"], options["volume_class_edges_m3"])
     loads["loads_per_propeller"] = np.full(loads["run_id"].size, math.nan)
     return loads
+
+
+def _reaching(columns, exposures, transport: str) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+    """Which cusps reach a propeller: per cusp `reaches_propeller`, `propeller_index` (−1: none or not
+    modelled) and `arrival_time_s`, and the summary's "transport" entry. Runs with an explicit fraction
+    reaching (an override) and `transport="all"` load every cusp; otherwise the transport model decides."""
+    n = columns["run_id"].size
+    runs = sorted(set(columns["run_id"].tolist()))
+    override = {
+        r: e.basis.fraction_reaching for r, e in exposures.items() if e.basis.fraction_reaching is not None
+    }
+    modelled = [] if transport == "all" else [r for r in runs if r not in override]
+    out = {
+        "reaches_propeller": np.ones(n, dtype=bool),
+        "propeller_index": np.full(n, -1, dtype=np.int64),
+        "arrival_time_s": np.full(n, math.nan),
+    }
+    transports = transport_of_runs(columns, exposures, modelled)
+    for idx, t in transports.values():
+        out["reaches_propeller"][idx] = t.propeller_index >= 0
+        out["propeller_index"][idx] = t.propeller_index
+        out["arrival_time_s"][idx] = t.arrival_time_s
+    rule = "override" if override else transport
+    summary: dict[str, Any] = {"rule": rule, "fraction_overrides": override}
+    if modelled:
+        summary.update(transport_summary(transports, n))
+    else:
+        fraction = next(iter(override.values())) if len(set(override.values())) == 1 else None
+        summary["fraction_reaching"] = 1.0 if not override else fraction
+    summary["by_run"] = {
+        r: override.get(r, float(np.mean(out["reaches_propeller"][columns["run_id"] == r]))) for r in runs
+    }
+    return out, summary
 
 
 def _check_options(
@@ -311,10 +376,13 @@ def _check_options(
 def analyse_propeller(
     cusps,
     *,
+    load_model: str = "milling",
+    transport: str = "hull",
     fem_table=None,
     torque_csv=None,
     polar_class: str | None = None,
     propeller: PropellerSpec = PropellerSpec(),  # noqa: B008 - frozen dataclass, immutable default
+    rated_torque_n_m: float | None = None,
     interpolation: str = "newton",
     beyond: str = "power_law",
     volume_basis: str = DEFAULT_VOLUME_BASIS,
@@ -330,45 +398,90 @@ def analyse_propeller(
     sn_curve: BasquinCurve | None = None,
     rule_factor: float = 1.0,
 ) -> PropellerResult:
-    """The propeller analysis of `cusps` (a dict of arrays or a pyarrow.Table with the `cusp_columns`;
-    ``bow_x_m`` optional) — pure: validates everything, writes nothing. `exposures` (a `RunExposure` per
-    run: transit distance, speed, fraction reaching, propellers) adds rates, exceedance tables and the
-    rule-form fits; `operating_profile`, `polar_class` and `sn_curve` extend the fits (docs/propeller.md)."""
+    """The propeller analysis of `cusps` (dict of arrays or pyarrow.Table, `cusp_columns`), pure. `load_model`
+    "milling" | "fem" (given `fem_table`s take precedence), `transport` "hull" | "all"; an exposure's fraction
+    reaching overrides the transport; `exposures` add rates, exceedance and rule-form fits; `rated_torque_n_m`
+    (default: the Agulhas II line's) sets a warning. docs/propeller.md §2, §6–§8."""
     columns = cusp_columns(cusps)
     if not isinstance(propeller, PropellerSpec):
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
     _check_options(interpolation, beyond, volume_basis, cusp_speed_m_s, force_bin_kn, torque_bin_knm, weibull)
+    load_model = "fem" if fem_table is not None else check_choice("load_model", load_model, LOAD_MODELS)
+    check_choice("transport", transport, TRANSPORTS)
+    rated = drive_rated_torque_n_m(propeller, rated_torque_n_m)
     require_range("rule_factor", rule_factor, low=0.0)
     edges_m3 = check_class_edges(volume_class_edges_m3)
-    tables = resolve_fem_tables(fem_table)
+    tables = resolve_fem_tables(fem_table) if load_model == "fem" else {}
+    pitches = tuple(tables) if load_model == "fem" else milling_pitches(propeller)
     rule = ur_i3_loads(propeller, check_polar_class(polar_class)) if polar_class is not None else None
     exposures = check_exposures(exposures, set(columns["run_id"].tolist())) if exposures is not None else {}
     series = None
     if torque_csv is not None:
         series = read_torque_csv(torque_csv, torque_unit=torque_unit, flip_sign=flip_measured_sign)
     options = {
-        "interpolation": interpolation,
-        "beyond": beyond,
-        "volume_basis": volume_basis,
-        "volume_class_edges_m3": edges_m3,
-        "cusp_speed_m_s": cusp_speed_m_s,
-        "density_threshold_per_knm": DENSITY_THRESHOLD_PER_KNM,
-        "polar_class": polar_class,
-        "weibull": weibull,
-        "rule_factor": rule_factor,
+        "load_model": load_model,
+        "transport": transport,
+        "pitches": list(pitches),
+        "rated_torque_n_m": rated,
+        **dict(interpolation=interpolation, beyond=beyond, volume_basis=volume_basis),
+        **dict(volume_class_edges_m3=edges_m3, cusp_speed_m_s=cusp_speed_m_s),
+        **dict(density_threshold_per_knm=DENSITY_THRESHOLD_PER_KNM, polar_class=polar_class),
+        **dict(weibull=weibull, rule_factor=rule_factor),
     }
-    loads = _cusp_loads(columns, tables, options)
-    ds = load_spectra(loads, tables, force_bin_kn, torque_bin_knm)
+    order = transit_order(columns)
+    columns = {k: v[order] for k, v in columns.items()}
+    speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
+    loads = _cusp_loads(columns, tables, options, propeller, speed)
+    reaching, transport_info = _reaching(columns, exposures, transport)
+    loads.update(reaching)
+    for pitch in pitches:  # cusps that reach no propeller carry no load
+        for column in ("force_n", "torque_nm"):
+            loads[f"{column}_{pitch_label(pitch)}"][~loads["reaches_propeller"]] = math.nan
+    ds = load_spectra(loads, dict.fromkeys(pitches), force_bin_kn, torque_bin_knm)
     options["force_bin_kn"] = ds.attrs["force_bin_width_kn"]  # as used: wider for far loads
     options["torque_bin_knm"] = ds.attrs["torque_bin_width_knm"]
     exceedance = {}
     if exposures:
         ds, exceedance = _add_rates(ds, loads, exposures)
-    table_info = _table_info(loads, tables, rule)
+    table_info = _table_info(loads, tables, pitches, rule)
     measured = _measured_spectrum(series, torque_bin_knm) if series is not None else None
     classes = _class_tables(loads, edges_m3)
     result = PropellerResult(
         options, propeller, tables, loads, classes, ds, exceedance, {}, rule, measured, exposures
     )
     result.summary.update(build_summary(result, table_info, operating_profile, sn_curve))
+    _complete_summary(result.summary, transport_info, table_info, rated, rule)
     return result
+
+
+def _speed(exposures: dict[str, RunExposure], run: str) -> float:
+    return exposures[run].basis.speed_m_s if run in exposures else RateBasis().speed_m_s
+
+
+def _complete_summary(summary, transport_info, table_info, rated, rule) -> None:
+    """The load model, the transport (fractions reaching) and the out-of-range warnings."""
+    options = summary["options"]
+    summary["load_model"] = {
+        "name": options["load_model"],
+        "description": LOAD_MODEL_TEXT[options["load_model"]],
+        "rated_torque_knm": rated / 1e3,
+    }
+    summary["transport"] = transport_info
+    rates = summary.get("rates")
+    for run, entry in ((rates or {}).get("per_run") or {}).items():
+        entry["fraction_reaching"] = transport_info["by_run"].get(run, 0.0)
+        entry["fraction_source"] = (
+            "override" if run in transport_info["fraction_overrides"] else (transport_info["rule"])
+        )
+    warnings = summary["warnings"]
+    if transport_info["fraction_overrides"]:
+        warnings.append(override_warning(transport_info["fraction_overrides"]))
+    warnings += torque_warnings(table_info, rated, None if rule is None else rule.max_torque_nm)
+    warnings += extrapolation_warnings(summary.get("rule_form"))
+
+
+LOAD_MODEL_TEXT = {
+    "milling": "blade milling model (docs/propeller.md 'Blade milling model'): one blade impact on the "
+    "cusp's box at the spec's rpm and the ship speed",
+    "fem": "FEM tables (thesis Tables 10/11 or given), interpolated over the cusp volume",
+}

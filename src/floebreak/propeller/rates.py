@@ -2,12 +2,15 @@
 
 The thesis gives normalised densities only (Figs. 32–33). A designer needs a time base: with the ship speed
 v [m/s], the transit distance L [m] over which the cusps were produced, the fraction f of cusps that reach a
-propeller (the thesis assumes all, §6.2) and the number of propellers n_p over which they are shared (the
-thesis pools both Agulhas II propellers, §6.1), one propeller sees
+propeller and the number of propellers n_p over which they are shared (the thesis pools both Agulhas II
+propellers, §6.1), one propeller sees
 
     rate per hour = N_cusps · f / n_p / (L / v / 3600 s),    rate per km = N_cusps · f / n_p / (L / 1000 m).
 
-Several runs are pooled by summing their counts and their transit distances (a time-weighted mean).
+f is an explicit override (`propeller.fraction_reaching`); without it (None) the cusps that reach are chosen
+by the transport model or are all of them (thesis §6.2), and each of those gives 1 / n_p loads on one
+propeller (`floebreak.propeller.load_models`). Several runs are pooled by summing their counts and their
+transit distances (a time-weighted mean).
 """
 
 from __future__ import annotations
@@ -25,16 +28,17 @@ SECONDS_PER_HOUR = 3600.0
 
 @dataclass(frozen=True)
 class RateBasis:
-    """Time base of the rates: ship speed [m/s], fraction of cusps reaching a propeller, propellers sharing
-    them. Defaults: 3 m/s (thesis §6.3), 1.0 (thesis §6.2), 2 (Agulhas II, thesis §6.1)."""
+    """Time base of the rates: ship speed [m/s], fraction of cusps reaching a propeller (an override; None:
+    not stated), propellers sharing them. Defaults: 3 m/s (thesis §6.3), None, 2 (Agulhas II, thesis §6.1)."""
 
     speed_m_s: float = c.SHIP_SPEED_IN_ICE_M_S
-    fraction_reaching: float = c.FRACTION_REACHING_PROPELLER
+    fraction_reaching: float | None = None
     n_propellers: int = c.PROPELLER_COUNT
 
     def __post_init__(self) -> None:
         require_range("ship.speed_m_s", self.speed_m_s, low=SPEED_M_S[0], high=SPEED_M_S[1], unit="m/s")
-        require_range("propeller.fraction_reaching", self.fraction_reaching, low=0.0, high=1.0)
+        if self.fraction_reaching is not None:
+            require_range("propeller.fraction_reaching", self.fraction_reaching, low=0.0, high=1.0)
         if (
             isinstance(self.n_propellers, bool)
             or int(self.n_propellers) != self.n_propellers
@@ -50,8 +54,10 @@ class RateBasis:
 
     @property
     def share_per_propeller(self) -> float:
-        """Expected loads on one propeller per cusp produced: f / n_p."""
-        return self.fraction_reaching / self.n_propellers
+        """Expected loads on one propeller per loaded cusp: f / n_p (1 / n_p without an override: then only
+        the cusps that reach carry loads)."""
+        fraction = 1.0 if self.fraction_reaching is None else self.fraction_reaching
+        return fraction / self.n_propellers
 
     def hours(self, transit_m: float) -> float:
         """Time in ice [h] to sail `transit_m` at the ship speed."""

@@ -25,13 +25,15 @@ POOLABLE_KEYS = ("seed", "field", "name")  # runs may differ in these and still 
 @dataclass(frozen=True)
 class RunInputs:
     """Cusps of one or more run directories, a RunExposure per run (None when a run lacks the files
-    needed for its transit distance) and the scenario keys that differ between the runs."""
+    needed for its transit distance), the scenario keys that differ between the runs and the runs'
+    scenario `profile` ("default" unless every run's resolved scenario says "thesis")."""
 
     cusps: pa.Table
     exposures: dict[str, RunExposure] | None
     run_dirs: dict[str, Path]
     differing_keys: tuple[str, ...]
     missing_transit: tuple[str, ...]
+    profile: str = "default"
 
 
 def transit_distance_m(field: dict, pieces: dict) -> float | None:
@@ -113,4 +115,6 @@ def run_inputs(
         else:
             exposures[run] = RunExposure(distance, basis)
     run_dirs = {run: run_dir for run, (run_dir, _, _) in runs.items()}
-    return RunInputs(cusps, None if missing else exposures, run_dirs, differing, tuple(missing))
+    profiles = {(scenario or {}).get("profile", "default") for _, scenario, _ in runs.values()}
+    profile = "thesis" if profiles == {"thesis"} else "default"
+    return RunInputs(cusps, None if missing else exposures, run_dirs, differing, tuple(missing), profile)

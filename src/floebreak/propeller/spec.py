@@ -41,9 +41,9 @@ class PropellerSpec:
         require_range("propeller.max_pitch_m", self.max_pitch_m, low=0.0, unit="m")
         require_range("propeller.pitch_percent", self.pitch_percent, low=0.0, high=100.0, low_inclusive=True)
         require_range("propeller.rpm", self.rpm, low=0.0, high=MAX_PROPELLER_RPM, unit="1/min")
-        if isinstance(self.blades, bool) or int(self.blades) != self.blades or self.blades < 1:
-            raise InputError(
-                "propeller.blades", f"{self.blades!r} is not a positive integer", value=self.blades
+        if isinstance(self.blades, bool) or int(self.blades) != self.blades or self.blades < 2:
+            raise InputError(  # one blade is no propeller (and no blade-passage order)
+                "propeller.blades", f"{self.blades!r} is not an integer", value=self.blades, allowed=">= 2"
             )
         require_range("propeller.expanded_area_ratio", self.expanded_area_ratio, low=0.0, high=1.5)
         require_range(

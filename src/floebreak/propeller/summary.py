@@ -65,21 +65,26 @@ def _rates(result) -> dict[str, Any] | None:
         "loads_per_propeller": loads,
         "loads_per_hour_per_propeller": loads / hours if hours > 0 else None,
         "loads_per_km_per_propeller": loads / km if km > 0 else None,
-        "note": "counts on one propeller: cusps × fraction_reaching / n_propellers, over the summed transit",
+        "note": "counts on one propeller: cusps × fraction_reaching / n_propellers, over the summed transit "
+        "(fraction_reaching: the transport model's, every cusp's, or an override: fraction_source)",
     }
 
 
 def rule_form_entry(
     amplitudes, unit_scale: float, per_hour: float | None, profile, rule_max, rule_n, shape_rule, weights=None
 ):
-    """One quantity's rule-form fit in kN or kN·m: k with 95 % interval, λ, x_max per hour and over the
+    """One quantity's rule-form fit in kN or kN·m: the fitted loads' [min, max] (`validity_range`), k with
+    95 % interval, λ, x_max per hour and over the
     operating profile with 95 % intervals, and the hours until the rule maximum is expected once.
     `weights` (one per amplitude): a weighted fit (`fit_rule_form`), with its effective sample size."""
     try:
         fit = fit_rule_form(amplitudes, weights=weights)
     except InputError as error:
         return {"fit": None, "reason": str(error)}
+    fitted = np.abs(np.asarray(amplitudes, dtype=float))
+    fitted = fitted[np.isfinite(fitted) & (fitted > 0.0)]
     entry: dict[str, Any] = {
+        "validity_range": [float(fitted.min()) / unit_scale, float(fitted.max()) / unit_scale],
         "k": fit.shape_k,
         "k_ci95": list(fit.shape_interval()),
         "rule_k": shape_rule,
@@ -160,7 +165,7 @@ def _rule_form(result, rates, profile: OperatingProfile | None, sn_curve: Basqui
             "hours": profile.hours,
         },
     }
-    for pitch in result.tables:
+    for pitch in result.pitches:
         amp = result.amplitudes(pitch)
         label = pitch_label(pitch)
         out[label] = {

@@ -376,7 +376,8 @@ def run_voyage(
         "log": Path(setup.log.source).name,
         "identity": setup.identity,
         "columns": list(setup.log.columns),
-        "propeller": {"fraction_reaching": propeller.fraction_reaching, "count": propeller.count},
+        # voyages keep the thesis' rule (FEM tables, every cusp reaches) unless a fraction is given
+        "propeller": {"fraction_reaching": propeller.fraction_reaching or 1.0, "count": propeller.count},
     }
     _write_json(out / VOYAGE_FILE, document)
     n_fields, plans = setup.n_fields, setup.plans

@@ -1,0 +1,190 @@
+"""Which cusps load a propeller and with what (pure): the per-cusp load model ("milling": the blade milling
+model, `floebreak.propeller.milling`; "fem": the FEM tables) and the transport rule ("hull": the transport
+model, `floebreak.propeller.transport`, decides per cusp; "all": every cusp reaches, thesis §6.2), their
+defaults per scenario profile, and the out-of-range warnings (issue 33 item 5). docs/propeller.md §6–§8.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from floebreak import constants as c
+from floebreak.errors import InputError, require_range
+from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
+from floebreak.propeller.rates import RunExposure
+from floebreak.propeller.spec import PropellerSpec
+from floebreak.propeller.spectra import pitch_label
+from floebreak.propeller.transport import (
+    PATHS,
+    CuspTransport,
+    Propeller,
+    PropellerArrangement,
+    transport_cusps,
+)
+from floebreak.shaft.line import AGULHAS_II
+
+LOAD_MODELS = ("milling", "fem")
+TRANSPORTS = ("hull", "all")
+TRANSPORT_COLUMNS = ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")
+# the built-in Agulhas II line's rated power (shaft/line.py): rated torque P/(2π n) = 306.9 kN·m at 140 rpm
+DEFAULT_RATED_POWER_W = float(AGULHAS_II["rated_power_w"])
+RATED_TORQUE_FACTOR = 2.0  # warn when a per-cusp torque exceeds this many times the rated torque
+EXTRAPOLATION_FACTOR = 1.5  # warn when a rule-form x_max lies this far beyond the largest fitted load
+MILLING_PITCH_PERCENT = 0.0  # the milling model's pitches: 0 % and the spec's (those of the FEM tables)
+# shaft lines of 1 or more than 2 propellers: evenly over ±5.5 m (the Agulhas II's ASSUMED offsets)
+SHAFT_SPREAD_M = 5.5
+
+
+def profile_defaults(profile: str | None) -> tuple[str, str]:
+    """(load model, transport) of a scenario profile: thesis → FEM tables, every cusp reaches; otherwise
+    (default) → the milling model and the transport model."""
+    return ("fem", "all") if profile == "thesis" else ("milling", "hull")
+
+
+def check_choice(key: str, value: str, allowed: tuple[str, ...]) -> str:
+    if value not in allowed:
+        raise InputError(key, f"unknown value {value!r}", value=value, allowed=", ".join(allowed))
+    return value
+
+
+def drive_rated_torque_n_m(spec: PropellerSpec, rated_torque: float | None = None) -> float:
+    """The drive's rated torque [N·m]: given, or the built-in Agulhas II line's rated power over
+    2π × the spec's speed (4.5 MW at 140 rpm: 306.9 kN·m)."""
+    if rated_torque is not None:
+        return require_range("rated_torque_n_m", rated_torque, low=0.0, unit="N m")
+    return DEFAULT_RATED_POWER_W / (2.0 * math.pi * spec.revolutions_per_s)
+
+
+def milling_pitches(spec: PropellerSpec) -> tuple[float, ...]:
+    return tuple(sorted({MILLING_PITCH_PERCENT, float(spec.pitch_percent)}))
+
+
+def milling_loads(
+    longer_m, shorter_m, thickness_m, spec: PropellerSpec, advance_speed_m_s
+) -> dict[str, np.ndarray]:
+    """Per pitch (`milling_pitches`): force [N] (|axial blade force| of one impact), torque [N·m] (signed
+    as the FEM tables: negative about the shaft axis, thesis §6.1.2), impacts to mill the cusp, and
+    `beyond_table` (all False: no table). Block = the cusp's box (`IceBlock.from_box`), blade = the spec at
+    that pitch, rpm = the spec's, advance speed = the ship speed (docs/propeller.md "Blade milling model")."""
+    block = IceBlock.from_box(longer_m, shorter_m, thickness_m)
+    out: dict[str, np.ndarray] = {}
+    for pitch in milling_pitches(spec):
+        blade = BladeGeometry.from_spec(replace(spec, pitch_percent=pitch))
+        loads = impact_loads(block, blade, spec.rpm, advance_speed_m_s)
+        label = pitch_label(pitch)
+        out[f"force_n_{label}"] = loads.force_n
+        out[f"torque_nm_{label}"] = -loads.torque_n_m
+        out[f"n_impacts_{label}"] = loads.n_impacts
+        out[f"beyond_table_{label}"] = np.zeros(block.thickness_m.size, dtype=bool)
+    return out
+
+
+def arrangement(n_propellers: int) -> PropellerArrangement:
+    """The transport's propellers: the default (two shafts at ±5.5 m) for 2, else spread evenly."""
+    if n_propellers == 2:
+        return PropellerArrangement()
+    offsets = np.linspace(SHAFT_SPREAD_M, -SHAFT_SPREAD_M, n_propellers) if n_propellers > 1 else [0.0]
+    return PropellerArrangement(tuple(Propeller(float(y)) for y in offsets))
+
+
+def transport_of_runs(columns: dict[str, np.ndarray], exposures: dict[str, RunExposure], runs) -> dict:
+    """The transport (`transport_cusps`) of the cusps of each of `runs` at its run's speed and propeller
+    count (3 m/s and 2 without an exposure): run → (indices into `columns`, CuspTransport)."""
+    missing = [k for k in TRANSPORT_COLUMNS if not np.all(np.isfinite(columns[k][_rows(columns, runs)]))]
+    if missing:
+        raise InputError(
+            "cusps",
+            f"the transport needs column(s) {', '.join(missing)} (cusps.parquet of a current run has them)",
+            allowed="cusps with these columns, or transport 'all' / a fraction reaching",
+        )
+    out = {}
+    for run in runs:
+        idx = np.flatnonzero(columns["run_id"] == run)
+        basis = exposures[run].basis if run in exposures else None
+        speed = basis.speed_m_s if basis else c.SHIP_SPEED_IN_ICE_M_S
+        n_prop = basis.n_propellers if basis else c.PROPELLER_COUNT
+        cols = {k: columns[k][idx] for k in TRANSPORT_COLUMNS}
+        out[run] = (idx, transport_cusps(**cols, speed_m_s=speed, arrangement=arrangement(n_prop)))
+    return out
+
+
+def _rows(columns, runs) -> np.ndarray:
+    return np.isin(columns["run_id"], list(runs))
+
+
+def transport_summary(transports: dict[str, tuple[np.ndarray, CuspTransport]], n_cusps: int) -> dict:
+    """Fractions reaching (all and per propeller) and the paths of the cusps that do not."""
+    paths = dict.fromkeys(PATHS, 0)
+    for _, t in transports.values():
+        for k, v in t.path_counts().items():
+            paths[k] += v
+    n = sum(t.n_cusps for _, t in transports.values())
+    sizes = {t.n_propellers for _, t in transports.values()}
+    per_prop = []  # runs with different propeller counts (pooled with --pool) have no common list
+    if n and len(sizes) == 1:
+        per_prop = (sum(t.counts() for _, t in transports.values()) / n).tolist()
+    return {
+        "n_cusps": n,
+        "n_reaching": int(paths["propeller"]),
+        "fraction_reaching": paths["propeller"] / n if n else 0.0,
+        "fraction_reaching_per_propeller": per_prop,
+        "paths": paths,
+        "n_cusps_not_transported": n_cusps - n,
+    }
+
+
+def torque_warnings(table_info: dict[str, dict], rated_torque: float, rule_max_torque: float | None) -> list:
+    """A warning per pitch whose largest per-cusp |Q| exceeds `RATED_TORQUE_FACTOR` × the rated torque,
+    and one where it exceeds the rule's Q_max (both in N·m; `table_info`'s ranges in kN·m)."""
+    out = []
+    for info in table_info.values():
+        q_range = info.get("torque_range_knm")
+        if q_range is None:
+            continue
+        top_knm = q_range[1]
+        limit = RATED_TORQUE_FACTOR * rated_torque / 1e3
+        if top_knm > limit:
+            out.append(
+                f"pitch {info['pitch_percent']:g} %: a per-cusp torque of {top_knm:.0f} kN·m exceeds "
+                f"{RATED_TORQUE_FACTOR:g} × the rated torque ({rated_torque / 1e3:.1f} kN·m)"
+            )
+        if rule_max_torque is not None and top_knm > rule_max_torque / 1e3:
+            out.append(
+                f"pitch {info['pitch_percent']:g} %: a per-cusp torque of {top_knm:.0f} kN·m exceeds the "
+                f"rule's Q_max ({rule_max_torque / 1e3:.0f} kN·m)"
+            )
+    return out
+
+
+def extrapolation_warnings(rule_form: dict | None) -> list[str]:
+    """A warning for each rule-form x_max (per hour, over the profile, at the rule's N_ice) beyond
+    `EXTRAPOLATION_FACTOR` × the largest load the fit was fitted to (`validity_range`)."""
+    out = []
+    for label, quantities in (rule_form or {}).items():
+        if not (isinstance(quantities, dict) and label.startswith("p")):
+            continue
+        for quantity, entry in quantities.items():
+            valid = entry.get("validity_range") if isinstance(entry, dict) else None
+            if not valid:
+                continue
+            unit = "kN·m" if quantity == "torque_knm" else "kN"
+            for key in ("x_max_per_hour", "x_max_lifetime", "x_max_at_rule_n_ice"):
+                x = entry.get(key)
+                if x is not None and x > EXTRAPOLATION_FACTOR * valid[1]:
+                    out.append(
+                        f"pitch {label[1:]} %, {quantity.split('_')[0]}: the rule-form {key} "
+                        f"({x:.0f} {unit}) extrapolates {x / valid[1]:.1f} × beyond the largest fitted "
+                        f"load (fitted {valid[0]:.0f}–{valid[1]:.0f} {unit})"
+                    )
+    return out
+
+
+def override_warning(fractions: dict[str, float]) -> str:
+    values = ", ".join(sorted({f"{f:g}" for f in fractions.values()}))
+    return (
+        f"fraction reaching {values} is an override (propeller.fraction_reaching / --fraction-reaching): "
+        "every cusp loads the propellers with that weight; the transport model is not used"
+    )
