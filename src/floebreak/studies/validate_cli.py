@@ -128,8 +128,10 @@ def thesis_command(
     from floebreak.studies.validation_report import ValidationSettings, write_outputs
 
     _check(n_fields, workers, length_m)
-    if holdout_n_fields is not None:
-        _check(holdout_n_fields, workers, length_m)
+    if holdout_n_fields is not None and holdout_n_fields < 1:
+        raise InputError(
+            "--holdout-n-fields", f"{holdout_n_fields} < 1", value=holdout_n_fields, allowed="an integer ≥ 1"
+        )
     configs = make_configs(profile, list(variants or []))
     sets = list(sets or [])
     base = thesis_scenario(sets, length_m)
