@@ -28,8 +28,8 @@ test: $(STAMP) lint
 test-slow: $(STAMP)
 	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m slow
 
-# the scientific checks, among them the must-hold rows of `floebreak validate thesis` (both profiles, 16 fields:
-# ≈ 5 min on 2 cores; docs/validation.md)
+# the scientific checks, among them the must-hold rows of `floebreak validate thesis` (both profiles, the choice
+# sample and the holdout; docs/validation.md)
 validate: $(STAMP)
 	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m validation
 

@@ -99,14 +99,45 @@ def test_scoreboard_rows_csv_and_must_hold_counts():
     rows = scoreboard_rows(data, {"default": "default", "thesis": "thesis"}, statements)
     assert [r["default"]["verdict"] for r in rows] == ["pass", "pass"]  # 8.5 within 15 % of 8.14; 2.5 % ≤ 5 %
     assert [r["thesis"]["verdict"] for r in rows] == ["fail", "fail"]  # 4.0 vs 8.14; +25 %
-    assert must_hold_counts(rows, "default") == (1, 1, ())  # T5.V must hold only in the thesis profile
+    assert must_hold_counts(rows, "default") == (("T5.K230.dV",), (), (), ())  # T5.V: thesis profile only
     thesis = must_hold_counts(rows, "thesis")
-    assert thesis == (0, 2, ("T5.V", "T5.K230.dV"))
-    assert tally_text(thesis) == "0 / 2 must-hold rows pass (not: T5.V, T5.K230.dV)"
-    assert tally_text(must_hold_counts(rows, "default")) == "1 / 1 must-hold rows pass"
+    assert thesis == ((), (), ("T5.V", "T5.K230.dV"), ())
+    assert tally_text(thesis) == (
+        "0 pass, 0 fail (explained), 2 fail, 0 inert (of 2 must-hold rows); fail: T5.V, T5.K230.dV"
+    )
+    assert tally_text(must_hold_counts(rows, "default")) == (
+        "1 pass, 0 fail (explained), 0 fail, 0 inert (of 1 must-hold rows)"
+    )
     table = list(csv.DictReader(io.StringIO(scoreboard_csv(rows, ["default", "thesis"]))))
     assert [r["id"] for r in table] == ["T5.V", "T5.K230.dV"]
     assert table[0]["thesis_value"] == "8.14" and table[0]["thesis_verdict"] == "fail"
     assert table[0]["thesis_must_hold"] == "yes" and table[0]["default_must_hold"] == "no"
     markdown = "\n".join(scoreboard_markdown_table(rows, ["default", "thesis"]))
     assert "**FAIL**" in markdown and "8.5 ± 0.5 pass" in markdown
+
+
+def test_an_explained_failure_is_not_a_pass_and_an_inert_row_is_not_counted():
+    """Issue 32 §1–2: a must-hold row that fails for a documented reason counts as "fail (explained)"; a row
+    that cannot fail (flagged inert) is left out of the count, whatever its verdict."""
+    from floebreak.studies.inert import Inert
+
+    by_id = {st.id: st for st in STATEMENTS}
+    statements = (by_id["T6.line_load.dA_aff"], by_id["T8.BZ1.dV"], by_id["T5.K230.dV"])
+    assert statements[0].explained and statements[0].must_hold == {"default", "thesis"}
+    data = {"default": {
+        "reference": {0: {"affected_area_m2": 100.0, "mean_cusp_volume_m3": 8.0}},
+        "line_load": {0: {"affected_area_m2": 90.0}},  # −10 %: beyond the 1 % of "nearly constant"
+        "BZ1": {0: {"mean_cusp_volume_m3": 8.0}},
+        "K230": {0: {"mean_cusp_volume_m3": 8.8}},  # +10 %: beyond the 5 % of a small effect, unexplained
+    }}  # fmt: skip
+    inert = {"default": {"T8.BZ1.dV": Inert("identity", "same run", 0.0)}}
+    rows = scoreboard_rows(data, {"default": "default"}, statements, inert=inert)
+    assert [r["default"]["status"] for r in rows] == ["fail (explained)", "inert", "fail"]
+    tally = must_hold_counts(rows, "default")
+    assert tally == ((), ("T6.line_load.dA_aff",), ("T5.K230.dV",), ("T8.BZ1.dV",)) and tally.counted == 2
+    assert tally_text(tally).startswith("0 pass, 1 fail (explained), 1 fail, 1 inert (of 3 must-hold rows)")
+    markdown = "\n".join(scoreboard_markdown_table(rows, ["default"]))
+    assert "FAIL (explained)" in markdown and " inert |" in markdown and "**FAIL**" in markdown
+    table = list(csv.DictReader(io.StringIO(scoreboard_csv(rows, ["default"]))))
+    assert [r["default_status"] for r in table] == ["fail (explained)", "inert", "fail"]
+    assert table[1]["default_inert"] == "same run"

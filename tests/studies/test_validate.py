@@ -119,6 +119,7 @@ runner = CliRunner()
     [
         (["thesis", "--profile", "literal"], "--profile"),
         (["thesis", "--n-fields", "0"], "--n-fields"),
+        (["thesis", "--holdout", "--holdout-n-fields", "0"], "--holdout-n-fields"),
         (["thesis", "--variant", "broken"], "--variant"),
         (["thesis", "--variant", "x:failure.crack_criterion=nonsense"], "crack_criterion"),
         (["thesis", "--set", "ice.thickness_m=-1.0"], "thickness_m"),
@@ -157,15 +158,26 @@ def test_validate_thesis_end_to_end_and_resume(tmp_path):
         "40",
     ]
     args += ["--workers", "1", "--set", "ship.step_m=0.5", "--variant", "wide:failure.wedge_angle_deg=10.0"]
+    args += ["--holdout", "--holdout-n-fields", "1"]
     first = runner.invoke(app, args)
     assert first.exit_code == 0, first.output
     with (out / "scoreboard.csv").open() as handle:
         rows = list(csv.DictReader(handle))
     assert len(rows) == len({r["id"] for r in rows}) > 50
-    assert {"default_verdict", "default+wide_verdict"} <= set(rows[0])
+    assert {
+        "default_verdict",
+        "default+wide_verdict",
+        "default@holdout_status",
+        "default+wide@holdout_inert",
+    } <= set(rows[0])
     assert {r["default_verdict"] for r in rows} <= {"pass", "fail", "info", "missing"}
+    by_id = {r["id"]: r for r in rows}
+    assert by_id["T8.BZ1.dV"]["default@holdout_status"] == "inert"  # the same run as BZ: a change of 0
+    assert float(by_id["T8.BZ1.dV"]["default@holdout_ours"]) == 0.0
+    assert (out / "holdout" / "runs").is_dir()
     markdown = (out / "scoreboard.md").read_text()
     assert "floebreak validate thesis --out" in markdown and "per 100 m" in markdown
+    assert "`default@holdout`: " in markdown and "## Inert rows" in markdown
     assert (out / "figures" / "fig13_bending_forces.png").exists()
     second = runner.invoke(app, args)
     assert second.exit_code == 0 and "resumed" in second.output

@@ -180,24 +180,42 @@ def evaluate(statement: Statement, data: dict[str, dict[int, dict[str, float]]])
     return paired_relative_change(values, series(statement.against or "reference"))
 
 
+def row_status(verdict_: str, explained: bool, inert: bool) -> str:
+    """pass | fail | fail (explained) | inert | info | missing: a row that cannot fail is inert whatever its
+    verdict, a failing row with a documented reason is "fail (explained)" (issue 32 §1–2)."""
+    if inert and verdict_ in ("pass", "fail"):
+        return "inert"
+    if verdict_ == "fail" and explained:
+        return "fail (explained)"
+    return verdict_
+
+
 def scoreboard_rows(
     data_by_config: dict[str, dict[str, dict[int, dict[str, float]]]],
     profiles: dict[str, str],
     statements: tuple[Statement, ...] = STATEMENTS,
+    inert: dict[str, dict[str, Any]] | None = None,
 ) -> list[dict[str, Any]]:
-    """One row per statement: the statement and, per configuration, value, s.e., n, verdict, must-hold
-    (`profiles` maps a configuration to its profile, whose must-hold flags it takes)."""
+    """One row per statement: the statement and, per configuration, value, s.e., n, verdict, must-hold,
+    the inert reason (`inert` maps a configuration to {statement id: `floebreak.studies.inert.Inert`}) and
+    the status (`row_status`); `profiles` maps a configuration to its profile, whose must-hold flags it
+    takes."""
+    inert = inert or {}
     rows = []
     for st in statements:
         row: dict[str, Any] = {"statement": st}
         for config, data in data_by_config.items():
             value, se, n = evaluate(st, data)
+            flag = inert.get(config, {}).get(st.id)
+            result = verdict(value, st.thesis_value, st.tolerance)
             row[config] = {
                 "value": value,
                 "se": se,
                 "n": n,
-                "verdict": verdict(value, st.thesis_value, st.tolerance),
+                "verdict": result,
                 "must_hold": profiles[config] in st.must_hold,
+                "inert": flag,
+                "status": row_status(result, bool(st.explained), flag is not None),
             }
         rows.append(row)
     return rows
@@ -226,28 +244,38 @@ def ours_cell(result: dict[str, Any], st: Statement) -> str:
 
 CSV_STATEMENT_COLUMNS = ("id", "source", "quote", "quantity", "unit", "point", "against", "statistic",
                          "thesis_value", "thesis_text", "tolerance", "explained")  # fmt: skip
+CSV_CONFIG_COLUMNS = ("ours", "se", "n_fields", "verdict", "must_hold", "status", "inert")
 
 
 def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    per_config = ("ours", "se", "n_fields", "verdict", "must_hold")
-    writer.writerow(list(CSV_STATEMENT_COLUMNS) + [f"{c}_{k}" for c in configs for k in per_config])
+    writer.writerow(list(CSV_STATEMENT_COLUMNS) + [f"{c}_{k}" for c in configs for k in CSV_CONFIG_COLUMNS])
     for row in rows:
         st: Statement = row["statement"]
         cells = [st.id, st.source, st.quote, st.quantity, st.unit, st.point, st.against or "", st.statistic,
                  st.thesis_value, st.thesis_text, st.tolerance.describe(st.unit), st.explained]  # fmt: skip
         for c in configs:
             r = row[c]
-            cells += [r["value"], r["se"], r["n"], r["verdict"], "yes" if r["must_hold"] else "no"]
+            flag = r.get("inert")
+            must = "yes" if r["must_hold"] else "no"
+            cells += [
+                r["value"],
+                r["se"],
+                r["n"],
+                r["verdict"],
+                must,
+                r["status"],
+                flag.reason if flag else "",
+            ]
         writer.writerow(cells)
     return buffer.getvalue()
 
 
 def _verdict_mark(result: dict[str, Any]) -> str:
-    v = result["verdict"]
-    text = {"pass": "pass", "fail": "FAIL", "info": "info", "missing": "missing"}[v]
-    return f"**{text}**" if result["must_hold"] and v != "pass" else text
+    text = {"pass": "pass", "fail": "FAIL", "fail (explained)": "FAIL (explained)", "inert": "inert",
+            "info": "info", "missing": "missing"}[result["status"]]  # fmt: skip
+    return f"**{text}**" if result["must_hold"] and result["status"] in ("fail", "missing") else text
 
 
 def scoreboard_markdown_table(rows: list[dict[str, Any]], configs: list[str]) -> list[str]:
@@ -259,7 +287,9 @@ def scoreboard_markdown_table(rows: list[dict[str, Any]], configs: list[str]) ->
     ]
     for row in rows:
         st: Statement = row["statement"]
-        must = ", ".join(sorted(st.must_hold)) or ("— (explained below)" if st.explained else "—")
+        must = ", ".join(sorted(st.must_hold)) or "—"
+        if st.explained:
+            must += " (explained below)"
         cells = [f"{ours_cell(row[c], st)} {_verdict_mark(row[c])}" for c in configs]
         unit = "" if st.unit in ("-", "%") or st.thesis_text else f" {st.unit}"
         lines.append(
@@ -270,25 +300,43 @@ def scoreboard_markdown_table(rows: list[dict[str, Any]], configs: list[str]) ->
 
 
 class MustHoldTally(NamedTuple):
-    """The must-hold rows of one configuration: how many pass, how many there are, the ids of the others."""
+    """The must-hold rows of one configuration by status (ids): a row that cannot fail (inert) is not
+    counted, a failing row with a documented reason is a failure, explained (issue 32 §1–2)."""
 
-    passed: int
-    total: int
-    not_passing: tuple[str, ...]
+    passed: tuple[str, ...]
+    failed_explained: tuple[str, ...]
+    failed: tuple[str, ...]  # unexplained failures and missing rows
+    inert: tuple[str, ...]
+
+    @property
+    def counted(self) -> int:
+        return len(self.passed) + len(self.failed_explained) + len(self.failed)
 
 
 def must_hold_counts(rows: list[dict[str, Any]], config: str) -> MustHoldTally:
-    """The `MustHoldTally` of one configuration (a missing row counts as not passing)."""
-    must = [row for row in rows if row[config]["must_hold"]]
-    not_passing = tuple(row["statement"].id for row in must if row[config]["verdict"] != "pass")
-    return MustHoldTally(len(must) - len(not_passing), len(must), not_passing)
+    """The `MustHoldTally` of one configuration (a missing row counts as an unexplained failure)."""
+    by_status: dict[str, list[str]] = {"pass": [], "fail (explained)": [], "fail": [], "inert": []}
+    for row in rows:
+        result = row[config]
+        if result["must_hold"]:
+            status = result["status"] if result["status"] in by_status else "fail"
+            by_status[status].append(row["statement"].id)
+    return MustHoldTally(*(tuple(by_status[k]) for k in ("pass", "fail (explained)", "fail", "inert")))
 
 
 def tally_text(tally: MustHoldTally) -> str:
-    """The tally as one line, e.g. ``35 / 37 must-hold rows pass (not: T7.h0.8.dn_flip, …)``: the ids name
-    the rows to look at."""
-    text = f"{tally.passed} / {tally.total} must-hold rows pass"
-    return text + (f" (not: {', '.join(tally.not_passing)})" if tally.not_passing else "")
+    """The tally as one line, e.g. ``25 pass, 3 fail (explained), 0 fail, 4 inert`` and the ids of the rows
+    that do not pass, to look at."""
+    passed, explained, failed, inert = (len(ids) for ids in tally)
+    text = (
+        f"{passed} pass, {explained} fail (explained), {failed} fail, {inert} inert "
+        f"(of {tally.counted + inert} must-hold rows)"
+    )
+    if tally.failed:
+        text += f"; fail: {', '.join(tally.failed)}"
+    if tally.failed_explained:
+        text += f"; explained: {', '.join(tally.failed_explained)}"
+    return text
 
 
 def per_100m_lines(

@@ -103,13 +103,24 @@ def thesis_command(
         typer.Option("--variant", help="a named reading NAME:KEY=VALUE[,KEY=VALUE], scored on each profile"),
     ] = None,
     length_m: LengthOption = None,
+    holdout: Annotated[
+        bool,
+        typer.Option(
+            "--holdout", help="also score the holdout sample (a seed and observation used for no choice)"
+        ),
+    ] = False,
+    holdout_n_fields: Annotated[
+        int | None, typer.Option("--holdout-n-fields", help="fields of the holdout sample (default: its own)")
+    ] = None,
 ) -> None:
     """Score every quantitative statement of thesis §5.1–§5.3 and §6.2: scoreboard.md/.csv and figures."""
+    import dataclasses
     import time
 
     from floebreak.studies.field_size import thesis_field_length_m, thesis_scenario
     from floebreak.studies.scoreboard import tally_text
     from floebreak.studies.validate import (
+        HOLDOUT_SAMPLE,
         make_configs,
         single_floe_spec,
         thesis_validation_spec,
@@ -117,6 +128,10 @@ def thesis_command(
     from floebreak.studies.validation_report import ValidationSettings, write_outputs
 
     _check(n_fields, workers, length_m)
+    if holdout_n_fields is not None and holdout_n_fields < 1:
+        raise InputError(
+            "--holdout-n-fields", f"{holdout_n_fields} < 1", value=holdout_n_fields, allowed="an integer ≥ 1"
+        )
     configs = make_configs(profile, list(variants or []))
     sets = list(sets or [])
     base = thesis_scenario(sets, length_m)
@@ -126,11 +141,25 @@ def thesis_command(
     }
     options = [("--profile", profile), ("--n-fields", n_fields), ("--seed", seed), ("--length-m", length_m)]
     options += [("--set", s) for s in sets] + [("--variant", v) for v in variants or []]
-    command = _command("thesis", out, options)
+    sample, holdout_base = None, {}
+    if holdout:  # the holdout's observation after the user's --set: it is what defines the sample
+        sample = dataclasses.replace(HOLDOUT_SAMPLE, n_fields=holdout_n_fields or HOLDOUT_SAMPLE.n_fields)
+        holdout_base = thesis_scenario([*sets, f'field.observation="{sample.observation}"'], length_m)
+        specs["holdout"] = thesis_validation_spec(configs, holdout_base, sample.n_fields, sample.seed)
+        options += [("--holdout-n-fields", holdout_n_fields)]
+    command = _command("thesis", out, options) + (" --holdout" if holdout else "")
     field = base["field"]
     settings = ValidationSettings(
-        command, field["length_m"], field["width_m"], thesis_field_length_m(field["width_m"]), n_fields, seed,
+        command,
+        field["length_m"],
+        field["width_m"],
+        thesis_field_length_m(field["width_m"]),
+        n_fields,
+        seed,
         tuple(sets),
+        base,
+        sample,
+        holdout_base,
     )
     started = time.perf_counter()
 

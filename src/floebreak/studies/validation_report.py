@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +20,7 @@ from floebreak.io.atomic import atomic_path
 from floebreak.studies.aggregate import collect_runs
 from floebreak.studies.design import StudySpec, expand
 from floebreak.studies.executors import Executor
+from floebreak.studies.inert import inert_flags
 from floebreak.studies.runner import StudyProgress, run_study
 from floebreak.studies.scoreboard import (
     TABLE_OUTPUTS,
@@ -34,7 +35,7 @@ from floebreak.studies.scoreboard import (
     tally_text,
 )
 from floebreak.studies.statements import STATEMENTS
-from floebreak.studies.validate import Config, split_group
+from floebreak.studies.validate import HOLDOUT_SUFFIX, POINTS, Config, Sample, split_group
 
 FORCE_POINTS = ("reference", "polarstern")
 TORQUE_POINTS = ("h0.4",)
@@ -43,7 +44,8 @@ _SINGLE = re.compile(r"^single d([\d.]+) h([\d.]+) ([a-e])$")
 
 @dataclass(frozen=True)
 class ValidationSettings:
-    """What a `validate thesis` call ran (written into scoreboard.md)."""
+    """What a `validate thesis` call ran (written into scoreboard.md): the scenario every run of the main
+    sample starts from (`base`), and the holdout sample with its own (issue 32 §3), if one was run."""
 
     command: str
     length_m: float
@@ -52,6 +54,9 @@ class ValidationSettings:
     n_fields: int
     seed: int
     sets: tuple[str, ...]
+    base: dict = field(default_factory=dict)
+    holdout: Sample | None = None
+    holdout_base: dict = field(default_factory=dict)
 
 
 def check_out_dir(out: Path) -> None:
@@ -124,34 +129,74 @@ def write_text(path: Path, text: str) -> None:
         temp.write_text(text, encoding="utf-8")
 
 
-def write_outputs(
-    out: Path, configs: list[Config], settings: ValidationSettings, elapsed_s: float, failures: list[dict]
-) -> dict[str, MustHoldTally]:
-    """scoreboard.csv, scoreboard.md and figures/ from the study directories; each configuration's
-    `MustHoldTally`."""
+def scored_columns(out: Path, configs: list[Config], settings: ValidationSettings):
+    """The scoreboard's columns — per configuration, and per configuration on the holdout
+    (``NAME@holdout``) — as ({column: per-point, per-field metrics}, {column: profile}, {column: inert
+    flags}, pooled data of the main sample, {column: torque run directories})."""
     data, pooled = collect_data(out / "study")
     for config, metrics in collect_single_floes(out / "single_floe").items():
         data.setdefault(config, {})["single_floe"] = {0: metrics}
-    names = [c.name for c in configs]
-    data = {name: data.get(name, {}) for name in names}
-    rows = scoreboard_rows(data, {c.name: c.profile for c in configs})
+    columns = {c.name: data.get(c.name, {}) for c in configs}
+    profiles = {c.name: c.profile for c in configs}
+    inert = {c.name: inert_flags(STATEMENTS, settings.base, c.profile, c.overrides, POINTS) for c in configs}
+    torque_runs = {c.name: pooled.get("torque_runs", {}).get(c.name, []) for c in configs}
+    if settings.holdout is not None:
+        holdout, holdout_pooled = collect_data(out / "holdout")
+        for c in configs:
+            name = c.name + HOLDOUT_SUFFIX
+            # the single floes are the same runs on every sample (no random field)
+            columns[name] = {**holdout.get(c.name, {}), "single_floe": columns[c.name].get("single_floe", {})}
+            profiles[name] = c.profile
+            inert[name] = inert_flags(STATEMENTS, settings.holdout_base, c.profile, c.overrides, POINTS)
+            torque_runs[name] = holdout_pooled.get("torque_runs", {}).get(c.name, [])
+    return columns, profiles, inert, pooled, torque_runs
+
+
+def write_outputs(
+    out: Path, configs: list[Config], settings: ValidationSettings, elapsed_s: float, failures: list[dict]
+) -> dict[str, MustHoldTally]:
+    """scoreboard.csv, scoreboard.md and figures/ from the study directories; each column's
+    `MustHoldTally`."""
+    columns, profiles, inert, pooled, torque_runs = scored_columns(out, configs, settings)
+    names = list(columns)
+    rows = scoreboard_rows(columns, profiles, inert=inert)
     write_text(out / "scoreboard.csv", scoreboard_csv(rows, names))
     counts = {name: must_hold_counts(rows, name) for name in names}
     lines = scoreboard_header(configs, settings, elapsed_s, counts, failures)
     lines += scoreboard_markdown_table(rows, names)
-    explained = [st for st in STATEMENTS if st.explained]
-    if explained:
-        lines += ["", "## Deviations explained by a mechanism (must hold in no profile)", ""]
-        lines += [f"- **{st.id}**: {st.explained}" for st in explained]
+    lines += explained_and_inert_lines(rows, names)
     lines += ["", "## Totals per 100 m of transit (reference point)", ""]
-    lines += per_100m_lines(data, settings.length_m, settings.thesis_length_m)
+    lines += per_100m_lines(columns, settings.length_m, settings.thesis_length_m)
     lines += ["", "## Torque spectrum at h = 0.4 m (thesis §6.2)", ""]
-    lines += torque_range_lines(pooled.get("torque_runs", {}))
+    lines += torque_range_lines({name: dirs for name, dirs in torque_runs.items() if dirs})
     lines += ["", "## The statements (thesis words)", ""]
     lines += [f"- **{st.id}** ({st.source}): “{st.quote}”" for st in STATEMENTS]
     write_text(out / "scoreboard.md", "\n".join(lines) + "\n")
-    write_figures(out / "figures", data, pooled, names)
+    main = [c.name for c in configs]  # the figures show the main sample
+    write_figures(out / "figures", {name: columns[name] for name in main}, pooled, main)
     return counts
+
+
+def explained_and_inert_lines(rows: list[dict], names: list[str]) -> list[str]:
+    """The rows with a documented deviation, their status per column next to the reason, and the rows that
+    cannot fail (inert), with the reason, per column."""
+    title = "## Deviations explained by a mechanism (a failing must-hold row counts as “fail (explained)”)"
+    lines = ["", title, ""]
+    for row in rows:
+        st = row["statement"]
+        if st.explained:
+            status = ", ".join(f"`{n}` {row[n]['status']}" for n in names)
+            lines.append(f"- **{st.id}** ({status}): {st.explained}")
+    lines += ["", "## Inert rows (cannot fail in this configuration; not counted in the tally)", ""]
+    reasons: dict[tuple[str, str], list[str]] = {}
+    for row in rows:
+        for n in names:
+            flag = row[n].get("inert")
+            if flag is not None:
+                reasons.setdefault((row["statement"].id, flag.reason), []).append(n)
+    for (sid, why), cols in reasons.items():
+        lines.append(f"- **{sid}** ({', '.join(f'`{n}`' for n in cols)}): {why}")
+    return lines if reasons else [*lines, "none"]
 
 
 def torque_range_lines(run_dirs: dict[str, list[Path]]) -> list[str]:
@@ -189,6 +234,7 @@ def scoreboard_header(configs, settings: ValidationSettings, elapsed_s, counts, 
         for c in configs
         if c.variant
     ]
+    holdout = settings.holdout
     lines = [
         "# Thesis scoreboard",
         "",
@@ -200,8 +246,19 @@ def scoreboard_header(configs, settings: ValidationSettings, elapsed_s, counts, 
         f"length, inferred in docs/validation.md for this width, is {settings.thesis_length_m:g} m."
         + (f" Overrides: {', '.join(f'`{s}`' for s in settings.sets)}." if settings.sets else ""),
         "",
+    ]
+    if holdout is not None:
+        lines += [
+            f"Columns `…{HOLDOUT_SUFFIX}`: the holdout sample, used for no choice (docs/validation.md): "
+            f"the same configurations on {holdout.n_fields} fields of observation {holdout.observation} "
+            f"(root seed {holdout.seed}); the single floes of §5.2 are the same runs in both samples.",
+            "",
+        ]
+    lines += [
         "Ours: mean ± standard error over the fields; changes (%) are paired on the same field, "
-        "r = x/x_ref − 1 per field. A must-hold row that does not pass is in **bold**.",
+        "r = x/x_ref − 1 per field. A must-hold row that fails without a documented reason is in **bold**; "
+        "“FAIL (explained)” fails for a reason given below; “inert” cannot fail in that configuration "
+        "(below) and is not counted.",
         "",
     ]
     if variants:
