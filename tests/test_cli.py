@@ -36,7 +36,7 @@ def test_version_names_what_results_depend_on():
     lines = result.stdout.splitlines()
     assert lines[0] == f"floebreak {version('floebreak')}"
     entries = dict(line.strip().split(" ", 1) for line in lines[1:])
-    for name in ("numpy", "scipy", "shapely", "numba"):
+    for name in ("numpy", "scipy", "shapely", "numba", "opentorsion", "rainflow", "pymunk"):
         assert entries[name] == version(name), name
     assert entries["blas"] != "none loaded"  # e.g. "openblas 0.3.30 SkylakeX (scipy.libs); …"
 

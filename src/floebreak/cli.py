@@ -940,6 +940,7 @@ def propeller(
         beyond,
         shaft_model,
         torque_limit_knm,
+        sn_curve=curve,
     )
     overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
     inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
@@ -964,11 +965,68 @@ def propeller(
 
 
 def _write_shaft(shaft, out: Path, overwrite: bool) -> None:
-    """Write the prepared shaft analysis; print where, the drive's outcome, the margin and warnings."""
+    """Write the prepared shaft analysis; print the design tables (`_shaft_tables`), the model's lines and
+    warnings, and where it was written."""
+    import json
+
     shaft_dir = shaft.write(out, overwrite=overwrite)
-    console.print(f"shaft torque written to {shaft_dir}", highlight=False)
+    summary = json.loads((Path(shaft_dir) / "summary.json").read_text(encoding="utf-8"))
+    for table in _shaft_tables(summary):
+        console.print(table)
     for line in shaft.messages():
         console.print(line, highlight=False, soft_wrap=True)
+    console.print(
+        f"shaft torque written to {shaft_dir}/ (shaft_series.nc/.csv, shaft_spectra.nc/.csv, modes.csv, "
+        "rainflow.csv, summary.json, figures/ with campbell.png and rainflow_histogram.png)",
+        highlight=False,
+        soft_wrap=True,
+    )
+
+
+def _shaft_tables(summary: dict) -> tuple[Table, Table]:
+    """The shaft line's design numbers (first natural frequency, blade-passage frequency, resonance margin,
+    Miner's damage) and, per excitation case, Q_peak, the shaft minimum, the drive's min rpm and peak
+    motor torque. Columns fold instead of cutting when the output is piped (80 columns)."""
+    resonance, fatigue = summary["resonance"], summary["fatigue"]
+    margin = min(min(row) for row in resonance["margin"])
+    inside = margin < resonance["required_margin"]
+    if fatigue["damage"] is not None:
+        damage = (
+            f"{fatigue['damage']:.3g} ({fatigue['histogram']['n_cycles']:g} cycles, case {fatigue['case']})"
+        )
+    else:
+        damage = "no S–N curve given" if fatigue["sn_curve"] is None else fatigue["note"]
+    line = Table(title=f"shaft line {summary['shaft_line']['name']}, station {summary['station']}")
+    line.add_column("quantity", overflow="fold")
+    line.add_column("value", justify="right", overflow="fold")
+    line.add_column("unit", overflow="fold")
+    op = summary["operating_point"]
+    line.add_row(
+        "first natural frequency", f"{summary['modes_free_free']['natural_frequencies_hz'][0]:.2f}", "Hz"
+    )
+    line.add_row(
+        f"blade-passage frequency at {op['rpm']:g} rpm", f"{op['blade_passage_frequency_hz']:.2f}", "Hz"
+    )
+    line.add_row(
+        f"resonance margin (required {100 * resonance['required_margin']:.0f} %)",
+        f"{100 * margin:.1f}" + (" [bold yellow]WARNING[/]" if inside else ""),
+        "%",
+    )
+    line.add_row("Miner's damage, shaft torque", escape(damage), "-")
+    cases = Table(title=f"shaft torque per excitation case ({summary['shaft_model']} model)")
+    for name in ("case", r"Q_peak \[kN·m]", r"shaft min \[kN·m]", r"min rpm \[1/min]", r"peak motor \[kN·m]"):
+        cases.add_column(name, justify="right", overflow="fold")
+    drive = (summary.get("drive") or {}).get("cases", {})
+    for case, peak in summary["q_peak_knm"].items():
+        d = drive.get(case) or {}
+        cases.add_row(
+            case,
+            _fmt(peak["q_peak_knm"], ".0f"),
+            _fmt(peak["q_min_knm"], ".0f"),
+            _fmt(d.get("min_rpm"), ".1f"),
+            _fmt(d.get("peak_motor_torque_knm"), ".0f"),
+        )
+    return line, cases
 
 
 def _shaft_analysis(
@@ -985,6 +1043,7 @@ def _shaft_analysis(
     beyond,
     shaft_model=None,
     torque_limit_knm=None,
+    sn_curve=None,
 ):
     """The `propeller` command's shaft analysis, computed (not written) before anything is written; None
     without --shaft-line (then its own options are refused)."""
@@ -1018,6 +1077,7 @@ def _shaft_analysis(
         beyond=beyond,
         shaft_model=shaft_model,
         torque_limit_knm=torque_limit_knm,
+        sn_curve=sn_curve,
     )
 
 

@@ -131,6 +131,7 @@ def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = 
     if not order:
         parts.append("<p>(no figures)</p>")
     parts += propeller_section(run_dir / "propeller")
+    parts += shaft_section(run_dir / "propeller" / "shaft")
     parts += [
         "<h2>Scenario (resolved)</h2>",
         f"<pre>{esc(scenario_text)}</pre>",
@@ -236,6 +237,99 @@ def propeller_parts(summary: dict, figures: Path, captions: dict[str, str] | Non
     for name, caption in (_PROPELLER_FIGURES if captions is None else captions).items():
         if (figures / name).is_file():
             parts.append(_embedded_figure(figures / name, caption))
+    return parts
+
+
+_SHAFT_FIGURES = {
+    "shaft_series.png": "Propeller load and shaft torque at the station, first excitation case; below: "
+    "the seconds around the peak.",
+    "excitation_series.png": "Propeller load torque Q(t) = Q_mean + Q_ice(t), first excitation case.",
+    "shaft_spectrum_log.png": "Torque spectra: propeller load and shaft (log scale).",
+    "shaft_spectrum_linear.png": "Torque spectra: propeller load and shaft (linear scale).",
+    "shaft_comparison_log.png": "Shaft torque: simulated against measured (log scale).",
+    "shaft_comparison_linear.png": "Shaft torque: simulated against measured (linear scale).",
+    "mode_shapes.png": "Free-free torsional modes of the shaft line.",
+    "campbell.png": "Campbell diagram: blade-passage orders against the natural frequencies; the band is "
+    "the required resonance margin around the operating speed.",
+    "rainflow_histogram.png": "Rainflow cycles of the shaft torque (ASTM E1049-85) per 10 kN·m range bin.",
+}
+
+
+def _shaft_rows(summary: dict) -> list[str]:
+    """The shaft line's design numbers and, per excitation case, Q_peak, the shaft minimum and the drive's
+    outcome (min rpm, peak motor torque)."""
+    esc = html.escape
+    resonance, fatigue, op = summary["resonance"], summary.get("fatigue") or {}, summary["operating_point"]
+    margin = min(min(row) for row in resonance["margin"])
+    damage = fatigue.get("damage")
+    rows = [
+        (
+            "first natural frequency (free-free)",
+            summary["modes_free_free"]["natural_frequencies_hz"][0],
+            "Hz",
+        ),
+        (f"blade-passage frequency at {op['rpm']:g} rpm", op["blade_passage_frequency_hz"], "Hz"),
+        (f"resonance margin (required {100 * resonance['required_margin']:.0f} %)", 100 * margin, "%"),
+        ("Miner's damage, shaft torque", "no S–N curve given" if damage is None else damage, "–"),
+    ]
+    parts = ["<table><tr><th>quantity</th><th>value</th><th>unit</th></tr>"]
+    parts += [
+        f"<tr><td>{esc(label)}</td><td class='num'>{esc(_format(value))}</td><td>{esc(unit)}</td></tr>"
+        for label, value, unit in rows
+    ]
+    parts.append(
+        "</table><table><tr><th>case</th><th>Q_peak [kN·m]</th><th>shaft min [kN·m]</th>"
+        "<th>min rpm [1/min]</th><th>peak motor torque [kN·m]</th></tr>"
+    )
+    drive = (summary.get("drive") or {}).get("cases", {})
+    for case, peak in summary["q_peak_knm"].items():
+        d = drive.get(case) or {}
+        cells = [
+            case,
+            peak["q_peak_knm"],
+            peak["q_min_knm"],
+            d.get("min_rpm"),
+            d.get("peak_motor_torque_knm"),
+        ]
+        parts.append("<tr>" + "".join(f"<td class='num'>{esc(_format(c))}</td>" for c in cells) + "</tr>")
+    parts.append("</table>")
+    return parts
+
+
+def shaft_section(folder: Path) -> list[str]:
+    """HTML parts of the "Shaft line" section when `folder` holds a shaft analysis (summary.json): the
+    warnings, the design numbers (`_shaft_rows`), the fatigue note, the figures and the shaft files'
+    provenance in a collapsed block; nothing otherwise."""
+    path = folder / "summary.json"
+    if not path.is_file():
+        return []
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as error:
+        raise InputError("run_dir", f"{str(path)!r} is not readable JSON ({error})") from None
+    esc = html.escape
+    parts = [
+        "<h2>Shaft line</h2>",
+        f"<p>Line <b>{esc(summary['shaft_line']['name'])}</b>, station <b>{esc(summary['station'])}</b>, "
+        f"{esc(summary['shaft_model'])} model"
+        + (
+            f"; measured: <code>{esc(summary['measured_source'])}</code>"
+            if summary.get("measured_source")
+            else ""
+        )
+        + ".</p>",
+    ]
+    parts += [f"<p style='color:#a00'><b>Warning:</b> {esc(w)}</p>" for w in summary.get("warnings", [])]
+    parts += _shaft_rows(summary)
+    if (summary.get("fatigue") or {}).get("note"):
+        parts.append(f"<p>Fatigue: {esc(summary['fatigue']['note'])}.</p>")
+    for name, caption in _SHAFT_FIGURES.items():
+        if (folder / "figures" / name).is_file():
+            parts.append(_embedded_figure(folder / "figures" / name, caption))
+    parts.append(
+        "<details><summary>Provenance of the shaft files</summary>"
+        f"<pre>{esc(json.dumps(summary.get('provenance', {}), indent=2, sort_keys=True))}</pre></details>"
+    )
     return parts
 
 

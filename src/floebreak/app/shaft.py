@@ -13,6 +13,7 @@ from floebreak.io.run_files import read_resolved_scenario, read_run_cusps
 from floebreak.io.shaft_files import write_shaft_files
 from floebreak.propeller.measured import TorqueSeries, read_torque_csv
 from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS
+from floebreak.propeller.ruleform import BasquinCurve
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
 from floebreak.shaft.analysis import (
     CUSP_INPUT_COLUMNS,
@@ -24,12 +25,14 @@ from floebreak.shaft.analysis import (
     milled_cusps,
     resonance_summary,
     shaft_drive_response,
+    shaft_fatigue,
     shaft_response,
     shaft_summary,
     torque_densities,
     torque_series_knm,
 )
 from floebreak.shaft.line import load_shaft_line
+from floebreak.shaft.resonance import campbell
 
 
 def run_cusp_inputs(
@@ -88,21 +91,49 @@ def write_shaft_analysis(
     bin_knm: float = 10.0,
     overwrite: bool = False,
     extra_summary: dict | None = None,
+    sn_curve: BasquinCurve | None = None,
 ) -> Path:
-    """Write `result` (and the comparison with `measured`) with its spectra, summary and figures to
-    `out_dir` atomically; return it."""
+    """Write `result` (and the comparison with `measured`) with its spectra, rainflow histogram (Miner's
+    damage against `sn_curve` if given), summary and figures to `out_dir` atomically; return it."""
     series = torque_series_knm(result, None if measured is None else measured.torque_nm)
     edges, densities = torque_densities(series, bin_knm)
+    histogram, fatigue = shaft_fatigue(result, sn_curve)
+    figures = shaft_figures(result, series, edges, densities, measured)
+    figures |= design_figures(result, histogram, fatigue)
     return write_shaft_files(
         result,
         out_dir,
         series=series,
         edges=edges,
         densities=densities,
-        summary=shaft_summary(result, densities, extra_summary),
-        figures=shaft_figures(result, series, edges, densities, measured),
+        summary=shaft_summary(result, densities, extra_summary) | {"fatigue": fatigue},
+        figures=figures,
+        rainflow=histogram,
         overwrite=overwrite,
     )
+
+
+def design_figures(result: ShaftResult, histogram, fatigue: dict) -> dict:
+    """The Campbell diagram (`floebreak.shaft.resonance.campbell`) and the rainflow histogram."""
+    from floebreak.plotting import shaft as figs
+
+    data = campbell(result.line, blades=result.blades)
+    return {
+        "campbell.png": figs.plot_campbell(
+            data.rpm,
+            data.natural_frequency_hz,
+            result.blades,
+            data.operating_rpm,
+            data.required_margin,
+            tuple(int(k) for k in data.harmonics),
+        ),
+        "rainflow_histogram.png": figs.plot_rainflow_histogram(
+            histogram.range_edges_n_m,
+            histogram.counts,
+            f"shaft torque at {result.station}, case {fatigue['case']}",
+            fatigue["damage"],
+        ),
+    }
 
 
 def shaft_figures(result: ShaftResult, series, edges, densities, measured: TorqueSeries | None) -> dict:
@@ -159,6 +190,7 @@ class PreparedShaftAnalysis:
     result: ShaftResult
     measured: TorqueSeries | None
     extra_summary: dict
+    sn_curve: BasquinCurve | None = None
 
     def messages(self) -> list[str]:
         """Lines for the terminal: the model, the drive's outcome per case, the resonance margin and
@@ -191,6 +223,7 @@ class PreparedShaftAnalysis:
             measured=self.measured,
             overwrite=overwrite,
             extra_summary=self.extra_summary,
+            sn_curve=self.sn_curve,
         )
 
 
@@ -234,12 +267,14 @@ def shaft_analysis_of_run(
     samples_per_blade_passage: int = 40,
     shaft_model: str | None = None,
     torque_limit_knm: float | None = None,
+    sn_curve: BasquinCurve | None = None,
 ) -> PreparedShaftAnalysis:
     """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is
     written (write with ``.write(out_dir)``). The ship speed: `speed_m_s`, else the run's resolved
     scenario's ``ship.speed_m_s``, else an InputError asking for it. `shaft_model`: "drive" (the cusps the
     transport sends to the port propeller, milled by the drive model) or "linear" (every cusp, FEM torque,
-    constant rpm); default: the run's profile's (default → drive, thesis → linear)."""
+    constant rpm); default: the run's profile's (default → drive, thesis → linear). `sn_curve`: a torque
+    S–N curve for Miner's damage of the shaft torque's rainflow cycles (`shaft_fatigue`)."""
     model = shaft_model_of_run(run_dir, shaft_model)
     if torque_limit_knm is not None:
         require_range("torque_limit_knm", torque_limit_knm, low=0.0, unit="kN m")
@@ -263,7 +298,7 @@ def shaft_analysis_of_run(
         result, more = _drive_response(
             run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases
         )
-        return PreparedShaftAnalysis(result, measured, extra | more)
+        return PreparedShaftAnalysis(result, measured, extra | more, sn_curve)
     cusps = run_cusp_inputs(
         run_dir, fem_table=fem_table, pitch_percent=pitch_percent, interpolation=interpolation, beyond=beyond
     )
@@ -285,4 +320,4 @@ def shaft_analysis_of_run(
         "interpolation": interpolation,
         "beyond": beyond,
     }
-    return PreparedShaftAnalysis(result, measured, extra)
+    return PreparedShaftAnalysis(result, measured, extra, sn_curve)

@@ -14,7 +14,18 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-_LIBRARIES = ("numpy", "scipy", "shapely", "numba", "pyarrow", "pydantic", "matplotlib")
+_LIBRARIES = (
+    "numpy",
+    "scipy",
+    "shapely",
+    "numba",
+    "pyarrow",
+    "pydantic",
+    "matplotlib",
+    "opentorsion",  # shaft-line modes and response
+    "rainflow",  # shaft fatigue cycle counting
+    "pymunk",  # rigid-body contact of the floes
+)
 
 
 # Cached: each `metadata.version` call scans the installed distributions (≈ 3 ms), and a run directory asks

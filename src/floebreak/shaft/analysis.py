@@ -19,6 +19,7 @@ from floebreak.propeller.fem import resolve_fem_tables
 from floebreak.propeller.interpolation import check_options, table_interpolant
 from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
 from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS, VOLUME_BASES
+from floebreak.propeller.ruleform import BasquinCurve
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
     DENSITY_THRESHOLD_PER_KNM,
@@ -31,6 +32,7 @@ from floebreak.propeller.spectra import (
 from floebreak.propeller.transport import PropellerArrangement, transport_cusps
 from floebreak.shaft.drive import DriveResult, drive_for_line, simulate_drive, train_from_line
 from floebreak.shaft.excitation import EXCITATION_CASES, arrival_times_s, excitation_case, ice_torque_series
+from floebreak.shaft.fatigue import RainflowHistogram, miner_damage, rainflow_histogram
 from floebreak.shaft.line import Modes, ShaftLine, modal_analysis, with_operating_point
 from floebreak.shaft.resonance import DEFAULT_REQUIRED_MARGIN, campbell
 from floebreak.shaft.response import station_torque_n_m
@@ -261,6 +263,45 @@ def resonance_summary(line: ShaftLine, blades: int) -> dict:
         "required_margin_note": RESONANCE_MARGIN_NOTE,
         "warnings": [f"{w}; {RESONANCE_MARGIN_NOTE}" for w in data.warnings()],
     }
+
+
+RAINFLOW_BIN_N_M = 10e3  # issue 30 §2: 10 kN·m range bins
+NO_SN_CURVE_NOTE = "no S–N curve given (--sn-curve torque,M,AMPLITUDE,CYCLES): no damage computed"
+
+
+def shaft_fatigue(
+    result: ShaftResult, sn_curve: BasquinCurve | None = None, range_bin_n_m: float = RAINFLOW_BIN_N_M
+) -> tuple[RainflowHistogram, dict]:
+    """Rainflow histogram (`floebreak.shaft.fatigue.rainflow_histogram`) of the station's shaft torque of
+    the first excitation case and its summary: the histogram, Miner's damage D = Σ n_i/N(S_i) against
+    `sn_curve` (amplitude convention of `--sn-curve`), or None with a note when no curve is given."""
+    case = result.cases[0]
+    histogram = rainflow_histogram(result.shaft_torque_n_m[0], range_bin_n_m)
+    out = {
+        "case": case,
+        "station": result.station,
+        "duration_s": float(result.time_s[-1] - result.time_s[0]) if result.time_s.size > 1 else 0.0,
+        "histogram": histogram.as_dict(),
+        "damage": None,
+        "sn_curve": None,
+        "note": NO_SN_CURVE_NOTE,
+    }
+    if sn_curve is not None and sn_curve.quantity != "torque":
+        out["note"] = f"the S–N curve is a {sn_curve.quantity} curve: no shaft damage computed (needs torque)"
+    elif sn_curve is not None:
+        out["damage"] = miner_damage(histogram.cycles, sn_curve, measure="amplitude")
+        out["sn_curve"] = {
+            "quantity": sn_curve.quantity,
+            "exponent_m": sn_curve.exponent_m,
+            "reference_amplitude_kn_m": sn_curve.reference_amplitude / 1e3,
+            "reference_cycles": sn_curve.reference_cycles,
+            "measure": "amplitude",
+        }
+        out["note"] = (
+            "Palmgren–Miner over this series only (no mean-stress correction); "
+            "damage of the series, not of a lifetime"
+        )
+    return histogram, out
 
 
 CUSP_INPUT_COLUMNS = ("bow_x_m", "step", "bbox_length_m", "bbox_width_m", "thickness_m", "volume_m3")
