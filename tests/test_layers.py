@@ -28,6 +28,7 @@ LAYERS = {
     "floebreak.app": APP,
     "floebreak.replay": APP,
     "floebreak.studies.runner": APP,
+    "floebreak.studies.inert": APP,
     "floebreak.studies.executors": APP,
     "floebreak.studies.aggregate": APP,
     "floebreak.studies.voyage": APP,
@@ -73,7 +74,6 @@ KNOWN_UPWARD = {
     ("floebreak.plotting.propeller", "floebreak.propeller.rates"),
     ("floebreak.plotting.propeller", "floebreak.propeller.ruleform"),
     ("floebreak.plotting.propeller", "floebreak.propeller.spectra"),
-    ("floebreak.studies.runner", "floebreak.api"),  # to become floebreak.app.run
 }
 
 

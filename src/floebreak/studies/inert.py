@@ -80,7 +80,7 @@ def normalised_model(model) -> tuple[Any, tuple[str, ...]]:
 
 def point_run(base: dict[str, Any], profile: str, keys: dict[str, Any]) -> PointRun:
     """The `PointRun` of `base` with `profile` and the dotted `keys` (a variant's and a point's) applied."""
-    from floebreak.api import build_model_for
+    from floebreak.app.run import build_model_for
     from floebreak.failure import get_mode, mode_names
     from floebreak.mechanics.classify import unbreakable_area_m2
     from floebreak.scenario import Scenario

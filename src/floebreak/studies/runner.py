@@ -56,7 +56,7 @@ class StudyProgress:
 
 def run_identity(scenario: dict[str, Any]) -> tuple[str, str]:
     """(scenario hash, model fingerprint) of a run: what its summary must record for it to be reused."""
-    from floebreak.api import build_model_for
+    from floebreak.app.run import build_model_for
     from floebreak.scenario import Scenario
 
     resolved = Scenario.from_dict(scenario).resolved()
@@ -67,7 +67,7 @@ def is_complete(run_dir: Path, identity: tuple[str, str]) -> bool:
     """Whether `run_dir` holds the finished run of `identity` (`run_identity`: the same scenario run with the
     same model settings) with every file intact (checksums), its summary included (the checksum of its own
     content, `floebreak.io.checksums`)."""
-    from floebreak.api import file_checksums
+    from floebreak.app.run import file_checksums
     from floebreak.io.checksums import checksum_matches
 
     summary = run_dir / "summary.json"
@@ -95,7 +95,7 @@ def remove_temporary_runs(runs_dir: Path) -> None:
 
 def execute_run(task: dict[str, Any]) -> dict[str, Any]:
     """Run one scenario into its run directory; return its small summary (runs in a worker process)."""
-    from floebreak.api import run, write_run_directory
+    from floebreak.app.run import run, write_run_directory
     from floebreak.io.atomic import scratch_directory
     from floebreak.io.field_files import load_field
 
@@ -114,7 +114,7 @@ def generate_common_field(scenario: dict[str, Any], fields_dir: Path) -> str | N
     when its field is not generated (file, inline floes)."""
     import numpy as np
 
-    from floebreak.api import build_field, field_key
+    from floebreak.app.run import build_field, field_key
     from floebreak.io.field_files import save_field
     from floebreak.scenario import Scenario
 
