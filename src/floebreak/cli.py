@@ -487,7 +487,11 @@ def _propeller_table(summary: dict) -> Table:
     """Per pitch: cusps with a load, beyond the FEM table, the |Q| ranges with density > 0.1 % per kN·m
     (thesis §6.2) and the maximum |Q|."""
     options = summary["options"]
-    table = Table(title=f"propeller spectra ({options['interpolation']}, beyond table: {options['beyond']})")
+    if options.get("load_model", "fem") == "fem":
+        title = f"propeller spectra (FEM, {options['interpolation']}, beyond table: {options['beyond']})"
+    else:
+        title = "propeller spectra (blade milling model)"
+    table = Table(title=title)
     for name in (r"pitch \[%]", "cusps", "beyond table", r"|Q| density > 0.1 %/kN·m \[kN·m]"):
         table.add_column(name, justify="left" if "density" in name else "right")
     table.add_column(r"max |Q| \[kN·m]", justify="right")
