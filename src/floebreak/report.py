@@ -191,17 +191,22 @@ def _propeller_rows(summary: dict) -> list[str]:
     return rows
 
 
+
+def _section_summary(folder: Path) -> dict | None:
+    """The summary.json of an analysis folder (propeller, shaft), None if there is none."""
+    path = folder / "summary.json"
+    if not path.is_file():
+        return None
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as error:
+        raise InputError("run_dir", f"{str(path)!r} is not readable JSON ({error})") from None
+
 def propeller_section(folder: Path) -> list[str]:
     """HTML parts of the propeller section when `folder` holds a propeller analysis (summary.json):
     warnings, rates, the per-pitch table and the figures; nothing otherwise."""
-    path = folder / "summary.json"
-    if not path.is_file():
-        return []
-    try:
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as error:
-        raise InputError("run_dir", f"{str(path)!r} is not readable JSON ({error})") from None
-    return propeller_parts(summary, folder / "figures")
+    summary = _section_summary(folder)
+    return [] if summary is None else propeller_parts(summary, folder / "figures")
 
 
 def propeller_parts(summary: dict, figures: Path, captions: dict[str, str] | None = None) -> list[str]:
@@ -300,13 +305,9 @@ def shaft_section(folder: Path) -> list[str]:
     """HTML parts of the "Shaft line" section when `folder` holds a shaft analysis (summary.json): the
     warnings, the design numbers (`_shaft_rows`), the fatigue note, the figures and the shaft files'
     provenance in a collapsed block; nothing otherwise."""
-    path = folder / "summary.json"
-    if not path.is_file():
+    summary = _section_summary(folder)
+    if summary is None:
         return []
-    try:
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as error:
-        raise InputError("run_dir", f"{str(path)!r} is not readable JSON ({error})") from None
     esc = html.escape
     parts = [
         "<h2>Shaft line</h2>",
