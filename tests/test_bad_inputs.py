@@ -100,7 +100,7 @@ def _disk_full(folder: Path, monkeypatch) -> list[str]:
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(importlib.import_module("floebreak.app.run"), "write_geoparquet", full)
+    monkeypatch.setattr(importlib.import_module("floebreak.app.run_directory"), "write_geoparquet", full)
     return _run()(folder, monkeypatch)
 
 
