@@ -37,9 +37,7 @@ from typing import Final, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.integrate import solve_bvp
 from scipy.interpolate import PchipInterpolator
-from scipy.optimize import minimize_scalar
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
@@ -142,6 +140,8 @@ def _refine_max(func, xs: np.ndarray, values: np.ndarray) -> tuple[float, float]
     hi = xs[min(i + 1, xs.size - 1)]
     if hi <= lo:
         return float(xs[i]), float(abs(values[i]))
+    from scipy.optimize import minimize_scalar  # here: only the table's generation solves the wedge
+
     res = minimize_scalar(
         lambda s: -abs(func(s)), bounds=(lo, hi), method="bounded", options={"xatol": 1e-10}
     )
@@ -165,6 +165,10 @@ def solve_wedge(
     with a bounded scalar search. ρ0 = 0 is solved directly (the ξ = 0 limit W'' = u' is built into the
     right-hand side); there S = 1 and ξ_σ = 0 exactly.
     """
+    # here, not at the top: only the table's generation solves the wedge, and scipy.integrate takes about
+    # 0.6 s to import (benchmarks/README.md, "Start-up")
+    from scipy.integrate import solve_bvp
+
     rho = require_range("rho0", rho0, low=0.0, low_inclusive=True, high=1e6)
     require_range("domain_length", domain_length, low=4.0)
     sol = None
