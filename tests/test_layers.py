@@ -207,6 +207,78 @@ def test_io_and_the_computing_packages_follow_the_rules_of_the_issue():
             assert not {t for t in targets if layer(t) > COMPUTING}, module
 
 
+# the physics packages compute on arrays and dataclasses; the files they need are read by io (or the
+# application layer) and handed over as text or data (issue 34)
+PHYSICS = (
+    "floebreak.ice",
+    "floebreak.ship",
+    "floebreak.mechanics",
+    "floebreak.failure",
+    "floebreak.dynamics",
+    "floebreak.simulation",
+    "floebreak.results",
+    "floebreak.profiles",
+    "floebreak.propeller",
+    "floebreak.shaft",
+)
+# calls that touch a file (a name called, or a method of any object), and modules that read or write files
+# (xarray builds datasets in memory too: its file access is `open_dataset` and `to_netcdf`)
+FILE_CALLS = {"open", "read_text", "read_bytes", "write_text", "write_bytes", "read_csv", "to_csv", "savefig"}
+FILE_CALLS |= {"loadtxt", "genfromtxt", "savetxt", "open_dataset", "to_netcdf", "read_parquet", "ParquetFile"}
+FILE_CALLS |= {"read_table", "write_table"}
+FILE_MODULES = ("importlib.resources", "pyarrow.parquet", "pyarrow.csv", "pyarrow.dataset", "h5netcdf")
+# file reads that exist today in physics modules (known debts, docs/architecture.md)
+KNOWN_FILE_ACCESS = {
+    "floebreak.ice.observations",  # the shipped observation table (thesis Table 1)
+    "floebreak.mechanics.nevel",  # the shipped Nevel table
+    "floebreak.ship.bow",  # Bow.from_csv reads, Bow.to_csv writes a hull file
+}
+
+
+def file_access(path: Path) -> list[str]:
+    """The file-touching calls and imports of one source file, as "line: what"."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            func = node.func
+            name = getattr(func, "id", None) or getattr(func, "attr", "")  # f(...) or obj.f(...)
+            if name in FILE_CALLS:
+                found.append(f"{node.lineno}: {name}()")
+        elif isinstance(node, ast.Import | ast.ImportFrom):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else [node.module or ""]
+            if isinstance(node, ast.ImportFrom):
+                names += [f"{node.module}.{a.name}" for a in node.names]
+            found += [f"{node.lineno}: import {n}" for n in names if n.startswith(FILE_MODULES)]
+    return found
+
+
+def test_the_physics_packages_read_no_files():
+    reads = {}
+    for module, path in _modules().items():
+        if module.startswith(PHYSICS) and module not in KNOWN_FILE_ACCESS:
+            if found := file_access(path):
+                reads[module] = found
+    assert not reads, f"file access in physics modules (move it to io/ or app/): {reads}"
+    known = {m: file_access(p) for m, p in _modules().items() if m in KNOWN_FILE_ACCESS}
+    assert all(known.values()), f"a known file access was removed: drop it from KNOWN_FILE_ACCESS {known}"
+
+
+def test_the_file_access_check_sees_calls_and_imports(tmp_path):
+    source = tmp_path / "m.py"
+    source.write_text(
+        "import importlib.resources\nfrom pyarrow import parquet\n"
+        "def f(p):\n    return p.read_text(), open(p), np.loadtxt(p), tomllib.loads(p)\n"
+    )
+    assert file_access(source) == [
+        "1: import importlib.resources",
+        "2: import pyarrow.parquet",
+        "4: read_text()",
+        "4: open()",
+        "4: loadtxt()",
+    ]
+
+
 @pytest.mark.parametrize(
     ("graph", "expected"),
     [

@@ -17,7 +17,6 @@ table is the thesis' 1-D table in volume.
 from __future__ import annotations
 
 import csv
-import importlib.resources
 import io
 import math
 import os
@@ -28,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.errors import InputError, require_range
+from floebreak.io.text_files import read_package_data, read_text_file
 
 SHIPPED_TABLES = {0.0: "fem_pitch0.csv", 95.0: "fem_pitch95.csv"}
 
@@ -343,22 +343,15 @@ def read_fem_table(
 ) -> FemTable:
     """Read a user FEM table CSV; the pitch comes from `pitch_percent` or ``# pitch_percent:`` (which must
     agree when both are given), else `fallback_pitch_percent`."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(field, f"file {str(path)!r} does not exist", value=str(path)) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(field, f"cannot read {str(path)!r}: {error}", value=str(path)) from None
-    return parse_fem_table(text, str(path), pitch_percent, field, fallback_pitch_percent)
+    text = read_text_file(path, field)
+    return parse_fem_table(text, str(Path(path)), pitch_percent, field, fallback_pitch_percent)
 
 
 def shipped_fem_tables() -> dict[float, FemTable]:
     """Thesis Table 10 (pitch 0 %) and Table 11 (pitch 95 %) as shipped in floebreak/data."""
     tables = {}
     for pitch, name in SHIPPED_TABLES.items():
-        text = importlib.resources.files("floebreak.data").joinpath(name).read_text(encoding="utf-8")
-        tables[pitch] = parse_fem_table(text, f"floebreak/data/{name}", pitch)
+        tables[pitch] = parse_fem_table(read_package_data(name), f"floebreak/data/{name}", pitch)
     return tables
 
 

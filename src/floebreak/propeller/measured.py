@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.errors import InputError
+from floebreak.io.text_files import package_data_path, read_text_file
 from floebreak.propeller.fem import _UNITS as _FEM_UNITS
 from floebreak.propeller.fem import split_name_unit, unit_factor
 
@@ -113,18 +114,10 @@ def read_torque_csv(
     flip_sign: bool = False,
     field: str = "torque_csv",
 ) -> TorqueSeries:
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(field, f"file {str(path)!r} does not exist", value=str(path)) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(field, f"cannot read {str(path)!r}: {error}", value=str(path)) from None
-    return parse_torque_csv(text, str(path), torque_unit, time_unit, flip_sign, field)
+    text = read_text_file(path, field)
+    return parse_torque_csv(text, str(Path(path)), torque_unit, time_unit, flip_sign, field)
 
 
 def synthetic_torque_path() -> Path:
     """Path of the shipped SYNTHETIC example series (not measured data)."""
-    import importlib.resources
-
-    return Path(str(importlib.resources.files("floebreak.data").joinpath("synthetic_shaft_torque.csv")))
+    return package_data_path("synthetic_shaft_torque.csv")

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.errors import InputError, require_range
+from floebreak.io.text_files import read_text_file
 from floebreak.propeller.spec import MAX_PROPELLER_RPM
 
 BUILTIN_LINES = ("agulhas_ii",)
@@ -293,9 +294,10 @@ def load_shaft_line(spec: str | os.PathLike[str]) -> ShaftLine:
             value=str(spec),
             allowed=", ".join(BUILTIN_LINES) + ", or FILE.toml",
         )
+    text = read_text_file(path, "shaft_line", encoding="utf-8-sig")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as error:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
         raise InputError("shaft_line", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
     table = data.get("shaft_line")
     if not isinstance(table, dict):
