@@ -1,0 +1,35 @@
+"""Each command imports only what it uses (issue 34 §6): checked on `sys.modules` of a fresh interpreter,
+not on timings (benchmarks/startup.py measures those)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+# the libraries of figures, NetCDF, studies on Dask, the engine, Parquet, the shaft line and rigid bodies
+HEAVY = ("matplotlib", "xarray", "dask", "numba", "scipy", "pyarrow", "opentorsion", "pymunk", "pandas")
+
+
+def loaded_after(statement: str) -> set[str]:
+    """The top-level packages (and `scipy.*` modules) loaded by a fresh interpreter running `statement`."""
+    code = f"{statement}\nimport json, sys\nprint(json.dumps(sorted(sys.modules)))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    return set(json.loads(out.splitlines()[-1]))
+
+
+@pytest.mark.parametrize(
+    "statement", ["import floebreak", "import floebreak.cli", "import floebreak.__main__"]
+)
+def test_the_package_and_the_command_line_load_no_heavy_library(statement):
+    loaded = {name.split(".")[0] for name in loaded_after(statement)}
+    assert not loaded & set(HEAVY), sorted(loaded & set(HEAVY))
+
+
+def test_a_run_loads_no_figure_netcdf_or_dask_library_before_it_draws():
+    # a run imports the engine (numba, scipy.interpolate for the Nevel table) but neither matplotlib (the
+    # figures import it when they are drawn) nor scipy.integrate (only the Nevel table's generation)
+    loaded = loaded_after("import floebreak.app.run, floebreak.scenario")
+    assert not {"matplotlib", "xarray", "dask", "scipy.integrate"} & loaded
