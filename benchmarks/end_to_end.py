@@ -65,6 +65,14 @@ def _one_core() -> None:
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
 
 
+def print_load_average() -> None:
+    try:
+        load = os.getloadavg()
+        print(f"load average before: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} ({os.cpu_count()} CPUs)")
+    except OSError:
+        pass
+
+
 def measure(args: list[str]) -> dict:
     """Run the CLI with `args` (``{out}`` → a fresh directory) in a child pinned to one core."""
     env = {
@@ -95,30 +103,11 @@ def measure(args: list[str]) -> dict:
     }
 
 
+RUN = ["run", "examples/reference.toml", "--out", "{out}", "--quiet"]
 CASES = {
     "demo (385 m × 100 m)": ["demo", "--out", "{out}", "--quiet"],
-    "run 250 m × 200 m": [
-        "run",
-        "examples/reference.toml",
-        "--out",
-        "{out}",
-        "--quiet",
-        "--set",
-        "field.length_m=250",
-        "--set",
-        "field.width_m=200",
-    ],
-    "run 1 km × 200 m": [
-        "run",
-        "examples/reference.toml",
-        "--out",
-        "{out}",
-        "--quiet",
-        "--set",
-        "field.length_m=1000",
-        "--set",
-        "field.width_m=200",
-    ],
+    "run 250 m × 200 m": [*RUN, "--set", "field.length_m=250", "--set", "field.width_m=200"],
+    "run 1 km × 200 m": [*RUN, "--set", "field.length_m=1000", "--set", "field.width_m=200"],
 }
 
 
@@ -195,11 +184,7 @@ def main() -> None:
         for _ in range(max(options.repeat, 1)):
             phases()
         return
-    try:
-        load = os.getloadavg()
-        print(f"load average before: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} ({os.cpu_count()} CPUs)")
-    except OSError:
-        pass
+    print_load_average()
     header = (
         "| case | floes | steps | cusps | wall s (best) | every run, wall s | CPU s | engine s | outside s "
         "| outside/engine | peak MB | goal |",

@@ -22,7 +22,7 @@ import sys
 import time
 from pathlib import Path
 
-from end_to_end import _cli, _compile_bytecode
+from end_to_end import _cli, _compile_bytecode, print_load_average
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -75,11 +75,7 @@ def main() -> None:
     parser.add_argument("--importtime", action="store_true", help="list each command's heaviest imports")
     options = parser.parse_args()
     _compile_bytecode()
-    try:
-        load = os.getloadavg()
-        print(f"load average before: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} ({os.cpu_count()} CPUs)")
-    except OSError:
-        pass
+    print_load_average()
     commands = cases()
     walls: dict[str, list[float]] = {name: [] for name in commands}
     peaks: dict[str, list[float]] = {name: [] for name in commands}

@@ -22,26 +22,16 @@ from typing import Any
 
 import numpy as np
 
-from floebreak.app.build import (
-    as_scenario,
-    build_bow,
-    build_field,
-    build_model_for,
-    field_key,
-    set_up_warnings,
-    waterline_rule,
-)
-from floebreak.app.run_directory import (
-    CONTACTS_FILE,
-    FIGURES,
-    PIECE_FILES,
-    PIECES_FILE,
-    check_output_directory,
-    field_table,
-    file_checksums,
-    pieces_table,
-    write_run_directory,
-)
+from floebreak.app.build import as_scenario, build_bow, build_field, build_model_for, set_up_warnings
+from floebreak.app.build import field_key as field_key  # re-exported (`as`), as the names below
+from floebreak.app.build import waterline_rule as waterline_rule
+from floebreak.app.run_directory import CONTACTS_FILE, pieces_table, write_run_directory
+from floebreak.app.run_directory import FIGURES as FIGURES
+from floebreak.app.run_directory import PIECE_FILES as PIECE_FILES
+from floebreak.app.run_directory import PIECES_FILE as PIECES_FILE
+from floebreak.app.run_directory import check_output_directory as check_output_directory
+from floebreak.app.run_directory import field_table as field_table
+from floebreak.app.run_directory import file_checksums as file_checksums
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField
 from floebreak.io.contacts import ContactFile, read_contacts
@@ -49,29 +39,6 @@ from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.results import ContactRecorder, ContactRecords, empty_contacts, piece_table, summary
 from floebreak.scenario import Scenario
 from floebreak.simulation import MAX_PIECES_DEFAULT, Callback, SimulationParams, SimulationResult, simulate
-
-__all__ = [
-    "CONTACTS_FILE",
-    "FIGURES",
-    "FIGURE_WINDOW_M",
-    "PIECES_FILE",
-    "PIECE_FILES",
-    "Result",
-    "as_scenario",
-    "build_bow",
-    "build_field",
-    "build_model_for",
-    "check_output_directory",
-    "field_key",
-    "field_table",
-    "file_checksums",
-    "pieces_table",
-    "plot_field_figure",
-    "run",
-    "set_up_warnings",
-    "waterline_rule",
-    "write_run_directory",
-]
 
 # the run directory's figures of a longer field or transit show its first this many metres: its whole length
 # would be a sliver of pixels, and drawing it holds every polygon once more (benchmarks/README.md, memory)
