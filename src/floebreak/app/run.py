@@ -42,6 +42,7 @@ import numpy as np
 import shapely
 
 from floebreak import constants as c
+from floebreak.app.surge import surge_summary, write_surge_series
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons, first_overlap
 from floebreak.io.atomic import atomic_directory
@@ -533,7 +534,9 @@ def run(
         "wall_time_s": time.perf_counter() - started,
     }
     path = None if contacts_file is None else contacts_file.path
-    return Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path)
+    result = Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path)
+    result.summary.update(surge_summary(result))  # only with ship.propulsion (app/surge.py)
+    return result
 
 
 def set_up_warnings(scenario: Scenario, bow) -> list[str]:
@@ -746,6 +749,7 @@ def _write_run_files(
             lambda rows: (sim.polygons(rows), {k: v[rows] for k, v in columns.items()}),
             {**result.provenance("pieces"), **stepping},
         )
+        write_surge_series(temp, result)  # surge.csv, only with ship.propulsion
         summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
         write_json(temp / "summary.json", summary_doc)
         header = (
