@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from floebreak.io.provenance import floebreak_version
 from floebreak.io.writers import write_csv
 from floebreak.ship.surge import SurgeResult, integrate_surge, longitudinal_ice_force_n
 
@@ -57,7 +58,8 @@ def write_surge_series(run_dir: str | os.PathLike[str], result: Result) -> None:
     if surge is None:
         return
     comments = [
-        "ship surge under ship.propulsion (docs/model.md, Ship surge)",
+        f"ship surge under ship.propulsion (docs/model.md, Ship surge); floebreak {floebreak_version()}, "
+        f"scenario_hash = {result.summary['scenario_hash']}",
         "ice_force_x_n: longitudinal ice force on the bow on arrival at bow_x_m (before the breaks there)",
         "ice_force_x_after_breaks_n: the same after the breaks at bow_x_m",
     ]
