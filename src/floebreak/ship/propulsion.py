@@ -9,14 +9,14 @@ ice force must exceed it for the ship to slow down (docs/model.md, "Ship surge")
   open-water speed (T_net(V_ow) = 0: thrust and open-water resistance balance there).
 - ``"power"``: the thrust a delivered power gives, T(V) = min(T_B, η_D·P_D/V) (effective power
   R·V = η_D·P_D, η_D the quasi-propulsive efficiency; e.g. Molland, Turnock & Hudson 2017, *Ship Resistance
-  and Propulsion*, §§ 2.2, 16.2), less an open-water resistance quadratic in speed, R_ow(V) = R_ow(V_ow)·
+  and Propulsion*, 2nd ed.), less an open-water resistance quadratic in speed, R_ow(V) = R_ow(V_ow)·
   (V/V_ow)², through the balance point R_ow(V_ow) = T(V_ow) (a constant resistance coefficient, as in the
   FSICR background's R_ow ∝ V²).
 - ``"table"``: net thrust at given speeds (a measured or designed curve), linear between them; the speeds
   rise from 0 and the net thrust falls from the bollard pull (> 0) to ≤ 0 (the open-water speed lies inside).
 
 `bollard_pull_estimate_n`: the estimate of the Finnish-Swedish ice class rules (FSICR, engine output
-requirement, §3.2.2 of the 2010 and 2017 rules), T_B = K_e·(P·D_P)^(2/3) with T_B in kN, P in kW and D_P in m;
+requirement), T_B = K_e·(P·D_P)^(2/3) with T_B in kN, P in kW and D_P in m;
 K_e 0.78 / 0.98 / 1.21 for one / two / three CP or electrically driven propellers (docs/model.md records
 which of these values a second source confirms).
 """
@@ -33,8 +33,8 @@ from floebreak.errors import InputError, require_range
 
 PropulsionModel = Literal["bollard_pull", "power", "table"]
 
-SURGE_ADDED_MASS = 0.05  # −X_u̇/m of a ship in surge: ≈ 0.05 (Söding 1982, as given by Fossen 2011, §6.4)
-# FSICR §3.2.2, K_e for 1, 2, 3 CP or electrically driven propellers (FP propellers: 0.72, 0.90, 1.12)
+SURGE_ADDED_MASS = 0.05  # −X_u̇/m of a ship in surge: ≈ 0.05 (Söding 1982, as given by Fossen 2011)
+# FSICR, K_e for 1, 2, 3 CP or electrically driven propellers (FP propellers: 0.72, 0.90, 1.12)
 FSICR_KE = {1: 0.78, 2: 0.98, 3: 1.21}
 
 KEY = "ship.propulsion"
@@ -53,7 +53,7 @@ def power_thrust_n(speed_m_s, delivered_power_w: float, efficiency: float, bolla
 
 
 def bollard_pull_estimate_n(power_w: float, propeller_diameter_m: float, n_propellers: int = 2) -> float:
-    """T_B = K_e·(P·D_P)^(2/3) (FSICR 2017 §3.2.2; kN with P in kW and D_P in m), in N."""
+    """T_B = K_e·(P·D_P)^(2/3) (FSICR engine-output requirement; kN with P in kW and D_P in m), in N."""
     require_range("power_w", power_w, low=0.0, unit="W")
     require_range("propeller_diameter_m", propeller_diameter_m, low=0.0, unit="m")
     if n_propellers not in FSICR_KE:
