@@ -99,6 +99,7 @@ STEP_M = (1.0e-3, 10.0)  # bow advance per step: below 1 mm a transit takes mill
 SPEED_M_S = (0.0, 20.0)  # ship speed: 20 m/s ≈ 39 kn is above any ice-going ship's top speed in open water
 # p_h sets how many uniforms are drawn per floe (random numbers = floes × p_h)
 THICKNESS_SUMMANDS = (1, 10_000)
+THRUST_N = 1.0e8  # |thrust|: 100 MN, ≈ 10 × the bollard pull of the most powerful icebreakers
 PROPELLER_COUNT = (1, 8)  # ice-going ships have 1–4 propellers (Agulhas II 2, thesis §6.1); 8 leaves room
 WALL_S_MAX = 30 * 86_400.0  # simulation.max_wall_s: a month
 SEED_MAX = 2**63 - 1  # seeds are TOML integers: signed 64 bit (TOML 1.0)
@@ -321,24 +322,12 @@ class PropulsionSection(_Section):
     the ice force; without it, the ship sails at the prescribed ship.speed_m_s (`ship.propulsion`)."""
 
     model: Literal["bollard_pull", "power", "table"] = Field(
+        "bollard_pull",
         description="net thrust T_net(V): bollard_pull (Juva & Riska 2002: T_B·(1 − V/3V_ow − 2V²/3V_ow²)), "
-        "power (min(T_B, η_D·P_D/V) less R_ow ∝ V²) or table (speeds_m_s, net_thrust_n)"
-    )
-    displacement_kg: Float = Field(
-        gt=0.0,
-        le=1.0e9,
-        description="displacement Δ [kg] (Agulhas II: 13 687 t); the effective mass is "
-        "Δ·(1 + added_mass_coefficient)",
-    )
-    added_mass_coefficient: Float = Field(
-        SURGE_ADDED_MASS,
-        ge=0.0,
-        le=1.0,
-        description="surge added mass / displacement [-] (default 0.05: Söding 1982 via Fossen 2011; "
-        "0.05–0.1 for ships)",
+        "power (min(T_B, η_D·P_D/V) less R_ow ∝ V²) or table (speeds_m_s, net_thrust_n)",
     )
     bollard_pull_n: Float | None = Field(
-        None, gt=0.0, le=1.0e8, description="bollard pull T_B [N] (models bollard_pull, power)"
+        None, gt=0.0, le=THRUST_N, description="bollard pull T_B [N] (models bollard_pull, power)"
     )
     open_water_speed_m_s: Float | None = Field(
         None,
@@ -353,13 +342,28 @@ class PropulsionSection(_Section):
     propulsive_efficiency: Float | None = Field(
         None, gt=0.0, le=1.0, description="quasi-propulsive efficiency η_D [-] (model power)"
     )
-    speeds_m_s: list[Float] | None = Field(
+    speeds_m_s: list[Annotated[Float, Field(ge=0.0, le=SPEED_M_S[1])]] | None = Field(
         None, description="speeds of the net-thrust table [m/s], rising strictly from 0 (model table)"
     )
-    net_thrust_n: list[Float] | None = Field(
+    net_thrust_n: list[Annotated[Float, Field(ge=-THRUST_N, le=THRUST_N)]] | None = Field(
         None,
         description="net thrust T_net = T − R_ow at speeds_m_s [N], falling strictly from the bollard pull "
         "(> 0) to ≤ 0 (model table)",
+    )
+    added_mass_coefficient: Float = Field(
+        SURGE_ADDED_MASS,
+        ge=0.0,
+        le=1.0,
+        description="surge added mass / displacement [-] (default 0.05: Söding 1982 via Fossen 2011; "
+        "0.05–0.1 for ships)",
+    )
+    # the displacement last: pydantic reports errors in field order, so a value out of range above is
+    # named first, before a missing displacement
+    displacement_kg: Float = Field(
+        gt=0.0,
+        le=1.0e9,
+        description="displacement Δ [kg] (Agulhas II: 13 687 t); the effective mass is "
+        "Δ·(1 + added_mass_coefficient)",
     )
 
     @model_validator(mode="after")
