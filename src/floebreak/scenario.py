@@ -51,6 +51,7 @@ from pydantic_core import PydanticCustomError
 from floebreak import constants as c
 from floebreak.errors import InputError, field_bounds
 from floebreak.ship.hulls import HULLS, hull_parameter_ranges
+from floebreak.ship.propulsion import SURGE_ADDED_MASS, Propulsion
 
 REFERENCE_OBSERVATION = "2019-12-18T20:20"  # thesis §5.3 reference scenario (Table 1, first row)
 
@@ -98,6 +99,7 @@ STEP_M = (1.0e-3, 10.0)  # bow advance per step: below 1 mm a transit takes mill
 SPEED_M_S = (0.0, 20.0)  # ship speed: 20 m/s ≈ 39 kn is above any ice-going ship's top speed in open water
 # p_h sets how many uniforms are drawn per floe (random numbers = floes × p_h)
 THICKNESS_SUMMANDS = (1, 10_000)
+THRUST_N = 1.0e8  # |thrust|: 100 MN, ≈ 10 × the bollard pull of the most powerful icebreakers
 PROPELLER_COUNT = (1, 8)  # ice-going ships have 1–4 propellers (Agulhas II 2, thesis §6.1); 8 leaves room
 WALL_S_MAX = 30 * 86_400.0  # simulation.max_wall_s: a month
 SEED_MAX = 2**63 - 1  # seeds are TOML integers: signed 64 bit (TOML 1.0)
@@ -315,6 +317,91 @@ class IceSection(_Section):
         return self
 
 
+class PropulsionSection(_Section):
+    """The ship's propulsion in ice (docs/model.md, "Ship surge"): with it, the ship's speed follows from
+    the ice force; without it, the ship sails at the prescribed ship.speed_m_s (`ship.propulsion`)."""
+
+    model: Literal["bollard_pull", "power", "table"] = Field(
+        "bollard_pull",
+        description="net thrust T_net(V): bollard_pull (Juva & Riska 2002: T_B·(1 − V/3V_ow − 2V²/3V_ow²)), "
+        "power (min(T_B, η_D·P_D/V) less R_ow ∝ V²) or table (speeds_m_s, net_thrust_n)",
+    )
+    bollard_pull_n: Float | None = Field(
+        None, gt=0.0, le=THRUST_N, description="bollard pull T_B [N] (models bollard_pull, power)"
+    )
+    open_water_speed_m_s: Float | None = Field(
+        None,
+        gt=0.0,
+        le=SPEED_M_S[1],
+        description="open-water speed V_ow [m/s], where thrust and open-water resistance balance "
+        "(models bollard_pull, power)",
+    )
+    delivered_power_w: Float | None = Field(
+        None, gt=0.0, le=1.0e9, description="delivered power P_D [W] (model power)"
+    )
+    propulsive_efficiency: Float | None = Field(
+        None, gt=0.0, le=1.0, description="quasi-propulsive efficiency η_D [-] (model power)"
+    )
+    speeds_m_s: list[Annotated[Float, Field(ge=0.0, le=SPEED_M_S[1])]] | None = Field(
+        None, description="speeds of the net-thrust table [m/s], rising strictly from 0 (model table)"
+    )
+    net_thrust_n: list[Annotated[Float, Field(ge=-THRUST_N, le=THRUST_N)]] | None = Field(
+        None,
+        description="net thrust T_net = T − R_ow at speeds_m_s [N], falling strictly from the bollard pull "
+        "(> 0) to ≤ 0 (model table)",
+    )
+    added_mass_coefficient: Float = Field(
+        SURGE_ADDED_MASS,
+        ge=0.0,
+        le=1.0,
+        description="surge added mass / displacement [-] (default 0.05: Söding 1982 via Fossen 2011; "
+        "0.05–0.1 for ships)",
+    )
+    # the displacement last: pydantic reports errors in field order, so a value out of range above is
+    # named first, before a missing displacement
+    displacement_kg: Float = Field(
+        gt=0.0,
+        le=1.0e9,
+        description="displacement Δ [kg] (Agulhas II: 13 687 t); the effective mass is "
+        "Δ·(1 + added_mass_coefficient)",
+    )
+
+    @model_validator(mode="after")
+    def _complete(self) -> PropulsionSection:
+        used = _PROPULSION_KEYS[self.model]
+        for name in sorted(set().union(*_PROPULSION_KEYS.values()) - used):
+            if getattr(self, name) is not None:
+                raise _cross(name, f"not used by model = {self.model!r}", ", ".join(sorted(used)))
+        try:
+            self.to_propulsion()
+        except InputError as error:
+            message = str(error).removeprefix(f"{error.field}: ")
+            raise _cross(error.field.removeprefix("ship.propulsion."), message, error.allowed) from None
+        return self
+
+    def to_propulsion(self) -> Propulsion:
+        """The `floebreak.ship.propulsion.Propulsion` of this table (which checks the table's shape)."""
+        return Propulsion(
+            model=self.model,
+            displacement_kg=self.displacement_kg,
+            added_mass_coefficient=self.added_mass_coefficient,
+            bollard_pull_n=self.bollard_pull_n,
+            open_water_speed_m_s=self.open_water_speed_m_s,
+            delivered_power_w=self.delivered_power_w,
+            propulsive_efficiency=self.propulsive_efficiency,
+            speeds_m_s=tuple(self.speeds_m_s or ()),
+            net_thrust_n=tuple(self.net_thrust_n or ()),
+        )
+
+
+# the keys each propulsion model takes (the others must be left out)
+_PROPULSION_KEYS = {
+    "bollard_pull": {"bollard_pull_n", "open_water_speed_m_s"},
+    "power": {"bollard_pull_n", "open_water_speed_m_s", "delivered_power_w", "propulsive_efficiency"},
+    "table": {"speeds_m_s", "net_thrust_n"},
+}
+
+
 class ShipSection(_Section):
     """The ship: a built-in parametric hull (physics-notes §6.3) or a bow CSV file; the step (thesis §3.2)."""
 
@@ -355,9 +442,14 @@ class ShipSection(_Section):
         c.SHIP_SPEED_IN_ICE_M_S,
         gt=SPEED_M_S[0],
         le=SPEED_M_S[1],
-        description="ship speed in ice [m/s]: time base of the propeller load rates, not used by the "
-        "quasi-static breaking (default 3 m/s, thesis §6.3 Eq. 28); at most 20 m/s ≈ 39 kn, above any "
-        "ice-going ship's top speed in open water",
+        description="ship speed in ice [m/s]: time base of the propeller load rates (with ship.propulsion: "
+        "the speed entering the field), not used by the quasi-static breaking (default 3 m/s, thesis §6.3 "
+        "Eq. 28); at most 20 m/s ≈ 39 kn, above any ice-going ship's top speed in open water",
+    )
+    propulsion: PropulsionSection | None = Field(
+        None,
+        description="propulsion in ice: the ship's speed then follows from the ice force, entering the field "
+        "at speed_m_s (docs/model.md, Ship surge); default: the prescribed constant speed_m_s",
     )
 
     _resolve_file = field_validator("file")(_resolve_path)

@@ -32,6 +32,7 @@ from floebreak.app.run_directory import PIECES_FILE as PIECES_FILE
 from floebreak.app.run_directory import check_output_directory as check_output_directory
 from floebreak.app.run_directory import field_table as field_table
 from floebreak.app.run_directory import file_checksums as file_checksums
+from floebreak.app.surge import surge_summary
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField
 from floebreak.io.contacts import ContactFile, read_contacts
@@ -237,7 +238,9 @@ def run(
         "wall_time_s": time.perf_counter() - started,
     }
     path = None if contacts_file is None else contacts_file.path
-    return Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path)
+    result = Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path)
+    result.summary.update(surge_summary(result))  # only with ship.propulsion (app/surge.py)
+    return result
 
 
 def _total_bounds(bounds: np.ndarray) -> np.ndarray:

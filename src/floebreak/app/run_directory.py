@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
+from floebreak.app.surge import write_surge_series
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField
 from floebreak.io.atomic import atomic_directory
@@ -227,6 +228,7 @@ def _write_run_files(
             lambda rows: (sim.polygons(rows), {k: v[rows] for k, v in columns.items()}),
             {**result.provenance("pieces"), **stepping},
         )
+        write_surge_series(temp, result)  # surge.csv, only with ship.propulsion
         summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
         write_json(temp / "summary.json", summary_doc)
         header = (

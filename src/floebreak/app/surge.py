@@ -1,0 +1,75 @@
+"""Ship surge of a run (``[ship.propulsion]``): the speed and ice-force series and its summary.
+
+Without ``ship.propulsion`` the ship sails at the prescribed ``ship.speed_m_s`` and nothing here runs. With
+it, the ship enters the field at ``ship.speed_m_s`` and its speed follows from the run's longitudinal ice
+force (`floebreak.ship.surge`): the breaking is quasi-static, so the stepping loop is the same either way.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from floebreak.io.provenance import floebreak_version
+from floebreak.io.writers import write_csv
+from floebreak.ship.surge import SurgeResult, integrate_surge, longitudinal_ice_force_n
+
+if TYPE_CHECKING:
+    from floebreak.app.run import Result
+
+SURGE_FILE = "surge.csv"
+
+
+def surge_of(result: Result) -> SurgeResult | None:
+    """The ship's surge along the run's transit, None without ``ship.propulsion``."""
+    section = result.scenario.ship.propulsion
+    if section is None:
+        return None
+    propulsion = section.to_propulsion()
+    sim = result.simulation
+    contacts = result.contacts
+    arrival, after = longitudinal_ice_force_n(
+        sim.n_steps,
+        contacts["step"],
+        contacts["piece_id"],
+        contacts["panel"],
+        contacts["f_h_n"],
+        np.asarray(contacts["outcome"]) != "no_failure",
+        sim.parent_piece_id,
+        np.asarray(sim.bow.panel_normals, dtype=float)[:, 0],
+    )
+    x = sim.params.x_start_m + sim.params.step_m * np.arange(sim.n_steps)
+    return integrate_surge(x, arrival, after, propulsion, result.scenario.ship.speed_m_s)
+
+
+def surge_summary(result: Result) -> dict[str, Any]:
+    """``{"surge": {...}}`` for the run summary (stuck, where, mean ice resistance, speeds), or {}."""
+    surge = surge_of(result)
+    return {} if surge is None else {"surge": surge.summary()}
+
+
+def write_surge_series(run_dir: str | os.PathLike[str], result: Result) -> None:
+    """Write ``surge.csv`` (bow position, time, speed, longitudinal ice force) into `run_dir` if the run
+    has ``ship.propulsion``."""
+    surge = surge_of(result)
+    if surge is None:
+        return
+    comments = [
+        f"ship surge under ship.propulsion (docs/model.md, Ship surge); floebreak {floebreak_version()}, "
+        f"scenario_hash = {result.summary['scenario_hash']}",
+        "ice_force_x_n: longitudinal ice force on the bow on arrival at bow_x_m (before the breaks there)",
+        "ice_force_x_after_breaks_n: the same after the breaks at bow_x_m",
+    ]
+    if surge.stuck:
+        comments.append(f"stuck at bow_x_m = {surge.stuck_at_bow_x_m!r} (the last row)")
+    columns = {
+        "bow_x_m": surge.bow_x_m,
+        "time_s": surge.time_s,
+        "speed_m_s": surge.speed_m_s,
+        "ice_force_x_n": surge.ice_force_x_n,
+        "ice_force_x_after_breaks_n": surge.ice_force_x_after_breaks_n,
+    }
+    write_csv(Path(run_dir) / SURGE_FILE, columns, comments)
