@@ -13,7 +13,9 @@ h = 0.4 m is run (kept in DIR/seedN and reused when present), then the shaft cha
   `shaft_response`), the "before" figure;
 - one link swapped at a time from `default`: `all cusps` (no transport), `FEM torque` (the FEM table's
   torque and 2hZ impacts instead of the milling model), `constant rpm` (the linear line instead of the
-  drive, with the default chain's arrivals, impacts and milling torque at the nominal rpm).
+  drive, with the default chain's arrivals, impacts and milling torque at the nominal rpm), `rigid line`
+  (the drive on one rigid inertia: no 7.76 Hz shaft mode), `leading-edge contact` (the milling model
+  without the blade face's contact: chord → 0, so only the nose crushes; the blocks' impacts recomputed).
 
 Columns: cusps milled, shaft torque max and min, envelope of the range above 0.1 %/(kN·m) (10 kN·m bins),
 min rpm, and the issue's criteria against the measured −100…400 kN·m and 58–152 kN·m: max within
@@ -23,6 +25,7 @@ min rpm, and the issue's criteria against the measured −100…400 kN·m and 58
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import tempfile
 from pathlib import Path
 
@@ -40,6 +43,7 @@ from floebreak.shaft.analysis import (
     shaft_response,
     torque_densities,
 )
+from floebreak.shaft.drive import drive_for_line, simulate_drive, train_from_line
 from floebreak.shaft.excitation import impacts_per_cusp
 from floebreak.shaft.line import load_shaft_line
 
@@ -124,7 +128,40 @@ def chains(columns: dict, line, case: int) -> dict:
             port.arrival_s * SPEED_M_S, nominal, port.n_impacts / (2.0 * spec.blades), line, **common
         ),
     )
+    out["default, rigid line"] = (port.arrival_s.size, _rigid(port, line, case))
+    nose_blade = dataclasses.replace(port.blade, chord_07_m=1e-6)
+    nose = dataclasses.replace(
+        port, blade=nose_blade, n_impacts=impact_loads(port.block, nose_blade, spec.rpm, SPEED_M_S).n_impacts
+    )
+    out["default, leading-edge contact"] = (
+        port.arrival_s.size,
+        shaft_drive_response(nose.arrival_s, nose.n_impacts, nose.impact_torque_n_m, line, **common),
+    )
     return out
+
+
+class _RigidResult:
+    """The measures' view of a rigid-line drive run (one case)."""
+
+    def __init__(self, run, line):
+        self.shaft_torque_n_m, self.rpm, self.line = run.shaft_torque_n_m[None, :], run.rpm[None, :], line
+
+
+def _rigid(port, line, case: int) -> _RigidResult:
+    train = train_from_line(line, "intermediate_shaft", rigid=True)
+    from floebreak.shaft.line import with_operating_point
+
+    run = simulate_drive(
+        train,
+        drive_for_line(line),
+        port.arrival_s,
+        port.n_impacts,
+        port.impact_torque_n_m,
+        mean_torque_n_m=MEAN_TORQUE_N_M,
+        case=case,
+        free_blocks=True,
+    )
+    return _RigidResult(run, with_operating_point(line, None, MEAN_TORQUE_N_M))
 
 
 def _port_mask(columns: dict) -> np.ndarray:

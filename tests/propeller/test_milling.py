@@ -113,10 +113,13 @@ def test_monotone_in_thickness_and_length():
     beyond = h[:-1] >= AGULHAS.radius_m - AGULHAS.hub_radius_m
     assert np.all(np.diff(loads.torque_n_m)[beyond] == 0.0) and inside.any() and beyond.any()
     lengths = np.linspace(0.1, 8.0, 30)
-    by_length = impact_loads(block(1.0, lengths, 2.0), AGULHAS, 140.0, 3.0)
+    by_length = impact_loads(block(1.0, lengths, 2.0), AGULHAS, 140.0, 3.0, block_motion=None)
     assert np.all(np.diff(by_length.n_impacts) >= 0) and by_length.n_impacts[-1] > by_length.n_impacts[0]
-    assert np.ptp(by_length.torque_n_m) == 0.0  # the length sets the number of impacts, not their size
     cut = 3.0 / (4 * 140 / 60)
+    longer = lengths >= cut  # the length sets the number of impacts, not their size ...
+    assert np.ptp(by_length.torque_n_m[longer]) == 0.0
+    # ... except a block shorter than the cut depth: one impact cutting a layer as long as the block
+    assert np.all(by_length.torque_n_m[~longer] < by_length.torque_n_m[longer][0]) and (~longer).any()
     assert list(by_length.n_impacts) == [math.ceil(x / cut - 1e-12) for x in lengths]
     assert by_length.milling_time_s == pytest.approx(lengths / 3.0)
 
@@ -182,3 +185,39 @@ def test_bad_operation_block_and_ice_name_the_key():
         IceStrength(area_exponent=0.2)
     with pytest.raises(InputError, match="strips"):
         impact_loads(block(1.0), AGULHAS, 140.0, 3.0, strips=0)
+
+
+def test_the_impact_torque_at_1_m_exceeds_the_rules_thickness_scaling():
+    """The failing link of the PC5 lifetime row (docs/propeller.md §10): a 1 m block at 95.86 % pitch,
+    140 rpm and 3 m/s gives a per-impact torque more than twice the rule's PC5 Q_max (H_ice = 2 m) scaled
+    to H_ice = 1 m by the rule's H_ice^1.1 (its branch for D > 1.8 H_ice: 4.3 m > 1.8 m), whatever the
+    block's length and width (the thickness, its radial extent, sets it)."""
+    from floebreak.propeller.iceclass import ur_i3_loads
+
+    q_rule_1m = ur_i3_loads(PropellerSpec(), "PC5").max_torque_nm * (1.0 / 2.0) ** 1.1
+    loads = impact_loads(
+        block(1.0, np.array([2.0, 4.0, 8.0]), np.array([1.5, 3.0, 6.0])), AGULHAS, 140.0, 3.0
+    )
+    assert np.ptp(loads.torque_n_m) == 0.0
+    assert loads.torque_n_m[0] > 2.0 * q_rule_1m
+
+
+def test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts():
+    """By hand for a 0.4 m × 2.5 m × 1.7 m block on the Agulhas II at 140 rpm, 3 m/s: Q per impact from the
+    model, contact radius r_c = 2.15 − 0.2 m, contact time t_c = (1.7 / r_c) / ω; the impulse
+    (2/π)(Q/r_c) t_c over the block's mass with its added mass (C_A = 1.21 at a/b = 4.25, DNV-RP-C205 Table
+    A-1, interpolated in log a/b) gives Δv; the block travels Δv Δt k(k+1)/2 after k impacts and leaves
+    the disc at √(R² − (R − h)²)."""
+    free = impact_loads(block(0.4, 2.5, 1.7), AGULHAS, 140.0, 3.0)
+    held = impact_loads(block(0.4, 2.5, 1.7), AGULHAS, 140.0, 3.0, block_motion=None)
+    assert held.torque_n_m[0] == free.torque_n_m[0]
+    assert held.n_impacts[0] == math.ceil(2.5 / (3.0 / (4 * 140 / 60))) == free.n_impacts_milled[0]
+    omega, r_c = 2 * math.pi * 140 / 60, 2.15 - 0.2
+    c_a = np.interp(math.log(1.7 / 0.4), np.log([2.0, 5.0]), [1.36, 1.21])
+    mass = 917 * 0.4 * 2.5 * 1.7 + c_a * 1025 * math.pi * 0.2**2 * 2.5
+    dv = 2 / math.pi * free.torque_n_m[0] / r_c * (1.7 / r_c) / omega / mass
+    exit_m = math.sqrt(2.15**2 - 1.75**2)
+    k = 1
+    while dv * (2 * math.pi / (4 * omega)) * k * (k + 1) / 2 < exit_m:
+        k += 1
+    assert free.n_impacts_thrown[0] == k == free.n_impacts[0] < held.n_impacts[0]

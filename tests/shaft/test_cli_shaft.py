@@ -213,10 +213,11 @@ def test_default_profile_mills_the_port_cusps_with_the_drive(tmp_path, cli):
     summary = json.loads((shaft / "summary.json").read_text())
     assert summary["shaft_model"] == "drive"
     assert summary["transport"]["reaching_port"] == len(PORT)
-    # blade impacts: ⌈length / cut depth⌉, cut depth V/(Z n) = 3 / (4 · 140/60) m
+    # blade impacts: at least one per cusp, at most ⌈length / cut depth⌉ (cut depth V/(Z n) =
+    # 3 / (4 · 140/60) m); fewer, since a free block is thrown out of the disc first (test_milling)
     length = np.array([3.7, 6.5, 2.0, 9.4, 1.0, 3.0])[PORT]
     drive = summary["drive"]["cases"]["1"]
-    assert drive["impacts"] == int(np.ceil(length / (3.0 / (4 * 140 / 60))).sum())
+    assert len(PORT) <= drive["impacts"] < int(np.ceil(length / (3.0 / (4 * 140 / 60))).sum())
     assert drive["complete"] and not drive["stalled"]
     assert 0 < drive["min_rpm"] < 140.0  # the ice slows the propeller
     # default limit: 1.6 × rated torque P/(2π n) = 1.6 × 4.5 MW / (2π · 140/60)

@@ -251,3 +251,48 @@ def test_bad_train_and_cusp_input_names_the_key():
     with pytest.raises(InputError) as error:
         run(float("nan"), 1)
     assert error.value.field == "impact_torque_n_m"
+
+
+def test_a_free_block_cannot_hold_a_stopped_propeller():
+    """free_blocks: at the stop the cusp's pulses end and its remaining impacts are dropped; the next cusp
+    is milled after the propeller has run up again (by hand: the same fall as above until the stop)."""
+    limit, q_ice = 1.5 * Q_MEAN, 2.0 * Q_MEAN
+    held = run(q_ice, 200, kp=2000.0, ki=4000.0, limit=limit, duration_s=12.0)
+    free = simulate_drive(
+        rigid_train(J),
+        MotorDrive(rpm_set=RPM, torque_limit_n_m=limit, kp_n_m_s_per_rad=2000.0, ki_n_m_per_rad=4000.0),
+        [1.0, 8.0],
+        [200, 3],
+        lambda c, rpm: q_ice,
+        mean_torque_n_m=Q_MEAN,
+        blades=Z,
+        case=STEP,
+        pulse="rectangular",
+        tail_s=3.0,
+        free_blocks=True,
+    )
+    assert free.stalled_at_s == pytest.approx(held.stalled_at_s, abs=1.5 * free.dt_s)
+    first = free.impact_cusp == 0
+    assert 0 < first.sum() < 200  # released at the stop, not milled through
+    after = free.time_s > free.stalled_at_s + 0.2
+    assert free.ice_torque_n_m[after & (free.time_s < 8.0)].max() == 0.0  # the block is gone
+    assert free.rpm[(free.time_s > 7.5) & (free.time_s < 8.0)].min() > 0.99 * RPM  # ran up again
+    assert (free.impact_cusp == 1).sum() == 3 and free.complete
+
+
+def test_one_blade_pulse_rings_the_first_mode_of_the_agulhas_line():
+    """The failing link of the §6.2 maximum (docs/shaft.md §6): case-1 pulses (0.75 Q over 90°, one per
+    blade passage at 9.33 Hz) ring the line's 7.76 Hz mode. Small pulses (linear range): the station torque
+    above the mean reaches 1.1–1.3 × the pulse peak for one pulse and ≥ 1.7 × for a train of three, while
+    a rigid line, without that mode, passes less than the pulse peak to the intermediate shaft."""
+    base = load_shaft_line("agulhas_ii")
+    drive, line = drive_for_line(base), with_operating_point(base, None, 105e3)
+
+    def amplification(n_impacts, rigid):
+        train = train_from_line(line, "intermediate_shaft", rigid=rigid)
+        r = simulate_drive(train, drive, [1.0], [n_impacts], lambda c, rpm: 20e3, mean_torque_n_m=105e3)
+        return (r.shaft_torque_n_m.max() - 105e3) / (0.75 * 20e3)
+
+    assert 1.1 < amplification(1, False) < 1.3
+    assert amplification(3, False) >= 1.7
+    assert amplification(3, True) < 0.9

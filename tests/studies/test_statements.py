@@ -8,6 +8,7 @@ import re
 import numpy as np
 import pytest
 
+from floebreak.studies.chain_statements import PC5_METRICS, shaft_range_measures
 from floebreak.studies.scoreboard import (
     bending_force_metrics,
     cusp_volume_metrics,
@@ -29,7 +30,7 @@ BY_ID = {st.id: st for st in STATEMENTS}
 def test_every_statement_has_source_quote_value_and_tolerance():
     assert len(BY_ID) == len(STATEMENTS)  # unique ids
     for st in STATEMENTS:
-        assert st.source.startswith("§") and st.quote and st.quantity, st.id
+        assert st.source.startswith(("§", "IACS UR I3")) and st.quote and st.quantity, st.id
         assert st.tolerance.kind in (
             "rel",
             "abs",
@@ -61,6 +62,7 @@ def test_every_metric_is_one_the_scoreboard_computes():
     keys |= {"torque_max_knm_p0", "torque_max_knm_p95", "torque_min_knm_p0", "torque_min_knm_p95"}
     case = {"n_cusps": 1, "cusp_area_m2": 1.0, "flipped_area_m2": 0.0, "initial_ice_area_m2": 1.0}
     keys |= set(single_floe_metrics({(10.0, 1.0, "e"): case, (10.0, 1.0, "a"): case, (10.0, 1.0, "c"): case}))
+    keys |= set(shaft_range_measures([0.0])) | set(PC5_METRICS)  # the chain rows (chain_statements)
     assert {st.metric for st in STATEMENTS} <= keys
 
 
@@ -184,7 +186,7 @@ def test_an_explained_deviation_names_its_test_and_the_demoted_rows_must_hold_ag
         assert tests, st.id
         for test_file, test_name in tests:
             assert f"def {test_name}(" in (root / test_file).read_text(encoding="utf-8"), (st.id, test_name)
-        assert "docs/model.md §" in st.explained
+        assert any(f"docs/{page}.md §" in st.explained for page in ("model", "shaft", "propeller")), st.id
 
 
 def test_the_thickness_trends_of_the_cusp_area_have_rough_size_rows():

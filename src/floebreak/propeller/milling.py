@@ -19,7 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from floebreak.constants import CRUSHING_STRENGTH_PA, FRICTION_COEFFICIENT
+from floebreak.constants import (
+    CRUSHING_STRENGTH_PA,
+    FRICTION_COEFFICIENT,
+    ICE_DENSITY_KG_M3,
+    SEAWATER_DENSITY_KG_M3,
+)
 from floebreak.errors import InputError, require_range
 from floebreak.propeller.cusps import box_dimensions
 from floebreak.propeller.spec import MAX_PROPELLER_RPM, PropellerSpec
@@ -30,6 +35,12 @@ B_SERIES_CHORD_FACTOR = (1.662, 1.882, 2.050, 2.152, 2.187, 2.144, 1.970, 1.582,
 DEFAULT_STRIPS = 64
 CHORD_DISTRIBUTIONS = ("b_series", "constant")
 MAX_ADVANCE_SPEED_M_S = 20.0  # far above any ship's speed in ice; bounds the input check only
+# 2-D added-mass coefficient C_A (added mass C_A ρ_w π b² per length) of a rectangle 2a along the motion by
+# 2b across it, against a/b: DNV-RP-C205 (2010), Appendix A, Table A-1 (values as published, not checked
+# against the text here)
+HELD_IMPACTS = 1 << 40  # impacts of a block that nothing throws (no advance of the block along the path)
+RECTANGLE_ASPECT = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0)
+RECTANGLE_ADDED_MASS = (2.23, 1.98, 1.70, 1.51, 1.36, 1.21, 1.14)
 
 
 def b_series_chord_factor(radius_ratio) -> np.ndarray:
@@ -155,6 +166,60 @@ class IceStrength:
 
 
 @dataclass(frozen=True)
+class BlockMotion:
+    """A free-floating block, thrown along the blade's path by the impacts (docs/propeller.md, "Blade
+    milling model", *Block thrown out of the disc*). `added_mass=False` leaves the water's added mass out
+    (the lightest block, fewest impacts)."""
+
+    ice_density_kg_m3: float = ICE_DENSITY_KG_M3
+    water_density_kg_m3: float = SEAWATER_DENSITY_KG_M3
+    added_mass: bool = True
+
+    def __post_init__(self) -> None:
+        require_range(
+            "block_motion.ice_density_kg_m3", self.ice_density_kg_m3, low=0.0, high=2e3, unit="kg/m³"
+        )
+        require_range(
+            "block_motion.water_density_kg_m3", self.water_density_kg_m3, low=0.0, high=2e3, unit="kg/m³"
+        )
+
+    def effective_mass_kg(self, thickness_m, length_m, width_m) -> np.ndarray:
+        """ρ_i h L W plus, sliding sideways (along its width, thickness across the motion), the 2-D added
+        mass C_A(a/b) ρ_w π (h/2)² L with a/b = W/h (DNV-RP-C205 Table A-1, clipped to its range)."""
+        h, length, w = (np.asarray(a, dtype=float) for a in (thickness_m, length_m, width_m))
+        mass = self.ice_density_kg_m3 * h * length * w
+        if not self.added_mass:
+            return mass
+        with np.errstate(divide="ignore", invalid="ignore"):
+            aspect = np.clip(np.where(h > 0.0, w / np.where(h > 0.0, h, 1.0), 10.0), 0.1, 10.0)
+        c_a = np.interp(np.log(aspect), np.log(RECTANGLE_ASPECT), RECTANGLE_ADDED_MASS)
+        return mass + c_a * self.water_density_kg_m3 * math.pi * (0.5 * h) ** 2 * length
+
+
+def impacts_before_thrown(
+    torque_n_m, contact_radius_m, impact_angle_rad, exit_distance_m, mass_kg, rpm, blades: int
+) -> np.ndarray:
+    """Blade impacts a free block takes before it is thrown out of the disc (≥ 1; a large int when held).
+
+    Each impact pushes the block along the blade's path with the impulse J = (2/π) (Q/r_c) t_c of a
+    half-sine contact force of peak Q/r_c over the contact time t_c = (impact angle)/ω; the block gains
+    Δv = J/m per impact and after k impacts has moved x_k = Δv Δt k(k+1)/2 (Δt = 1/(Z n) between
+    impacts). It leaves the swept annulus once x_k reaches the exit distance √(R² − r_in²) (a straight
+    path from the block's inner face to the disc's rim), so the impacts are the least k with x_k ≥ that.
+    """
+    q = np.abs(np.asarray(torque_n_m, dtype=float))
+    omega = 2.0 * math.pi * np.asarray(rpm, dtype=float) / 60.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        contact_s = np.where(omega > 0.0, impact_angle_rad / np.where(omega > 0.0, omega, 1.0), 0.0)
+        dv = 2.0 / math.pi * q / contact_radius_m * contact_s / mass_kg
+        passage_s = np.where(omega > 0.0, 2.0 * math.pi / (blades * np.where(omega > 0.0, omega, 1.0)), 0.0)
+        ratio = exit_distance_m / (dv * passage_s)
+        k = np.ceil((np.sqrt(1.0 + 8.0 * ratio) - 1.0) / 2.0 - 1e-12)
+    big = float(HELD_IMPACTS)
+    return np.where(np.isfinite(k), np.clip(k, 1.0, big), big).astype(np.int64)
+
+
+@dataclass(frozen=True)
 class IceBlock:
     """Ice blocks (arrays of equal shape): thickness = radial extent in the disc, length along the shaft
     axis, width across it."""
@@ -190,8 +255,10 @@ class ImpactLoads:
 
     torque_n_m: ice torque about the shaft, positive against the rotation. force_n: |axial blade force|;
     axial_force_aft_n: the same signed, positive aft (a backward force, contact on the blade back).
-    cut_depth_m: advance per blade passage V_a/(Z n). n_impacts: blade impacts to mill the block through,
-    ceil(length / cut depth) (0 without advance or rotation). impact_angle_deg: shaft angle the blade turns
+    cut_depth_m: advance per blade passage V_a/(Z n). n_impacts: blade impacts on the block, the lesser of
+    n_impacts_milled = ceil(length / cut depth) (to mill it through; 0 without advance or rotation) and
+    n_impacts_thrown (`impacts_before_thrown`: a free block is thrown out of the disc; HELD_IMPACTS for a
+    held block, `block_motion=None`). impact_angle_deg: shaft angle the blade turns
     inside the block (width over the mean contact radius). removed_fraction: the part of the advancing
     layer the blade's frontal width removes, Σ(w_n + w_f)Δr / Σ s Δr; below 1 the rest is not cut (where
     the section is narrower than the layer, e.g. near a B-series tip or at low pitch): the block is then
@@ -209,6 +276,8 @@ class ImpactLoads:
     impact_angle_deg: np.ndarray
     milling_time_s: np.ndarray
     removed_fraction: np.ndarray
+    n_impacts_milled: np.ndarray
+    n_impacts_thrown: np.ndarray
 
 
 def cut_depth_m(advance_speed_m_s, rpm, blades: int) -> np.ndarray:
@@ -219,14 +288,17 @@ def cut_depth_m(advance_speed_m_s, rpm, blades: int) -> np.ndarray:
         return np.where(v > 0.0, np.where(n > 0.0, v / (blades * np.where(n > 0.0, n, 1.0)), np.inf), 0.0)
 
 
-def section_contact(radius_m, chord_m, thickness_m, pitch_m, rpm, advance_speed_m_s, blades: int):
+def section_contact(
+    radius_m, chord_m, thickness_m, pitch_m, rpm, advance_speed_m_s, blades: int, layer_fraction=1.0
+):
     """Contact widths of a blade section with the layer it mills (per unit radial length).
 
     Kinematics: β = atan(V_a / (ω r)) (advance angle), φ = atan(P / (2π r)) (pitch angle, thesis Eq. 22),
     α = φ − β. The layer each blade removes, measured across the section's path relative to the ice, is
     s = h cos β = 2π r V_a / (Z U) with U = √(V_a² + (ω r)²). The section's frontal width across its path
     is t|cos α| (the nose) + c|sin α| (the face if α > 0, the back if α < 0); only the part inside the layer
-    meets ice: nose w_n = min(t|cos α|, s), flank w_f = min(c|sin α|, s − w_n).
+    meets ice: nose w_n = min(t|cos α|, s), flank w_f = min(c|sin α|, s − w_n). `layer_fraction` (≤ 1)
+    scales s where the block is shorter along the axis than the cut depth (its last, partial layer).
     Returns (w_n, w_f, flank contact length along the chord, α, β, φ, s).
     """
     r = np.asarray(radius_m, dtype=float)
@@ -238,6 +310,7 @@ def section_contact(radius_m, chord_m, thickness_m, pitch_m, rpm, advance_speed_
     alpha = phi - beta
     with np.errstate(divide="ignore", invalid="ignore"):
         layer = np.where(speed > 0.0, 2.0 * math.pi * r * v / (blades * np.where(speed > 0, speed, 1.0)), 0.0)
+        layer = layer * layer_fraction
         nose = np.minimum(np.asarray(thickness_m, dtype=float) * np.abs(np.cos(alpha)), layer)
         sin_a = np.abs(np.sin(alpha))
         flank = np.minimum(np.asarray(chord_m, dtype=float) * sin_a, layer - nose)
@@ -285,6 +358,7 @@ def impact_loads(
     advance_speed_m_s,
     ice: IceStrength | None = None,
     strips: int = DEFAULT_STRIPS,
+    block_motion: BlockMotion | None = BlockMotion(),
 ) -> ImpactLoads:
     """Ice torque and axial force of one blade impact on each block, and the impacts to mill it through.
 
@@ -292,7 +366,10 @@ def impact_loads(
     e = min(thickness, R − r_hub), each strip counting with its overlap and the overlap's mid radius. The
     contact area A = Σ (w_n + w_f / |sin α|) Δr sets one pressure p(A) for the blade (process
     pressure–area), and Q = Σ r · (force against rotation), F = Σ axial force (`strip_forces`).
-    rpm and advance_speed_m_s broadcast against the blocks, so a drive model can pass its changing rpm.
+    The layer is at most the block's length along the axis (a block shorter than the cut depth is cut
+    once, by its length). `block_motion`: the block is free and thrown out of the disc after
+    `impacts_before_thrown` impacts (None: held, every block milled through). rpm and advance_speed_m_s
+    broadcast against the blocks, so a drive model can pass its changing rpm.
     """
     if isinstance(strips, bool) or int(strips) != strips or not 1 <= strips <= 10_000:
         raise InputError("strips", f"{strips!r} is not an integer in [1, 10000]", value=strips)
@@ -307,6 +384,9 @@ def impact_loads(
     inner = np.maximum(edges[:-1], (radius - extent)[..., None])
     overlap = np.clip(edges[1:] - inner, 0.0, None)
     mid = np.where(overlap > 0.0, 0.5 * (inner + edges[1:]), edges[1:])
+    cut = cut_depth_m(speed, rpm, blade.blades)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fraction = np.where(cut > length, length / np.where(cut > 0.0, cut, 1.0), 1.0)
     nose, flank, flank_length, alpha, beta, phi, layer = section_contact(
         mid,
         blade.chord_m(mid),
@@ -315,6 +395,7 @@ def impact_loads(
         rpm[..., None],
         speed[..., None],
         blade.blades,
+        fraction[..., None],
     )
     nose_area, flank_area = nose * overlap, flank_length * overlap
     area = np.sum(nose_area + flank_area, axis=-1)
@@ -324,22 +405,30 @@ def impact_loads(
     layer_area = np.sum(layer * overlap, axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):
         removed = np.where(layer_area > 0.0, np.sum((nose + flank) * overlap, axis=-1) / layer_area, 1.0)
-    cut = cut_depth_m(speed, rpm, blade.blades)
     finite = np.isfinite(cut) & (cut > 0.0)
-    n_impacts = np.where(finite, np.ceil(length / np.where(finite, cut, 1.0) - 1e-12), 0).astype(int)
+    milled = np.where(finite, np.ceil(length / np.where(finite, cut, 1.0) - 1e-12), 0).astype(np.int64)
     centre = radius - 0.5 * extent
+    angle = np.minimum(width / centre, math.pi)
+    torque = np.sum(resisting * mid, axis=-1)
+    thrown = np.full(milled.shape, HELD_IMPACTS, dtype=np.int64)
+    if block_motion is not None:
+        exit_m = np.sqrt(np.maximum(radius**2 - (radius - extent) ** 2, 0.0))
+        mass = block_motion.effective_mass_kg(thickness, length, width)
+        thrown = impacts_before_thrown(torque, centre, angle, exit_m, mass, rpm, blade.blades)
     with np.errstate(divide="ignore", invalid="ignore"):
         milling_time = np.where(speed > 0.0, length / np.where(speed > 0.0, speed, 1.0), np.inf)
     return ImpactLoads(
-        torque_n_m=np.sum(resisting * mid, axis=-1),
+        torque_n_m=torque,
         force_n=np.abs(axial),
         axial_force_aft_n=axial,
         cut_depth_m=cut,
-        n_impacts=n_impacts,
+        n_impacts=np.minimum(milled, thrown),
         contact_area_m2=area,
         pressure_pa=pressure,
         radial_extent_m=extent,
-        impact_angle_deg=np.degrees(np.minimum(width / centre, math.pi)),
+        impact_angle_deg=np.degrees(angle),
         milling_time_s=milling_time,
         removed_fraction=np.where(layer_area > 0.0, removed, 1.0),
+        n_impacts_milled=milled,
+        n_impacts_thrown=thrown,
     )

@@ -174,7 +174,8 @@ def shaft_drive_response(
 
     Per cusp: arrival at the propeller [s], blade impacts, and `impact_torque_n_m(cusp, rpm)` [N·m] at the
     rpm of each blade passage. The torque limit defaults to `drive_for_line`'s (overload factor × the
-    line's rated torque P/(2π n); a line without rated power: its mean torque). Cases after the first run
+    line's rated torque P/(2π n); a line without rated power: its mean torque). The cusps are free blocks
+    (`simulate_drive(free_blocks=True)`: a stopped propeller pushes its block away). Cases after the first run
     for the first case's duration, on its time axis (resampled linearly if their step differs).
     """
     rated = None if line.rated_power_w is not None else line.mean_torque()
@@ -203,6 +204,7 @@ def shaft_drive_response(
                 case=case,
                 tail_s=tail_s,
                 duration_s=None if not runs else float(runs[0].time_s[-1]) + runs[0].dt_s,
+                free_blocks=True,
             )
         )
     t = runs[0].time_s

@@ -389,6 +389,13 @@ class _Schedule:
         self.impacts.append((time_s, cusp, amplitude, rpm))
         self.done += 1
 
+    def release(self) -> None:
+        """A free block cannot hold a stopped blade (the motor's torque pushes it out of the way): the
+        current cusp's pulses end and its remaining impacts are dropped."""
+        if self.current >= 0:
+            self.done = int(self.n_imp[self.current])
+        self.pulse_start, self.pulse_amp = [], []
+
     def active_pulses(self, phi_now: float) -> tuple[np.ndarray, np.ndarray]:
         """The pulses not yet over at the propeller angle `phi_now` (older ones dropped)."""
         keep = [i for i, s in enumerate(self.pulse_start) if s + self.alpha > phi_now]
@@ -449,6 +456,7 @@ def simulate_drive(
     points_per_pulse: int = 40,
     tail_s: float = 5.0,
     duration_s: float | None = None,
+    free_blocks: bool = False,
 ) -> DriveResult:
     """Shaft speed and torques while the propeller mills the cusps (module docstring).
 
@@ -458,7 +466,10 @@ def simulate_drive(
     `mean_torque_n_m`: hydrodynamic torque at the set speed (calibrates Q_hydro ∝ ω²); `case`: a rule case
     number (`EXCITATION_CASES`) or an `ExcitationCase`; `pulse`: "half_sine" or "rectangular" (C_q Q_imp
     over α_i). The run ends `tail_s` after the last impact starts or after the propeller stalls (the ice
-    holding it against the torque limit: `stalled_at_s`), or at `duration_s` if given.
+    holding it against the torque limit: `stalled_at_s`), or at `duration_s` if given. `free_blocks`: the
+    cusps are free-floating blocks that cannot hold a stopped blade — at a stop the current cusp's pulses
+    end and its remaining impacts are dropped (`_Schedule.release`), and the run goes on (`stalled_at_s`
+    is the first stop).
     """
     spec = _check_options(impact_torque_n_m, pulse, blades, case, tail_s)
     q_mean = require_range("mean_torque_n_m", mean_torque_n_m, low=0.0, low_inclusive=True, unit="N m")
@@ -488,15 +499,18 @@ def simulate_drive(
             amps,
             out,
             row,
-            math.isnan(stalled_at),
+            free_blocks or math.isnan(stalled_at),
         )
         if status == _FULL:
             out = np.concatenate([out, np.empty((min(out.shape[0], cap - row), 6))])
         elif status == _END:
             break
         elif status == _STALL:
-            stalled_at = step * dt
-            if duration_s is None:
+            stalled_at = step * dt if math.isnan(stalled_at) else stalled_at
+            if free_blocks:
+                schedule.release()
+                starts, amps = schedule.active_pulses(float(x[mech[0] - 1]))
+            elif duration_s is None:
                 step_end = min(step_end, step + math.ceil(tail_s / dt))
         else:
             schedule.passage(m, t_cross, w_cross)

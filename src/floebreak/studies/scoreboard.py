@@ -18,6 +18,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from floebreak.studies.chain_statements import chain_metrics
 from floebreak.studies.statements import (
     STATEMENTS,
     TABLE5_REFERENCE,
@@ -128,6 +129,7 @@ def run_metrics(run_dir: Path, forces: bool = False, torque: bool = False) -> di
         out.update(bending_force_metrics(bending_forces_kn(contacts.to_pydict())))
     if torque:
         out.update(torque_metrics(cusps))
+    out.update(chain_metrics(run_dir, torque=torque, forces=forces))  # issue 33 item 6 (chain_statements)
     return out
 
 

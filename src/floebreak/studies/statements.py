@@ -36,6 +36,8 @@ from typing import Literal
 
 import numpy as np
 
+from floebreak.studies.chain_statements import CHAIN_ROWS
+
 ToleranceKind = Literal["rel", "abs", "direction", "rough", "max_abs", "at_least", "range", "info"]
 Verdict = Literal["pass", "fail", "info", "missing"]
 
@@ -925,6 +927,12 @@ def _torque() -> list[Statement]:
     ]
 
 
+def _chain() -> list[Statement]:
+    """The end-to-end chain rows (`floebreak.studies.chain_statements`), must hold for `default`."""
+    fixed = {"must_hold": frozenset({"default"})}
+    return [Statement(**row | fixed | {"tolerance": Tolerance(*row["tolerance"])}) for row in CHAIN_ROWS]
+
+
 STATEMENTS: tuple[Statement, ...] = tuple(
     _table5()
     + _toughness()
@@ -934,4 +942,5 @@ STATEMENTS: tuple[Statement, ...] = tuple(
     + _forces()
     + _single_floe()
     + _torque()
+    + _chain()
 )
