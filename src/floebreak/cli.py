@@ -17,6 +17,14 @@ from rich.markup import escape
 from rich.table import Table
 
 from floebreak import constants as c
+from floebreak.cli_options import (
+    FractionReachingOption,
+    PolarClassOption,
+    PropellersOption,
+    ShaftLineOption,
+    TransportParameterOption,
+    transport_option,
+)
 from floebreak.errors import InputError, require_range
 from floebreak.exit_codes import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_STORAGE, interruption
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
@@ -801,17 +809,12 @@ _FemTableOption = Annotated[
         "has a '# pitch_percent:' line",
     ),
 ]
-_PolarClassOption = Annotated[str | None, typer.Option("--polar-class", help="IACS polar class, e.g. PC5")]
 _BeyondOption = Annotated[str, typer.Option("--beyond", help="power_law | clamp | extrapolate | flag")]
 _PoolOption = Annotated[
     bool, typer.Option("--pool", help="pool runs whose scenarios differ in more than seed and field")
 ]
 _SpeedOption = Annotated[
     float | None, typer.Option("--speed-m-s", help="ship speed in ice [m/s] (default: the scenario's)")
-]
-_FractionReachingOption = Annotated[
-    float | None,
-    typer.Option("--fraction-reaching", help="fraction of cusps reaching a propeller (0, 1]"),
 ]
 _LoadModelOption = Annotated[
     str | None,
@@ -857,10 +860,6 @@ _SnCurveOption = Annotated[
         "(N = CYCLES·(AMPLITUDE/x)^M; amplitude in kN·m for torque, kN for force)",
     ),
 ]
-_ShaftLineOption = Annotated[
-    str | None,
-    typer.Option("--shaft-line", help="shaft torque too (OUT/shaft/): agulhas_ii or FILE.toml"),
-]
 _StationOption = Annotated[
     str | None, typer.Option("--station", help="shaft measurement station (default: the line's)")
 ]
@@ -891,15 +890,16 @@ def propeller(
     out: Annotated[Path, typer.Option("--out", help="output directory")],
     fem_table: _FemTableOption = None,
     torque_csv: Annotated[Path | None, typer.Option("--torque-csv", help="measured shaft torque CSV")] = None,
-    polar_class: _PolarClassOption = None,
+    polar_class: PolarClassOption = None,
     interpolation: Annotated[str, typer.Option("--interpolation", help="newton | pchip")] = "newton",
     beyond: _BeyondOption = "power_law",
     pool: _PoolOption = False,
     speed: _SpeedOption = None,
-    fraction_reaching: _FractionReachingOption = None,
-    propellers: Annotated[int | None, typer.Option("--propellers", help="number of propellers")] = None,
+    fraction_reaching: FractionReachingOption = None,
+    propellers: PropellersOption = None,
     load_model: _LoadModelOption = None,
     transport: _TransportOption = None,
+    transport_parameters: TransportParameterOption = None,
     rated_torque_knm: _RatedTorqueOption = None,
     geometry: _GeometryOption = None,
     hours_per_year: _HoursPerYearOption = None,
@@ -907,7 +907,7 @@ def propeller(
     sn_curve: _SnCurveOption = None,
     overwrite: OverwriteOption = False,
     quiet: QuietOption = False,
-    shaft_line: _ShaftLineOption = None,
+    shaft_line: ShaftLineOption = None,
     station: _StationOption = None,
     rpm: _RpmOption = None,
     mean_torque_knm: _MeanTorqueOption = None,
@@ -923,6 +923,7 @@ def propeller(
     from floebreak.propeller.ruleform import OperatingProfile
 
     models = _load_options(load_model, transport, rated_torque_knm, geometry)
+    settings = transport_option(transport_parameters)
     if (hours_per_year is None) != (years is None):
         raise InputError(
             "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
@@ -959,6 +960,7 @@ def propeller(
         exposures=inputs.exposures,
         operating_profile=profile,
         sn_curve=curve,
+        transport_settings=settings,
     )
     record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
     written = write_propeller(result, out, overwrite=overwrite, record=record)

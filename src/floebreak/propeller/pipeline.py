@@ -53,6 +53,7 @@ from floebreak.propeller.spectra import (
     torque_ranges_above,
 )
 from floebreak.propeller.summary import build_summary, finite_range
+from floebreak.propeller.transport import TransportSettings
 
 VOLUME_BASES = ("box", "actual")
 # The cusp's own volume (area × thickness) enters the FEM interpolation (thesis §6.1.3: the loads "are
@@ -327,7 +328,9 @@ def _cusp_loads(columns, tables, options, propeller, speed_m_s) -> dict[str, np.
     return loads
 
 
-def _reaching(columns, exposures, transport: str) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+def _reaching(
+    columns, exposures, transport: str, settings=None
+) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
     """Which cusps reach a propeller: per cusp `reaches_propeller`, `propeller_index` (−1: none or not
     modelled) and `arrival_time_s`, and the summary's "transport" entry. Runs with an explicit fraction
     reaching (an override) and `transport="all"` load every cusp; otherwise the transport model decides."""
@@ -342,7 +345,7 @@ def _reaching(columns, exposures, transport: str) -> tuple[dict[str, np.ndarray]
         "propeller_index": np.full(n, -1, dtype=np.int64),
         "arrival_time_s": np.full(n, math.nan),
     }
-    transports = transport_of_runs(columns, exposures, modelled)
+    transports = transport_of_runs(columns, exposures, modelled, settings or TransportSettings())
     for idx, t in transports.values():
         out["reaches_propeller"][idx] = t.propeller_index >= 0
         out["propeller_index"][idx] = t.propeller_index
@@ -397,11 +400,13 @@ def analyse_propeller(
     operating_profile: OperatingProfile | None = None,
     sn_curve: BasquinCurve | None = None,
     rule_factor: float = 1.0,
+    transport_settings: TransportSettings | None = None,
 ) -> PropellerResult:
     """The propeller analysis of `cusps` (dict of arrays or pyarrow.Table, `cusp_columns`), pure. `load_model`
     "milling" | "fem" (given `fem_table`s take precedence), `transport` "hull" | "all"; an exposure's fraction
     reaching overrides the transport; `exposures` add rates, exceedance and rule-form fits; `rated_torque_n_m`
-    (default: the Agulhas II line's) sets a warning. docs/propeller.md §2, §6–§8."""
+    (default: the Agulhas II line's) sets a warning; `transport_settings` the transport's hull and
+    parameters (default: `TransportSettings()`). docs/propeller.md §2, §6–§8."""
     columns = cusp_columns(cusps)
     if not isinstance(propeller, PropellerSpec):
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
@@ -427,12 +432,13 @@ def analyse_propeller(
         **dict(volume_class_edges_m3=edges_m3, cusp_speed_m_s=cusp_speed_m_s),
         **dict(density_threshold_per_knm=DENSITY_THRESHOLD_PER_KNM, polar_class=polar_class),
         **dict(weibull=weibull, rule_factor=rule_factor),
+        "transport_settings": (transport_settings or TransportSettings()).as_dict(),
     }
     order = transit_order(columns)
     columns = {k: v[order] for k, v in columns.items()}
     speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
     loads = _cusp_loads(columns, tables, options, propeller, speed)
-    reaching, transport_info = _reaching(columns, exposures, transport)
+    reaching, transport_info = _reaching(columns, exposures, transport, transport_settings)
     loads.update(reaching)
     for pitch in pitches:  # cusps that reach no propeller carry no load
         for column in ("force_n", "torque_nm"):
