@@ -739,9 +739,10 @@ def _print_pooling(inputs) -> None:
     console.print(f"pooled {n_runs} runs{differing}" if n_runs > 1 else "1 run", highlight=False)
 
 
-def _load_options(load_model, transport, rated_torque_knm, geometry):
+def _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters=None):
     """The `propeller` command's load-model options, checked before anything is read: a function of the
-    runs' profile giving `analyse_propeller`'s load_model, transport, propeller and rated torque."""
+    runs' profile giving `analyse_propeller`'s load_model, transport, propeller, rated torque and transport
+    settings (`--transport-parameter`)."""
     from floebreak.propeller.load_models import LOAD_MODELS, TRANSPORTS, check_choice, profile_defaults
 
     if load_model is not None:
@@ -751,6 +752,7 @@ def _load_options(load_model, transport, rated_torque_knm, geometry):
     if rated_torque_knm is not None:
         require_range("--rated-torque-knm", rated_torque_knm, low=0.0, unit="kN m")
     spec = _propeller_spec(geometry)
+    settings = transport_option(transport_parameters)
 
     def for_profile(profile: str) -> dict:
         default_model, default_transport = profile_defaults(profile)
@@ -759,6 +761,7 @@ def _load_options(load_model, transport, rated_torque_knm, geometry):
             "transport": transport or default_transport,
             "propeller": spec,
             "rated_torque_n_m": None if rated_torque_knm is None else rated_torque_knm * 1e3,
+            "transport_settings": settings,
         }
 
     return for_profile
@@ -918,12 +921,10 @@ def propeller(
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
-    from floebreak.app.propeller import read_runs, write_propeller
-    from floebreak.propeller.pipeline import analyse_propeller
+    from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
     from floebreak.propeller.ruleform import OperatingProfile
 
-    models = _load_options(load_model, transport, rated_torque_knm, geometry)
-    settings = transport_option(transport_parameters)
+    models = _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters)
     if (hours_per_year is None) != (years is None):
         raise InputError(
             "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
@@ -949,18 +950,16 @@ def propeller(
     )
     overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
     inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
-    result = analyse_propeller(
-        inputs.cusps,
+    result = analyse_runs(
+        inputs,
         **models(inputs.profile),
         fem_table=tables,
         torque_csv=torque_csv,
         polar_class=polar_class,
         interpolation=interpolation,
         beyond=beyond,
-        exposures=inputs.exposures,
         operating_profile=profile,
         sn_curve=curve,
-        transport_settings=settings,
     )
     record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
     written = write_propeller(result, out, overwrite=overwrite, record=record)

@@ -60,7 +60,7 @@ def test_bilge_radius_reaches_the_transport():
     assert default.summary["transport"]["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 1, "missed": 0}
     flat = analyse_propeller(_cusps(), transport_settings=transport_settings({"hull.bilge_radius_m": 0}))
     assert flat.summary["transport"]["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 0, "missed": 1}
-    assert flat.summary["options"]["transport_settings"]["hull.bilge_radius_m"] == 0.0
+    assert flat.summary["transport"]["settings"]["hull.bilge_radius_m"] == 0.0
 
 
 def test_propeller_command_takes_transport_parameters(tmp_path, cli):

@@ -223,7 +223,7 @@ def _check_analysis_options(out, default, runs, reaching, weights, run_dirs):
     moved = write_voyage_results(out, None, VoyageAnalysis(transport=values))
     now = [_reaching(d, v, transport_settings(values)) for d, v in zip(run_dirs, (0.25, 0.5), strict=True)]
     assert moved["transport"]["n_reaching"] == sum(now) >= sum(reaching)
-    assert moved["propeller_options"]["transport_settings"]["slip_factor"] == 0.8
+    assert moved["transport"]["settings"]["slip_factor"] == 0.8
     # --shaft-line: the shaft analysis of each period's runs, pooled by time
     shaft = write_voyage_results(out, None, VoyageAnalysis(shaft_line="agulhas_ii"))["shaft"]
     per_period = shaft["periods"]

@@ -345,13 +345,14 @@ def _reaching(
         "propeller_index": np.full(n, -1, dtype=np.int64),
         "arrival_time_s": np.full(n, math.nan),
     }
-    transports = transport_of_runs(columns, exposures, modelled, settings or TransportSettings())
+    settings = settings or TransportSettings()
+    transports = transport_of_runs(columns, exposures, modelled, settings)
     for idx, t in transports.values():
         out["reaches_propeller"][idx] = t.propeller_index >= 0
         out["propeller_index"][idx] = t.propeller_index
         out["arrival_time_s"][idx] = t.arrival_time_s
     rule = "override" if override else transport
-    summary: dict[str, Any] = {"rule": rule, "fraction_overrides": override}
+    summary: dict[str, Any] = {"rule": rule, "fraction_overrides": override, "settings": settings.as_dict()}
     if modelled:
         summary.update(transport_summary(transports, n))
     else:
@@ -403,10 +404,9 @@ def analyse_propeller(
     transport_settings: TransportSettings | None = None,
 ) -> PropellerResult:
     """The propeller analysis of `cusps` (dict of arrays or pyarrow.Table, `cusp_columns`), pure. `load_model`
-    "milling" | "fem" (given `fem_table`s take precedence), `transport` "hull" | "all"; an exposure's fraction
-    reaching overrides the transport; `exposures` add rates, exceedance and rule-form fits; `rated_torque_n_m`
-    (default: the Agulhas II line's) sets a warning; `transport_settings` the transport's hull and
-    parameters (default: `TransportSettings()`). docs/propeller.md §2, §6–§8."""
+    "milling" | "fem" (given `fem_table`s take precedence), `transport` "hull" (`transport_settings`) | "all";
+    an exposure's fraction reaching overrides the transport; `exposures` add rates, exceedance and rule-form
+    fits; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning. docs/propeller.md §2, §6–§8."""
     columns = cusp_columns(cusps)
     if not isinstance(propeller, PropellerSpec):
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
@@ -432,7 +432,6 @@ def analyse_propeller(
         **dict(volume_class_edges_m3=edges_m3, cusp_speed_m_s=cusp_speed_m_s),
         **dict(density_threshold_per_knm=DENSITY_THRESHOLD_PER_KNM, polar_class=polar_class),
         **dict(weibull=weibull, rule_factor=rule_factor),
-        "transport_settings": (transport_settings or TransportSettings()).as_dict(),
     }
     order = transit_order(columns)
     columns = {k: v[order] for k, v in columns.items()}

@@ -157,18 +157,13 @@ def voyage(
     the shaft torque of every period's runs, pooled by time. Re-running with other propeller options
     resumes the runs and re-writes the results."""
     from floebreak.io.voyage_log import read_voyage_log
-    from floebreak.propeller.ruleform import OperatingProfile
     from floebreak.studies.executors import make_executor
     from floebreak.studies.voyage import check_out_dir, prepare_voyage, run_voyage
     from floebreak.studies.voyage_results import VoyageAnalysis
 
     if workers is not None and workers < 1:
         raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
-    if (hours_per_year is None) != (years is None):
-        raise InputError(
-            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
-        )
-    profile = None if years is None else OperatingProfile(hours_per_year, years)
+    profile = _operating_profile(hours_per_year, years)
     analysis = VoyageAnalysis(
         polar_class, fraction_reaching, propellers, shaft_line, transport_values(transport_parameters)
     ).checked()
@@ -205,6 +200,17 @@ def voyage(
     finally:
         executor.close()
     _print_voyage(summary, out)
+
+
+def _operating_profile(hours_per_year: float | None, years: float | None):
+    """`--hours-in-ice-per-year` and `--years` → an `OperatingProfile` (both) or None (neither)."""
+    from floebreak.propeller.ruleform import OperatingProfile
+
+    if (hours_per_year is None) != (years is None):
+        raise InputError(
+            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
+        )
+    return None if years is None else OperatingProfile(hours_per_year, years)
 
 
 def _progress_columns() -> tuple:
