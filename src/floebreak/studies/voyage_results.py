@@ -9,14 +9,16 @@ cusps of the voyage, so the voyage's expected number of loads in a bin is C_b = 
 period's simulated cusps in the bin). Since the period's rate per hour is r_p,b = c_p,b v_p / (n_p L_p),
 C_b = Σ_p T_p r_p,b: the time-weighted sum of the periods' rates. Rates per hour divide by Σ T_p (hours in
 ice: the periods, not the gaps between them), per km by Σ D_p; the density is C_b / (Σ_b C_b · bin width).
-Loads are per propeller: each cusp gives f / n loads on one propeller (scenario keys
-``propeller.fraction_reaching`` f and ``propeller.count`` n; defaults 1, as the thesis assumes, §6.2, and 2,
-the Agulhas II, §6.1).
+Loads are per propeller: c_p,b counts each simulated cusp with its loads on one propeller (1 / n for a cusp
+that reaches one, 0 for one that does not; f / n for every cusp with a fraction override f).
 
-Loads per cusp come from `floebreak.propeller.pipeline.propeller_loads` with its defaults (FEM tables,
-interpolation, beyond-table policy), for each shipped FEM pitch and "operated": each period with the FEM
-table whose pitch is nearest its logged pitch (the propeller's default pitch when the log has none). The
-logged rpm is recorded only: the FEM loads are for 140 rpm (thesis §6.1.2).
+Loads per cusp and which cusps reach come from the propeller analysis of `floebreak propeller`
+(`floebreak.app.propeller.analyse_runs` on the voyage's complete runs): the runs' profile picks the load
+model and the transport (default: blade milling model and hull transport; thesis: FEM tables, every cusp),
+for each pitch of the load model and "operated": each period at the pitch nearest its logged pitch (the
+propeller's default pitch when the log has none). The logged rpm is recorded only. The propeller options
+(`VoyageAnalysis`: polar class, fraction reaching, propellers, transport settings, shaft line) shape the
+results only.
 
 `write_voyage_results(voyage_dir)` re-builds ``results/`` (written atomically) from the runs on disk.
 """
