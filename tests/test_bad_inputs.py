@@ -63,6 +63,17 @@ def _voyage_log(folder: Path, _) -> list[str]:
     return ["voyage", str(folder / "log.csv"), "--out", str(folder / "voyage"), "--workers", "1"]
 
 
+def _voyage(*extra: str) -> Callable[[Path, pytest.MonkeyPatch], list[str]]:
+    """A valid one-period voyage log with `extra` options (refused before anything is simulated)."""
+
+    def args(folder: Path, _) -> list[str]:
+        header = "start_utc,end_utc,concentration_percent,mean_thickness_m,share_d5m_percent"
+        (folder / "log.csv").write_text(f"{header}\n2020-01-01T00:00,2020-01-01T00:10,50,0.5,100\n", "utf-8")
+        return ["voyage", str(folder / "log.csv"), "--out", str(folder / "voyage"), "--workers", "1", *extra]
+
+    return args
+
+
 def _field_file_with_repeated_id(folder: Path, monkeypatch) -> list[str]:
     import json
 
@@ -113,7 +124,7 @@ def _interrupted(folder: Path, monkeypatch) -> list[str]:
 
 
 def _far_field(folder: Path, _) -> list[str]:
-    text = '[field]\nfloes = [{ x_m = 20.0, y_m = 500.0, diameter_m = 10.0 }]\n[ice]\nthickness_m = 1.0\n'
+    text = "[field]\nfloes = [{ x_m = 20.0, y_m = 500.0, diameter_m = 10.0 }]\n[ice]\nthickness_m = 1.0\n"
     return ["run", _scenario(folder, text), "--out", str(folder / "out"), "-q"]
 
 
@@ -250,6 +261,48 @@ ROWS = [
         2,
         "log.csv, row 2 (line 3), column 'concentration_percent': 150 is outside (0, 100] %",
         _voyage_log,
+    ),
+    Row(
+        "cusp transport setting outside its range (`propeller` and `voyage`)",
+        "`voyage log.csv --out voyage --transport-parameter slip_factor=1.5`",
+        2,
+        "error: transport.slip_factor: 1.5 is outside (0, 1]",
+        _voyage("--transport-parameter", "slip_factor=1.5"),
+    ),
+    Row(
+        "unknown cusp transport setting",
+        "`propeller run --out p --transport-parameter hull.draft_m=7`",
+        2,
+        "error: transport.hull.draft_m: unknown key (allowed: slip_factor, drag_coefficient,",
+        lambda folder, _: [
+            "propeller",
+            str(folder / "run"),
+            "--out",
+            str(folder / "p"),
+            "--transport-parameter",
+            "hull.draft_m=7",
+        ],
+    ),
+    Row(
+        "polar class that does not exist (`propeller` and `voyage`)",
+        "`voyage log.csv --out voyage --polar-class PC8`",
+        2,
+        "error: polar_class: unknown polar class 'PC8'",
+        _voyage("--polar-class", "PC8"),
+    ),
+    Row(
+        "fraction reaching outside (0, 1] (`propeller` and `voyage`)",
+        "`voyage log.csv --out voyage --fraction-reaching 1.5`",
+        2,
+        "error: propeller.fraction_reaching: 1.5 is outside (0, 1]",
+        _voyage("--fraction-reaching", "1.5"),
+    ),
+    Row(
+        "unknown shaft line (`propeller` and `voyage`)",
+        "`voyage log.csv --out voyage --shaft-line nowhere`",
+        2,
+        "error: shaft_line: 'nowhere' is neither a built-in line nor a TOML file",
+        _voyage("--shaft-line", "nowhere"),
     ),
     Row(
         "bad field file (file, row and column named; also text ids or thickness, no rows, a bad `domain_m`, "

@@ -33,6 +33,7 @@ LAYERS = {
     "floebreak.studies.aggregate": APP,
     "floebreak.studies.voyage": APP,
     "floebreak.studies.voyage_results": APP,
+    "floebreak.studies.voyage_shaft": APP,
     "floebreak.studies.validation_report": APP,
     "floebreak.studies.sensitivity": APP,
     # the computing packages

@@ -17,6 +17,14 @@ from rich.markup import escape
 from rich.table import Table
 
 from floebreak import constants as c
+from floebreak.cli_options import (
+    FractionReachingOption,
+    PolarClassOption,
+    PropellersOption,
+    ShaftLineOption,
+    TransportParameterOption,
+    transport_option,
+)
 from floebreak.errors import InputError, require_range
 from floebreak.exit_codes import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_STORAGE, interruption
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
@@ -731,9 +739,10 @@ def _print_pooling(inputs) -> None:
     console.print(f"pooled {n_runs} runs{differing}" if n_runs > 1 else "1 run", highlight=False)
 
 
-def _load_options(load_model, transport, rated_torque_knm, geometry):
+def _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters=None):
     """The `propeller` command's load-model options, checked before anything is read: a function of the
-    runs' profile giving `analyse_propeller`'s load_model, transport, propeller and rated torque."""
+    runs' profile giving `analyse_propeller`'s load_model, transport, propeller, rated torque and transport
+    settings (`--transport-parameter`)."""
     from floebreak.propeller.load_models import LOAD_MODELS, TRANSPORTS, check_choice, profile_defaults
 
     if load_model is not None:
@@ -743,6 +752,7 @@ def _load_options(load_model, transport, rated_torque_knm, geometry):
     if rated_torque_knm is not None:
         require_range("--rated-torque-knm", rated_torque_knm, low=0.0, unit="kN m")
     spec = _propeller_spec(geometry)
+    settings = transport_option(transport_parameters)
 
     def for_profile(profile: str) -> dict:
         default_model, default_transport = profile_defaults(profile)
@@ -751,6 +761,7 @@ def _load_options(load_model, transport, rated_torque_knm, geometry):
             "transport": transport or default_transport,
             "propeller": spec,
             "rated_torque_n_m": None if rated_torque_knm is None else rated_torque_knm * 1e3,
+            "transport_settings": settings,
         }
 
     return for_profile
@@ -801,17 +812,12 @@ _FemTableOption = Annotated[
         "has a '# pitch_percent:' line",
     ),
 ]
-_PolarClassOption = Annotated[str | None, typer.Option("--polar-class", help="IACS polar class, e.g. PC5")]
 _BeyondOption = Annotated[str, typer.Option("--beyond", help="power_law | clamp | extrapolate | flag")]
 _PoolOption = Annotated[
     bool, typer.Option("--pool", help="pool runs whose scenarios differ in more than seed and field")
 ]
 _SpeedOption = Annotated[
     float | None, typer.Option("--speed-m-s", help="ship speed in ice [m/s] (default: the scenario's)")
-]
-_FractionReachingOption = Annotated[
-    float | None,
-    typer.Option("--fraction-reaching", help="fraction of cusps reaching a propeller (0, 1]"),
 ]
 _LoadModelOption = Annotated[
     str | None,
@@ -857,10 +863,6 @@ _SnCurveOption = Annotated[
         "(N = CYCLES·(AMPLITUDE/x)^M; amplitude in kN·m for torque, kN for force)",
     ),
 ]
-_ShaftLineOption = Annotated[
-    str | None,
-    typer.Option("--shaft-line", help="shaft torque too (OUT/shaft/): agulhas_ii or FILE.toml"),
-]
 _StationOption = Annotated[
     str | None, typer.Option("--station", help="shaft measurement station (default: the line's)")
 ]
@@ -891,15 +893,16 @@ def propeller(
     out: Annotated[Path, typer.Option("--out", help="output directory")],
     fem_table: _FemTableOption = None,
     torque_csv: Annotated[Path | None, typer.Option("--torque-csv", help="measured shaft torque CSV")] = None,
-    polar_class: _PolarClassOption = None,
+    polar_class: PolarClassOption = None,
     interpolation: Annotated[str, typer.Option("--interpolation", help="newton | pchip")] = "newton",
     beyond: _BeyondOption = "power_law",
     pool: _PoolOption = False,
     speed: _SpeedOption = None,
-    fraction_reaching: _FractionReachingOption = None,
-    propellers: Annotated[int | None, typer.Option("--propellers", help="number of propellers")] = None,
+    fraction_reaching: FractionReachingOption = None,
+    propellers: PropellersOption = None,
     load_model: _LoadModelOption = None,
     transport: _TransportOption = None,
+    transport_parameters: TransportParameterOption = None,
     rated_torque_knm: _RatedTorqueOption = None,
     geometry: _GeometryOption = None,
     hours_per_year: _HoursPerYearOption = None,
@@ -907,7 +910,7 @@ def propeller(
     sn_curve: _SnCurveOption = None,
     overwrite: OverwriteOption = False,
     quiet: QuietOption = False,
-    shaft_line: _ShaftLineOption = None,
+    shaft_line: ShaftLineOption = None,
     station: _StationOption = None,
     rpm: _RpmOption = None,
     mean_torque_knm: _MeanTorqueOption = None,
@@ -918,11 +921,10 @@ def propeller(
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
-    from floebreak.app.propeller import read_runs, write_propeller
-    from floebreak.propeller.pipeline import analyse_propeller
+    from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
     from floebreak.propeller.ruleform import OperatingProfile
 
-    models = _load_options(load_model, transport, rated_torque_knm, geometry)
+    models = _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters)
     if (hours_per_year is None) != (years is None):
         raise InputError(
             "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
@@ -948,15 +950,14 @@ def propeller(
     )
     overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
     inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
-    result = analyse_propeller(
-        inputs.cusps,
+    result = analyse_runs(
+        inputs,
         **models(inputs.profile),
         fem_table=tables,
         torque_csv=torque_csv,
         polar_class=polar_class,
         interpolation=interpolation,
         beyond=beyond,
-        exposures=inputs.exposures,
         operating_profile=profile,
         sn_curve=curve,
     )

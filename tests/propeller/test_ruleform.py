@@ -65,8 +65,12 @@ def test_x_max_is_the_load_exceeded_once_in_n():
 def test_fit_refuses_too_few_or_equal_samples():
     with pytest.raises(InputError, match="at least 10"):
         fit_rule_form([1.0, 2.0, 3.0])
-    with pytest.raises(InputError, match="at least 10"):
+    with pytest.raises(InputError, match="at least 10") as equal:
         fit_rule_form(np.full(50, 4.0))
+    # uniform-thickness runs: 50 equal amplitudes are 50 samples but 1 distinct value (not "50 distinct")
+    assert "50 positive amplitudes, 1 distinct" in str(equal.value)
+    with pytest.raises(InputError, match="4 positive amplitudes, 2 distinct"):
+        fit_rule_form([1.0, 2.0, 2.0, 0.0, -1.0])  # |−1| counts, 0 does not
 
 
 def test_rule_n_ice_as_recalled():

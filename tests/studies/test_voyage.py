@@ -5,11 +5,13 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pyarrow.csv
 import pytest
 
 from floebreak.errors import InputError
 from floebreak.io.voyage_log import parse_voyage_log
+from floebreak.propeller.spec import PropellerSpec
 from floebreak.scenario import Scenario
 from floebreak.studies.design import expand
 from floebreak.studies.voyage import (
@@ -23,6 +25,7 @@ from floebreak.studies.voyage import (
     run_voyage,
     voyage_spec,
 )
+from floebreak.studies.voyage_results import VoyageAnalysis, write_voyage_results
 
 AGULHAS_BEAM_M = 21.7  # physics-notes §6.1
 HEADER = "start_utc,end_utc,concentration_percent,mean_thickness_m,share_d2m_percent,share_d4m_percent"
@@ -123,22 +126,48 @@ TINY_LOG = (
 )
 
 
-def test_tiny_voyage_end_to_end_and_resume(tmp_path):
+def _reaching(run_dir, speed_m_s, settings=None):
+    """Cusps of a run that reach a propeller: the transport model on its cusps.parquet (two shafts)."""
+    import pyarrow.parquet as pq
+
+    from floebreak.propeller.transport import TransportSettings, transport_cusp_table
+
+    settings = settings or TransportSettings()
+    columns = {
+        k: v.to_numpy() for k, v in zip(*_columns(pq.read_table(run_dir / "cusps.parquet")), strict=True)
+    }
+    moved = transport_cusp_table(columns, speed_m_s=speed_m_s, hull=settings.hull, params=settings.params)
+    return int(np.sum(moved.propeller_index >= 0))
+
+
+def _columns(table):
+    names = ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")
+    return names, [table.column(n) for n in names]
+
+
+def test_tiny_voyage_end_to_end_and_resume(tmp_path, cli):
     log = parse_voyage_log(TINY_LOG, "tiny.csv")
     setup = prepare_voyage(log, n_fields=1, seed=4, overrides=["ship.step_m=1.0"], max_length_m=40.0)
     out = tmp_path / "voyage"
     summary = run_voyage(setup, out)
     voyage = json.loads((out / "voyage.json").read_text(encoding="utf-8"))
-    runs = [json.loads((out / "runs" / p["runs"][0] / "summary.json").read_text()) for p in voyage["periods"]]
+    run_dirs = [out / "runs" / p["runs"][0] for p in voyage["periods"]]
+    runs = [json.loads((d / "summary.json").read_text()) for d in run_dirs]
     # independent: each simulated cusp counts D / (n L) times; n = 1 field
-    expected = runs[0]["n_cusps"] * 30.0 / 30.0 + runs[1]["n_cusps"] * 60.0 / 40.0
+    weights = (30.0 / 30.0, 60.0 / 40.0)
+    expected = runs[0]["n_cusps"] * weights[0] + runs[1]["n_cusps"] * weights[1]
     assert summary["cusps_voyage"] == pytest.approx(expected)
     hours = 4 / 60
     assert summary["cusps_per_hour"] == pytest.approx(expected / hours)
-    per_propeller = expected / 2  # two propellers share the cusps (Agulhas II, thesis §6.1), all reach one
-    for case in ("p0", "p95", "operated"):
+    # default profile: the milling model and the hull transport, as `floebreak propeller` (issue 33)
+    assert summary["load_model"]["load_model"] == "milling" and summary["transport"]["rule"] == "hull"
+    reaching = [_reaching(d, v) for d, v in zip(run_dirs, (0.25, 0.5), strict=True)]
+    assert 0 < sum(reaching) < runs[0]["n_cusps"] + runs[1]["n_cusps"]
+    per_propeller = (reaching[0] * weights[0] + reaching[1] * weights[1]) / 2  # two shafts, one load each
+    for case in summary["cases"]:
         assert summary["cases"][case]["loads_per_hour"] == pytest.approx(per_propeller / hours)
         assert summary["cases"][case]["loads_per_km"] == pytest.approx(per_propeller / 0.09)
+    assert sorted(summary["cases"]) == ["operated", "p0", f"p{PropellerSpec().pitch_percent:g}"]
     periods = pyarrow.csv.read_csv(
         out / "results" / "periods.csv",
         parse_options=pyarrow.csv.ParseOptions(),
@@ -146,12 +175,17 @@ def test_tiny_voyage_end_to_end_and_resume(tmp_path):
     ).to_pydict()
     assert periods["distance_m"] == pytest.approx([30.0, 60.0])
     assert periods["simulated_length_m"] == pytest.approx([30.0, 40.0])
-    assert periods["operated_pitch_percent"] == [0.0, 95.0]  # nearest FEM table to 0 % and 90 %
+    # nearest milling pitch (0 % or the propeller's 95.9 %) to the logged 0 % and 90 %
+    assert periods["operated_pitch_percent"] == [0.0, PropellerSpec().pitch_percent]
     assert periods["cusps_per_km"][1] == pytest.approx(runs[1]["n_cusps"] / 0.04)
+    assert periods["fraction_reaching"][1] == pytest.approx(reaching[1] / runs[1]["n_cusps"])
     for name in ("force_spectrum", "torque_spectrum", "exceedance", "timeline"):
         assert (out / "results" / "figures" / f"{name}.png").stat().st_size > 0
     assert not any((out / "runs" / p["runs"][0] / "figures").exists() for p in voyage["periods"])
-    _check_rule_form_and_report(summary, out, runs[0]["n_cusps"], runs[1]["n_cusps"])
+    _check_rule_form_and_report(summary, out, reaching, weights)
+    _check_analysis_options(out, summary, runs, reaching, weights, run_dirs)
+    _check_thesis_profile(tmp_path, out, expected / 2 / hours)
+    _check_cli_options(tmp_path, out, cli)
     # resume: nothing re-runs, the same results
     again = run_voyage(setup, out)
     assert again["cusps_voyage"] == summary["cusps_voyage"] and again["failures"] == []
@@ -161,26 +195,107 @@ def test_tiny_voyage_end_to_end_and_resume(tmp_path):
         run_voyage(other, out)
 
 
+def _check_analysis_options(out, default, runs, reaching, weights, run_dirs):
+    """Each propeller option of `floebreak voyage` re-writes the results from the same runs."""
+    from floebreak.propeller.iceclass import ur_i3_loads
+    from floebreak.propeller.transport import transport_settings
+
+    hours = 4 / 60
+    # --fraction-reaching 0.5 --propellers 1: every cusp loads the one propeller with weight 0.5
+    override = write_voyage_results(out, None, VoyageAnalysis(fraction_reaching=0.5, n_propellers=1))
+    every = runs[0]["n_cusps"] * weights[0] + runs[1]["n_cusps"] * weights[1]
+    assert override["cases"]["operated"]["loads_per_hour"] == pytest.approx(0.5 * every / hours)
+    assert override["transport"]["rule"] == "override" and override["propeller"]["count"] == 1
+    assert any("is an override" in w for w in override["warnings"])
+    # --propellers 1 alone: the transport still decides, one propeller takes every cusp that reaches
+    one = write_voyage_results(out, None, VoyageAnalysis(n_propellers=1))
+    assert one["transport"]["rule"] == "hull" and one["cases"]["operated"]["loads_per_hour"] > 0
+    # --polar-class PC5: the rule's Q_max, F_b and N_ice in the summary and the rule-form entries
+    rule = ur_i3_loads(PropellerSpec(), "PC5")
+    pc5 = write_voyage_results(out, None, VoyageAnalysis(polar_class="PC5"))
+    assert pc5["ice_class"]["torque_knm"] == pytest.approx(rule.max_torque_nm / 1e3)
+    assert pc5["rule_form"]["torque_knm"].get("rule_maximum", rule.max_torque_nm / 1e3) == pytest.approx(
+        rule.max_torque_nm / 1e3
+    )
+    assert pc5["rule_form"]["rule_n_ice"] > 0 and default["ice_class"] is None
+    # --transport-parameter shoulder_cusps_submerge=true: shoulder cusps go under the hull too
+    values = {"shoulder_cusps_submerge": "true", "slip_factor": "0.8"}
+    moved = write_voyage_results(out, None, VoyageAnalysis(transport=values))
+    now = [_reaching(d, v, transport_settings(values)) for d, v in zip(run_dirs, (0.25, 0.5), strict=True)]
+    assert moved["transport"]["n_reaching"] == sum(now) >= sum(reaching)
+    assert moved["transport"]["settings"]["slip_factor"] == 0.8
+    # --shaft-line: the shaft analysis of each period's runs, pooled by time
+    shaft = write_voyage_results(out, None, VoyageAnalysis(shaft_line="agulhas_ii"))["shaft"]
+    per_period = shaft["periods"]
+    assert [p["runs"] for p in per_period] == [1, 1] and shaft["hours"] == pytest.approx(hours)
+    assert shaft["max_shaft_torque_knm"] == max(p["max_shaft_torque_knm"] for p in per_period)
+    assert shaft["exceedance"]["time_share_above"][0] == pytest.approx(1.0)  # the lowest level: always
+    assert (out / "results" / "shaft" / "shaft_exceedance.csv").is_file()
+
+
+def _check_thesis_profile(tmp_path, out, all_per_hour):
+    """Runs of the thesis profile: FEM tables and every cusp reaches (the profile recorded in each run's
+    scenario.resolved.toml picks the model, as for `floebreak propeller`; edited on a copy here so that
+    the voyage need not be simulated twice)."""
+    import shutil
+
+    copy = tmp_path / "thesis"
+    shutil.copytree(out, copy)
+    for path in (copy / "runs").glob("*/scenario.resolved.toml"):
+        text = path.read_text(encoding="utf-8")
+        assert 'profile = "default"' in text
+        path.write_text(text.replace('profile = "default"', 'profile = "thesis"'), encoding="utf-8")
+    thesis = write_voyage_results(copy, None, VoyageAnalysis())
+    assert thesis["load_model"]["load_model"] == "fem" and thesis["transport"]["rule"] == "all"
+    assert thesis["cases"]["p95"]["loads_per_hour"] == pytest.approx(all_per_hour)
+
+
+def _check_cli_options(tmp_path, out, cli):
+    """`floebreak voyage` with the propeller options on the finished voyage: the runs resume, the results
+    are re-written and the terminal states the load model, the fraction reaching, the rule and the shaft."""
+    (tmp_path / "tiny.csv").write_text(TINY_LOG, encoding="utf-8")
+    code, stdout, err = cli(
+        *("voyage", tmp_path / "tiny.csv", "--out", out, "--n-fields", "1", "--seed", "4"),
+        *("--set", "ship.step_m=1.0", "--max-length-m", "40", "--workers", "1", "--polar-class", "PC5"),
+        *("--fraction-reaching", "0.5", "--propellers", "1", "--shaft-line", "agulhas_ii"),
+        *("--transport-parameter", "slip_factor=0.8"),
+    )
+    assert code == 0, err
+    text = " ".join(stdout.split())
+    assert "per-cusp loads: milling model" in text and "0.5 (override)" in text and "PC5 Q_max" in text
+    assert "shaft line agulhas_ii" in text and "is an override" in text
+    written = json.loads((out / "results" / "summary.json").read_text(encoding="utf-8"))
+    assert written["analysis"]["polar_class"] == "PC5" and written["analysis"]["n_propellers"] == 1
+    assert written["analysis"]["transport"] == {"slip_factor": "0.8"}
+
+
 def _skip_comments(out):
     lines = (out / "results" / "periods.csv").read_text(encoding="utf-8").splitlines()
     return pyarrow.csv.ReadOptions(skip_rows=sum(1 for line in lines if line.startswith("#")))
 
 
-def _check_rule_form_and_report(summary, out, n_first, n_second):
+def _check_rule_form_and_report(summary, out, reaching, weights):
     """The operated loads' rule-form fit is in summary.json, periods.md and report.html (propeller
     section with the time base and the rule-form figure)."""
     written = json.loads((out / "results" / "summary.json").read_text(encoding="utf-8"))
     torque = written["rule_form"]["torque_knm"]
-    # weights: 30/30 and 60/40 cusps per simulated cusp, × 1/2 per propeller → 0.5 and 0.75
-    n_eff = (0.5 * n_first + 0.75 * n_second) ** 2 / (0.25 * n_first + 0.5625 * n_second)
-    assert torque["n_samples"] == n_first + n_second and torque["n_effective"] == pytest.approx(n_eff)
-    per_hour = summary["cases"]["operated"]["loads_per_hour"]
-    assert written["rule_form"]["n_ice_per_hour"] == torque["n_per_hour"] == pytest.approx(per_hour)
-    x_max = torque["scale"] * math.log(per_hour) ** (1 / torque["k"])  # λ (ln N)^(1/k), notes §7.3
-    assert torque["x_max_per_hour"] == pytest.approx(x_max)
+    if "k" not in torque:  # the fit needs 10 loads, not all equal (`fit_rule_form`): the tiny voyage's
+        # few loads of one thickness (0.9 m: period 0's cusps reach no propeller) are all the same
+        assert f"{sum(reaching)} positive amplitudes, 1 distinct" in torque["reason"]
+    else:  # weights of the cusps that reach: 30/30 and 60/40 cusps per simulated cusp, × 1/2 per propeller
+        w = [0.5 * weights[0], 0.5 * weights[1]]
+        n_eff = (w[0] * reaching[0] + w[1] * reaching[1]) ** 2 / (
+            w[0] ** 2 * reaching[0] + w[1] ** 2 * reaching[1]
+        )
+        assert torque["n_samples"] == sum(reaching) and torque["n_effective"] == pytest.approx(n_eff)
+        per_hour = summary["cases"]["operated"]["loads_per_hour"]
+        assert written["rule_form"]["n_ice_per_hour"] == torque["n_per_hour"] == pytest.approx(per_hour)
+        x_max = torque["scale"] * math.log(per_hour) ** (1 / torque["k"])  # λ (ln N)^(1/k), notes §7.3
+        assert torque["x_max_per_hour"] == pytest.approx(x_max)
     assert "Rule-form fit of the operated loads" in (out / "results" / "periods.md").read_text(
         encoding="utf-8"
     )
     report = (out / "results" / "report.html").read_text(encoding="utf-8")
     assert "<h2>Propeller loads</h2>" in report and "Time base:" in report
+    assert "per-cusp loads: milling model" in report
     assert "alt='rule_form.png'" in report and "report.html" in written["files"]

@@ -40,6 +40,28 @@ def read_runs(root, *, pool: bool = False, **basis_overrides) -> RunInputs:
     return run_inputs(root, cusps, runs, pool=pool, **basis_overrides)
 
 
+def read_run_dirs(run_dirs, *, pool: bool = False, **basis_overrides) -> RunInputs:
+    """Cusps and exposures of the given run directories (e.g. a voyage's complete runs; run_id = the
+    directory's name); pooling and `basis_overrides` as `read_runs`."""
+    import pyarrow as pa
+
+    run_dirs = [Path(d) for d in run_dirs]
+    if not run_dirs:
+        raise InputError("run_dirs", "no run directory", allowed="one or more run directories")
+    cusps = pa.concat_tables([load_cusps(d) for d in run_dirs])
+    runs = {d.name: (d, read_resolved_scenario(d), run_transit_distance_m(d)) for d in run_dirs}
+    return run_inputs(run_dirs[0].parent, cusps, runs, pool=pool, **basis_overrides)
+
+
+def analyse_runs(inputs: RunInputs, **options) -> PropellerResult:
+    """`analyse_propeller` of `inputs` (`read_runs`, `read_run_dirs`) with their exposures; the runs'
+    scenario profile sets the load model and transport unless given (`load_models.profile_defaults`)."""
+    load_model, transport = profile_defaults(inputs.profile)
+    options.setdefault("load_model", load_model)
+    options.setdefault("transport", transport)
+    return analyse_propeller(inputs.cusps, exposures=inputs.exposures, **options)
+
+
 def write_propeller(
     result: PropellerResult,
     out_dir: str | os.PathLike[str],

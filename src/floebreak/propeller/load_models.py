@@ -22,6 +22,7 @@ from floebreak.propeller.transport import (
     CuspTransport,
     Propeller,
     PropellerArrangement,
+    TransportSettings,
     transport_cusps,
 )
 from floebreak.shaft.line import AGULHAS_II
@@ -90,9 +91,15 @@ def arrangement(n_propellers: int) -> PropellerArrangement:
     return PropellerArrangement(tuple(Propeller(float(y)) for y in offsets))
 
 
-def transport_of_runs(columns: dict[str, np.ndarray], exposures: dict[str, RunExposure], runs) -> dict:
+def transport_of_runs(
+    columns: dict[str, np.ndarray],
+    exposures: dict[str, RunExposure],
+    runs,
+    settings: TransportSettings = TransportSettings(),  # noqa: B008 - frozen dataclass, immutable default
+) -> dict:
     """The transport (`transport_cusps`) of the cusps of each of `runs` at its run's speed and propeller
-    count (3 m/s and 2 without an exposure): run → (indices into `columns`, CuspTransport)."""
+    count (3 m/s and 2 without an exposure), with the hull and parameters of `settings`: run → (indices
+    into `columns`, CuspTransport)."""
     missing = [k for k in TRANSPORT_COLUMNS if not np.all(np.isfinite(columns[k][_rows(columns, runs)]))]
     if missing:
         raise InputError(
@@ -107,7 +114,16 @@ def transport_of_runs(columns: dict[str, np.ndarray], exposures: dict[str, RunEx
         speed = basis.speed_m_s if basis else c.SHIP_SPEED_IN_ICE_M_S
         n_prop = basis.n_propellers if basis else c.PROPELLER_COUNT
         cols = {k: columns[k][idx] for k in TRANSPORT_COLUMNS}
-        out[run] = (idx, transport_cusps(**cols, speed_m_s=speed, arrangement=arrangement(n_prop)))
+        out[run] = (
+            idx,
+            transport_cusps(
+                **cols,
+                speed_m_s=speed,
+                hull=settings.hull,
+                arrangement=settings.on(arrangement(n_prop)),
+                params=settings.params,
+            ),
+        )
     return out
 
 

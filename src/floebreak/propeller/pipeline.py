@@ -53,6 +53,7 @@ from floebreak.propeller.spectra import (
     torque_ranges_above,
 )
 from floebreak.propeller.summary import build_summary, finite_range
+from floebreak.propeller.transport import TransportSettings
 
 VOLUME_BASES = ("box", "actual")
 # The cusp's own volume (area × thickness) enters the FEM interpolation (thesis §6.1.3: the loads "are
@@ -327,7 +328,9 @@ def _cusp_loads(columns, tables, options, propeller, speed_m_s) -> dict[str, np.
     return loads
 
 
-def _reaching(columns, exposures, transport: str) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+def _reaching(
+    columns, exposures, transport: str, settings=None
+) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
     """Which cusps reach a propeller: per cusp `reaches_propeller`, `propeller_index` (−1: none or not
     modelled) and `arrival_time_s`, and the summary's "transport" entry. Runs with an explicit fraction
     reaching (an override) and `transport="all"` load every cusp; otherwise the transport model decides."""
@@ -342,13 +345,14 @@ def _reaching(columns, exposures, transport: str) -> tuple[dict[str, np.ndarray]
         "propeller_index": np.full(n, -1, dtype=np.int64),
         "arrival_time_s": np.full(n, math.nan),
     }
-    transports = transport_of_runs(columns, exposures, modelled)
+    settings = settings or TransportSettings()
+    transports = transport_of_runs(columns, exposures, modelled, settings)
     for idx, t in transports.values():
         out["reaches_propeller"][idx] = t.propeller_index >= 0
         out["propeller_index"][idx] = t.propeller_index
         out["arrival_time_s"][idx] = t.arrival_time_s
     rule = "override" if override else transport
-    summary: dict[str, Any] = {"rule": rule, "fraction_overrides": override}
+    summary: dict[str, Any] = {"rule": rule, "fraction_overrides": override, "settings": settings.as_dict()}
     if modelled:
         summary.update(transport_summary(transports, n))
     else:
@@ -397,11 +401,12 @@ def analyse_propeller(
     operating_profile: OperatingProfile | None = None,
     sn_curve: BasquinCurve | None = None,
     rule_factor: float = 1.0,
+    transport_settings: TransportSettings | None = None,
 ) -> PropellerResult:
     """The propeller analysis of `cusps` (dict of arrays or pyarrow.Table, `cusp_columns`), pure. `load_model`
-    "milling" | "fem" (given `fem_table`s take precedence), `transport` "hull" | "all"; an exposure's fraction
-    reaching overrides the transport; `exposures` add rates, exceedance and rule-form fits; `rated_torque_n_m`
-    (default: the Agulhas II line's) sets a warning. docs/propeller.md §2, §6–§8."""
+    "milling" | "fem" (given `fem_table`s take precedence), `transport` "hull" (`transport_settings`) | "all";
+    an exposure's fraction reaching overrides the transport; `exposures` add rates, exceedance and rule-form
+    fits; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning. docs/propeller.md §2, §6–§8."""
     columns = cusp_columns(cusps)
     if not isinstance(propeller, PropellerSpec):
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
@@ -432,7 +437,7 @@ def analyse_propeller(
     columns = {k: v[order] for k, v in columns.items()}
     speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
     loads = _cusp_loads(columns, tables, options, propeller, speed)
-    reaching, transport_info = _reaching(columns, exposures, transport)
+    reaching, transport_info = _reaching(columns, exposures, transport, transport_settings)
     loads.update(reaching)
     for pitch in pitches:  # cusps that reach no propeller carry no load
         for column in ("force_n", "torque_nm"):

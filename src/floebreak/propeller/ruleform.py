@@ -101,8 +101,13 @@ def fit_rule_form(amplitudes, field: str = "amplitudes", weights=None) -> RuleFo
     per amplitude) the sums and means are weighted (maximum of Σ w_i ℓ(x_i)) and n is the Kish effective
     sample size (Σw)²/Σw² (module docstring)."""
     x, w = _positive_samples(amplitudes, weights, field)
-    if x.size < MIN_SAMPLES or np.ptp(x) <= 0.0:
-        raise InputError(field, f"{x.size} distinct positive amplitudes", allowed=f"at least {MIN_SAMPLES}")
+    n_distinct = np.unique(x).size
+    if x.size < MIN_SAMPLES or n_distinct < 2:
+        raise InputError(
+            field,
+            f"{x.size} positive amplitudes, {n_distinct} distinct",
+            allowed=f"at least {MIN_SAMPLES} positive amplitudes, not all equal",
+        )
     top = x.max()
     log_x = np.log(x / top)  # scaled: x^k stays ≤ 1 for any k
 

@@ -324,3 +324,81 @@ def loads_per_hour(n_loads: np.ndarray | float, transit_m: float, speed_m_s: flo
     """Loads per hour in ice for `n_loads` over a transit of `transit_m` at `speed_m_s`."""
     hours = transit_m / speed_m_s / 3600.0
     return np.asarray(n_loads, dtype=float) / hours
+
+
+@dataclass(frozen=True)
+class TransportSettings:
+    """The user-settable transport inputs: the hull, the parameters and the hull's clearance above the discs
+    (the propellers' count and offsets come from the runs, `propeller.load_models.arrangement`)."""
+
+    hull: HullUnderwater = HullUnderwater()
+    params: TransportParameters = TransportParameters()
+    tip_clearance_m: float = PropellerArrangement().tip_clearance_m
+
+    def __post_init__(self) -> None:
+        PropellerArrangement(tip_clearance_m=self.tip_clearance_m)  # its bounds and the disc check
+
+    def on(self, arrangement: PropellerArrangement) -> PropellerArrangement:
+        """`arrangement` with this clearance above the discs."""
+        return PropellerArrangement(arrangement.propellers, self.tip_clearance_m)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The settings as `TRANSPORT_KEYS` → value."""
+        return {key: _get(self, key) for key in TRANSPORT_KEYS}
+
+
+# the keys of `transport_settings` (`--transport-parameter KEY=VALUE`); error messages name "transport.KEY".
+# lateral_spread_m is left out: it needs a numpy.random.Generator, which a key cannot give
+TRANSPORT_KEYS: Final = (
+    "slip_factor",
+    "drag_coefficient",
+    "shoulder_region_start",
+    "shoulder_cusps_submerge",
+    *(f"hull.{name}" for name in HullUnderwater.__dataclass_fields__),
+    "arrangement.tip_clearance_m",
+)
+
+
+def _get(settings: TransportSettings, key: str) -> Any:
+    section, _, name = key.rpartition(".")
+    if section == "arrangement":
+        return settings.tip_clearance_m
+    return getattr(settings.hull if section == "hull" else settings.params, name)
+
+
+def _value(key: str, value: Any) -> float | bool:
+    """A setting's value as given (number or bool) or as text ("0.5", "true")."""
+    if key == "shoulder_cusps_submerge":
+        text = str(value).strip().lower()
+        if isinstance(value, bool) or text in ("true", "false"):
+            return value if isinstance(value, bool) else text == "true"
+        raise InputError(
+            f"transport.{key}", f"{value!r} is not true or false", value=value, allowed="true, false"
+        )
+    try:
+        if isinstance(value, bool):
+            raise ValueError
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"transport.{key}", f"{value!r} is not a number", value=value) from None
+
+
+def transport_settings(values: Mapping[str, Any] | None = None) -> TransportSettings:
+    """`TransportSettings` from `TRANSPORT_KEYS` → value (numbers, bools or their text); keys not given keep
+    their defaults. Unknown keys and values out of range raise InputError naming "transport.KEY", the value
+    and the allowed range."""
+    values = dict(values or {})
+    unknown = [key for key in values if key not in TRANSPORT_KEYS]
+    if unknown:
+        why = " (needs a random generator; not settable)" if "lateral_spread_m" in unknown else ""
+        raise InputError(
+            f"transport.{unknown[0]}",
+            f"unknown key{why}",
+            value=unknown[0],
+            allowed=", ".join(TRANSPORT_KEYS),
+        )
+    parsed = {key: _value(key, value) for key, value in values.items()}
+    hull = {k.partition(".")[2]: v for k, v in parsed.items() if k.startswith("hull.")}
+    params = {k: v for k, v in parsed.items() if "." not in k}
+    clearance = parsed.get("arrangement.tip_clearance_m", PropellerArrangement().tip_clearance_m)
+    return TransportSettings(HullUnderwater(**hull), TransportParameters(**params), float(clearance))

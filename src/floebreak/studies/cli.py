@@ -17,6 +17,14 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
+from floebreak.cli_options import (
+    FractionReachingOption,
+    PolarClassOption,
+    PropellersOption,
+    ShaftLineOption,
+    TransportParameterOption,
+    transport_values,
+)
 from floebreak.errors import InputError
 
 console = Console()
@@ -137,21 +145,28 @@ def voyage(
     years: Annotated[
         float | None, typer.Option("--years", help="operating profile: years in service")
     ] = None,
+    polar_class: PolarClassOption = None,
+    fraction_reaching: FractionReachingOption = None,
+    propellers: PropellersOption = None,
+    shaft_line: ShaftLineOption = None,
+    transport_parameters: TransportParameterOption = None,
 ) -> None:
     """Simulate a voyage from an ice observation log: per-period tables, time-weighted load spectra, the
-    rule-form fit of the operated loads (extrapolated over the operating profile when given)."""
+    rule-form fit of the operated loads (extrapolated over the operating profile when given); the per-cusp
+    load model and transport follow the scenario's profile, as in `floebreak propeller`. With --shaft-line,
+    the shaft torque of every period's runs, pooled by time. Re-running with other propeller options
+    resumes the runs and re-writes the results."""
     from floebreak.io.voyage_log import read_voyage_log
-    from floebreak.propeller.ruleform import OperatingProfile
     from floebreak.studies.executors import make_executor
     from floebreak.studies.voyage import check_out_dir, prepare_voyage, run_voyage
+    from floebreak.studies.voyage_results import VoyageAnalysis
 
     if workers is not None and workers < 1:
         raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
-    if (hours_per_year is None) != (years is None):
-        raise InputError(
-            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
-        )
-    profile = None if years is None else OperatingProfile(hours_per_year, years)
+    profile = _operating_profile(hours_per_year, years)
+    analysis = VoyageAnalysis(
+        polar_class, fraction_reaching, propellers, shaft_line, transport_values(transport_parameters)
+    ).checked()
     with Progress(TextColumn("reading {task.fields[name]}: {task.completed:,} rows"), console=console) as bar:
         reading = bar.add_task("log", total=None, name=log.name)
         voyage_log = read_voyage_log(log, progress=lambda rows: bar.update(reading, completed=rows))
@@ -162,6 +177,7 @@ def voyage(
         overrides=overrides or [],
         speed_m_s=speed_m_s,
         max_length_m=max_length_m,
+        analysis=analysis,
     )
     check_out_dir(out, setup.identity)
     executor = make_executor(workers, scheduler)
@@ -184,6 +200,17 @@ def voyage(
     finally:
         executor.close()
     _print_voyage(summary, out)
+
+
+def _operating_profile(hours_per_year: float | None, years: float | None):
+    """`--hours-in-ice-per-year` and `--years` → an `OperatingProfile` (both) or None (neither)."""
+    from floebreak.propeller.ruleform import OperatingProfile
+
+    if (hours_per_year is None) != (years is None):
+        raise InputError(
+            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
+        )
+    return None if years is None else OperatingProfile(hours_per_year, years)
 
 
 def _progress_columns() -> tuple:
@@ -229,7 +256,10 @@ def _print_voyage(summary: dict, out: Path) -> None:
         f"tables, spectra and figures in {out / 'results'}",
         soft_wrap=True,
     )
+    console.print(voyage_model_line(summary), soft_wrap=True, highlight=False)
     _print_rule_form(summary["rule_form"])
+    if "shaft" in summary:
+        console.print(voyage_shaft_line(summary["shaft"]), soft_wrap=True, highlight=False)
     fallback = [index for index, (generator, _) in summary["generators"].items() if generator != "circles"]
     if fallback:
         console.print(f"voronoi fields for periods {', '.join(fallback)} (circles could not; see periods.md)")
@@ -238,6 +268,38 @@ def _print_voyage(summary: dict, out: Path) -> None:
             console.print(f"[yellow]{note}[/]", soft_wrap=True)
     for failure in summary.get("failures", [])[:5]:
         console.print(f"[red]failed[/] {failure['run']}: {failure['error']}")
+
+
+def voyage_model_line(summary: dict) -> str:
+    """The per-cusp load model, the fraction of cusps reaching a propeller and the rule's Q_max."""
+    model, transport = summary["load_model"], summary["transport"]
+    fraction = transport.get("fraction_reaching")
+    reach = "–" if fraction is None else f"{fraction:.3g}"
+    source = {"hull": "transport model", "all": "every cusp", "override": "override"}
+    line = (
+        f"per-cusp loads: {model.get('load_model') or '–'} model; fraction of cusps reaching a propeller: "
+        f"{reach} ({source.get(transport.get('rule'), '–')}); {summary['propeller']['count']} propellers"
+    )
+    if model.get("rated_torque_knm") is not None:
+        line += f"; rated torque {model['rated_torque_knm']:.1f} kN·m"
+    rule = summary.get("ice_class")
+    if rule:
+        line += f"; {rule['polar_class']} Q_max {rule['torque_knm']:.0f} kN·m, N_ice {rule['n_ice']:.3g}"
+    return line
+
+
+def voyage_shaft_line(shaft: dict) -> str:
+    """The voyage's pooled shaft torque: extremes over the periods and rainflow cycles per hour."""
+    top, low = shaft["max_shaft_torque_knm"], shaft["min_shaft_torque_knm"]
+    cycles = shaft["cycles_per_hour"]
+    if top is None:
+        return f"shaft line {shaft['shaft_line']}: no complete runs"
+    return (
+        f"shaft line {shaft['shaft_line']} ({', '.join(shaft['model'])} model, station "
+        f"{', '.join(shaft['station'])}): shaft torque {low:.0f} to {top:.0f} kN·m over "
+        f"{shaft['hours']:.3g} h in ice; {cycles:.0f} rainflow cycles per hour of range "
+        f"≥ {shaft['cycle_range_min_knm']:g} kN·m (results/shaft/)"
+    )
 
 
 def _print_rule_form(rule_form: dict) -> None:

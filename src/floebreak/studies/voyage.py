@@ -37,7 +37,7 @@ from floebreak.errors import InputError, require_range
 from floebreak.io.voyage_log import LogPeriod, VoyageLog
 from floebreak.scenario import FIELD_LENGTH_M, REFERENCE_TOML, SEED_MAX, SPEED_M_S, Scenario, apply_overrides
 from floebreak.studies.design import Membership, StudySpec, Sweep, check_n_fields, expand
-from floebreak.studies.voyage_results import FIELD_MARGIN_M
+from floebreak.studies.voyage_results import FIELD_MARGIN_M, VoyageAnalysis
 
 DEFAULT_MAX_LENGTH_M = 400.0  # about the thesis' §5.3 field length (385–447 m inferred, docs/validation.md)
 VOYAGE_FILE = "voyage.json"
@@ -322,6 +322,7 @@ class VoyageSetup:
     n_fields: int
     seed: int
     identity: dict[str, Any]
+    analysis: VoyageAnalysis = VoyageAnalysis()
 
 
 def prepare_voyage(
@@ -332,8 +333,10 @@ def prepare_voyage(
     overrides: Iterable[str] = (),
     speed_m_s: float | None = None,
     max_length_m: float = DEFAULT_MAX_LENGTH_M,
+    analysis: VoyageAnalysis = VoyageAnalysis(),  # noqa: B008 - frozen dataclass
 ) -> VoyageSetup:
-    """Validate the options and every period's scenario; nothing is written."""
+    """Validate the options and every period's scenario; nothing is written. `analysis`: the propeller
+    (and shaft) options of the results, outside the identity (they change ``results/`` only)."""
     check_n_fields(n_fields)
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= SEED_MAX:
         raise InputError("seed", f"{seed!r} is outside [0, 2⁶³ − 1]", value=seed, allowed="[0, 2⁶³ − 1]")
@@ -350,7 +353,7 @@ def prepare_voyage(
         "speed_m_s": speed_m_s,
         "max_length_m": max_length_m,
     }
-    return VoyageSetup(log, plans, base, name, n_fields, seed, identity)
+    return VoyageSetup(log, plans, base, name, n_fields, seed, identity, analysis.checked())
 
 
 def run_voyage(
@@ -371,13 +374,11 @@ def run_voyage(
     out = Path(out)
     check_out_dir(out, setup.identity)
     out.mkdir(parents=True, exist_ok=True)
-    propeller = _ship_scenario(setup.base, 1.0).propeller  # the same for every period
     document = {
         "log": Path(setup.log.source).name,
         "identity": setup.identity,
         "columns": list(setup.log.columns),
-        # voyages keep the thesis' rule (FEM tables, every cusp reaches) unless a fraction is given
-        "propeller": {"fraction_reaching": propeller.fraction_reaching or 1.0, "count": propeller.count},
+        "analysis": setup.analysis.as_dict(),  # the results' propeller options (not the identity)
     }
     _write_json(out / VOYAGE_FILE, document)
     n_fields, plans = setup.n_fields, setup.plans
@@ -400,6 +401,6 @@ def run_voyage(
     _write_json(out / VOYAGE_FILE, document)
     on_run = (lambda state: progress("runs", state)) if progress else None
     state = run_study(spec, runs, members, out, executor, on_run, run_figures=False)
-    summary = write_voyage_results(out, profile)
+    summary = write_voyage_results(out, profile, setup.analysis)
     summary["failures"] = state.failures
     return summary

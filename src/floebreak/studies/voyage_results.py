@@ -9,14 +9,16 @@ cusps of the voyage, so the voyage's expected number of loads in a bin is C_b = 
 period's simulated cusps in the bin). Since the period's rate per hour is r_p,b = c_p,b v_p / (n_p L_p),
 C_b = Σ_p T_p r_p,b: the time-weighted sum of the periods' rates. Rates per hour divide by Σ T_p (hours in
 ice: the periods, not the gaps between them), per km by Σ D_p; the density is C_b / (Σ_b C_b · bin width).
-Loads are per propeller: each cusp gives f / n loads on one propeller (scenario keys
-``propeller.fraction_reaching`` f and ``propeller.count`` n; defaults 1, as the thesis assumes, §6.2, and 2,
-the Agulhas II, §6.1).
+Loads are per propeller: c_p,b counts each simulated cusp with its loads on one propeller (1 / n for a cusp
+that reaches one, 0 for one that does not; f / n for every cusp with a fraction override f).
 
-Loads per cusp come from `floebreak.propeller.pipeline.propeller_loads` with its defaults (FEM tables,
-interpolation, beyond-table policy), for each shipped FEM pitch and "operated": each period with the FEM
-table whose pitch is nearest its logged pitch (the propeller's default pitch when the log has none). The
-logged rpm is recorded only: the FEM loads are for 140 rpm (thesis §6.1.2).
+Loads per cusp and which cusps reach come from the propeller analysis of `floebreak propeller`
+(`floebreak.app.propeller.analyse_runs` on the voyage's complete runs): the runs' profile picks the load
+model and the transport (default: blade milling model and hull transport; thesis: FEM tables, every cusp),
+for each pitch of the load model and "operated": each period at the pitch nearest its logged pitch (the
+propeller's default pitch when the log has none). The logged rpm is recorded only. The propeller options
+(`VoyageAnalysis`: polar class, fraction reaching, propellers, transport settings, shaft line) shape the
+results only.
 
 `write_voyage_results(voyage_dir)` re-builds ``results/`` (written atomically) from the runs on disk.
 """
@@ -25,6 +27,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +36,7 @@ import numpy as np
 from floebreak.errors import InputError
 from floebreak.io.jsonable import jsonable
 from floebreak.io.writers import rows_to_columns, write_csv, write_json
+from floebreak.propeller.spectra import pitch_label
 
 RESULTS_DIR = "results"
 BEYOND_TABLE_WARNING = 0.10  # share of a period's cusps beyond the FEM table that is worth a warning
@@ -68,83 +72,115 @@ def read_voyage(voyage_dir: Path) -> dict[str, Any]:
     return document
 
 
-def _run_tables(voyage_dir: Path, names: set[str]) -> tuple[dict[str, dict], dict[str, dict]]:
-    """Summaries and cusp columns of the complete runs among `names`."""
-    from floebreak.io.run_files import load_cusps
-    from floebreak.propeller.cusps import cusp_columns
-
-    summaries, cusps = {}, {}
+def _run_summaries(voyage_dir: Path, names: set[str]) -> dict[str, dict]:
+    """summary.json of the complete runs among `names`."""
+    summaries = {}
     for name in sorted(names):
-        run_dir = voyage_dir / "runs" / name
-        if not (run_dir / "summary.json").exists():
-            continue
-        summaries[name] = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
-        cusps[name] = cusp_columns(load_cusps(run_dir))
-    return summaries, cusps
+        path = voyage_dir / "runs" / name / "summary.json"
+        if path.exists():
+            summaries[name] = json.loads(path.read_text(encoding="utf-8"))
+    return summaries
+
+
+@dataclass(frozen=True)
+class VoyageAnalysis:
+    """The options of a voyage's propeller (and shaft) analysis, as on `floebreak propeller`: they shape
+    ``results/`` only, so a voyage re-run with other values resumes its runs and re-writes its results.
+    `transport`: `propeller.transport.TRANSPORT_KEYS` → value."""
+
+    polar_class: str | None = None
+    fraction_reaching: float | None = None
+    n_propellers: int | None = None
+    shaft_line: str | None = None
+    transport: dict[str, Any] = field(default_factory=dict)
+
+    def checked(self) -> VoyageAnalysis:
+        """Validate every option (InputError naming the key, value and allowed range); return self."""
+        from floebreak.propeller.iceclass import check_polar_class
+        from floebreak.propeller.rates import RateBasis
+        from floebreak.propeller.transport import transport_settings
+
+        if self.polar_class is not None:
+            check_polar_class(self.polar_class)
+        overrides = {"fraction_reaching": self.fraction_reaching, "n_propellers": self.n_propellers}
+        RateBasis(**{k: v for k, v in overrides.items() if v is not None})
+        transport_settings(self.transport)
+        if self.shaft_line is not None:
+            from floebreak.shaft.line import load_shaft_line
+
+            load_shaft_line(self.shaft_line)
+        return self
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def voyage_propeller(voyage_dir: Path, names: list[str], analysis: VoyageAnalysis):
+    """The propeller analysis (`floebreak.app.propeller.analyse_runs`) of the complete runs `names`, with
+    the load model and transport of their profile, as `floebreak propeller` does; None without runs."""
+    from floebreak.app.propeller import analyse_runs, read_run_dirs
+    from floebreak.propeller.transport import transport_settings
+
+    if not names:
+        return None
+    inputs = read_run_dirs(
+        [voyage_dir / "runs" / name for name in names],
+        pool=True,  # the periods differ in ice, field and speed by design
+        fraction_reaching=analysis.fraction_reaching,
+        n_propellers=analysis.n_propellers,
+    )
+    return analyse_runs(
+        inputs, polar_class=analysis.polar_class, transport_settings=transport_settings(analysis.transport)
+    )
 
 
 def _nearest_pitch(pitches: list[float], pitch: float) -> float:
     return min(pitches, key=lambda p: (abs(p - pitch), p))
 
 
-def period_loads(periods: list[dict], cusps: dict[str, dict]) -> dict[str, Any]:
-    """Per cusp of every period (a run shared by two periods counts in each): period index and load
-    magnitudes [kN, kN·m] per case (each FEM pitch "p<pitch>", and "operated")."""
-    from floebreak.propeller.fem import resolve_fem_tables
-    from floebreak.propeller.pipeline import propeller_loads
-    from floebreak.propeller.spec import PropellerSpec
-
-    default_pitch = PropellerSpec().pitch_percent
-    tables = resolve_fem_tables(None, default_pitch)
-    pitches = sorted(tables)
-    names = sorted(cusps)
-    loads = {}
-    if names:
-        columns = {k: np.concatenate([cusps[n][k] for n in names]) for k in cusps[names[0]]}
-        loads = propeller_loads(columns, tables)
-    start = dict(
-        zip(names, np.cumsum([0] + [cusps[n]["volume_m3"].size for n in names]).tolist(), strict=False)
-    )
-    index: list[np.ndarray] = []
-    period_of: list[np.ndarray] = []
-    operated: list[float] = []
-    for period in periods:
-        rows = [
-            np.arange(start[n], start[n] + cusps[n]["volume_m3"].size) for n in period["runs"] if n in cusps
-        ]
-        rows = np.concatenate(rows) if rows else np.zeros(0, dtype=int)
-        index.append(rows)
-        period_of.append(np.full(rows.size, period["index"]))
-        logged = period["propeller_pitch_percent"]
-        operated.append(_nearest_pitch(pitches, default_pitch if logged is None else logged))
+def period_loads(periods: list[dict], loads: dict[str, np.ndarray] | None, pitches, default_pitch) -> dict:
+    """Per cusp of every period (a run shared by two periods counts in each): period index, load magnitudes
+    [kN, kN·m] per case (each pitch "p<pitch>" of the load model, and "operated": each period at the pitch
+    nearest its logged one, `default_pitch` without), `share` (loads on one propeller per cusp: 0 for a cusp
+    that reaches none) and `reaches`. `loads`: the per-cusp table of `analyse_propeller` (None: no runs)."""
+    pitches = sorted(float(p) for p in pitches)
+    run_id = np.zeros(0, dtype=object) if loads is None else loads["run_id"]
+    index = [np.flatnonzero(np.isin(run_id, period["runs"])) for period in periods]
     rows = np.concatenate(index) if index else np.zeros(0, dtype=int)
-    out: dict[str, Any] = {
-        "period": np.concatenate(period_of),
-        "pitches": pitches,
-        "operated_pitch": operated,
-    }
+    period_of = np.concatenate([np.full(i.size, p["index"]) for i, p in zip(index, periods, strict=True)])
+    operated = [
+        _nearest_pitch(pitches, default_pitch if p[key] is None else p[key])
+        for p, key in ((p, "propeller_pitch_percent") for p in periods)
+    ]
+
+    def column(key: str, empty) -> np.ndarray:
+        return np.zeros(0, dtype=empty) if loads is None else loads[key][rows]
+
     cases: dict[str, dict[str, np.ndarray]] = {}
     for pitch in pitches:
-        label = f"p{pitch:g}"
+        label = pitch_label(pitch)
         cases[label] = {
-            "force": np.abs(loads[f"force_n_{label}"][rows]) / 1e3 if names else np.zeros(0),
-            "torque": np.abs(loads[f"torque_nm_{label}"][rows]) / 1e3 if names else np.zeros(0),
-            "beyond_table": loads[f"beyond_table_{label}"][rows] if names else np.zeros(0, bool),
+            "force": np.abs(column(f"force_n_{label}", float)) / 1e3,
+            "torque": np.abs(column(f"torque_nm_{label}", float)) / 1e3,
+            "beyond_table": column(f"beyond_table_{label}", bool),
         }
-    pick = np.asarray([operated[p] for p in out["period"]], dtype=float)
-    chosen: dict[str, np.ndarray] = {
-        "force": np.full(pick.size, np.nan),
-        "torque": np.full(pick.size, np.nan),
-        "beyond_table": np.zeros(pick.size, dtype=bool),
-    }
+    pick = np.asarray([operated[p] for p in period_of], dtype=float)
+    chosen = {key: np.full(pick.size, np.nan) for key in ("force", "torque")}
+    chosen["beyond_table"] = np.zeros(pick.size, dtype=bool)
     for pitch in pitches:
         mask = pick == pitch
         for key, values in chosen.items():
-            values[mask] = cases[f"p{pitch:g}"][key][mask]
+            values[mask] = cases[pitch_label(pitch)][key][mask]
     cases["operated"] = chosen
-    out["cases"] = cases
-    out["volume_m3"] = np.concatenate([cusps[n]["volume_m3"] for n in names])[rows] if names else np.zeros(0)
-    return out
+    return {
+        "period": period_of,
+        "pitches": pitches,
+        "operated_pitch": operated,
+        "cases": cases,
+        "volume_m3": column("volume_m3", float),
+        "reaches": column("reaches_propeller", bool),
+        "share": column("loads_per_propeller", float),
+    }
 
 
 def period_table(periods: list[dict], summaries: dict[str, dict], loads: dict[str, Any]) -> list[dict]:
@@ -161,6 +197,7 @@ def period_table(periods: list[dict], summaries: dict[str, dict], loads: dict[st
         flips = sum(s["n_flipped"] for s in complete)
         mine = loads["period"] == period["index"]
         torque = operated["torque"][mine]
+        torque = torque[np.isfinite(torque)]  # cusps that reach no propeller carry no load
         per_km = cusps / simulated_km if n else math.nan
         rows.append(
             {
@@ -186,10 +223,15 @@ def period_table(periods: list[dict], summaries: dict[str, dict], loads: dict[st
                 "mean_cusp_volume_m3": float(np.mean(loads["volume_m3"][mine])) if mine.any() else math.nan,
                 "operated_pitch_percent": loads["operated_pitch"][period["index"]],
                 "propeller_rpm": period["propeller_rpm"],
-                "mean_torque_knm": float(np.nanmean(torque)) if torque.size else math.nan,
-                "max_torque_knm": float(np.nanmax(torque)) if torque.size else math.nan,
+                "mean_torque_knm": float(np.mean(torque)) if torque.size else math.nan,
+                "max_torque_knm": float(np.max(torque)) if torque.size else math.nan,
                 "beyond_table_fraction": float(np.mean(operated["beyond_table"][mine]))
                 if mine.any()
+                else math.nan,
+                "fraction_reaching": float(np.mean(loads["reaches"][mine])) if mine.any() else math.nan,
+                # loads on one propeller per hour: Σ share / (n L) × v
+                "loads_per_hour": float(np.sum(loads["share"][mine])) / simulated_km * km_per_h
+                if n
                 else math.nan,
             }
         )
@@ -197,18 +239,23 @@ def period_table(periods: list[dict], summaries: dict[str, dict], loads: dict[st
 
 
 def cusp_weights(loads: dict[str, Any], rows: list[dict], share: float = 1.0) -> np.ndarray:
-    """Loads on one propeller each simulated cusp stands for: its period's weight w_p × `share`."""
+    """Loads on one propeller each simulated cusp stands for: its period's weight w_p × its own share
+    (`loads["share"]`: f / n, or 1 / n for a cusp that reaches a propeller and 0 for one that does not)
+    × `share`."""
     weight_of = np.asarray([row["weight"] for row in rows], dtype=float)
-    return share * weight_of[loads["period"]] if loads["period"].size else np.zeros(0)
+    if not loads["period"].size:
+        return np.zeros(0)
+    return share * weight_of[loads["period"]] * loads.get("share", 1.0)
 
 
 def voyage_rule_form(
-    loads: dict[str, Any], weights: np.ndarray, per_hour: float | None, profile=None
+    loads: dict[str, Any], weights: np.ndarray, per_hour: float | None, profile=None, rule=None
 ) -> dict[str, Any]:
     """Rule-form fit (notes §7.3) of the pooled "operated" |F| [kN] and |Q| [kN·m], each cusp weighted by
     the loads it stands for (`cusp_weights`; weighted maximum likelihood, intervals from the effective
     sample size, `fit_rule_form`); x_max per hour at `per_hour` loads and over the operating `profile`
-    (an `OperatingProfile` or None). Rule shape: open propeller (the Agulhas II's, thesis §6.1)."""
+    (an `OperatingProfile` or None). Rule shape: open propeller (the Agulhas II's, thesis §6.1). `rule`:
+    {"force_kn": F_b, "torque_knm": Q_max, "n_ice": N_ice} of a polar class, or None."""
     from floebreak.propeller.iceclass import WEIBULL_SHAPE
     from floebreak.propeller.summary import rule_form_entry
 
@@ -216,15 +263,25 @@ def voyage_rule_form(
     out: dict[str, Any] = {
         "form": "P(X >= x) = exp(-(x/x_max)^k ln N) (notes §7.3, as recalled, verify against the rule text)",
         "case": "operated",
-        "weights": "period weight D/(n L) × fraction reaching / propellers (loads per simulated cusp)",
+        "weights": "period weight D/(n L) × loads per cusp on one propeller (1/n reaching, 0 not; f/n "
+        "with a fraction override)",
+        "rule_n_ice": None if rule is None else rule["n_ice"],
         "n_ice_per_hour": per_hour,
         "operating_profile": None
         if profile is None
         else {"hours_in_ice_per_year": profile.hours_in_ice_per_year, "years": profile.years},
     }
     for quantity, key in (("force", "force_kn"), ("torque", "torque_knm")):
+        rule_max, rule_n = (None, None) if rule is None else (rule[key], rule["n_ice"])
         out[key] = rule_form_entry(
-            operated[quantity], 1.0, per_hour, profile, None, None, WEIBULL_SHAPE["open"], weights=weights
+            operated[quantity],
+            1.0,
+            per_hour,
+            profile,
+            rule_max,
+            rule_n,
+            WEIBULL_SHAPE["open"],
+            weights=weights,
         )
     return out
 
@@ -278,6 +335,8 @@ PERIOD_COLUMNS_MD = (  # (key, header, format) of periods.md
     ("cusps_per_hour", "cusps/h", ".0f"),
     ("flips_per_km", "flips/km", ".1f"),
     ("mean_cusp_volume_m3", "V̄_cusp [m³]", ".3g"),
+    ("fraction_reaching", "reaching", ".0%"),
+    ("loads_per_hour", "loads/h per propeller", ".0f"),
     ("mean_torque_knm", "mean abs Q [kN·m]", ".0f"),
     ("beyond_table_fraction", "beyond FEM table", ".0%"),
 )
@@ -367,40 +426,28 @@ def _case_summary(spectra: dict[str, Any], loads: dict[str, Any]) -> dict[str, A
     return out
 
 
-def _load_options() -> dict[str, Any]:
-    """The options `propeller_loads` uses by default (the voyage passes none), for the record."""
-    import inspect
-
-    from floebreak.propeller.pipeline import propeller_loads
-
-    parameters = inspect.signature(propeller_loads).parameters.values()
-    return {p.name: p.default for p in parameters if p.default is not inspect.Parameter.empty}
-
-
-def _share_text(document: dict[str, Any]) -> str:
-    propeller = document.get("propeller", {"fraction_reaching": 1.0, "count": 1})
-    return f"{propeller['fraction_reaching']:g} / {propeller['count']:g}"
-
-
-def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
-    """What a reader of the tables must know: rules, scaling, fallbacks, failures."""
+def voyage_notes(document: dict[str, Any], rows: list[dict], model: dict[str, Any]) -> list[str]:
+    """What a reader of the tables must know: rules, scaling, load model, fallbacks, failures (`model`:
+    `load_model_record`)."""
+    reach = model["transport"]
     notes = [
         "counts are scaled by distance: each period's cusps × D / (fields × L); L = min(D, max_length_m = "
         f"{document['identity']['max_length_m']:g} m)",
         f"field width W = beam + 2 × largest floe diameter + 2 × {FIELD_MARGIN_M:g} m margin: the field's "
         "edges never touch the ship's band",
-        "loads are per propeller: each cusp gives propeller.fraction_reaching / propeller.count loads on one "
-        f"propeller ({_share_text(document)}); rates per hour are per hour in ice (the periods' hours, not "
-        "the gaps between them)",
-        "operated case: each period with the FEM table nearest its logged pitch; logged rpm recorded only "
-        "(FEM loads at 140 rpm, thesis §6.1.2)",
+        f"per-cusp loads: {model['load_model']} model; fraction of cusps reaching a propeller "
+        f"{_fraction_text(reach)} ({reach['rule']}: {TRANSPORT_TEXT[reach['rule']]}); loads are per "
+        f"propeller ({model['n_propellers']} propellers); rates per hour are per hour in ice (the periods' "
+        "hours, not the gaps between them)",
+        "operated case: each period at the load model's pitch nearest its logged pitch; logged rpm recorded "
+        f"only ({RPM_TEXT.get(model['load_model'], 'no runs')})",
     ]
     shares = [row["beyond_table_fraction"] for row in rows]
     beyond = max((share for share in shares if math.isfinite(share)), default=0.0)
     if beyond > BEYOND_TABLE_WARNING:
         notes.append(
             f"warning: in a period up to {beyond:.0%} of the cusps lie beyond the largest FEM cusp; their "
-            f"loads follow the beyond-table policy {_load_options()['beyond']!r} (docs/propeller.md)"
+            f"loads follow the beyond-table policy {model['options']['beyond']!r} (docs/propeller.md)"
         )
     for row in rows:
         if row["generator"] != "circles":
@@ -413,22 +460,112 @@ def voyage_notes(document: dict[str, Any], rows: list[dict]) -> list[str]:
     return notes
 
 
-def write_voyage_results(voyage_dir: str | Path, profile=None) -> dict[str, Any]:
+RPM_TEXT = {"fem": "FEM loads at 140 rpm, thesis §6.1.2", "milling": "milling at the propeller's rpm"}
+TRANSPORT_TEXT = {
+    "hull": "the transport model decides per cusp",
+    "all": "every cusp reaches, thesis §6.2",
+    "override": "--fraction-reaching / propeller.fraction_reaching, every cusp loads with that weight",
+}
+
+
+def _fraction_text(transport: dict[str, Any]) -> str:
+    fraction = transport.get("fraction_reaching")
+    return "–" if fraction is None else f"{fraction:.3g}"
+
+
+def load_model_record(result, analysis: VoyageAnalysis) -> dict[str, Any]:
+    """The load model, transport (fraction reaching), rule and options of the voyage's propeller analysis
+    (`voyage_propeller`'s result, or None without runs: the defaults)."""
+    from floebreak.propeller.rates import RateBasis
+    from floebreak.propeller.ruleform import rule_n_ice
+    from floebreak.propeller.spec import PropellerSpec
+
+    n_propellers = analysis.n_propellers or RateBasis().n_propellers
+    if result is None:
+        return {
+            "load_model": None,
+            "transport": {"rule": "all" if analysis.fraction_reaching is None else "override"},
+            "n_propellers": n_propellers,
+            "options": {"beyond": None},
+            "rule": None,
+            "pitch_info": {},
+            "rated_torque_knm": None,
+            "default_pitch": PropellerSpec().pitch_percent,
+        }
+    summary = result.summary
+    rule = None
+    if result.rule is not None:
+        rule = {
+            **result.rule.as_dict(),
+            "force_kn": result.rule.backward_force_n / 1e3,
+            "torque_knm": result.rule.max_torque_nm / 1e3,
+            "n_ice": rule_n_ice(result.rule.polar_class, result.propeller.revolutions_per_s),
+        }
+    per_run = {e.basis.n_propellers for e in result.exposures.values()}
+    transport = {k: v for k, v in summary["transport"].items() if k != "by_run"}
+    return {
+        "load_model": summary["load_model"]["name"],
+        "load_model_description": summary["load_model"]["description"],
+        "transport": transport,
+        "n_propellers": per_run.pop() if len(per_run) == 1 else n_propellers,
+        "options": jsonable(result.options),
+        "rule": rule,
+        "pitch_info": summary["pitches"],
+        "rated_torque_knm": summary["load_model"]["rated_torque_knm"],
+        "default_pitch": result.propeller.pitch_percent,
+    }
+
+
+def voyage_warnings(model: dict[str, Any], rule_form: dict[str, Any]) -> list[str]:
+    """The out-of-range warnings of `floebreak propeller` (issue 33 item 5) on the voyage: a fraction
+    override, a per-cusp torque above 2 × the rated torque or the rule's Q_max, and a rule-form x_max more
+    than 1.5 × beyond the largest fitted load."""
+    from floebreak.propeller.load_models import extrapolation_warnings, override_warning, torque_warnings
+
+    out = []
+    overrides = model["transport"].get("fraction_overrides")
+    if overrides:
+        out.append(override_warning(overrides))
+    if model["rated_torque_knm"] is not None:
+        rule = model["rule"]
+        q_max = None if rule is None else rule["max_torque_nm"]
+        out += torque_warnings(model["pitch_info"], 1e3 * model["rated_torque_knm"], q_max)
+    fits = {"poperated": {k: rule_form[k] for k in ("force_kn", "torque_knm")}}
+    out += [w.replace("pitch operated %", "operated pitch") for w in extrapolation_warnings(fits)]
+    return out
+
+
+def _voyage_loads(voyage_dir: Path, periods: list[dict], names: list[str], analysis: VoyageAnalysis):
+    """The voyage's propeller analysis (`voyage_propeller`), its per-period loads and its record."""
+    result = voyage_propeller(voyage_dir, names, analysis)
+    model = load_model_record(result, analysis)
+    pitches = result.pitches if result is not None else (0.0, model["default_pitch"])
+    loads = period_loads(periods, None if result is None else result.loads, pitches, model["default_pitch"])
+    if not np.all(np.isfinite(loads["share"])):  # runs without a transit distance have no exposure
+        fraction = 1.0 if analysis.fraction_reaching is None else analysis.fraction_reaching
+        loads["share"] = np.where(loads["reaches"], fraction / model["n_propellers"], 0.0)
+    return loads, model
+
+
+def write_voyage_results(
+    voyage_dir: str | Path, profile=None, analysis: VoyageAnalysis | None = None
+) -> dict[str, Any]:
     """(Re)write ``results/`` of a voyage directory from its runs, atomically; returns the summary.
-    `profile`: an `OperatingProfile` (hours in ice per year, years) for the rule-form extrapolation."""
+    `profile`: an `OperatingProfile` (hours in ice per year, years) for the rule-form extrapolation;
+    `analysis`: the propeller options (default: those voyage.json records)."""
     from floebreak.io.atomic import atomic_directory
     from floebreak.io.provenance import provenance
 
     voyage_dir = Path(voyage_dir)
     document = read_voyage(voyage_dir)
+    if analysis is None:
+        analysis = VoyageAnalysis(**document.get("analysis", {}))
     periods = document["periods"]
-    summaries, cusps = _run_tables(voyage_dir, {n for p in periods for n in p["runs"]})
-    loads = period_loads(periods, cusps)
+    summaries = _run_summaries(voyage_dir, {n for p in periods for n in p["runs"]})
+    loads, model = _voyage_loads(voyage_dir, periods, sorted(summaries), analysis.checked())
     rows = period_table(periods, summaries, loads)
-    propeller = document.get("propeller", {"fraction_reaching": 1.0, "count": 1})
-    share = propeller["fraction_reaching"] / propeller["count"]
-    spectra = pooled_spectra(loads, rows, share)
-    notes = voyage_notes(document, rows)
+    spectra = pooled_spectra(loads, rows)
+    notes = voyage_notes(document, rows, model)
     summary = {
         "provenance": provenance(command="floebreak voyage", log=document["log"], **document["identity"]),
         "hours_in_ice": spectra["hours"],
@@ -437,18 +574,33 @@ def write_voyage_results(voyage_dir: str | Path, profile=None) -> dict[str, Any]
         "n_periods_simulated": sum(1 for row in rows if row["n_fields_complete"]),
         "n_runs_complete": len(summaries),
         "cusps_voyage": sum(row["cusps_in_period"] for row in rows if row["n_fields_complete"]),
-        "fem_pitches_percent": loads["pitches"],
-        "propeller_loads_options": _load_options(),
-        "propeller": {**propeller, "share_per_propeller": share},
+        "pitches_percent": loads["pitches"],
+        "analysis": analysis.as_dict(),
+        "load_model": {k: model[k] for k in ("load_model", "rated_torque_knm") if k in model}
+        | {"description": model.get("load_model_description")},
+        "transport": model["transport"],
+        "propeller_options": model["options"],
+        "propeller": {
+            "count": model["n_propellers"],
+            "fraction_reaching": model["transport"].get("fraction_reaching"),
+        },
+        "ice_class": model["rule"],
         "cases": _case_summary(spectra, loads),
         "generators": {str(p["index"]): [p["generator"], p["generator_reason"]] for p in periods},
         "notes": notes,
     }
     summary["cusps_per_hour"] = summary["cusps_voyage"] / spectra["hours"] if spectra["hours"] else None
-    weights = cusp_weights(loads, rows, share)
+    weights = cusp_weights(loads, rows)
     summary["rule_form"] = voyage_rule_form(
-        loads, weights, summary["cases"]["operated"]["loads_per_hour"], profile
+        loads, weights, summary["cases"]["operated"]["loads_per_hour"], profile, model["rule"]
     )
+    summary["warnings"] = voyage_warnings(model, summary["rule_form"])
+    notes += [f"warning: {w}" for w in summary["warnings"]]
+    if analysis.shaft_line is not None:
+        from floebreak.studies.voyage_shaft import voyage_shaft
+
+        shaft = voyage_shaft(voyage_dir, periods, rows, analysis.shaft_line)
+        summary["shaft"] = shaft.summary
     spectrum_rows, exceedance_rows = _spectra_rows(spectra)
     with atomic_directory(voyage_dir / RESULTS_DIR, overwrite=True, field="out") as temp:
         write_csv(temp / "periods.csv", rows_to_columns(rows), notes)
@@ -458,6 +610,8 @@ def write_voyage_results(voyage_dir: str | Path, profile=None) -> dict[str, Any]
             for quantity, quantity_rows in _split_by_quantity(table).items():
                 comment = f"voyage {name} of |{quantity}|, time-weighted over the periods; {notes[0]}"
                 write_csv(temp / f"{name}_{quantity}.csv", rows_to_columns(quantity_rows), [comment])
+        if analysis.shaft_line is not None:
+            shaft.write(temp / "shaft")
         _figures(temp / "figures", rows, spectra, list(loads["cases"]))
         _rule_form_figure(temp / "figures", loads, weights, spectra)
         _write_report(temp, summary, rows, spectra, loads)
@@ -588,11 +742,18 @@ def propeller_view(summary: dict[str, Any], rows: list[dict], loads: dict[str, A
         }
     rates = None
     if summary["hours_in_ice"]:
-        basis = {"fraction_reaching": propeller["fraction_reaching"], "n_propellers": propeller["count"]}
         rates = {
             "transit_m": summary["distance_km"] * 1e3,
             "hours_in_ice": summary["hours_in_ice"],
-            "per_run": {str(r["index"]): {"speed_m_s": r["speed_m_s"], **basis} for r in rows},
+            "per_run": {
+                str(r["index"]): {
+                    "speed_m_s": r["speed_m_s"],
+                    "fraction_reaching": r["fraction_reaching"],
+                    "n_propellers": propeller["count"],
+                }
+                for r in rows
+                if r["n_fields_complete"]
+            },
             "loads_per_hour_per_propeller": operated["loads_per_hour"],
             "loads_per_km_per_propeller": operated["loads_per_km"],
         }
