@@ -1,8 +1,10 @@
-"""The floebreak command line: a thin typer layer over the public functions."""
+"""The floebreak command line: each command parses its options and calls the public or application-layer
+functions (docs/architecture.md); help texts follow `_Command`'s conventions."""
 
 from __future__ import annotations
 
 import math
+import re
 import signal
 import sys
 from contextlib import contextmanager, nullcontext
@@ -12,6 +14,7 @@ from typing import Annotated
 
 import numpy as np
 import typer
+import typer.core
 from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
@@ -21,7 +24,59 @@ from floebreak.errors import InputError, require_range
 from floebreak.exit_codes import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_STORAGE, interruption
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
-app = typer.Typer(no_args_is_help=True, add_completion=False, help=__doc__, pretty_exceptions_enable=False)
+DESCRIPTION = (
+    "floebreak: a ship's bow breaking sea-ice floes (thesis model), the broken cusps' propeller-ice loads "
+    "and the shaft torque they cause. Start with `floebreak demo --out demo-output`."
+)
+
+
+class _HelpConventions:
+    """Every floebreak command's and group's help: texts printed as written (units such as [m] escaped, not
+    read as rich markup), arguments named in capitals (RUN_OR_STUDY_DIR, LOG) without the braces typer
+    puts around required ones in the usage line, and flags without a `<bool>` type."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.help = None if self.help is None else escape(self.help)
+        for param in self.params:
+            if getattr(param, "help", None):
+                param.help = escape(param.help)
+
+    def get_params(self, ctx):
+        params = super().get_params(ctx)
+        for param in params:
+            if isinstance(param, typer.core.TyperArgument) and param.metavar is None:
+                param.metavar = param.name.upper()
+            elif getattr(param, "is_flag", False) and param.metavar is None:
+                param.metavar = ""
+        return params
+
+    def collect_usage_pieces(self, ctx) -> list[str]:
+        return [re.sub(r"^\{(.*)\}$", r"\1", piece) for piece in super().collect_usage_pieces(ctx)]
+
+
+class _Command(_HelpConventions, typer.core.TyperCommand):
+    pass
+
+
+class _Group(_HelpConventions, typer.core.TyperGroup):
+    pass
+
+
+def _use_command_class(typer_app: typer.Typer) -> None:
+    """`_Command` for every command of `typer_app` registered without a class of its own."""
+    for info in typer_app.registered_commands:
+        if info.cls in (None, typer.core.TyperCommand):
+            info.cls = _Command
+
+
+app = typer.Typer(
+    cls=_Group,
+    no_args_is_help=True,
+    add_completion=False,
+    help=DESCRIPTION,
+    pretty_exceptions_enable=False,
+)
 console = Console()
 err_console = Console(stderr=True)
 
@@ -177,7 +232,8 @@ def _check_field_outputs(paths: dict[str, Path | None], overwrite: bool) -> None
         if path is None:
             continue
         if path.exists() and not overwrite:
-            raise InputError(name, f"{str(path)!r} exists", allowed="a new path, or pass --overwrite")
+            allowed = "a new path, or overwrite=True (--overwrite)"
+            raise InputError(name, f"{str(path)!r} exists", allowed=allowed)
         if not path.parent.is_dir():
             raise InputError(
                 name, f"directory {str(path.parent)!r} does not exist", allowed="an existing directory"
@@ -405,7 +461,7 @@ QuietOption = Annotated[bool, typer.Option("--quiet", "-q", help="no progress ba
 @app.command("run")
 def run_command(
     ctx: typer.Context,
-    scenario_file: Annotated[Path, typer.Argument(metavar="SCENARIO.toml", help="scenario file (TOML)")],
+    scenario_file: Annotated[Path, typer.Argument(metavar="SCENARIO", help="scenario file (TOML)")],
     out: Annotated[Path, typer.Option("--out", help="run directory to write (must not exist)")],
     overrides: SetOption = None,
     overwrite: OverwriteOption = False,
@@ -736,7 +792,7 @@ def animate(
     console.print(f"written: {path} ({n_frames} frames at {fps} fps)", soft_wrap=True, highlight=False)
 
 
-validate_app = typer.Typer(no_args_is_help=True, help="Validation studies (thesis §5).")
+validate_app = typer.Typer(cls=_Group, no_args_is_help=True, help="Validation studies (thesis §5).")
 app.add_typer(validate_app, name="validate")
 
 
@@ -1210,6 +1266,10 @@ def _report_interrupt() -> None:
     message, code = interruption()  # Ctrl-C's, or SIGTERM's (`floebreak.__main__`)
     err_console.print(message, highlight=False)
     sys.exit(code)
+
+
+_use_command_class(app)  # once every command is registered
+_use_command_class(validate_app)
 
 
 if __name__ == "__main__":  # `python -m floebreak.cli`: the console command without its collector settings
