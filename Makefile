@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.floebreak-installed
 
-.PHONY: demo test lint bench test-slow validate clean bytecode fuzz
+.PHONY: demo test lint bench test-slow validate clean bytecode fuzz test-browser
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -27,6 +27,12 @@ test: $(STAMP) lint
 
 test-slow: $(STAMP)
 	OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m slow
+
+# report.html of a demo run (PC5, operating profile, shaft line) in headless Chromium: every section laid out,
+# every figure decoded; screenshots (whole page and one per section) kept in build/screenshots/
+test-browser: $(STAMP)
+	command -v chromium >/dev/null || apt-get install -y chromium
+	FLOEBREAK_SCREENSHOTS=build/screenshots OMP_NUM_THREADS=1 $(BIN)/python -m pytest -q -m browser tests/test_browser.py
 
 # the scientific checks, among them the must-hold rows of `floebreak validate thesis` (both profiles, the choice
 # sample and the holdout; docs/validation.md)

@@ -363,14 +363,14 @@ ROWS = [
         "existing run directory",
         "`run s.toml --out out` (out exists)",
         2,
-        "error: out: '<folder>/out' exists (allowed: a new path, or pass --overwrite)",
+        "error: out: '<folder>/out' exists (allowed: a new path, or overwrite=True (--overwrite))",
         _existing_run,
     ),
     Row(
         "existing field file",
         "`field --out f.parquet` (f.parquet exists)",
         2,
-        "error: out: '<folder>/f.parquet' exists (allowed: a new path, or pass --overwrite)",
+        "error: out: '<folder>/f.parquet' exists (allowed: a new path, or overwrite=True (--overwrite))",
         _existing_field,
     ),
     Row(

@@ -1,8 +1,10 @@
-"""The floebreak command line: a thin typer layer over the public functions."""
+"""The floebreak command line: each command parses its options and calls the public or application-layer
+functions (docs/architecture.md); help texts follow `_Command`'s conventions."""
 
 from __future__ import annotations
 
 import math
+import re
 import signal
 import sys
 from contextlib import contextmanager, nullcontext
@@ -12,6 +14,7 @@ from typing import Annotated
 
 import numpy as np
 import typer
+import typer.core
 from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
@@ -29,7 +32,59 @@ from floebreak.errors import InputError, require_range
 from floebreak.exit_codes import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_STORAGE, interruption
 from floebreak.ice.observations import Observation, get_observation, thesis_observations
 
-app = typer.Typer(no_args_is_help=True, add_completion=False, help=__doc__, pretty_exceptions_enable=False)
+DESCRIPTION = (
+    "floebreak: a ship's bow breaking sea-ice floes (thesis model), the broken cusps' propeller-ice loads "
+    "and the shaft torque they cause. Start with `floebreak demo --out demo-output`."
+)
+
+
+class _HelpConventions:
+    """Every floebreak command's and group's help: texts printed as written (units such as [m] escaped, not
+    read as rich markup), arguments named in capitals (RUN_OR_STUDY_DIR, LOG) without the braces typer
+    puts around required ones in the usage line, and flags without a `<bool>` type."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.help = None if self.help is None else escape(self.help)
+        for param in self.params:
+            if getattr(param, "help", None):
+                param.help = escape(param.help)
+
+    def get_params(self, ctx):
+        params = super().get_params(ctx)
+        for param in params:
+            if isinstance(param, typer.core.TyperArgument) and param.metavar is None:
+                param.metavar = param.name.upper()
+            elif getattr(param, "is_flag", False) and param.metavar is None:
+                param.metavar = ""
+        return params
+
+    def collect_usage_pieces(self, ctx) -> list[str]:
+        return [re.sub(r"^\{(.*)\}$", r"\1", piece) for piece in super().collect_usage_pieces(ctx)]
+
+
+class _Command(_HelpConventions, typer.core.TyperCommand):
+    pass
+
+
+class _Group(_HelpConventions, typer.core.TyperGroup):
+    pass
+
+
+def _use_command_class(typer_app: typer.Typer) -> None:
+    """`_Command` for every command of `typer_app` registered without a class of its own."""
+    for info in typer_app.registered_commands:
+        if info.cls in (None, typer.core.TyperCommand):
+            info.cls = _Command
+
+
+app = typer.Typer(
+    cls=_Group,
+    no_args_is_help=True,
+    add_completion=False,
+    help=DESCRIPTION,
+    pretty_exceptions_enable=False,
+)
 console = Console()
 err_console = Console(stderr=True)
 
@@ -185,7 +240,8 @@ def _check_field_outputs(paths: dict[str, Path | None], overwrite: bool) -> None
         if path is None:
             continue
         if path.exists() and not overwrite:
-            raise InputError(name, f"{str(path)!r} exists", allowed="a new path, or pass --overwrite")
+            allowed = "a new path, or overwrite=True (--overwrite)"
+            raise InputError(name, f"{str(path)!r} exists", allowed=allowed)
         if not path.parent.is_dir():
             raise InputError(
                 name, f"directory {str(path.parent)!r} does not exist", allowed="an existing directory"
@@ -413,7 +469,7 @@ QuietOption = Annotated[bool, typer.Option("--quiet", "-q", help="no progress ba
 @app.command("run")
 def run_command(
     ctx: typer.Context,
-    scenario_file: Annotated[Path, typer.Argument(metavar="SCENARIO.toml", help="scenario file (TOML)")],
+    scenario_file: Annotated[Path, typer.Argument(metavar="SCENARIO", help="scenario file (TOML)")],
     out: Annotated[Path, typer.Option("--out", help="run directory to write (must not exist)")],
     overrides: SetOption = None,
     overwrite: OverwriteOption = False,
@@ -476,9 +532,16 @@ def _demo_propeller(run_dir: Path, run_id: str) -> dict:
     exposures = None if inputs.exposures is None else {run_id: next(iter(inputs.exposures.values()))}
     load_model, transport = profile_defaults(inputs.profile)
     result = analyse_propeller(cusps, exposures=exposures, load_model=load_model, transport=transport)
-    write_propeller(result, run_dir / DEMO_PROPELLER_DIR, record={"runs": [run_id]})
+    written = write_propeller(result, run_dir / DEMO_PROPELLER_DIR, record={"runs": [run_id]})
     write_report(run_dir, directory_name=run_id)  # again, now with the propeller section
-    return result.summary
+    return _written_summary(written)
+
+
+def _written_summary(folder: Path) -> dict:
+    """An analysis folder's summary.json as written (the terminal shows what the files hold)."""
+    import json
+
+    return json.loads((Path(folder) / "summary.json").read_text(encoding="utf-8"))
 
 
 def pa_array(values: list[str]):
@@ -550,6 +613,60 @@ def _rule_form_table(summary: dict) -> Table | None:
     return table if rows else None
 
 
+def _design_load_tables(summary: dict) -> list[Table]:
+    """Per propeller, one column per pitch: the design ice torque and blade force against the rule's
+    Q_max and F_b, their ratios and the loads over the profile against N_ice (the basis of each number:
+    `_design_basis_lines`). Quantities as rows, so that the table fits 80 columns."""
+    out = []
+    for entry in summary.get("design_loads") or []:
+        table = Table(title=f"design loads, {entry['propeller']}, against IACS UR I3 {entry['polar_class']}")
+        table.add_column("quantity", overflow="fold")
+        for row in entry["rows"]:
+            table.add_column(f"pitch {row['pitch_percent']:g} %", justify="right", overflow="fold")
+        table.add_column("unit", overflow="fold")
+        for label, key, spec, unit in _DESIGN_ROWS:
+            table.add_row(label, *(_fmt(row[key], spec) for row in entry["rows"]), unit)
+        origin = []
+        for row in entry["rows"]:
+            basis = row["basis"]["design Q"]
+            n_sim = basis.split(" simulated loads")[0].rsplit(" ", 1)[-1]
+            origin.append("x_max over profile" if basis.startswith("rule-form") else f"largest of {n_sim}")
+        table.add_row("design values from", *origin, "")
+        out.append(table)
+    return out
+
+
+_DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, format, unit
+    ("design ice torque Q", "design_torque_kn_m", ".0f", "kN·m"),
+    ("rule Q_max", "rule_max_torque_kn_m", ".0f", "kN·m"),
+    ("Q / Q_max", "torque_ratio", ".2f", "-"),
+    ("design blade force F", "design_force_kn", ".0f", "kN"),
+    ("rule F_b (backward)", "rule_backward_force_kn", ".0f", "kN"),
+    ("F / F_b", "force_ratio", ".2f", "-"),
+    ("loads over the profile", "n_loads_profile", ".3g", "-"),
+    ("rule N_ice", "rule_n_ice", ".3g", "-"),
+    ("loads / N_ice", "loads_ratio", ".2f", "-"),
+)
+
+
+def _design_basis_lines(summary: dict) -> list[str]:
+    """The basis of the design-load tables' numbers, each distinct text once; the design values' by kind
+    (extrapolated, or why not), the counts stripped (full texts per row: summary.json "design_loads")."""
+    seen: dict[str, None] = {}
+    for entry in summary.get("design_loads") or []:
+        for row in entry["rows"]:
+            for key in ("rule Q_max", "rule F_b", "rule N_ice", "loads over profile"):
+                seen.setdefault(f"{key}: {row['basis'][key]}", None)
+            for key in ("design Q", "design F"):
+                text = row["basis"][key]
+                if text.startswith("rule-form"):
+                    text = "rule-form x_max over the operating profile's loads (notes §7.3)"
+                else:
+                    text = "largest simulated load (not extrapolated" + text.split("(not extrapolated", 1)[1]
+                seen.setdefault(f"design values: {text}", None)
+    return list(seen)
+
+
 def _model_line(summary: dict) -> str:
     """The per-cusp torque model and which cusps reach a propeller (fractions per propeller)."""
     model = summary.get("load_model") or {}
@@ -577,6 +694,12 @@ def _print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
         rule_table = _rule_form_table(summary)
         if rule_table is not None:
             console.print(rule_table)
+        for table in _design_load_tables(summary):
+            console.print(table)
+        for line in _design_basis_lines(summary):
+            console.print(f"  {line}", highlight=False, soft_wrap=True)
+        if summary.get("ice_class") is None:
+            console.print("design-load table: add --polar-class (e.g. PC5)", highlight=False)
         console.print(_model_line(summary), highlight=False, soft_wrap=True)
         rates = summary.get("rates")
         if rates:
@@ -677,7 +800,7 @@ def animate(
     console.print(f"written: {path} ({n_frames} frames at {fps} fps)", soft_wrap=True, highlight=False)
 
 
-validate_app = typer.Typer(no_args_is_help=True, help="Validation studies (thesis §5).")
+validate_app = typer.Typer(cls=_Group, no_args_is_help=True, help="Validation studies (thesis §5).")
 app.add_typer(validate_app, name="validate")
 
 
@@ -964,7 +1087,7 @@ def propeller(
     record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
     written = write_propeller(result, out, overwrite=overwrite, record=record)
     _print_pooling(inputs)
-    _print_propeller_summary(result.summary, written, quiet)
+    _print_propeller_summary(_written_summary(written), written, quiet)
     if shaft is not None:
         _write_shaft(shaft, Path(written) / "shaft", overwrite)
 
@@ -1144,6 +1267,10 @@ def _report_interrupt() -> None:
     message, code = interruption()  # Ctrl-C's, or SIGTERM's (`floebreak.__main__`)
     err_console.print(message, highlight=False)
     sys.exit(code)
+
+
+_use_command_class(app)  # once every command is registered
+_use_command_class(validate_app)
 
 
 if __name__ == "__main__":  # `python -m floebreak.cli`: the console command without its collector settings

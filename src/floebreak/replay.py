@@ -65,7 +65,9 @@ def choose_format(out: Path | None, fmt: str | None) -> str:
         if fmt not in FORMATS:
             raise InputError("format", repr(fmt), allowed=", ".join(FORMATS))
         if suffix and suffix != fmt:
-            raise InputError("out", f"suffix .{suffix} does not match --format {fmt}", allowed=f"*.{fmt}")
+            raise InputError(
+                "out", f"suffix .{suffix} does not match fmt={fmt!r} (--format)", allowed=f"*.{fmt}"
+            )
     elif suffix in FORMATS:
         fmt = suffix
     elif suffix:
@@ -102,7 +104,7 @@ def _check_run_directory(run_dir: Path) -> None:
 
 def _check_out(out: Path, overwrite: bool) -> None:
     if out.exists() and not overwrite:
-        raise InputError("out", f"{str(out)!r} exists", allowed="a new path, or pass --overwrite")
+        raise InputError("out", f"{str(out)!r} exists", allowed="a new path, or overwrite=True (--overwrite)")
     if out.is_dir():
         raise InputError("out", f"{str(out)!r} is a directory", allowed="a file path")
     parent = out.parent if str(out.parent) else Path(".")

@@ -111,8 +111,9 @@ def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = 
                 f"<tr><td>{esc(label)}</td><td class='num'>{esc(_format(summary[key]))}</td>"
                 f"<td>{esc(unit)}</td><td><code>{esc(key)}</code></td></tr>"
             )
+    hashes = {key: summary[key] for key in _HASH_KEYS if key in summary}
     for key, value in summary.items():
-        if key not in shown:
+        if key not in shown and key not in hashes:
             parts.append(
                 f"<tr><td>{esc(key)}</td><td class='num'>{esc(_format(value))}</td><td></td>"
                 f"<td><code>{esc(key)}</code></td></tr>"
@@ -134,12 +135,38 @@ def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = 
     parts += shaft_section(run_dir / "propeller" / "shaft")
     parts += [
         "<h2>Scenario (resolved)</h2>",
-        f"<pre>{esc(scenario_text)}</pre>",
-        "<h2>Provenance</h2>",
-        f"<pre>{esc(json.dumps(provenance, indent=2, sort_keys=True))}</pre>",
+        f"<details><summary>scenario.resolved.toml</summary><pre>{esc(scenario_text)}</pre></details>",
+        *_provenance_parts(run_dir, hashes, provenance),
         "</body></html>",
     ]
     return "\n".join(parts) + "\n"
+
+
+def _provenance_parts(run_dir: Path, hashes: dict, provenance: dict) -> list[str]:
+    """The page's last section, collapsed: the run's hashes and provenance, and the provenance of its
+    propeller and shaft analyses where present."""
+    esc = html.escape
+
+    def block(title: str, *records: dict) -> str:
+        pre = "".join(f"<pre>{esc(json.dumps(r, indent=2, sort_keys=True))}</pre>" for r in records)
+        return f"<details><summary>{esc(title)}</summary>{pre}</details>"
+
+    parts = [
+        "<h2>Provenance</h2>",
+        block("Hashes of the run's files, scenario and model; library versions", hashes, provenance),
+    ]
+    for folder, title in (
+        (run_dir / "propeller", "Provenance of the propeller files"),
+        (run_dir / "propeller" / "shaft", "Provenance of the shaft files"),
+    ):
+        summary = _section_summary(folder)
+        if summary is not None:
+            parts.append(block(title, summary.get("provenance", {})))
+    return parts
+
+
+# summary keys shown in the collapsed provenance block at the end, not in the summary table
+_HASH_KEYS = ("scenario_hash", "model_hash", "summary_sha256", "files")
 
 
 _PROPELLER_FIGURES = {
@@ -191,6 +218,50 @@ def _propeller_rows(summary: dict) -> list[str]:
     return rows
 
 
+_DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, unit
+    ("design ice torque Q", "design_torque_kn_m", "kN·m"),
+    ("rule Q_max", "rule_max_torque_kn_m", "kN·m"),
+    ("Q / Q_max", "torque_ratio", "–"),
+    ("design blade force F", "design_force_kn", "kN"),
+    ("rule F_b (backward)", "rule_backward_force_kn", "kN"),
+    ("rule F_f (forward, for reference)", "rule_forward_force_kn", "kN"),
+    ("F / F_b", "force_ratio", "–"),
+    ("largest simulated |Q|", "max_abs_torque_kn_m", "kN·m"),
+    ("largest simulated |F|", "max_abs_force_kn", "kN"),
+    ("loads over the operating profile", "n_loads_profile", "–"),
+    ("rule N_ice", "rule_n_ice", "–"),
+    ("loads / N_ice", "loads_ratio", "–"),
+)
+
+
+def design_load_parts(design_loads: list[dict] | None) -> list[str]:
+    """HTML of the design-load tables (summary.json "design_loads", one per propeller; quantities as rows,
+    one column per pitch) and the basis of every number; a hint without a polar class (None)."""
+    esc = html.escape
+    if not design_loads:
+        return [
+            "<p>Design-load table: the analysis was run without a polar class "
+            "(<code>--polar-class</code>, <code>polar_class=</code>).</p>"
+        ]
+    parts = []
+    for entry in design_loads:
+        rows = entry["rows"]
+        title = f"Design loads, {entry['propeller']}, against IACS UR I3 {entry['polar_class']}"
+        parts.append(
+            f"<h3>{esc(title)}</h3><table><tr><th>quantity</th>"
+            + "".join(f"<th>pitch {row['pitch_percent']:g} %</th>" for row in rows)
+            + "<th>unit</th></tr>"
+        )
+        for label, key, unit in _DESIGN_ROWS:
+            cells = "".join(f"<td class='num'>{esc(_format(row[key]))}</td>" for row in rows)
+            parts.append(f"<tr><td>{esc(label)}</td>{cells}<td>{esc(unit)}</td></tr>")
+        parts.append("</table><details><summary>Basis of each number</summary><ul>")
+        for row in rows:
+            for number, text in row["basis"].items():
+                parts.append(f"<li>pitch {row['pitch_percent']:g} %, {esc(number)}: {esc(text)}</li>")
+        parts.append("</ul></details>")
+    return parts
+
 
 def _section_summary(folder: Path) -> dict | None:
     """The summary.json of an analysis folder (propeller, shaft), None if there is none."""
@@ -201,6 +272,7 @@ def _section_summary(folder: Path) -> dict | None:
         return json.loads(path.read_text(encoding="utf-8"))
     except (OSError, json.JSONDecodeError) as error:
         raise InputError("run_dir", f"{str(path)!r} is not readable JSON ({error})") from None
+
 
 def propeller_section(folder: Path) -> list[str]:
     """HTML parts of the propeller section when `folder` holds a propeller analysis (summary.json):
@@ -233,6 +305,8 @@ def propeller_parts(summary: dict, figures: Path, captions: dict[str, str] | Non
     else:
         parts.append("<p>No time base (transit distance unknown): densities only, no rates.</p>")
     parts += _propeller_rows(summary)
+    if "design_loads" in summary:  # a propeller analysis' (a voyage's pooled loads have none)
+        parts += design_load_parts(summary["design_loads"])
     rule = summary.get("rule_form") or {}
     if rule.get("rule_n_ice") is not None:
         parts.append(
@@ -303,8 +377,8 @@ def _shaft_rows(summary: dict) -> list[str]:
 
 def shaft_section(folder: Path) -> list[str]:
     """HTML parts of the "Shaft line" section when `folder` holds a shaft analysis (summary.json): the
-    warnings, the design numbers (`_shaft_rows`), the fatigue note, the figures and the shaft files'
-    provenance in a collapsed block; nothing otherwise."""
+    warnings, the design numbers (`_shaft_rows`), the fatigue note and the figures (the shaft files'
+    provenance: the page's last section); nothing otherwise."""
     summary = _section_summary(folder)
     if summary is None:
         return []
@@ -327,10 +401,6 @@ def shaft_section(folder: Path) -> list[str]:
     for name, caption in _SHAFT_FIGURES.items():
         if (folder / "figures" / name).is_file():
             parts.append(_embedded_figure(folder / "figures" / name, caption))
-    parts.append(
-        "<details><summary>Provenance of the shaft files</summary>"
-        f"<pre>{esc(json.dumps(summary.get('provenance', {}), indent=2, sort_keys=True))}</pre></details>"
-    )
     return parts
 
 

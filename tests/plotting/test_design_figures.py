@@ -43,17 +43,19 @@ def test_rule_exceedance_draws_the_rule_curve_at_n_ice_once():
     force, torque = _loads()
     n_ice = 6e6 * 140 / 60  # PC5 N_class × n, by hand
     figure = plot_rule_exceedance(force, torque, RULE, 0.75, n_ice=n_ice)
+    (legend,) = figure.legends  # one legend below both panels, not one over each panel's curves
+    labels = [t.get_text() for t in legend.get_texts()]
+    assert len(labels) == len(set(labels)) == 4  # two pitches, one rule curve, the rule maximum
+    rule_labels = [t for t in labels if "N_ice" in t]
+    assert rule_labels == [f"UR I3 exp(−x^0.75 ln N_ice), N_ice = {n_ice:.3g}"]
+    assert not any("N = 511" in t for t in labels)
     for ax in figure.axes:
-        labels = _labels(ax)
-        assert len(labels) == len(set(labels)) == 4  # two pitches, one rule curve, the rule maximum
-        rule_labels = [t for t in labels if "N_ice" in t]
-        assert rule_labels == [f"UR I3 exp(−x^0.75 ln N_ice), N_ice = {n_ice:.3g}"]
-        assert not any("N = 511" in t for t in labels)
+        assert ax.get_legend() is None
         (curve,) = [line for line in ax.lines if line.get_label() == rule_labels[0]]
         x, p = curve.get_data()
         assert p == pytest.approx(np.exp(-(x**0.75) * np.log(n_ice)))  # exp(−x^k ln N_ice), notes §7.3
     assert "not given" not in figure._suptitle.get_text()
-    assert _render(figure).size == (1100, 400)
+    assert _render(figure).size == (1100, 500)
 
 
 def test_rule_exceedance_without_n_ice_draws_no_rule_curve_and_says_so():
@@ -73,8 +75,11 @@ def test_legends_of_wide_figures_scale_with_the_width():
     assert legend_font_pt(Figure(figsize=(5.0, 4.0))) == LEGEND_PT
     force, torque = _loads()
     figure = plot_rule_exceedance(force, torque, RULE, n_ice=1e7)
-    sizes = [t.get_fontsize() for ax in figure.axes for t in ax.get_legend().get_texts()]
-    assert sizes == pytest.approx([LEGEND_PT * 11.0 / 7.5] * 8)
+    sizes = [t.get_fontsize() for legend in figure.legends for t in legend.get_texts()]
+    assert sizes == pytest.approx([LEGEND_PT * 11.0 / 7.5] * 4)
+    # and every other text of the two-panel figure as large, relative to its width, as a single panel's
+    ticks = [t.get_fontsize() for ax in figure.axes for t in ax.get_xticklabels()]
+    assert ticks == pytest.approx([10.0 * 11.0 / 7.5] * len(ticks))  # matplotlib's 10 pt default, scaled
 
 
 def test_add_legend_lists_a_repeated_label_once():

@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 import json
+import math
 
+import numpy as np
 import pytest
 
 from floebreak.errors import InputError
-from floebreak.propeller.design_loads import SimulatedLoads, design_loads
+from floebreak.propeller.design_loads import SimulatedLoads, design_load_tables, design_loads, simulated_loads
+from floebreak.propeller.pipeline import analyse_propeller
+from floebreak.propeller.rates import RateBasis, RunExposure
+from floebreak.propeller.ruleform import OperatingProfile
 from floebreak.propeller.spec import PropellerSpec
 
 # Agulhas II at PC5 with EAR 0.45 and t_0.7 = 0.08 m (as tests/propeller/test_iceclass.py), by hand:
@@ -102,3 +107,99 @@ def test_rule_factor_scales_n_ice_and_bad_inputs_are_named():
     with pytest.raises(InputError) as info:
         design_loads(SPEC, "PC9", {50.0: SimulatedLoads(1.0, 1.0)})
     assert info.value.field == "polar_class"
+
+
+# --- the design loads of an analysis (simulated_loads, design_load_tables) --------------------------------
+
+
+def test_simulated_loads_extrapolates_a_weibull_sample_to_the_profile():
+    # 20 000 loads from P(X ≥ x) = exp(−(x/λ)^k), λ = 100 kN·m, k = 0.75: the largest of N loads is
+    # λ (ln N)^(1/k) (notes §7.3); N = 50 loads/h × 2 000 h = 1e5 → 100 · 11.513^(4/3) = 2 595 kN·m
+    rng = np.random.default_rng(3)
+    torque = 100e3 * rng.weibull(0.75, 20_000)
+    force = 2.0 * torque
+    sim = simulated_loads(force, torque, None, loads_per_hour=50.0, profile_hours=2_000.0)
+    assert sim.n_loads_profile == pytest.approx(1e5)
+    expected = 100e3 * math.log(1e5) ** (1 / 0.75)
+    assert sim.x_max_torque_n_m == pytest.approx(expected, rel=0.05)
+    assert sim.x_max_force_n == pytest.approx(2 * expected, rel=0.05)
+    assert sim.max_abs_torque_n_m == torque.max() and sim.n_simulated == 20_000
+    assert sim.fit_range_torque_n_m == (torque.min(), torque.max())
+
+
+def test_simulated_loads_without_a_profile_or_a_fit_says_why():
+    torque = np.array([5e3, 5e3, 5e3, math.nan])  # the NaN: a cusp that reaches no propeller
+    sim = simulated_loads(torque, torque, np.array([1.0, 1.0, 0.0, 0.0]), 10.0, 100.0)
+    assert sim.n_simulated == 2 and sim.max_abs_torque_n_m == 5e3 and sim.x_max_torque_n_m is None
+    assert "all 2 loads are equal" in sim.no_fit_reason
+    table = design_loads(SPEC, "PC5", {0.0: sim})
+    assert "all 2 loads are equal" in table.rows[0].basis["design Q"]
+    assert simulated_loads(torque, torque).no_fit_reason == "no operating profile or time base"
+
+
+def _analysed(transport: str):
+    """120 cusps of 0.5–1.6 m on the two shaft lines (y = ±5.5 m, Agulhas II arrangement), made at the stem,
+    in 300 m at 3 m/s (1/36 h); PC5 over 1 000 h."""
+    rng = np.random.default_rng(7)
+    n = 120
+    size = rng.uniform(1.0, 3.0, n)
+    thickness = rng.uniform(0.5, 1.6, n)
+    bow_x = np.sort(rng.uniform(0.0, 290.0, n))
+    cusps = {
+        "volume_m3": size**2 * thickness,
+        "bbox_length_m": size,
+        "bbox_width_m": size,
+        "thickness_m": thickness,
+        "area_m2": size**2,
+        "bow_x_m": bow_x,
+        "centroid_x_m": bow_x,
+        "centroid_y_m": np.where(np.arange(n) % 3 == 0, -5.5, 5.5),
+        "run_id": np.array(["r"] * n),
+    }
+    return analyse_propeller(
+        cusps,
+        exposures={"r": RunExposure(300.0, RateBasis(3.0, None, 2))},
+        transport=transport,
+        polar_class="PC5",
+        operating_profile=OperatingProfile(100.0, 10.0),
+    )
+
+
+def test_design_load_tables_per_propeller_of_the_transport():
+    result = _analysed("hull")
+    tables = design_load_tables(result)
+    assert [t.propeller for t in tables] == ["propeller 1", "propeller 2"]
+    index = result.loads["propeller_index"]
+    for k, table in enumerate(tables):
+        mine = index == k
+        assert mine.sum() >= 10  # enough to fit the rule form
+        for row in table.rows:
+            amp = result.amplitudes(row.pitch_percent)
+            assert row.max_abs_torque_n_m == np.nanmax(np.abs(amp.torque_nm[mine]))
+            # every cusp reaching propeller k loads it once: count / (1/36 h) × 1 000 h
+            assert row.n_loads_profile == pytest.approx(mine.sum() * 36.0 * 1000.0)
+            assert row.rule_n_ice == pytest.approx(N_ICE)
+            assert row.design_torque_n_m >= row.max_abs_torque_n_m  # x_max over ≥ 3e5 loads
+            assert row.basis["design Q"].startswith("rule-form x_max")
+
+
+def test_design_load_tables_of_the_mean_propeller_and_without_a_polar_class():
+    result = _analysed("all")
+    (table,) = design_load_tables(result)
+    assert table.propeller == "one propeller (mean)"
+    # every cusp reaches; each counts 1/2 on one propeller: 120 / 2 / (1/36 h) × 1 000 h
+    assert table.rows[0].n_loads_profile == pytest.approx(120 / 2 * 36.0 * 1000.0)
+    no_class = analyse_propeller(_analysed_cusps_of(result), exposures=result.exposures, transport="all")
+    assert design_load_tables(no_class) == []
+
+
+def _analysed_cusps_of(result):
+    loads = result.loads
+    return {
+        "volume_m3": loads["volume_m3"],
+        "bbox_length_m": loads["bbox_longer_m"],
+        "bbox_width_m": loads["bbox_shorter_m"],
+        "thickness_m": loads["thickness_m"],
+        "area_m2": loads["area_m2"],
+        "run_id": loads["run_id"],
+    }

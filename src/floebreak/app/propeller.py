@@ -12,9 +12,11 @@ from floebreak.errors import InputError
 from floebreak.io.jsonable import jsonable
 from floebreak.io.propeller import write_propeller_files
 from floebreak.io.run_files import cusp_files, load_cusps, parquet_metadata, read_resolved_scenario
+from floebreak.propeller.design_loads import design_load_tables
 from floebreak.propeller.iceclass import WEIBULL_SHAPE
 from floebreak.propeller.load_models import profile_defaults
 from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
+from floebreak.propeller.ruleform import rule_n_ice
 from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
 
@@ -69,11 +71,23 @@ def write_propeller(
     overwrite: bool = False,
     record: dict | None = None,
 ) -> Path:
-    """Draw `result`'s figures and write it to the new directory `out_dir` atomically; return it. `record`
-    adds to the provenance (e.g. the input files)."""
+    """Draw `result`'s figures, compute its design-load tables and write both with it to the new directory
+    `out_dir` atomically; return it. `record` adds to the provenance (e.g. the input files)."""
     return write_propeller_files(
-        result, out_dir, propeller_figures(result), overwrite=overwrite, record=record
+        result,
+        out_dir,
+        propeller_figures(result),
+        overwrite=overwrite,
+        record=record,
+        extra_summary={"design_loads": design_load_summary(result)},
     )
+
+
+def design_load_summary(result: PropellerResult) -> list[dict] | None:
+    """The summary's "design_loads" entry: per propeller the design-load table with the basis of every
+    number (`floebreak.propeller.design_loads.design_load_tables`); None without a polar class."""
+    tables = design_load_tables(result)
+    return [table.as_dict() for table in tables] if tables else None
 
 
 def propeller_figures(result: PropellerResult) -> dict[str, Any]:
@@ -98,8 +112,9 @@ def propeller_figures(result: PropellerResult) -> dict[str, Any]:
             )
     if result.rule is not None:
         force = {p: result.amplitudes(p).force_n for p in result.pitches}
+        n_ice = rule_n_ice(result.rule.polar_class, result.propeller.revolutions_per_s, o["rule_factor"])
         out["ice_class_exceedance.png"] = figs.plot_rule_exceedance(
-            force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]]
+            force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]], n_ice=n_ice
         )
     return out
 

@@ -169,7 +169,7 @@ def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path
     StorageError if the parent cannot be written (full, read-only, no permission)."""
     out = Path(out)
     if out.exists() and not overwrite:
-        raise InputError("out", f"{str(out)!r} exists", allowed="a new path, or pass --overwrite")
+        raise InputError("out", f"{str(out)!r} exists", allowed="a new path, or overwrite=True (--overwrite)")
     if out.exists() and not out.is_dir():
         raise InputError("out", f"{str(out)!r} is a file", allowed="a directory path")
     parent = out.parent if str(out.parent) else Path(".")

@@ -280,7 +280,9 @@ def shaft_analysis_of_run(
         require_range("torque_limit_knm", torque_limit_knm, low=0.0, unit="kN m")
         if model != "drive":
             raise InputError(
-                "torque_limit_knm", "applies to the drive model only", allowed="--shaft-model drive"
+                "torque_limit_knm",
+                "applies to the drive model only",
+                allowed='shaft_model="drive" (--shaft-model drive)',
             )
     line = load_shaft_line(shaft_line)
     if speed_m_s is None:
@@ -289,7 +291,7 @@ def shaft_analysis_of_run(
             raise InputError(
                 "speed_m_s",
                 f"not given, and {str(run_dir)!r} has no ship.speed_m_s in scenario.resolved.toml",
-                allowed="--speed-m-s SPEED (ship speed > 0 m/s)",
+                allowed="speed_m_s > 0 m/s (--speed-m-s)",
             )
     measured = None if torque_csv is None else read_torque_csv(torque_csv)
     mean_torque_n_m = None if mean_torque_knm is None else 1e3 * mean_torque_knm

@@ -131,7 +131,9 @@ def atomic_directory(
     """
     final = Path(path)
     if final.exists() and not overwrite:
-        raise InputError(field, f"{str(final)!r} exists", allowed="a new path, or pass --overwrite")
+        raise InputError(
+            field, f"{str(final)!r} exists", allowed="a new path, or overwrite=True (--overwrite)"
+        )
     _check_parent_writable(final, field)
     remove_dead_temporaries(final.parent)
     temp = Path(tempfile.mkdtemp(prefix=_temporary_prefix(final, "tmp"), dir=final.parent))
@@ -156,7 +158,7 @@ def _rename_no_replace(temp: Path, final: Path, field: str) -> None:
         field,
         f"{str(final)!r} was created by another process while this one was writing; its result is kept and "
         "this one's discarded",
-        allowed="one run per output path, or pass --overwrite",
+        allowed="one run per output path, or overwrite=True (--overwrite)",
     )
     if final.exists() or final.is_symlink():
         raise taken

@@ -131,9 +131,11 @@ def write_propeller_files(
     *,
     overwrite: bool = False,
     record: dict | None = None,
+    extra_summary: Mapping | None = None,
 ) -> Path:
     """Write `result` and its `figures` (file name → Figure, saved in ``figures/``) to the new directory
-    `out_dir` atomically and return it. `record` adds to the provenance (e.g. the input files)."""
+    `out_dir` atomically and return it. `record` adds to the provenance (e.g. the input files),
+    `extra_summary` to summary.json (e.g. the design-load tables the application layer computed)."""
     prov = provenance(command="propeller_analysis", **jsonable(result.options), **(record or {}))
     ds = result.spectra.copy()
     ds.attrs.update(
@@ -148,7 +150,7 @@ def write_propeller_files(
             "provenance": json.dumps(jsonable(prov), sort_keys=True),
         }
     )
-    summary = {"provenance": prov, **result.summary}
+    summary = {"provenance": prov, **result.summary, **(extra_summary or {})}
     with atomic_directory(out_dir, overwrite=overwrite) as tmp:
         tmp = Path(tmp)
         _write_tables(result, tmp)

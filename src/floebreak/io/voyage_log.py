@@ -41,6 +41,7 @@ from pathlib import Path
 
 from floebreak.errors import InputError, csv_where
 from floebreak.ice.observations import PERCENT_SUM_TOLERANCE
+from floebreak.io.delimiters import check_comma_separated
 from floebreak.propeller.spec import MAX_PROPELLER_RPM
 from floebreak.scenario import SPEED_M_S, THICKNESS_M
 
@@ -294,22 +295,6 @@ def _check_order(source: str, before: LogPeriod, period: LogPeriod) -> None:
         )
 
 
-def _check_delimiter(source: str, header: list[str], raw: str, line: int) -> None:
-    """A log separated by semicolons or tabs (a spreadsheet's export where the decimal mark is a comma) is
-    read as one column: name the separator, not the column's "unit"."""
-    if len(header) != 1:
-        return
-    for separator, name in ((";", "semicolons"), ("\t", "tabs")):
-        if separator in raw:
-            raise InputError(
-                csv_where(source, line=line),
-                f"the columns are separated by {name}, not by commas (a spreadsheet export for a locale with "
-                "a decimal comma?)",
-                allowed="a comma-separated file with decimal points (e.g. 0.5, not 0,5): export as CSV with "
-                "',' as the separator and '.' as the decimal mark",
-            )
-
-
 def _shares(source: str, header: list[str], line: int) -> list[tuple[str, float]]:
     shares = sorted(
         ((name, float(SHARE_COLUMN.match(name)["diameter"])) for name in header if SHARE_COLUMN.match(name)),
@@ -363,7 +348,7 @@ def iter_voyage_log(
         raise InputError(source, "no header", allowed="a CSV header and one row per observation period")
     header = [name.strip() for name in first]
     header_line = position[0]
-    _check_delimiter(source, header, ",".join(first), header_line)
+    check_comma_separated(csv_where(source, line=header_line), header, ",".join(first))
     _check_header(source, header, header_line)
     shares = _shares(source, header, header_line)
     classes: dict[tuple, tuple] = {}  # one tuple object per distinct set of classes, shared by the periods

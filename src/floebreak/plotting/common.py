@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import matplotlib
 import numpy as np
 import shapely
 from matplotlib.collections import PolyCollection
@@ -85,6 +86,14 @@ def legend_font_pt(figure: Figure) -> float:
     """Legend font size [pt] that reads as `LEGEND_PT` once the figure is scaled to the page width:
     `LEGEND_PT` × width / `LEGEND_REFERENCE_WIDTH_IN`, never smaller than `LEGEND_PT`."""
     return LEGEND_PT * max(1.0, float(figure.get_size_inches()[0]) / LEGEND_REFERENCE_WIDTH_IN)
+
+
+def page_fonts(width_in: float):
+    """A matplotlib rc context for a figure `width_in` wide: every font (ticks, labels, titles) scaled by
+    width / `LEGEND_REFERENCE_WIDTH_IN` (at least 1), so that once report.html scales the figure to the
+    page width its text reads as large as a single-panel figure's. Draw the whole figure inside it."""
+    scale = max(1.0, width_in / LEGEND_REFERENCE_WIDTH_IN)
+    return matplotlib.rc_context({"font.size": matplotlib.rcParamsDefault["font.size"] * scale})
 
 
 def add_legend(ax, **kwargs):

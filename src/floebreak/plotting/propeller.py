@@ -7,7 +7,14 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from floebreak.plotting.common import SPECTRUM_MARGINS_IN, add_legend, new_figure, place_axes
+from floebreak.plotting.common import (
+    SPECTRUM_MARGINS_IN,
+    add_legend,
+    legend_font_pt,
+    new_figure,
+    page_fonts,
+    place_axes,
+)
 from floebreak.propeller.iceclass import empirical_exceedance, weibull_exceedance
 from floebreak.propeller.interpolation import VolumeInterpolant
 from floebreak.propeller.rates import weighted_exceedance
@@ -27,8 +34,13 @@ def plot_volume_loads(
     """Force and torque vs cusp volume for each 1-D FEM table: points, chosen interpolant (solid), the other
     method (dashed), to 2.5 × the largest table volume so that the policy beyond the table shows; N-D
     tables as points only."""
+    with page_fonts(11.0):
+        return _draw_volume_loads(tables, method, beyond, v_max_m3)
+
+
+def _draw_volume_loads(tables, method: str, beyond: str, v_max_m3: float | None) -> Figure:
     figure = Figure(figsize=(11.0, 4.0))
-    place_axes(figure, 0.72, 0.5, 0.1, 0.4, columns=2, gap=0.92)  # fixed: see SPECTRUM_MARGINS_IN
+    place_axes(figure, 0.95, 0.62, 0.1, 0.5, columns=2, gap=1.15)  # fixed: see SPECTRUM_MARGINS_IN
     axes = figure.subplots(1, 2)
     other = "pchip" if method == "newton" else "newton"
     top = v_max_m3 or np.nanmax([t.max_volume_m3 for t in tables.values()]) * 2.5
@@ -111,8 +123,13 @@ def plot_rule_exceedance(
     """Empirical exceedance of |F|/F_b and |Q|/Q_max per pitch and, with the rule's number of loads
     `n_ice` (`floebreak.propeller.ruleform.rule_n_ice`), the rule's exceedance exp(−x^k ln N_ice) (notes
     §7.3), one curve per panel: the rule's, not one per pitch. Without `n_ice` no rule curve is drawn and
-    the title says so."""
-    figure = Figure(figsize=(11.0, 4.0), constrained_layout=True)
+    the title says so. One legend for both panels, below them."""
+    with page_fonts(11.0):
+        return _draw_rule_exceedance(force_n, torque_nm, rule, shape, n_ice)
+
+
+def _draw_rule_exceedance(force_n: dict, torque_nm: dict, rule, shape: float, n_ice: float | None) -> Figure:
+    figure = Figure(figsize=(11.0, 5.0), constrained_layout=True)
     axes = figure.subplots(1, 2)
     for ax, data, cap, label in (
         (axes[0], force_n, rule.backward_force_n, "|F| / F_b"),
@@ -141,7 +158,16 @@ def plot_rule_exceedance(
         ax.set_yscale("log")
         ax.set_xlabel(label)
         ax.set_ylabel("P(X ≥ x)")
-        add_legend(ax)
+    handles, labels = axes[0].get_legend_handles_labels()
+    unique = dict(zip(labels, handles, strict=True))
+    figure.legend(
+        list(unique.values()),
+        list(unique.keys()),
+        loc="outside lower center",
+        ncols=2,
+        frameon=False,
+        fontsize=legend_font_pt(figure),
+    )
     title = "Simulated loads against the IACS UR I3 exceedance shape"
     if n_ice is None:
         title += " (no rule curve: the rule's N_ice is not given)"
@@ -170,15 +196,23 @@ def plot_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float = 0.75,
 
     amplitudes: {pitch_percent or case name: torque [N·m] per cusp}; weights: None, or the same keys with
     the loads each cusp stands for (a weighted fit and empirical exceedance, N = Σ weights)."""
-    figure = Figure(figsize=(11.0, 4.0), constrained_layout=True)
+    with page_fonts(11.0):
+        return _draw_rule_form(amplitudes, exceedance, rule_shape, weights)
+
+
+def _draw_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float, weights) -> Figure:
+    figure = Figure(figsize=(11.0, 4.5), constrained_layout=True)
     axes = figure.subplots(1, 2)
     for i, (pitch, values) in enumerate(amplitudes.items()):
         w = None if weights is None else weights[pitch]
         v, p, n = _exceedance_points(np.asarray(values, dtype=float) / 1e3, w)
-        if v.size < 10 or np.ptp(v) <= 0:
-            continue
         name = pitch if isinstance(pitch, str) else f"P = {pitch:g} %"
         key = pitch if isinstance(pitch, str) else pitch_label(float(pitch))
+        table = exceedance.get(f"torque_{key}")
+        if table is not None:  # the counted rates need no fit
+            axes[1].step(table["level"], table["per_hour"], where="post", color=_colour(i), label=name)
+        if v.size < 10 or np.ptp(v) <= 0:
+            continue
         axes[0].step(v, p, where="post", color=_colour(i), label=f"simulated {name} (n = {v.size})")
         fit = fit_rule_form(np.abs(values) / 1e3, weights=w)
         x = np.linspace(0.0, v.max() * 1.2, 200)
@@ -188,18 +222,17 @@ def plot_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float = 0.75,
         )
         rule = np.exp(-((x / x_max) ** rule_shape) * np.log(n))
         axes[0].plot(x, rule, color=_colour(i), ls=":", lw=0.9, label=f"rule shape k = {rule_shape:g}")
-        table = exceedance.get(f"torque_{key}")
-        if table is not None:
-            axes[1].step(table["level"], table["per_hour"], where="post", color=_colour(i), label=name)
     axes[0].set_yscale("log")
     axes[0].set_xlabel("torque |Q| [kN m]")
     axes[0].set_ylabel("P(X ≥ x)")
     if axes[0].lines:
         add_legend(axes[0])
     else:
-        axes[0].text(0.5, 0.5, "fewer than 10 distinct loads", transform=axes[0].transAxes, ha="center")
+        axes[0].text(
+            0.5, 0.5, "no fit: fewer than 10 distinct loads", transform=axes[0].transAxes, ha="center"
+        )
     axes[1].set_xlabel("torque level [kN m]")
-    axes[1].set_ylabel("exceedances per hour in ice, one propeller [1/h]")
+    axes[1].set_ylabel("exceedances per hour\n(one propeller) [1/h]")
     if axes[1].lines:
         axes[1].set_yscale("log")
         add_legend(axes[1])

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from floebreak.plotting.common import SPECTRUM_MARGINS_IN, add_legend, new_figure, with_note_line
+from floebreak.plotting.common import SPECTRUM_MARGINS_IN, add_legend, new_figure, page_fonts, with_note_line
 
 MAX_PLOTTED_POINTS = 3_000  # ≈ 2 groups per pixel column at 150 dpi
 
@@ -25,6 +25,11 @@ def _envelope(t, y, max_points: int = MAX_PLOTTED_POINTS):
 def plot_series(time_s, series_knm: dict[str, np.ndarray], title: str, zoom_s: float = 3.0) -> Figure:
     """Torque series [kN·m] over time [s] (long series as min–max bands) and, below, `zoom_s` seconds
     around the largest value of the last series, sample by sample."""
+    with page_fonts(10.0):
+        return _draw_series(time_s, series_knm, title, zoom_s)
+
+
+def _draw_series(time_s, series_knm: dict[str, np.ndarray], title: str, zoom_s: float) -> Figure:
     figure = Figure(figsize=(10.0, 6.5), constrained_layout=True)
     full, zoom = figure.subplots(2, 1)
     time_s = np.asarray(time_s)

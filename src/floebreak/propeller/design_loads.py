@@ -15,11 +15,17 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
 
 from floebreak.errors import InputError
 from floebreak.propeller.iceclass import IceClassLoads, ur_i3_loads
-from floebreak.propeller.ruleform import rule_n_ice
+from floebreak.propeller.ruleform import fit_rule_form, rule_n_ice
 from floebreak.propeller.spec import PropellerSpec
+
+if TYPE_CHECKING:
+    from floebreak.propeller.pipeline import PropellerResult
 
 RULE_SOURCE = "IACS UR I3 (2006/Rev.1, as recalled: physics-notes §7.2; verify against the rule text)"
 
@@ -38,6 +44,7 @@ class SimulatedLoads:
     x_max_force_n: float | None = None
     fit_range_torque_n_m: tuple[float, float] | None = None
     fit_range_force_n: tuple[float, float] | None = None
+    no_fit_reason: str | None = None
 
     def __post_init__(self) -> None:
         quantities = ("max_abs_torque_n_m", "max_abs_force_n", "n_loads_profile")
@@ -164,7 +171,8 @@ def _design_value(sim: SimulatedLoads, quantity: str) -> tuple[float, str]:
         x_max, largest, fit_range, unit = sim.x_max_force_n, sim.max_abs_force_n, sim.fit_range_force_n, "kN"
     n_sim = "" if sim.n_simulated is None else f" of {sim.n_simulated} simulated loads"
     if x_max is None:
-        return largest, f"largest simulated load{n_sim} (not extrapolated to the operating profile)"
+        why = "" if sim.no_fit_reason is None else f": {sim.no_fit_reason}"
+        return largest, f"largest simulated load{n_sim} (not extrapolated to the operating profile{why})"
     fit = "" if fit_range is None else f", fitted {fit_range[0] / 1e3:.3g}–{fit_range[1] / 1e3:.3g} {unit}"
     over = "" if sim.n_loads_profile is None else f" of N = {sim.n_loads_profile:.3g} loads"
     return (
@@ -200,7 +208,7 @@ def design_loads(
             f"{spec.revolutions_per_s:.4g} 1/s (notes §7, as recalled)",
             "loads over profile": "not given (no time base or operating profile)"
             if sim.n_loads_profile is None
-            else "loads per hour on one propeller × operating-profile hours",
+            else "loads per hour on this propeller × operating-profile hours",
         }
         rows.append(
             DesignLoadRow(
@@ -219,3 +227,88 @@ def design_loads(
             )
         )
     return DesignLoadTable(propeller, rule, n_ice, tuple(rows))
+
+
+def simulated_loads(
+    force_n,
+    torque_n_m,
+    weights=None,
+    loads_per_hour: float | None = None,
+    profile_hours: float | None = None,
+) -> SimulatedLoads:
+    """One propeller's and pitch's `SimulatedLoads` from its per-cusp |F| [N] and |Q| [N·m] (NaN: no
+    load; `weights`: loads per cusp on that propeller, 0 for cusps that do not reach it). With
+    `loads_per_hour` and `profile_hours` the number of loads over the profile N = rate × hours and, where
+    the rule form fits (`fit_rule_form`, weighted), x_max(N) of each quantity (notes §7.3)."""
+    f, q = np.abs(np.asarray(force_n, dtype=float)), np.abs(np.asarray(torque_n_m, dtype=float))
+    w = np.ones(f.shape) if weights is None else np.asarray(weights, dtype=float)
+    loaded = (w > 0.0) & np.isfinite(f) & np.isfinite(q)
+    n_profile = None
+    if loads_per_hour is not None and profile_hours is not None:
+        n_profile = loads_per_hour * profile_hours
+    out: dict = {
+        "max_abs_force_n": float(f[loaded].max()) if loaded.any() else 0.0,
+        "max_abs_torque_n_m": float(q[loaded].max()) if loaded.any() else 0.0,
+        "n_simulated": int(loaded.sum()),
+        "n_loads_profile": n_profile,
+    }
+    if n_profile is None or n_profile <= 1.0:
+        out["no_fit_reason"] = "no operating profile or time base"
+    for name, values in (("force_n", f), ("torque_n_m", q)):
+        fitted = values[loaded & (values > 0.0)]
+        if n_profile is None or n_profile <= 1.0:
+            continue
+        if fitted.size and np.ptp(fitted) == 0.0:
+            out["no_fit_reason"] = f"all {fitted.size} loads are equal, the rule form cannot be fitted"
+            continue
+        try:
+            fit = fit_rule_form(values[loaded], weights=w[loaded])
+        except InputError as error:  # too few loads: the design value is the largest simulated load
+            out["no_fit_reason"] = f"no rule-form fit ({error})"
+            continue
+        out[f"x_max_{name}"] = fit.x_max(n_profile)
+        out[f"fit_range_{name}"] = (float(fitted.min()), float(fitted.max()))
+    return SimulatedLoads(**out)
+
+
+def design_load_tables(result: PropellerResult) -> list[DesignLoadTable]:
+    """The design-load tables of a `PropellerResult` with a polar class (none without): one per
+    propeller where the transport model assigns cusps to propellers ("propeller 1", "propeller 2", … in
+    the arrangement's order; default 1 = port, 2 = starboard), else one for the mean propeller (loads per
+    cusp f / n_p). Loads per hour from the result's time base, hours from its operating profile."""
+    if result.rule is None:
+        return []
+    summary = result.summary
+    rates = summary.get("rates") or {}
+    hours_in_ice = rates.get("hours_in_ice")
+    profile = (summary.get("rule_form") or {}).get("operating_profile") or {}
+    index = result.loads.get("propeller_index")
+    per_propeller = (summary.get("transport") or {}).get("rule") == "hull" and index is not None
+    groups: dict[str, np.ndarray | None] = {"one propeller (mean)": None}
+    if per_propeller:
+        n = max(len(summary["transport"].get("fraction_reaching_per_propeller") or []), int(index.max()) + 1)
+        groups = {f"propeller {k + 1}": index == k for k in range(n)}
+    tables = []
+    for name, members in groups.items():
+        simulated = {}
+        for pitch in result.pitches:
+            amp = result.amplitudes(pitch)
+            if members is None:
+                weights = amp.weight if np.isfinite(amp.weight).all() else None
+                total = None if weights is None else float(np.sum(weights))
+            else:
+                weights, total = members.astype(float), float(members.sum())
+            per_hour = None if total is None or not hours_in_ice else total / hours_in_ice
+            simulated[pitch] = simulated_loads(
+                amp.force_n, amp.torque_nm, weights, per_hour, profile.get("hours")
+            )
+        tables.append(
+            design_loads(
+                result.propeller,
+                result.rule.polar_class,
+                simulated,
+                propeller=name,
+                rule_factor=result.options["rule_factor"],
+            )
+        )
+    return tables

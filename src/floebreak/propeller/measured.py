@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.errors import InputError
+from floebreak.io.delimiters import check_comma_separated
 from floebreak.io.text_files import package_data_path, read_text_file
 from floebreak.propeller.fem import _UNITS as _FEM_UNITS
 from floebreak.propeller.fem import split_name_unit, unit_factor
@@ -49,6 +50,7 @@ def parse_torque_csv(
         raise InputError(field, f"{source}: no header line", allowed="a header with time and torque columns")
     rows = list(csv.reader(io.StringIO("\n".join(lines))))
     header = rows[0]
+    check_comma_separated(f"{field}: {source}, header", header, lines[0])
     t_col = q_col = None
     t_unit = q_unit = None
     for i, name in enumerate(header):

@@ -105,7 +105,7 @@ def run_inputs(
         raise InputError(
             "run_or_study_dir",
             f"{len(runs)} runs below {str(root)!r} differ in {', '.join(differing)}",
-            allowed="runs that differ only in seed and field, or --pool to pool them anyway",
+            allowed="runs that differ only in seed and field, or pool=True (--pool) to pool them anyway",
         )
     exposures, missing = {}, []
     for run, (run_dir, scenario, distance) in runs.items():
