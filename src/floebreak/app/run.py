@@ -62,6 +62,7 @@ from floebreak.results import (
 )
 from floebreak.scenario import Scenario
 from floebreak.simulation import (
+    EVENT_TOLERANCE_M,
     MAX_PIECES_DEFAULT,
     Callback,
     Model,
@@ -120,6 +121,15 @@ def waterline_rule(scenario: Scenario) -> str:
 
     return scenario.ship.waterlines or profile_switches(scenario.profile).get(
         "ship.waterlines", "follow_thickness"
+    )
+
+
+def event_location(scenario: Scenario) -> str:
+    """ "step_end" or "root": the scenario's `simulation.event_location`, else its profile's."""
+    from floebreak.profiles import DEFAULT_EVENT_LOCATION, profile_switches
+
+    return scenario.simulation.event_location or profile_switches(scenario.profile).get(
+        "simulation.event_location", DEFAULT_EVENT_LOCATION
     )
 
 
@@ -501,6 +511,8 @@ def run(
         initial_contact=ship.initial_contact,
         max_pieces=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
         max_wall_s=scenario.simulation.max_wall_s,
+        event_location=event_location(scenario),
+        event_tolerance_m=scenario.simulation.event_tolerance_m or EVENT_TOLERANCE_M,
     )
     contacts_file = (
         None
