@@ -5,6 +5,10 @@ with the field size), evaluate contact for each, classify, let the failure mode 
 pieces in contact at the same bow position until nothing more fails. Pieces leave the field as cusps or
 flipped floes; everything else remains. The loop does no I/O: it reports through callbacks (events).
 
+A failure happens at the step's bow position (``event_location = "step_end"``, thesis §3.2) or, with
+``"root"``, at the bow position located between two steps (`floebreak.simulation_events`): then the step only
+sets how often contacts are searched.
+
 Initial ice area = cusps + flipped + remaining is checked at the end of every run.
 """
 
@@ -215,8 +219,8 @@ class SimulationResult:
     n_steps: int
     piece_id: np.ndarray
     # each piece's polygon: a shapely geometry, or its WKB for a piece the run finished with (see `_Pieces`);
-    # `polygon` / `polygons` give geometries; empty for a transient piece (created and broken at one bow
-    # position)
+    # `polygon` / `polygons` give geometries; empty for a transient piece (created and broken in one step:
+    # at one bow position, or between two contact searches with located events)
     stored_polygon: np.ndarray
     piece_bounds_m: np.ndarray  # (n, 4) bounds of each piece (NaN for an empty one) [m]
     piece_area_m2: np.ndarray  # every piece's area, transient ones included
