@@ -119,3 +119,28 @@ def test_each_profile_resolves_its_event_location():
     assert event_location(Scenario.from_dict({"profile": "default"})) == DEFAULT_EVENT_LOCATION
     stated = Scenario.from_dict({"profile": "thesis", "simulation": {"event_location": "root"}})
     assert event_location(stated) == "root"
+
+
+def _summary(scenario: dict) -> tuple:
+    import floebreak
+
+    summary = floebreak.run(scenario).summary
+    return tuple(summary[k] for k in ("n_cusps", "n_flipped", "n_breaks", "cusp_area_m2", "flipped_area_m2"))
+
+
+LOCATED = {
+    "profile": "default",
+    "seed": 3,
+    "field": {"length_m": 80.0, "width_m": 40.0},
+    "ship": {"step_m": 0.5},
+    "simulation": {"event_location": "root"},
+}
+
+
+def test_a_located_run_gives_the_same_result_in_a_worker_process():
+    from concurrent.futures import ProcessPoolExecutor
+
+    here = _summary(LOCATED)
+    assert here[2] > 10  # the ice breaks
+    with ProcessPoolExecutor(1) as pool:
+        assert pool.submit(_summary, LOCATED).result() == here
