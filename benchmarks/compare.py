@@ -15,8 +15,10 @@ module exists, else `floebreak.cli:main`); both sides' sources are compiled to b
 installed copy is.
 
 Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]
-[--end-to-end] [--against REV2]` (REV: any git revision, e.g. a commit or `HEAD~3`; `--against` compares
-with REV2 instead of the working tree). Both sides' kernels are compiled first (≈ 10 s, not timed).
+[--end-to-end] [--against REV2] [--new-params JSON]` (REV: any git revision, e.g. a commit or `HEAD~3`;
+`--against` compares with REV2 instead of the working tree; `--new-params` gives the compared side's
+`SimulationParams`, e.g. a coarser step with located events, issue 32). Both sides' kernels are compiled
+first (≈ 10 s, not timed).
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 CHILD = """
-import gc, sys, time
+import gc, json, sys, time
 import numpy as np
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
@@ -45,6 +47,7 @@ from floebreak.simulation import SimulationParams, simulate
 compile_kernels()
 gc.freeze()  # as the CLI does after loading the engine
 length_m, width_m, runs = float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
+params = SimulationParams(**{"step_m": 0.25, **json.loads(sys.argv[4])})
 field = generate_field(
     get_observation("2019-12-18T20:20"), length_m, width_m, np.random.default_rng(1), thickness_m=1.0
 )
@@ -52,7 +55,7 @@ model, bow = build_model("default"), agulhas_ii(ice_thickness_m=1.0)
 best = float("inf")
 for _ in range(runs):
     start = time.process_time()
-    result = simulate(field, bow, model, SimulationParams(step_m=0.25))
+    result = simulate(field, bow, model, params)
     best = min(best, time.process_time() - start)
 print(best, result.n_breaks)
 """
@@ -66,9 +69,12 @@ importlib.import_module(entry).main()
 """
 
 
-def _run_end_to_end(src: Path, args: argparse.Namespace) -> tuple[float, int]:
+def _run_end_to_end(src: Path, args: argparse.Namespace, params: str = "{}") -> tuple[float, int]:
     """CPU time (user + system) of the best of `args.runs` CLI runs (one child process each): on a shared
-    machine it follows the code's work, where wall time follows the other processes' load."""
+    machine it follows the code's work, where wall time follows the other processes' load. `params`
+    (`--new-params`) is for the engine alone: refused here (a run takes `--set` in its scenario)."""
+    if params != "{}":
+        sys.exit("--new-params times the engine alone: not with --end-to-end")
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
     # the installed venv may see another checkout's `_floebreak_entry`: choose by this side's files
     entry = "_floebreak_entry" if (src / "_floebreak_entry.py").exists() else "floebreak.cli"
@@ -96,10 +102,10 @@ def _run_end_to_end(src: Path, args: argparse.Namespace) -> tuple[float, int]:
     return best, breaks
 
 
-def _run(src: Path, args: argparse.Namespace) -> tuple[float, int]:
+def _run(src: Path, args: argparse.Namespace, params: str = "{}") -> tuple[float, int]:
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
     out = subprocess.run(
-        [sys.executable, "-c", CHILD, str(args.length_m), str(args.width_m), str(args.runs)],
+        [sys.executable, "-c", CHILD, str(args.length_m), str(args.width_m), str(args.runs), params],
         env=env,
         cwd=src.parent,
         check=True,
@@ -118,6 +124,12 @@ def main() -> None:
     parser.add_argument("--width-m", type=float, default=None, help="default 50 m (200 m end to end)")
     parser.add_argument("--end-to-end", action="store_true", help="time the command line's whole run")
     parser.add_argument("--against", help="compare with this revision instead of the working tree")
+    parser.add_argument(
+        "--new-params",
+        default="{}",
+        help='SimulationParams of the compared side (not REV) as JSON, e.g. \'{"step_m": 0.5, '
+        '"event_location": "root"}\' (engine only; default step_m 0.25)',
+    )
     args = parser.parse_args()
     if args.length_m is None:
         args.length_m = 1000.0 if args.end_to_end else 400.0
@@ -146,18 +158,19 @@ def _compare(sides: dict[str, Path], run, args: argparse.Namespace) -> None:
             compileall.compile_dir(src, quiet=1)
     unit = "s CPU"
     best: dict[str, list[float]] = {name: [] for name in sides}
+    old, new = sides
     for round_ in range(1, args.rounds + 1):
         for name, src in sides.items():
-            seconds, breaks = run(src, args)
+            seconds, breaks = run(src, args, "{}" if name == old else args.new_params)
             best[name].append(seconds)
             print(f"round {round_}: {name:>14}  {seconds:.3f} {unit}  ({breaks} breaks)", flush=True)
     medians = {name: statistics.median(values) for name, values in best.items()}
-    old, new = sides
     print(
         f"{args.length_m:.0f} m × {args.width_m:.0f} m, median of the rounds' best: "
         + ", ".join(f"{name} {value:.3f} {unit}" for name, value in medians.items())
         + f"; ratio {medians[old] / medians[new]:.2f}"
     )
+
 
 if __name__ == "__main__":
     main()

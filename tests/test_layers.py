@@ -42,6 +42,7 @@ LAYERS = {
     "floebreak.mechanics": COMPUTING,
     "floebreak.failure": COMPUTING,
     "floebreak.simulation": COMPUTING,
+    "floebreak.simulation_events": COMPUTING,
     "floebreak.results": COMPUTING,
     "floebreak.profiles": COMPUTING,
     "floebreak.scenario": COMPUTING,

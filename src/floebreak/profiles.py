@@ -41,8 +41,12 @@ THESIS_SWITCHES: MappingProxyType[str, Any] = MappingProxyType(
         "field.floe_area_factor": 0.5,  # erratum 1
         "field.thickness_summands": c.THICKNESS_SUMMANDS_THESIS,  # erratum 6
         "field.thickness_sum_from_zero": True,  # erratum 6
+        # thesis §3.2: the floe breaks at the step's bow position (its rows were scored with this stepping)
+        "simulation.event_location": "step_end",
     }
 )
+# where the default profile places a failure between two contact searches (docs/model.md §9, §11)
+DEFAULT_EVENT_LOCATION = "step_end"
 
 
 # The thesis profile's dispatch: a bending-class floe at the stem that lies wholly within its breaking radius

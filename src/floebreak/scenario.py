@@ -690,7 +690,7 @@ class PropellerSection(_Section):
 
 
 class SimulationSection(_Section):
-    """Guards of the stepping engine (not physics)."""
+    """Guards of the stepping engine (not physics) and where it places failure events."""
 
     max_pieces: Int | None = Field(
         None,
@@ -705,6 +705,19 @@ class SimulationSection(_Section):
         le=WALL_S_MAX,
         description="most wall time a run's stepping may take [s]; beyond it the run stops with exit code 2 "
         "(default 600 s + 60 s per km of transit, ≥ 6 × the slowest measured run: it stops only a runaway)",
+    )
+    event_location: Literal["step_end", "root"] | None = Field(
+        None,
+        description="where a piece fails between two contact searches (docs/model.md §9): at the search "
+        "position (step_end, the thesis' stepping, §3.2) or located by bisection (root), so that ship.step_m "
+        "only sets how often contacts are searched; default: the profile's (§11)",
+    )
+    event_tolerance_m: Float | None = Field(
+        None,
+        gt=0.0,
+        le=STEP_M[1],
+        description="bisection tolerance of a located failure (event_location = root) [m]; default 0.01 m "
+        "(docs/validation.md, convergence)",
     )
 
 

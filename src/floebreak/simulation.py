@@ -5,6 +5,10 @@ with the field size), evaluate contact for each, classify, let the failure mode 
 pieces in contact at the same bow position until nothing more fails. Pieces leave the field as cusps or
 flipped floes; everything else remains. The loop does no I/O: it reports through callbacks (events).
 
+A failure happens at the step's bow position (``event_location = "step_end"``, thesis §3.2) or, with
+``"root"``, at the bow position located between two steps (`floebreak.simulation_events`): then the step only
+sets how often contacts are searched.
+
 Initial ice area = cusps + flipped + remaining is checked at the end of every run.
 """
 
@@ -44,6 +48,7 @@ from floebreak.mechanics.contact import (
     evaluate_contacts,
 )
 from floebreak.mechanics.polygon_kernel import advance_to_contact, ring_arrays
+from floebreak.simulation_events import EVENT_LOCATIONS, EVENT_TOLERANCE_M, locate_step
 
 AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overlay (exact up to rounding)
 # A piece found out of contact is not evaluated again until the bow has advanced to where its outline could
@@ -112,6 +117,10 @@ class SimulationParams:
     # time guard: `WallTimeError` beyond this many seconds, checked at every step and every evaluation;
     # None: WALL_S_BASE + WALL_S_PER_KM per km of transit
     max_wall_s: float | None = None
+    # where a failure happens between two contact searches (`floebreak.simulation_events`): at the search
+    # position ("step_end", thesis §3.2) or located by bisection to within `event_tolerance_m` ("root")
+    event_location: Literal["step_end", "root"] = "step_end"
+    event_tolerance_m: float = EVENT_TOLERANCE_M
 
     def __post_init__(self) -> None:
         if self.max_wall_s is not None:
@@ -124,6 +133,11 @@ class SimulationParams:
                 f"{self.x_end_m:g} m is not after x_start_m = {self.x_start_m:g} m",
                 allowed=f"> {self.x_start_m:g} m",
             )
+        if self.event_location not in EVENT_LOCATIONS:
+            raise InputError(
+                "simulation.event_location", repr(self.event_location), allowed=", ".join(EVENT_LOCATIONS)
+            )
+        require_range("simulation.event_tolerance_m", self.event_tolerance_m, low=0.0, unit="m")
         if self.initial_contact not in ("shift_field", "shift_floes"):
             raise InputError(
                 "simulation.initial_contact", repr(self.initial_contact), allowed="shift_field, shift_floes"
@@ -205,8 +219,8 @@ class SimulationResult:
     n_steps: int
     piece_id: np.ndarray
     # each piece's polygon: a shapely geometry, or its WKB for a piece the run finished with (see `_Pieces`);
-    # `polygon` / `polygons` give geometries; empty for a transient piece (created and broken at one bow
-    # position)
+    # `polygon` / `polygons` give geometries; empty for a transient piece (created and broken in one step:
+    # at one bow position, or between two contact searches with located events)
     stored_polygon: np.ndarray
     piece_bounds_m: np.ndarray  # (n, 4) bounds of each piece (NaN for an empty one) [m]
     piece_area_m2: np.ndarray  # every piece's area, transient ones included
@@ -621,7 +635,10 @@ class _Run:
         # contact cannot touch the hull before the bow reaches its `quiet_until`: the others have no contact
         # (neither path counts an overlap of zero area), so they are neither translated nor evaluated
         touching = self.pieces.due(candidates, (bow_x + x0, y0, bow_x + x1, y1), bow_x)
-        if touching:
+        if touching and self.params.event_location == "root":
+            x_before = max(bow_x - self.params.step_m, self.params.x_start_m)
+            locate_step(self, step, x_before, bow_x, touching, len(candidates) - len(touching))
+        elif touching:
             self._evaluate_queue(step, bow_x, touching, len(candidates) - len(touching))
         self.pieces.prune_behind(bow_x + x0 - d)
         self.emit(StepDone(step, bow_x, len(candidates), self.counters["cusps"], self.counters["flipped"]))
@@ -651,6 +668,19 @@ class _Run:
             if evaluations < self.params.max_evaluations_per_floe_step:
                 queue.extend(children)
 
+    def bow_frame(self, pids: list[int], bow_x: float) -> np.ndarray:
+        """The pieces `pids` moved into the bow frame at `bow_x` (checked as in `_translate_pieces`)."""
+        in_field = np.array([self.pieces.polygon[i] for i in pids], dtype=object)
+        check = (np.array(pids) >= self.field.n_floes) | self.check_floes
+        return _translate_pieces(in_field, -bow_x, check)
+
+    def contacts(self, pids: list[int], polygons_bf) -> list[Contact]:
+        """The contacts of the pieces `pids` (bow-frame polygons `polygons_bf`, one vectorised call)."""
+        thickness = [self.pieces.thickness[pid] for pid in pids]
+        return evaluate_contacts(
+            np.array(polygons_bf, dtype=object), thickness, self.geometry, self.model.contact
+        )
+
     # --- one piece: contact → classification → failure (thesis Fig. 4, inner loop) ---------------------
     def _evaluate_piece(self, step: int, bow_x: float, pid: int, polygon_bf, contact: Contact) -> list:
         """Classify a piece, let the failure mode act, apply the outcome; the new floe pieces to evaluate
@@ -658,6 +688,11 @@ class _Run:
         if not contact.in_contact:
             self._quiet(pid, polygon_bf, bow_x)
             return []
+        judged = self._judge(pid, polygon_bf, contact)
+        return self._apply(step, bow_x, pid, contact, judged)
+
+    def _judge(self, pid: int, polygon_bf, contact: Contact) -> tuple[Classification, Outcome]:
+        """Classification and failure outcome of a piece in contact (pure: nothing is applied)."""
         thickness = self.pieces.thickness[pid]
         zone = contact.dominant
         classification = classify(
@@ -674,7 +709,13 @@ class _Run:
         inp = FailureInput(
             polygon_bf, thickness, self.pieces.crack_count[pid], classification, contact, zone, region
         )
-        outcome = resolve_failure(self.model.failure, inp, self.context)
+        return classification, resolve_failure(self.model.failure, inp, self.context)
+
+    def _apply(self, step: int, bow_x: float, pid: int, contact: Contact, judged) -> list:
+        """Report a judged evaluation and apply its outcome at `bow_x`; the new floe pieces (see
+        `_evaluate_piece`)."""
+        classification, outcome = judged
+        thickness = self.pieces.thickness[pid]
         self.counters["contacts"] += 1
         parent_floe = self.pieces.parent_floe[pid]
         self.emit(

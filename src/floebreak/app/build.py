@@ -49,6 +49,15 @@ def waterline_rule(scenario: Scenario) -> str:
     )
 
 
+
+def event_location(scenario: Scenario) -> str:
+    """ "step_end" or "root": the scenario's `simulation.event_location`, else its profile's."""
+    from floebreak.profiles import DEFAULT_EVENT_LOCATION, profile_switches
+
+    return scenario.simulation.event_location or profile_switches(scenario.profile).get(
+        "simulation.event_location", DEFAULT_EVENT_LOCATION
+    )
+
 def _bow_thickness_m(scenario: Scenario, floe_field: FloeField | None = None) -> float:
     """Δz of a built-in hull's waterlines: the ice thickness, or the fixed design value (thesis §3.1)."""
     if waterline_rule(scenario) == "fixed":

@@ -22,7 +22,14 @@ from typing import Any
 
 import numpy as np
 
-from floebreak.app.build import as_scenario, build_bow, build_field, build_model_for, set_up_warnings
+from floebreak.app.build import (
+    as_scenario,
+    build_bow,
+    build_field,
+    build_model_for,
+    event_location,
+    set_up_warnings,
+)
 from floebreak.app.build import field_key as field_key  # re-exported (`as`), as the names below
 from floebreak.app.build import waterline_rule as waterline_rule
 from floebreak.app.run_directory import CONTACTS_FILE, pieces_table, write_run_directory
@@ -39,7 +46,14 @@ from floebreak.io.contacts import ContactFile, read_contacts
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.results import ContactRecorder, ContactRecords, empty_contacts, piece_table, summary
 from floebreak.scenario import Scenario
-from floebreak.simulation import MAX_PIECES_DEFAULT, Callback, SimulationParams, SimulationResult, simulate
+from floebreak.simulation import (
+    EVENT_TOLERANCE_M,
+    MAX_PIECES_DEFAULT,
+    Callback,
+    SimulationParams,
+    SimulationResult,
+    simulate,
+)
 
 # the run directory's figures of a longer field or transit show its first this many metres: its whole length
 # would be a sliver of pixels, and drawing it holds every polygon once more (benchmarks/README.md, memory)
@@ -206,6 +220,8 @@ def run(
         initial_contact=ship.initial_contact,
         max_pieces=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
         max_wall_s=scenario.simulation.max_wall_s,
+        event_location=event_location(scenario),
+        event_tolerance_m=scenario.simulation.event_tolerance_m or EVENT_TOLERANCE_M,
     )
     contacts_file = (
         None

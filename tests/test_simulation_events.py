@@ -1,0 +1,146 @@
+"""Failure events located between contact searches (`simulation.event_location = "root"`, issue 32 item 4)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+from floebreak.errors import InputError
+from floebreak.ice.field import FloeField
+from floebreak.profiles import build_model
+from floebreak.ship.hulls import agulhas_ii
+from floebreak.simulation import SimulationParams, simulate
+from floebreak.simulation_events import bisect_event
+from floebreak.studies.single_floe import SingleFloeCase, single_floe_field
+
+
+def test_bisection_brackets_the_first_failure_within_the_tolerance():
+    threshold, trials = 0.3141, []
+
+    def trial(x):
+        trials.append(x)
+        return ("failed at", x) if x >= threshold else None
+
+    x, value = bisect_event(0.0, 1.0, ("failed at", 1.0), trial, 0.01)
+    assert threshold <= x <= threshold + 0.01
+    assert value == ("failed at", x)  # the evaluation of the position returned, not of the bracket's end
+    assert len(trials) == math.ceil(math.log2(1.0 / 0.01))  # halving a 1 m bracket to 1 cm: 7 trials
+    # the trial positions are a function of the bracket alone
+    again = []
+    bisect_event(0.0, 1.0, None, lambda x: again.append(x) or (x if x >= threshold else None), 0.01)
+    assert again == trials
+
+
+def test_a_bracket_within_the_tolerance_is_not_searched():
+    assert bisect_event(0.0, 0.01, "hi", lambda x: pytest.fail("searched"), 0.01) == (0.01, "hi")
+
+
+def _single_floe(diameter_m=20.0, thickness_m=1.0, position="a"):
+    bow = agulhas_ii(ice_thickness_m=thickness_m)
+    field = single_floe_field(SingleFloeCase(position, diameter_m, thickness_m), float(bow.half_breadth_m))
+    return field, bow, float(field.domain_m[2] + bow.length_bow_m + 2.0)
+
+
+def _first_break_m(field, bow, x_end_m, **params) -> float:
+    result = simulate(field, bow, build_model("default"), SimulationParams(x_end_m=x_end_m, **params))
+    gone = result.fate != "remaining"
+    return float(np.nanmin(result.bow_x_m[gone & (result.parent_piece_id >= 0)]))
+
+
+def test_the_located_first_break_is_where_fine_literal_stepping_finds_it():
+    """The first break of a 20 m floe, located from 0.5 m and from 0.25 m contact searches, lies within the
+    tolerance of where the literal stepping finds it with steps of a quarter of the tolerance; the literal
+    stepping with 0.5 m steps breaks it later (at its step's end)."""
+    field, bow, x_end = _single_floe()
+    tolerance = 0.02
+    fine = _first_break_m(field, bow, x_end, step_m=tolerance / 4)
+    coarse_literal = _first_break_m(field, bow, x_end, step_m=0.5)
+    for step in (0.5, 0.25):
+        located = _first_break_m(
+            field, bow, x_end, step_m=step, event_location="root", event_tolerance_m=tolerance
+        )
+        assert abs(located - fine) <= tolerance + 1e-9
+    assert coarse_literal - fine > tolerance  # the case is one the step's end gets wrong
+
+
+@pytest.mark.parametrize("step_m", [1.0, 0.25])
+def test_located_events_conserve_area_and_repeat_exactly(step_m):
+    field, bow, x_end = _single_floe(diameter_m=30.0)
+    params = SimulationParams(step_m=step_m, x_end_m=x_end, event_location="root")
+    a = simulate(field, bow, build_model("default"), params)
+    b = simulate(field, bow, build_model("default"), params)
+    assert a.n_breaks > 3
+    assert a.area_balance_rel_error < 1e-9
+    assert list(a.fate) == list(b.fate)
+    np.testing.assert_array_equal(a.bow_x_m, b.bow_x_m)
+
+
+@pytest.mark.parametrize("profile", ["default", "thesis"])
+@pytest.mark.parametrize("diameter_m", [10.0, 20.0])
+def test_located_events_are_port_starboard_symmetric(profile, diameter_m):
+    field, bow, x_end = _single_floe(diameter_m=diameter_m, position="b")
+    mirrored = FloeField(
+        shapely.transform(field.polygons, lambda xy: xy * np.array([1.0, -1.0])),
+        field.thickness_m,
+        field.diameter_class_m,
+        field.floe_id,
+        field.domain_m,
+    )
+    model = build_model(profile)
+    params = SimulationParams(step_m=0.5, x_end_m=x_end, event_location="root")
+    port, starboard = simulate(field, bow, model, params), simulate(mirrored, bow, model, params)
+    for fate in ("cusp", "flipped", "remaining"):
+        assert port.mask(fate).sum() == starboard.mask(fate).sum(), fate
+        assert starboard.area_m2(fate) == pytest.approx(port.area_m2(fate), abs=1e-9 * field.ice_area_m2)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "key"),
+    [
+        ({"event_location": "midpoint"}, "simulation.event_location"),
+        ({"event_tolerance_m": 0.0}, "simulation.event_tolerance_m"),
+    ],
+)
+def test_bad_event_settings_name_their_key(kwargs, key):
+    with pytest.raises(InputError) as error:
+        SimulationParams(**kwargs)
+    assert error.value.field == key
+
+
+def test_each_profile_resolves_its_event_location():
+    from floebreak.app.run import event_location
+    from floebreak.profiles import DEFAULT_EVENT_LOCATION
+    from floebreak.scenario import Scenario
+
+    assert event_location(Scenario.from_dict({"profile": "thesis"})) == "step_end"
+    assert event_location(Scenario.from_dict({"profile": "default"})) == DEFAULT_EVENT_LOCATION
+    stated = Scenario.from_dict({"profile": "thesis", "simulation": {"event_location": "root"}})
+    assert event_location(stated) == "root"
+
+
+def _summary(scenario: dict) -> tuple:
+    import floebreak
+
+    summary = floebreak.run(scenario).summary
+    return tuple(summary[k] for k in ("n_cusps", "n_flipped", "n_breaks", "cusp_area_m2", "flipped_area_m2"))
+
+
+LOCATED = {
+    "profile": "default",
+    "seed": 3,
+    "field": {"length_m": 80.0, "width_m": 40.0},
+    "ship": {"step_m": 0.5},
+    "simulation": {"event_location": "root"},
+}
+
+
+def test_a_located_run_gives_the_same_result_in_a_worker_process():
+    from concurrent.futures import ProcessPoolExecutor
+
+    here = _summary(LOCATED)
+    assert here[2] > 10  # the ice breaks
+    with ProcessPoolExecutor(1) as pool:
+        assert pool.submit(_summary, LOCATED).result() == here
