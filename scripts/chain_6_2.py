@@ -33,6 +33,7 @@ import numpy as np
 
 import floebreak
 from floebreak.io.run_files import read_run_cusps
+from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.milling import impact_loads
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.shaft.analysis import (
@@ -62,7 +63,7 @@ def run_directory(work: Path, seed: int) -> Path:
 
 def fem_torque_in_input_order(columns: dict) -> np.ndarray:
     """The FEM torque of each cusp (95 % table, the propeller analysis' volume), in the columns' order."""
-    sorted_torque = cusp_torque_inputs(columns)["torque_n_m"]
+    sorted_torque = cusp_torque_inputs(columns, shipped_fem_tables())["torque_n_m"]
     order = np.lexsort((columns["step"], columns["bow_x_m"]))
     torque = np.empty_like(sorted_torque)
     torque[order] = sorted_torque
@@ -95,7 +96,7 @@ def chains(columns: dict, line, case: int) -> dict:
     port = milled_cusps(columns, speed_m_s=SPEED_M_S)
     every = milled_cusps(columns, speed_m_s=SPEED_M_S, transport=False)
     fem = fem_torque_in_input_order(columns)
-    fem_sorted = cusp_torque_inputs(columns)
+    fem_sorted = cusp_torque_inputs(columns, shipped_fem_tables())
     out = {}
     out["default"] = (
         port.arrival_s.size,

@@ -309,3 +309,44 @@ def test_the_checker_sees_function_level_and_relative_imports(tmp_path, monkeypa
     assert graph["floebreak.io.low"] == {"floebreak.app.high"}
     assert ("floebreak.io.low", "floebreak.app.high") in upward_imports(graph)
     assert cycles(graph) == [["floebreak.app.high", "floebreak.app.other"]]
+
+
+# the analyses take FemTables, TorqueSeries and ShaftLines; the files behind them (a user's path, a shipped
+# table, a built-in line's name) are resolved by the application layer (`floebreak.app.inputs`, issue 34)
+ANALYSES = ("floebreak.propeller.pipeline", "floebreak.shaft.analysis")
+READERS = {"read_fem_table", "shipped_fem_tables", "resolve_fem_tables", "read_torque_csv"}
+READERS |= {"synthetic_torque_path", "load_shaft_line", "read_text_file", "read_package_data"}
+READERS |= {"package_data_path", "read_run_cusps", "load_cusps"}
+
+
+def reader_imports(path: Path) -> list[str]:
+    """The text-file readers one source file imports (`floebreak.io.text_files` or a name in READERS)."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom):
+            names = [a.name for a in node.names]
+            if (node.module or "").startswith("floebreak.io.text_files"):
+                found.append(f"{node.lineno}: {node.module}")
+            found += [f"{node.lineno}: {n}" for n in names if n in READERS]
+        elif isinstance(node, ast.Import):
+            found += [f"{node.lineno}: {a.name}" for a in node.names if a.name.startswith("floebreak.io")]
+    return found
+
+
+def test_the_analyses_import_no_file_readers():
+    modules = _modules()
+    found = {m: reader_imports(modules[m]) for m in ANALYSES}
+    assert not any(found.values()), f"resolve files in floebreak.app, not in the analyses: {found}"
+
+
+def test_the_reader_check_sees_reader_imports(tmp_path):
+    source = tmp_path / "m.py"
+    source.write_text(
+        "from floebreak.io.text_files import read_text_file\n"
+        "def f():\n    from floebreak.propeller.fem import FemTable, shipped_fem_tables\n"
+    )
+    assert reader_imports(source) == [
+        "1: floebreak.io.text_files",
+        "1: read_text_file",
+        "3: shipped_fem_tables",
+    ]

@@ -4,7 +4,7 @@ The public API (docs/api.md): ``floebreak.run(scenario) -> Result`` runs a `Scen
 or None for the reference scenario) without touching files, and ``Result.write(out)`` writes a run
 directory; `generate_field`, `FloeField`, `Bow`/`get_hull`, `build_model` (profiles) and `simulate` are the
 engine's parts for scripts; `register_mode` adds a failure mode; `propeller_analysis` (writes),
-`analyse_propeller` (pure), `run_study` and `run_voyage` are the propeller, study and voyage entry points;
+`analyse_propeller` (writes nothing), `run_study` and `run_voyage`: the propeller, study, voyage entry points;
 `shaft_response` (with `load_shaft_line`, `write_shaft_analysis`) turns cusps into shaft torque. Everything
 else is internal and may change.
 
@@ -19,7 +19,7 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` imports them on first use
-    from floebreak.app.propeller import propeller_analysis
+    from floebreak.app.propeller import analyse_propeller, propeller_analysis
     from floebreak.app.run import Result, run
     from floebreak.app.shaft import write_shaft_analysis
     from floebreak.errors import InputError
@@ -29,7 +29,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` impor
     from floebreak.ice.observations import Observation, get_observation, thesis_observations
     from floebreak.io.voyage_log import read_voyage_log
     from floebreak.profiles import PROFILES, build_model
-    from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
+    from floebreak.propeller.pipeline import PropellerResult
     from floebreak.scenario import Scenario
     from floebreak.shaft.analysis import shaft_response
     from floebreak.shaft.line import load_shaft_line
@@ -64,7 +64,7 @@ _LAZY = {
     "load_study": "floebreak.studies.design",
     "mode_names": "floebreak.failure",
     "PropellerResult": "floebreak.propeller.pipeline",
-    "analyse_propeller": "floebreak.propeller.pipeline",
+    "analyse_propeller": "floebreak.app.propeller",
     "prepare_voyage": "floebreak.studies.voyage",
     "propeller_analysis": "floebreak.app.propeller",
     "read_voyage_log": "floebreak.io.voyage_log",

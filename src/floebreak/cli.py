@@ -167,7 +167,7 @@ def field(
         )
     _check_field_options(length, width, thickness, trange)
     _check_field_outputs({"out": out, "figure": figure, "geojson": geojson}, overwrite)
-    with _generation_progress() as progress:
+    with _stage_progress("field") as progress:
         floe_field = generate_field(
             observation,
             length_m=length,
@@ -197,16 +197,18 @@ def field(
 
 
 @contextmanager
-def _generation_progress():
-    """A progress display for `generate_field` (stage and relaxation rounds; large fields take minutes)."""
+def _stage_progress(label: str, quiet: bool = False):
+    """A transient progress bar on stderr for a stage longer than about 2 s whose function takes a plain
+    `progress(stage, done, total)` callback: `generate_field` (placement rounds; large fields take
+    minutes), the shaft cases, the propeller analysis and the writing of its files and figures."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-    with Progress(*columns, console=err_console, transient=True) as bar:
-        task = bar.add_task("field", total=None)
+    with Progress(*columns, console=err_console, transient=True, disable=quiet) as bar:
+        task = bar.add_task(label, total=None)
 
-        def progress(stage: str, done: int, most: int) -> None:
-            bar.update(task, description=stage, completed=done, total=most or None)
+        def progress(stage: str, done: int, total: int) -> None:
+            bar.update(task, description=f"{label}: {stage}", completed=done, total=total or None)
 
         yield progress
 
@@ -520,9 +522,8 @@ def _demo_propeller(run_dir: Path, run_id: str) -> dict:
     """Propeller analysis (defaults: Agulhas II; the profile's load model and transport, the scenario's
     speed, fraction reaching and propellers) of `run_dir` into `run_dir/propeller`; returns its summary.
     `run_id` names the run (the folder is still temporary)."""
-    from floebreak.app.propeller import read_runs, write_propeller
+    from floebreak.app.propeller import analyse_propeller, read_runs, write_propeller
     from floebreak.propeller.load_models import profile_defaults
-    from floebreak.propeller.pipeline import analyse_propeller
     from floebreak.report import write_report
 
     inputs = read_runs(run_dir)
@@ -1055,8 +1056,9 @@ def propeller(
     profile = None if years is None else OperatingProfile(hours_per_year, years)
     curve = None if sn_curve is None else _sn_curve(sn_curve)
     tables = _fem_tables(fem_table)
-    shaft = _shaft_analysis(
-        run_or_study_dir,
+    with _stage_progress("shaft", quiet) as progress:
+        shaft = _shaft_analysis(
+            run_or_study_dir,
         shaft_line,
         station,
         rpm,
@@ -1067,37 +1069,42 @@ def propeller(
         torque_csv,
         interpolation,
         beyond,
-        shaft_model,
-        torque_limit_knm,
-        sn_curve=curve,
-    )
+            shaft_model,
+            torque_limit_knm,
+            sn_curve=curve,
+            progress=progress,
+        )
     overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
     inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
-    result = analyse_runs(
-        inputs,
-        **models(inputs.profile),
-        fem_table=tables,
-        torque_csv=torque_csv,
-        polar_class=polar_class,
-        interpolation=interpolation,
-        beyond=beyond,
-        operating_profile=profile,
-        sn_curve=curve,
-    )
+    with _stage_progress("propeller analysis", quiet) as progress:
+        result = analyse_runs(
+            inputs,
+            **models(inputs.profile),
+            fem_table=tables,
+            torque_csv=torque_csv,
+            polar_class=polar_class,
+            interpolation=interpolation,
+            beyond=beyond,
+            operating_profile=profile,
+            sn_curve=curve,
+            progress=progress,
+        )
     record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
-    written = write_propeller(result, out, overwrite=overwrite, record=record)
+    with _stage_progress("writing", quiet) as progress:
+        written = write_propeller(result, out, overwrite=overwrite, record=record, progress=progress)
     _print_pooling(inputs)
     _print_propeller_summary(_written_summary(written), written, quiet)
     if shaft is not None:
-        _write_shaft(shaft, Path(written) / "shaft", overwrite)
+        _write_shaft(shaft, Path(written) / "shaft", overwrite, quiet)
 
 
-def _write_shaft(shaft, out: Path, overwrite: bool) -> None:
-    """Write the prepared shaft analysis; print the design tables (`_shaft_tables`), the model's lines and
-    warnings, and where it was written."""
+def _write_shaft(shaft, out: Path, overwrite: bool, quiet: bool = False) -> None:
+    """Write the prepared shaft analysis (with a progress bar); print the design tables (`_shaft_tables`),
+    the model's lines and warnings, and where it was written."""
     import json
 
-    shaft_dir = shaft.write(out, overwrite=overwrite)
+    with _stage_progress("writing the shaft analysis", quiet) as progress:
+        shaft_dir = shaft.write(out, overwrite=overwrite, progress=progress)
     summary = json.loads((Path(shaft_dir) / "summary.json").read_text(encoding="utf-8"))
     for table in _shaft_tables(summary):
         console.print(table)
@@ -1172,6 +1179,7 @@ def _shaft_analysis(
     shaft_model=None,
     torque_limit_knm=None,
     sn_curve=None,
+    progress=None,
 ):
     """The `propeller` command's shaft analysis, computed (not written) before anything is written; None
     without --shaft-line (then its own options are refused)."""
@@ -1206,6 +1214,7 @@ def _shaft_analysis(
         shaft_model=shaft_model,
         torque_limit_knm=torque_limit_knm,
         sn_curve=sn_curve,
+        progress=progress,
     )
 
 

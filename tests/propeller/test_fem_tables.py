@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from floebreak.app.inputs import resolve_fem_tables
 from floebreak.errors import InputError
-from floebreak.propeller.fem import parse_fem_table, read_fem_table, resolve_fem_tables, shipped_fem_tables
+from floebreak.propeller.fem import fem_table_dict, parse_fem_table, read_fem_table, shipped_fem_tables
 
 GOOD = """# pitch_percent: 50
 volume_m3,length_m,width_m,height_m,force_kN,torque [kN m]
@@ -56,6 +57,19 @@ def test_resolve_from_path_and_mapping(tmp_path):
     assert list(resolve_fem_tables([bare, path], 20.0)) == [20.0, 50.0]
     with pytest.raises(InputError, match="does not exist"):
         read_fem_table(tmp_path / "missing.csv")
+
+
+def test_the_pure_side_takes_tables_only(tmp_path):
+    # the analyses' own check (fem_table_dict): FemTables in, sorted by pitch; a path is not read there
+    table = parse_fem_table(GOOD, "good.csv")
+    shipped = shipped_fem_tables()
+    assert list(fem_table_dict([table, shipped[95.0], shipped[0.0]])) == [0.0, 50.0, 95.0]
+    assert list(fem_table_dict({"any key": table})) == [50.0]
+    assert list(fem_table_dict(table)) == [50.0]
+    with pytest.raises(InputError, match="PosixPath is not a FemTable"):
+        fem_table_dict([tmp_path / "t.csv"])
+    with pytest.raises(InputError, match="two tables for pitch 50"):
+        fem_table_dict([table, table])
 
 
 @pytest.mark.parametrize(

@@ -12,6 +12,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from floebreak.errors import InputError
+from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.load_models import (
     drive_rated_torque_n_m,
     extrapolation_warnings,
@@ -77,15 +78,15 @@ def test_fraction_reaching_override_warns_and_loads_every_cusp():
     assert result.summary["rates"]["loads_per_hour_per_propeller"] == pytest.approx(27.0)
     assert any("is an override" in w for w in result.summary["warnings"])
     # no override: no such warning; every cusp with transport "all" (the thesis rule)
-    everyone = analyse_propeller(_cusps(), exposures=EXPOSURE, transport="all", load_model="fem")
+    everyone = analyse_propeller(
+        _cusps(), exposures=EXPOSURE, transport="all", fem_tables=shipped_fem_tables()
+    )
     assert not any("override" in w for w in everyone.summary["warnings"])
     assert everyone.summary["rates"]["loads_per_hour_per_propeller"] == pytest.approx(3 / 2 * 36)
 
 
 def test_fem_tables_take_precedence_and_bad_choices():
-    from floebreak.propeller.fem import shipped_fem_tables
-
-    result = analyse_propeller(_cusps(), fem_table=shipped_fem_tables(), load_model="milling")
+    result = analyse_propeller(_cusps(), fem_tables=shipped_fem_tables(), load_model="milling")
     assert result.summary["load_model"]["name"] == "fem" and result.pitches == (0.0, 95.0)
     for key, kwargs in (("load_model", {"load_model": "x"}), ("transport", {"transport": "x"})):
         with pytest.raises(InputError) as info:

@@ -5,17 +5,20 @@ write (`floebreak.io.propeller`). Files: docs/propeller.md "Output directory".""
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from floebreak.app.inputs import measured_series, resolve_fem_tables
 from floebreak.errors import InputError
 from floebreak.io.jsonable import jsonable
 from floebreak.io.propeller import write_propeller_files
 from floebreak.io.run_files import cusp_files, load_cusps, parquet_metadata, read_resolved_scenario
+from floebreak.propeller import pipeline
 from floebreak.propeller.design_loads import design_load_tables
 from floebreak.propeller.iceclass import WEIBULL_SHAPE
-from floebreak.propeller.load_models import profile_defaults
-from floebreak.propeller.pipeline import PropellerResult, analyse_propeller
+from floebreak.propeller.load_models import LOAD_MODELS, check_choice, profile_defaults
+from floebreak.propeller.pipeline import PropellerResult
 from floebreak.propeller.ruleform import rule_n_ice
 from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
@@ -55,6 +58,30 @@ def read_run_dirs(run_dirs, *, pool: bool = False, **basis_overrides) -> RunInpu
     return run_inputs(run_dirs[0].parent, cusps, runs, pool=pool, **basis_overrides)
 
 
+def analyse_propeller(
+    cusps,
+    *,
+    load_model: str = "milling",
+    fem_table=None,
+    torque_csv=None,
+    torque_unit: str | None = None,
+    flip_measured_sign: bool = False,
+    **options,
+) -> PropellerResult:
+    """`floebreak.propeller.pipeline.analyse_propeller` with its input files read first: `fem_table` as
+    `floebreak.app.inputs.resolve_fem_tables` (paths, {pitch: path}, FemTables; the shipped tables for the
+    FEM load model without one), `torque_csv` a path or a `TorqueSeries` (`measured_series`, with
+    `torque_unit` and `flip_measured_sign`). Other `options`: those of the pure function."""
+    fem = fem_table is not None or check_choice("load_model", load_model, LOAD_MODELS) == "fem"
+    return pipeline.analyse_propeller(
+        cusps,
+        load_model=load_model,
+        fem_tables=resolve_fem_tables(fem_table) if fem else None,
+        measured=measured_series(torque_csv, torque_unit, flip_measured_sign),
+        **options,
+    )
+
+
 def analyse_runs(inputs: RunInputs, **options) -> PropellerResult:
     """`analyse_propeller` of `inputs` (`read_runs`, `read_run_dirs`) with their exposures; the runs'
     scenario profile sets the load model and transport unless given (`load_models.profile_defaults`)."""
@@ -70,9 +97,11 @@ def write_propeller(
     *,
     overwrite: bool = False,
     record: dict | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> Path:
     """Draw `result`'s figures, compute its design-load tables and write both with it to the new directory
-    `out_dir` atomically; return it. `record` adds to the provenance (e.g. the input files)."""
+    `out_dir` atomically; return it. `record` adds to the provenance (e.g. the input files); `progress`
+    as `floebreak.io.propeller.write_propeller_files`'."""
     return write_propeller_files(
         result,
         out_dir,
@@ -80,6 +109,7 @@ def write_propeller(
         overwrite=overwrite,
         record=record,
         extra_summary={"design_loads": design_load_summary(result)},
+        progress=progress,
     )
 
 

@@ -5,13 +5,15 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from floebreak.app.inputs import measured_series, resolve_fem_tables
 from floebreak.errors import InputError, require_range
 from floebreak.io.run_files import read_resolved_scenario, read_run_cusps
 from floebreak.io.shaft_files import write_shaft_files
-from floebreak.propeller.measured import TorqueSeries, read_torque_csv
+from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS
 from floebreak.propeller.ruleform import BasquinCurve
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
@@ -45,10 +47,11 @@ def run_cusp_inputs(
     volume_basis: str = DEFAULT_VOLUME_BASIS,
 ) -> dict:
     """Per cusp of the run directory `run_dir`, in transit order: ``bow_x_m``, ``thickness_m``,
-    ``torque_n_m`` and the table's ``pitch_percent`` (`floebreak.shaft.analysis.cusp_torque_inputs`)."""
+    ``torque_n_m`` and the table's ``pitch_percent`` (`floebreak.shaft.analysis.cusp_torque_inputs`);
+    `fem_table` as `floebreak.app.inputs.resolve_fem_tables` (default: the shipped tables)."""
     return cusp_torque_inputs(
         read_run_cusps(run_dir, CUSP_INPUT_COLUMNS),
-        fem_table=fem_table,
+        resolve_fem_tables(fem_table),
         pitch_percent=pitch_percent,
         interpolation=interpolation,
         beyond=beyond,
@@ -92,9 +95,11 @@ def write_shaft_analysis(
     overwrite: bool = False,
     extra_summary: dict | None = None,
     sn_curve: BasquinCurve | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> Path:
     """Write `result` (and the comparison with `measured`) with its spectra, rainflow histogram (Miner's
-    damage against `sn_curve` if given), summary and figures to `out_dir` atomically; return it."""
+    damage against `sn_curve` if given), summary and figures to `out_dir` atomically; return it. `progress`
+    as `floebreak.io.shaft_files.write_shaft_files`'."""
     series = torque_series_knm(result, None if measured is None else measured.torque_nm)
     edges, densities = torque_densities(series, bin_knm)
     histogram, fatigue = shaft_fatigue(result, sn_curve)
@@ -110,6 +115,7 @@ def write_shaft_analysis(
         figures=figures,
         rainflow=histogram,
         overwrite=overwrite,
+        progress=progress,
     )
 
 
@@ -216,7 +222,12 @@ class PreparedShaftAnalysis:
         lines += [f"warning: {w}" for w in resonance["warnings"]]
         return lines
 
-    def write(self, out_dir: str | os.PathLike[str], overwrite: bool = False) -> Path:
+    def write(
+        self,
+        out_dir: str | os.PathLike[str],
+        overwrite: bool = False,
+        progress: Callable[[str, int, int], None] | None = None,
+    ) -> Path:
         return write_shaft_analysis(
             self.result,
             out_dir,
@@ -224,10 +235,13 @@ class PreparedShaftAnalysis:
             overwrite=overwrite,
             extra_summary=self.extra_summary,
             sn_curve=self.sn_curve,
+            progress=progress,
         )
 
 
-def _drive_response(run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases):
+def _drive_response(
+    run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases, progress=None
+):
     """The drive model on the cusps the transport sends to the port propeller (`milled_cusps`)."""
     milled = milled_cusps(read_run_cusps(run_dir, MILLING_INPUT_COLUMNS), speed_m_s=speed_m_s)
     result = shaft_drive_response(
@@ -242,6 +256,7 @@ def _drive_response(run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit
         station=station,
         cases=tuple(cases or ()),
         n_cusps=milled.n_cusps_run,
+        progress=progress,
     )
     extra = {
         "torque_model": "milling (propeller.milling.impact_loads at the rpm of each blade passage)",
@@ -268,13 +283,15 @@ def shaft_analysis_of_run(
     shaft_model: str | None = None,
     torque_limit_knm: float | None = None,
     sn_curve: BasquinCurve | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> PreparedShaftAnalysis:
     """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is
     written (write with ``.write(out_dir)``). The ship speed: `speed_m_s`, else the run's resolved
     scenario's ``ship.speed_m_s``, else an InputError asking for it. `shaft_model`: "drive" (the cusps the
     transport sends to the port propeller, milled by the drive model) or "linear" (every cusp, FEM torque,
     constant rpm); default: the run's profile's (default → drive, thesis → linear). `sn_curve`: a torque
-    S–N curve for Miner's damage of the shaft torque's rainflow cycles (`shaft_fatigue`)."""
+    S–N curve for Miner's damage of the shaft torque's rainflow cycles (`shaft_fatigue`). `torque_csv`: a
+    path or a `TorqueSeries`; `progress(stage, done, total)` is told of each excitation case computed."""
     model = shaft_model_of_run(run_dir, shaft_model)
     if torque_limit_knm is not None:
         require_range("torque_limit_knm", torque_limit_knm, low=0.0, unit="kN m")
@@ -293,12 +310,12 @@ def shaft_analysis_of_run(
                 f"not given, and {str(run_dir)!r} has no ship.speed_m_s in scenario.resolved.toml",
                 allowed="speed_m_s > 0 m/s (--speed-m-s)",
             )
-    measured = None if torque_csv is None else read_torque_csv(torque_csv)
+    measured = measured_series(torque_csv)
     mean_torque_n_m = None if mean_torque_knm is None else 1e3 * mean_torque_knm
     extra = {"run_dir": Path(run_dir).name, "measured_source": None if measured is None else measured.source}
     if model == "drive":
         result, more = _drive_response(
-            run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases
+            run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases, progress
         )
         return PreparedShaftAnalysis(result, measured, extra | more, sn_curve)
     cusps = run_cusp_inputs(
@@ -315,6 +332,7 @@ def shaft_analysis_of_run(
         cases=tuple(cases or ()),
         mean_torque_n_m=mean_torque_n_m,
         samples_per_blade_passage=samples_per_blade_passage,
+        progress=progress,
     )
     extra |= {
         "torque_model": "fem",

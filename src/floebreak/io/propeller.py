@@ -8,14 +8,14 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from floebreak.io.atomic import atomic_directory
-from floebreak.io.figures import save_figure
+from floebreak.io.figures import save_figures
 from floebreak.io.jsonable import jsonable
 from floebreak.io.provenance import provenance
 from floebreak.io.writers import write_csv, write_json, write_netcdf
@@ -132,10 +132,12 @@ def write_propeller_files(
     overwrite: bool = False,
     record: dict | None = None,
     extra_summary: Mapping | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> Path:
     """Write `result` and its `figures` (file name → Figure, saved in ``figures/``) to the new directory
     `out_dir` atomically and return it. `record` adds to the provenance (e.g. the input files),
-    `extra_summary` to summary.json (e.g. the design-load tables the application layer computed)."""
+    `extra_summary` to summary.json (e.g. the design-load tables the application layer computed).
+    `progress(stage, done, total)`, if given, is told after the tables and after each figure."""
     prov = provenance(command="propeller_analysis", **jsonable(result.options), **(record or {}))
     ds = result.spectra.copy()
     ds.attrs.update(
@@ -155,9 +157,9 @@ def write_propeller_files(
         tmp = Path(tmp)
         _write_tables(result, tmp)
         summary["netcdf_engine"] = write_netcdf(ds, tmp / "spectra.nc")
-        (tmp / "figures").mkdir()
-        for name, figure in figures.items():
-            save_figure(figure, tmp / "figures" / name)
+        if progress is not None:
+            progress("tables", 1, 1 + len(figures))
+        save_figures(figures, tmp / "figures", progress, done=1)
         written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
         summary["files"] = [*written, "summary.json"]
         write_json(tmp / "summary.json", summary)

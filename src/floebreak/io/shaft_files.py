@@ -14,14 +14,14 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from floebreak.io.atomic import atomic_directory
-from floebreak.io.figures import save_figure
+from floebreak.io.figures import save_figures
 from floebreak.io.jsonable import jsonable
 from floebreak.io.provenance import provenance
 from floebreak.io.writers import write_csv, write_json, write_netcdf
@@ -226,10 +226,13 @@ def write_shaft_files(
     figures: Mapping[str, Figure],
     rainflow: RainflowHistogram | None = None,
     overwrite: bool = False,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> Path:
     """Write `result`, its torque `series` [kN m] (``load_case<n>``, ``shaft_case<n>``, ``measured``), their
     densities on the common bin `edges`, the `rainflow` histogram, `summary` (with the provenance added)
-    and `figures` (file name → Figure, in ``figures/``) to `out_dir` atomically; return it."""
+    and `figures` (file name → Figure, in ``figures/``) to `out_dir` atomically; return it. `progress(stage,
+    done, total)`, if given, is told after the NetCDF files, the CSV tables and each figure."""
+    total = 2 + len(figures)
     summary = dict(summary)
     with atomic_directory(out_dir, overwrite=overwrite) as tmp:
         tmp = Path(tmp)
@@ -242,10 +245,12 @@ def write_shaft_files(
         ):
             ds.attrs["provenance"] = prov_text
             engine = write_netcdf(ds, tmp / name)
+        if progress is not None:
+            progress("NetCDF files", 1, total)
         _write_tables(tmp, result, series, edges, densities, rainflow, f"provenance: {prov_text}")
-        (tmp / "figures").mkdir()
-        for name, figure in figures.items():
-            save_figure(figure, tmp / "figures" / name)
+        if progress is not None:
+            progress("CSV tables", 2, total)
+        save_figures(figures, tmp / "figures", progress, done=2)
         summary["netcdf_engine"] = engine
         summary["provenance"] = prov
         written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from floebreak.errors import InputError, require_range
+from floebreak.errors import InputError
 from floebreak.io.text_files import read_package_data, read_text_file
 
 SHIPPED_TABLES = {0.0: "fem_pitch0.csv", 95.0: "fem_pitch95.csv"}
@@ -355,40 +355,30 @@ def shipped_fem_tables() -> dict[float, FemTable]:
     return tables
 
 
-def resolve_fem_tables(fem_table, fallback_pitch_percent: float | None = None) -> dict[float, FemTable]:
-    """None → the shipped tables; a path → one table; a mapping {pitch_percent: path or FemTable};
-    a list of paths/FemTables or of (pitch_percent or None, path) pairs. A path given without a pitch
-    needs a ``# pitch_percent:`` line, else `fallback_pitch_percent` if the caller states one (the
-    propeller analysis and CLI do not: no silent default); pitches must be distinct."""
-    if fem_table is None:
-        return shipped_fem_tables()
-    if isinstance(fem_table, FemTable | str | os.PathLike):
-        items = [(None, fem_table)]
-    elif isinstance(fem_table, dict):
-        items = list(fem_table.items())
-    else:  # paths / FemTables, or (pitch or None, path) pairs
-        items = [t if isinstance(t, tuple) else (None, t) for t in fem_table]
-    tables: dict[float, FemTable] = {}
-    for pitch, item in items:
-        if isinstance(item, FemTable):
-            table = item
-        else:
-            given = (
-                None
-                if pitch is None
-                else require_range(
-                    "fem_table pitch", pitch, low=0.0, high=100.0, low_inclusive=True, unit="%"
-                )
+def fem_table_dict(tables) -> dict[float, FemTable]:
+    """`tables` (FemTables, or a mapping whose values are FemTables) → {pitch_percent: table}, sorted by
+    pitch; anything but a FemTable (e.g. a path: read it with `read_fem_table` or
+    `floebreak.app.inputs.resolve_fem_tables`) and two tables of one pitch are InputErrors."""
+    if isinstance(tables, FemTable):
+        tables = [tables]
+    items = list(tables.values()) if isinstance(tables, dict) else list(tables)
+    out: dict[float, FemTable] = {}
+    for table in items:
+        if not isinstance(table, FemTable):
+            raise InputError(
+                "fem_table",
+                f"{type(table).__name__} is not a FemTable",
+                value=str(table),
+                allowed="FemTable objects (a file: floebreak.app.inputs.resolve_fem_tables)",
             )
-            table = read_fem_table(item, given, fallback_pitch_percent=fallback_pitch_percent)
-        if table.pitch_percent in tables:
+        if table.pitch_percent in out:
             raise InputError(
                 "fem_table",
                 f"two tables for pitch {table.pitch_percent:g} %",
                 value=table.source,
                 allowed="one table per pitch",
             )
-        tables[table.pitch_percent] = table
-    if not tables:
-        raise InputError("fem_table", "no table given", allowed="a CSV path or a mapping pitch → path")
-    return dict(sorted(tables.items()))
+        out[table.pitch_percent] = table
+    if not out:
+        raise InputError("fem_table", "no table given", allowed="one or more FemTables")
+    return dict(sorted(out.items()))

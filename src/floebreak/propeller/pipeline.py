@@ -6,6 +6,7 @@ rule-form fits, comparison with a measured series, rule check. Returns a `Propel
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -21,7 +22,7 @@ from floebreak.propeller.cusps import (
     kinetic_energy_j,
     volume_class,
 )
-from floebreak.propeller.fem import FemTable, resolve_fem_tables
+from floebreak.propeller.fem import FemTable, fem_table_dict
 from floebreak.propeller.iceclass import WEIBULL_SHAPE, IceClassLoads, check_polar_class, ur_i3_loads
 from floebreak.propeller.interpolation import check_options, table_interpolant
 from floebreak.propeller.load_models import (
@@ -37,7 +38,7 @@ from floebreak.propeller.load_models import (
     transport_of_runs,
     transport_summary,
 )
-from floebreak.propeller.measured import TorqueSeries, read_torque_csv
+from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.rates import RateBasis, RunExposure, check_exposures, weighted_exceedance
 from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
 from floebreak.propeller.spec import PropellerSpec
@@ -382,8 +383,8 @@ def analyse_propeller(
     *,
     load_model: str = "milling",
     transport: str = "hull",
-    fem_table=None,
-    torque_csv=None,
+    fem_tables=None,
+    measured: TorqueSeries | None = None,
     polar_class: str | None = None,
     propeller: PropellerSpec = PropellerSpec(),  # noqa: B008 - frozen dataclass, immutable default
     rated_torque_n_m: float | None = None,
@@ -394,35 +395,32 @@ def analyse_propeller(
     cusp_speed_m_s: float = 3.0,
     force_bin_kn: float = 10.0,
     torque_bin_knm: float = 10.0,
-    torque_unit: str | None = None,
-    flip_measured_sign: bool = False,
     weibull: str = "open",
     exposures: dict[str, RunExposure] | None = None,
     operating_profile: OperatingProfile | None = None,
     sn_curve: BasquinCurve | None = None,
     rule_factor: float = 1.0,
     transport_settings: TransportSettings | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> PropellerResult:
     """The propeller analysis of `cusps` (dict of arrays or pyarrow.Table, `cusp_columns`), pure. `load_model`
-    "milling" | "fem" (given `fem_table`s take precedence), `transport` "hull" (`transport_settings`) | "all";
-    an exposure's fraction reaching overrides the transport; `exposures` add rates, exceedance and rule-form
-    fits; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning. docs/propeller.md §2, §6–§8."""
+    "milling" | "fem" (needs `fem_tables`: FemTables or {pitch: FemTable}; given tables take precedence),
+    `transport` "hull" (`transport_settings`) | "all"; an exposure's fraction reaching overrides the
+    transport; `exposures` add rates, exceedance and rule-form fits; `measured` (a `TorqueSeries`) is
+    compared; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning. Files are read by
+    `floebreak.app.propeller.analyse_propeller`. `progress(stage, done, total)`, if given, is called after
+    each of the ANALYSIS_STAGES. docs/propeller.md §2, §6–§8."""
     columns = cusp_columns(cusps)
     if not isinstance(propeller, PropellerSpec):
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
     _check_options(interpolation, beyond, volume_basis, cusp_speed_m_s, force_bin_kn, torque_bin_knm, weibull)
-    load_model = "fem" if fem_table is not None else check_choice("load_model", load_model, LOAD_MODELS)
+    load_model, tables, pitches = _load_tables(load_model, fem_tables, propeller, measured)
     check_choice("transport", transport, TRANSPORTS)
     rated = drive_rated_torque_n_m(propeller, rated_torque_n_m)
     require_range("rule_factor", rule_factor, low=0.0)
     edges_m3 = check_class_edges(volume_class_edges_m3)
-    tables = resolve_fem_tables(fem_table) if load_model == "fem" else {}
-    pitches = tuple(tables) if load_model == "fem" else milling_pitches(propeller)
     rule = ur_i3_loads(propeller, check_polar_class(polar_class)) if polar_class is not None else None
     exposures = check_exposures(exposures, set(columns["run_id"].tolist())) if exposures is not None else {}
-    series = None
-    if torque_csv is not None:
-        series = read_torque_csv(torque_csv, torque_unit=torque_unit, flip_sign=flip_measured_sign)
     options = {
         "load_model": load_model,
         "transport": transport,
@@ -437,11 +435,13 @@ def analyse_propeller(
     columns = {k: v[order] for k, v in columns.items()}
     speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
     loads = _cusp_loads(columns, tables, options, propeller, speed)
+    _report(progress, "per-cusp loads")
     reaching, transport_info = _reaching(columns, exposures, transport, transport_settings)
     loads.update(reaching)
     for pitch in pitches:  # cusps that reach no propeller carry no load
         for column in ("force_n", "torque_nm"):
             loads[f"{column}_{pitch_label(pitch)}"][~loads["reaches_propeller"]] = math.nan
+    _report(progress, "transport")
     ds = load_spectra(loads, dict.fromkeys(pitches), force_bin_kn, torque_bin_knm)
     options["force_bin_kn"] = ds.attrs["force_bin_width_kn"]  # as used: wider for far loads
     options["torque_bin_knm"] = ds.attrs["torque_bin_width_knm"]
@@ -449,14 +449,43 @@ def analyse_propeller(
     if exposures:
         ds, exceedance = _add_rates(ds, loads, exposures)
     table_info = _table_info(loads, tables, pitches, rule)
-    measured = _measured_spectrum(series, torque_bin_knm) if series is not None else None
+    spectrum = _measured_spectrum(measured, torque_bin_knm) if measured is not None else None
     classes = _class_tables(loads, edges_m3)
+    _report(progress, "spectra and rates")
     result = PropellerResult(
-        options, propeller, tables, loads, classes, ds, exceedance, {}, rule, measured, exposures
+        options, propeller, tables, loads, classes, ds, exceedance, {}, rule, spectrum, exposures
     )
     result.summary.update(build_summary(result, table_info, operating_profile, sn_curve))
     _complete_summary(result.summary, transport_info, table_info, rated, rule)
+    _report(progress, "summary")
     return result
+
+
+# the steps of `analyse_propeller` that its `progress` callback is told of, in order
+ANALYSIS_STAGES = ("per-cusp loads", "transport", "spectra and rates", "summary")
+
+
+def _report(progress: Callable[[str, int, int], None] | None, stage: str) -> None:
+    if progress is not None:
+        progress(stage, ANALYSIS_STAGES.index(stage) + 1, len(ANALYSIS_STAGES))
+
+
+def _load_tables(load_model, fem_tables, propeller, measured) -> tuple[str, dict[float, FemTable], tuple]:
+    """The load model (FEM when tables are given), its tables {pitch: FemTable} (none for the milling
+    model) and pitches; InputError for FEM without tables and a `measured` that is not a TorqueSeries."""
+    if measured is not None and not isinstance(measured, TorqueSeries):
+        raise InputError(
+            "measured", f"{type(measured).__name__} is not a TorqueSeries", allowed="a TorqueSeries"
+        )
+    load_model = "fem" if fem_tables is not None else check_choice("load_model", load_model, LOAD_MODELS)
+    if load_model == "milling":
+        return load_model, {}, milling_pitches(propeller)
+    if fem_tables is None:
+        raise InputError(
+            "fem_tables", "the FEM load model needs tables", allowed="FemTables, e.g. shipped_fem_tables()"
+        )
+    tables = fem_table_dict(fem_tables)
+    return load_model, tables, tuple(tables)
 
 
 def _speed(exposures: dict[str, RunExposure], run: str) -> float:

@@ -15,7 +15,7 @@ import numpy as np
 
 from floebreak.errors import InputError, require_range
 from floebreak.propeller.cusps import box_dimensions
-from floebreak.propeller.fem import resolve_fem_tables
+from floebreak.propeller.fem import fem_table_dict
 from floebreak.propeller.interpolation import check_options, table_interpolant
 from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
 from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS, VOLUME_BASES
@@ -100,11 +100,13 @@ def shaft_response(
     lead_s: float = 2.0,
     tail_s: float = 5.0,
     overlap: str = "queue",
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> ShaftResult:
     """Excitation (floebreak.shaft.excitation) and shaft torque (floebreak.shaft.response) per case.
 
     Plain arrays per cusp, in any order: bow position when the cusp broke off [m], torque amplitude [N·m]
     (its magnitude is used), thickness [m]. `rpm`/`mean_torque_n_m` override the line's operating point.
+    `progress(stage, done, total)`, if given, is called after each case (`report_case`).
     """
     line = with_operating_point(line, rpm, mean_torque_n_m)
     station_name = line.stations[line.station_index(station)]
@@ -138,6 +140,7 @@ def shaft_response(
                 line, load, 60.0 / (line.rpm * blades * samples_per_blade_passage), station_name
             )
         )
+        report_case(progress, cases, len(loads))
     return ShaftResult(
         line=line,
         station=station_name,
@@ -169,6 +172,7 @@ def shaft_drive_response(
     station: str | None = None,
     tail_s: float = 5.0,
     n_cusps: int | None = None,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> ShaftResult:
     """The drive model (`floebreak.shaft.drive.simulate_drive` on the line's 3-inertia train) per case.
 
@@ -177,6 +181,7 @@ def shaft_drive_response(
     line's rated torque P/(2π n); a line without rated power: its mean torque). The cusps are free blocks
     (`simulate_drive(free_blocks=True)`: a stopped propeller pushes its block away). Cases after the first run
     for the first case's duration, on its time axis (resampled linearly if their step differs).
+    `progress(stage, done, total)`, if given, is called after each case (`report_case`).
     """
     rated = None if line.rated_power_w is not None else line.mean_torque()
     drive = drive_for_line(line, rated_torque_n_m=rated, rpm=rpm)
@@ -207,6 +212,7 @@ def shaft_drive_response(
                 free_blocks=True,
             )
         )
+        report_case(progress, cases, len(runs))
     t = runs[0].time_s
 
     def stacked(name):
@@ -230,6 +236,12 @@ def shaft_drive_response(
         drive_summaries=tuple(drive_case_summary(r) for r in runs),
         torque_limit_n_m=drive.torque_limit_n_m,
     )
+
+
+def report_case(progress: Callable[[str, int, int], None] | None, cases: tuple[int, ...], done: int) -> None:
+    """Tell `progress` that `done` of the excitation `cases` are computed (stage "shaft case N")."""
+    if progress is not None:
+        progress(f"shaft case {cases[done - 1]}", done, len(cases))
 
 
 def drive_case_summary(result: DriveResult) -> dict:
@@ -311,8 +323,8 @@ CUSP_INPUT_COLUMNS = ("bow_x_m", "step", "bbox_length_m", "bbox_width_m", "thick
 
 def cusp_torque_inputs(
     columns: dict[str, np.ndarray],
+    fem_tables,
     *,
-    fem_table=None,
     pitch_percent: float | None = None,
     interpolation: str = "newton",
     beyond: str = "power_law",
@@ -321,13 +333,14 @@ def cusp_torque_inputs(
     """Per cusp of a run's `columns` (CUSP_INPUT_COLUMNS of its cusps.parquet), in transit order:
     ``bow_x_m``, ``thickness_m`` and ``torque_n_m`` (FEM torque of the cusp's volume, "actual" area ×
     thickness or "box", as the propeller analysis, thesis §6.1.3, for the table nearest `pitch_percent`,
-    default the propeller's 95.86 %), and the ``pitch_percent`` of that table."""
+    default the propeller's 95.86 %), and the ``pitch_percent`` of that table. `fem_tables`: FemTables or
+    {pitch: FemTable} (files: `floebreak.app.inputs.resolve_fem_tables`)."""
     check_options(interpolation, beyond)
     if volume_basis not in VOLUME_BASES:
         raise InputError("volume_basis", f"unknown value {volume_basis!r}", allowed=", ".join(VOLUME_BASES))
     col = columns
     order = np.lexsort((col["step"], col["bow_x_m"]))
-    tables = resolve_fem_tables(fem_table)
+    tables = fem_table_dict(fem_tables)
     target = PropellerSpec().pitch_percent if pitch_percent is None else float(pitch_percent)
     pitch = min(tables, key=lambda p: abs(p - target))
     longer, shorter, box_volume = box_dimensions(

@@ -171,6 +171,7 @@ def pc5_metrics(run_dir: Path) -> dict[str, float]:
     """The propeller analysis of one run at PC5 over the README's operating profile (load model and
     transport of the run's profile): lifetime max / Q_max and blade loads per hour / the rule's rate."""
     from floebreak.io.run_files import load_cusps, parquet_metadata, read_resolved_scenario
+    from floebreak.propeller.fem import shipped_fem_tables
     from floebreak.propeller.load_models import profile_defaults
     from floebreak.propeller.pipeline import analyse_propeller
     from floebreak.propeller.ruleform import OperatingProfile
@@ -189,6 +190,7 @@ def pc5_metrics(run_dir: Path) -> dict[str, float]:
     result = analyse_propeller(
         inputs.cusps,
         load_model=load_model,
+        fem_tables=shipped_fem_tables() if load_model == "fem" else None,
         transport=transport,
         polar_class=POLAR_CLASS,
         exposures=inputs.exposures,
