@@ -1070,6 +1070,7 @@ def propeller(
         shaft_model,
         torque_limit_knm,
         sn_curve=curve,
+        transport_settings=transport_option(transport_parameters),
     )
     overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
     inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
@@ -1172,6 +1173,7 @@ def _shaft_analysis(
     shaft_model=None,
     torque_limit_knm=None,
     sn_curve=None,
+    transport_settings=None,
 ):
     """The `propeller` command's shaft analysis, computed (not written) before anything is written; None
     without --shaft-line (then its own options are refused)."""
@@ -1206,6 +1208,7 @@ def _shaft_analysis(
         shaft_model=shaft_model,
         torque_limit_knm=torque_limit_knm,
         sn_curve=sn_curve,
+        transport_settings=transport_settings,
     )
 
 
