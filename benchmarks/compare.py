@@ -10,13 +10,15 @@ With `--end-to-end` each round instead runs the command line as a user does, `fl
 examples/reference.toml --quiet` on the field size given (default then 1 km × 200 m), one child process per
 run (CPU time of the child, user + system, best of `--runs`: on a shared machine wall time follows the
 other processes' load): start-up, field, simulation and the whole run directory with figures and report.
+With `--end-to-end --propeller` it times `floebreak propeller` (shaft line, PC5, operating profile:
+`PROPELLER_ARGS`) on each side's own run instead.
 The child starts the console command's entry point of its version (`_floebreak_entry:main` where that
 module exists, else `floebreak.cli:main`); both sides' sources are compiled to bytecode first, as an
 installed copy is.
 
 Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]
-[--end-to-end] [--against REV2] [--new-params JSON]` (REV: any git revision, e.g. a commit or `HEAD~3`;
-`--against` compares with REV2 instead of the working tree; `--new-params` gives the compared side's
+[--end-to-end [--propeller]] [--against REV2] [--new-params JSON]` (REV: any git revision, e.g. a commit or
+`HEAD~3`; `--against` compares with REV2 instead of the working tree; `--new-params` gives the compared side's
 `SimulationParams`, e.g. a coarser step with located events, issue 32). Both sides' kernels are compiled
 first (≈ 10 s, not timed).
 """
@@ -69,15 +71,40 @@ importlib.import_module(entry).main()
 """
 
 
-def _run_end_to_end(src: Path, args: argparse.Namespace, params: str = "{}") -> tuple[float, int]:
-    """CPU time (user + system) of the best of `args.runs` CLI runs (one child process each): on a shared
-    machine it follows the code's work, where wall time follows the other processes' load. `params`
-    (`--new-params`) is for the engine alone: refused here (a run takes `--set` in its scenario)."""
-    if params != "{}":
-        sys.exit("--new-params times the engine alone: not with --end-to-end")
+# `--propeller`: the analysis a designer runs on the reference run (issue 33), shaft line included
+PROPELLER_ARGS = (
+    *("--shaft-line", "agulhas_ii", "--speed-m-s", "3", "--mean-torque-knm", "105"),
+    *("--polar-class", "PC5", "--hours-in-ice-per-year", "1000", "--years", "25"),
+)
+
+
+def _cli_cpu_s(src: Path, command: list[str]) -> float:
+    """CPU time (user + system) of one CLI child process of the version at `src`."""
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
     # the installed venv may see another checkout's `_floebreak_entry`: choose by this side's files
     entry = "_floebreak_entry" if (src / "_floebreak_entry.py").exists() else "floebreak.cli"
+    child = subprocess.Popen(
+        [sys.executable, "-c", END_TO_END, entry, *command],
+        env=env,
+        cwd=src.parent,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    _, status, usage = os.wait4(child.pid, 0)  # the rusage of that one child
+    child.returncode = os.waitstatus_to_exitcode(status)
+    if child.returncode != 0:
+        sys.exit(f"`{command[0]}` of {src} failed with exit code {child.returncode}")
+    return usage.ru_utime + usage.ru_stime
+
+
+def _run_end_to_end(src: Path, args: argparse.Namespace, params: str = "{}") -> tuple[float, int]:
+    """CPU time (user + system) of the best of `args.runs` CLI runs (one child process each): on a shared
+    machine it follows the code's work, where wall time follows the other processes' load. With
+    `args.propeller`: the CPU time of `floebreak propeller RUN … PROPELLER_ARGS` on each run instead (the
+    run itself untimed). `params` (`--new-params`) is for the engine alone: refused here (a run takes
+    `--set` in its scenario)."""
+    if params != "{}":
+        sys.exit("--new-params times the engine alone: not with --end-to-end")
     best = float("inf")
     with tempfile.TemporaryDirectory(prefix="floebreak-compare-run-") as tmp:
         for run in range(args.runs):
@@ -86,18 +113,10 @@ def _run_end_to_end(src: Path, args: argparse.Namespace, params: str = "{}") -> 
                 *("run", str(ROOT / "examples" / "reference.toml"), "--quiet", "--out", str(out)),
                 *("--set", f"field.length_m={args.length_m}", "--set", f"field.width_m={args.width_m}"),
             ]
-            child = subprocess.Popen(
-                [sys.executable, "-c", END_TO_END, entry, *command],
-                env=env,
-                cwd=src.parent,
-                stdout=subprocess.DEVNULL,
-                stderr=subprocess.DEVNULL,
-            )
-            _, status, usage = os.wait4(child.pid, 0)  # the rusage of that one child
-            child.returncode = os.waitstatus_to_exitcode(status)
-            if child.returncode != 0:
-                sys.exit(f"the run of {src} failed with exit code {child.returncode}")
-            best = min(best, usage.ru_utime + usage.ru_stime)
+            seconds = _cli_cpu_s(src, command)
+            if args.propeller:
+                seconds = _cli_cpu_s(src, ["propeller", str(out), "--out", str(out / "p"), *PROPELLER_ARGS])
+            best = min(best, seconds)
             breaks = json.loads((out / "summary.json").read_text())["n_breaks"]
     return best, breaks
 
@@ -130,7 +149,12 @@ def main() -> None:
         help='SimulationParams of the compared side (not REV) as JSON, e.g. \'{"step_m": 0.5, '
         '"event_location": "root"}\' (engine only; default step_m 0.25)',
     )
+    parser.add_argument(
+        "--propeller", action="store_true", help="with --end-to-end: time `floebreak propeller` on the run"
+    )
     args = parser.parse_args()
+    if args.propeller and not args.end_to_end:
+        parser.error("--propeller needs --end-to-end")
     if args.length_m is None:
         args.length_m = 1000.0 if args.end_to_end else 400.0
     if args.width_m is None:

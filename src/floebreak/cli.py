@@ -1059,19 +1059,20 @@ def propeller(
     with _stage_progress("shaft", quiet) as progress:
         shaft = _shaft_analysis(
             run_or_study_dir,
-        shaft_line,
-        station,
-        rpm,
-        speed,
-        mean_torque_knm,
-        cases,
-        tables,
-        torque_csv,
-        interpolation,
-        beyond,
+            shaft_line,
+            station,
+            rpm,
+            speed,
+            mean_torque_knm,
+            cases,
+            tables,
+            torque_csv,
+            interpolation,
+            beyond,
             shaft_model,
             torque_limit_knm,
             sn_curve=curve,
+            transport_settings=transport_option(transport_parameters),
             progress=progress,
         )
     overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
@@ -1179,6 +1180,7 @@ def _shaft_analysis(
     shaft_model=None,
     torque_limit_knm=None,
     sn_curve=None,
+    transport_settings=None,
     progress=None,
 ):
     """The `propeller` command's shaft analysis, computed (not written) before anything is written; None
@@ -1214,6 +1216,7 @@ def _shaft_analysis(
         shaft_model=shaft_model,
         torque_limit_knm=torque_limit_knm,
         sn_curve=sn_curve,
+        transport_settings=transport_settings,
         progress=progress,
     )
 

@@ -16,6 +16,7 @@ from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.load_models import (
     drive_rated_torque_n_m,
     extrapolation_warnings,
+    force_warnings,
     profile_defaults,
     torque_warnings,
 )
@@ -110,6 +111,35 @@ def test_rated_torque_and_torque_warnings_by_hand():
     assert torque_warnings(info, rated, 614.0e3) == []
     with pytest.raises(InputError, match="rated_torque_n_m"):
         drive_rated_torque_n_m(PropellerSpec(), 0.0)
+
+
+# PC5 backward force by hand (UR I3 as the module writes it, D > 0.85 H_ice^1.4 = 2.24 m): 23 S_ice (nD)^0.7
+# (EAR/Z)^0.3 D H_ice^1.4 = 23 · 1.1 · (140/60 · 4.3)^0.7 · (0.55/4)^0.3 · 4.3 · 2^1.4 = 795.4 kN
+PC5_BACKWARD_FORCE_N = 23 * 1.1 * (140 / 60 * 4.3) ** 0.7 * (0.55 / 4) ** 0.3 * 4.3 * 2**1.4 * 1e3
+
+
+def test_force_warnings_thresholds_by_hand():
+    assert PC5_BACKWARD_FORCE_N == pytest.approx(795.4e3, abs=100)
+    info = {"p0": {"pitch_percent": 0.0, "force_range_kn": [20.0, 1490.0]}, "p95": {"pitch_percent": 95.0}}
+    warnings = force_warnings(info, 795.4e3, 1600.0e3)  # 1 490 kN: above F_b, below F_f
+    assert len(warnings) == 1
+    assert "pitch 0 %" in warnings[0] and "1490 kN" in warnings[0] and "F_b (795 kN)" in warnings[0]
+    assert len(force_warnings(info, 795.4e3, 1400.0e3)) == 2  # above F_f too
+    info["p0"]["force_range_kn"][1] = 795.0
+    assert force_warnings(info, 795.4e3, 1600.0e3) == []
+
+
+def test_blade_force_above_the_rule_warns_in_the_summary():
+    # a 2 m × 2 m × 1 m block at 0 % pitch (`impact_loads`) against PC5's F_b (by hand, above)
+    blade = BladeGeometry.from_spec(PropellerSpec(pitch_percent=0.0))
+    block = IceBlock(np.ones(1), np.full(1, 2.0), np.full(1, 2.0))
+    force_n = float(impact_loads(block, blade, 140.0, 3.0).force_n[0])
+    result = analyse_propeller(_cusps(), polar_class="PC5")
+    warned = [w for w in result.summary["warnings"] if w.startswith("pitch 0 %") and "F_b" in w]
+    assert force_n > PC5_BACKWARD_FORCE_N and len(warned) == 1
+    assert f"{force_n / 1e3:.0f} kN" in warned[0]
+    unclassed = analyse_propeller(_cusps()).summary["warnings"]
+    assert not [w for w in unclassed if "F_b" in w]  # no polar class: no rule check
 
 
 def test_extrapolation_warning_threshold_by_hand():

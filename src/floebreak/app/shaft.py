@@ -17,6 +17,7 @@ from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS
 from floebreak.propeller.ruleform import BasquinCurve
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
+from floebreak.propeller.transport import TransportSettings
 from floebreak.shaft.analysis import (
     CUSP_INPUT_COLUMNS,
     MILLING_INPUT_COLUMNS,
@@ -240,10 +241,24 @@ class PreparedShaftAnalysis:
 
 
 def _drive_response(
-    run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases, progress=None
+    run_dir,
+    line,
+    speed_m_s,
+    rpm,
+    mean_torque_n_m,
+    torque_limit_knm,
+    station,
+    cases,
+    transport_settings,
+    progress=None,
 ):
-    """The drive model on the cusps the transport sends to the port propeller (`milled_cusps`)."""
-    milled = milled_cusps(read_run_cusps(run_dir, MILLING_INPUT_COLUMNS), speed_m_s=speed_m_s)
+    """The drive model on the cusps the transport (`transport_settings`) sends to the port propeller
+    (`milled_cusps`)."""
+    milled = milled_cusps(
+        read_run_cusps(run_dir, MILLING_INPUT_COLUMNS),
+        speed_m_s=speed_m_s,
+        transport_settings=transport_settings,
+    )
     result = shaft_drive_response(
         milled.arrival_s,
         milled.n_impacts,
@@ -283,6 +298,7 @@ def shaft_analysis_of_run(
     shaft_model: str | None = None,
     torque_limit_knm: float | None = None,
     sn_curve: BasquinCurve | None = None,
+    transport_settings: TransportSettings | None = None,
     progress: Callable[[str, int, int], None] | None = None,
 ) -> PreparedShaftAnalysis:
     """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is
@@ -291,7 +307,9 @@ def shaft_analysis_of_run(
     transport sends to the port propeller, milled by the drive model) or "linear" (every cusp, FEM torque,
     constant rpm); default: the run's profile's (default → drive, thesis → linear). `sn_curve`: a torque
     S–N curve for Miner's damage of the shaft torque's rainflow cycles (`shaft_fatigue`). `torque_csv`: a
-    path or a `TorqueSeries`; `progress(stage, done, total)` is told of each excitation case computed."""
+    path or a `TorqueSeries`. `transport_settings`: the transport's hull and parameters for the drive model
+    (those of the propeller analysis, `--transport-parameter`; default `TransportSettings()`).
+    `progress(stage, done, total)` is told of each excitation case computed."""
     model = shaft_model_of_run(run_dir, shaft_model)
     if torque_limit_knm is not None:
         require_range("torque_limit_knm", torque_limit_knm, low=0.0, unit="kN m")
@@ -314,9 +332,8 @@ def shaft_analysis_of_run(
     mean_torque_n_m = None if mean_torque_knm is None else 1e3 * mean_torque_knm
     extra = {"run_dir": Path(run_dir).name, "measured_source": None if measured is None else measured.source}
     if model == "drive":
-        result, more = _drive_response(
-            run_dir, line, speed_m_s, rpm, mean_torque_n_m, torque_limit_knm, station, cases, progress
-        )
+        drive_args = (rpm, mean_torque_n_m, torque_limit_knm, station, cases, transport_settings)
+        result, more = _drive_response(run_dir, line, speed_m_s, *drive_args, progress=progress)
         return PreparedShaftAnalysis(result, measured, extra | more, sn_curve)
     cusps = run_cusp_inputs(
         run_dir, fem_table=fem_table, pitch_percent=pitch_percent, interpolation=interpolation, beyond=beyond

@@ -175,6 +175,25 @@ def torque_warnings(table_info: dict[str, dict], rated_torque: float, rule_max_t
     return out
 
 
+def force_warnings(table_info: dict[str, dict], backward_force: float, forward_force: float) -> list[str]:
+    """A warning per pitch whose largest per-cusp blade force |F| exceeds the rule's backward force F_b,
+    and one where it exceeds the forward force F_f (both in N; `table_info`'s ranges in kN). The per-cusp
+    force is a magnitude (the FEM tables and `milling_loads` keep |F|), so both limits are checked."""
+    out = []
+    for info in table_info.values():
+        f_range = info.get("force_range_kn")
+        if f_range is None:
+            continue
+        top_kn = f_range[1]
+        for name, limit in (("backward force F_b", backward_force), ("forward force F_f", forward_force)):
+            if top_kn > limit / 1e3:
+                out.append(
+                    f"pitch {info['pitch_percent']:g} %: a per-cusp blade force of {top_kn:.0f} kN exceeds "
+                    f"the rule's {name} ({limit / 1e3:.0f} kN)"
+                )
+    return out
+
+
 def extrapolation_warnings(rule_form: dict | None) -> list[str]:
     """A warning for each rule-form x_max (per hour, over the profile, at the rule's N_ice) beyond
     `EXTRAPOLATION_FACTOR` × the largest load the fit was fitted to (`validity_range`)."""

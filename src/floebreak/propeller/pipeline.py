@@ -31,6 +31,7 @@ from floebreak.propeller.load_models import (
     check_choice,
     drive_rated_torque_n_m,
     extrapolation_warnings,
+    force_warnings,
     milling_loads,
     milling_pitches,
     override_warning,
@@ -511,6 +512,8 @@ def _complete_summary(summary, transport_info, table_info, rated, rule) -> None:
     if transport_info["fraction_overrides"]:
         warnings.append(override_warning(transport_info["fraction_overrides"]))
     warnings += torque_warnings(table_info, rated, None if rule is None else rule.max_torque_nm)
+    if rule is not None:
+        warnings += force_warnings(table_info, rule.backward_force_n, rule.forward_force_n)
     warnings += extrapolation_warnings(summary.get("rule_form"))
 
 

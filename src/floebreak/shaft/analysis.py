@@ -29,7 +29,7 @@ from floebreak.propeller.spectra import (
     fitting_width,
     ranges_above,
 )
-from floebreak.propeller.transport import PropellerArrangement, transport_cusps
+from floebreak.propeller.transport import PropellerArrangement, TransportSettings, transport_cusps
 from floebreak.shaft.drive import DriveResult, drive_for_line, simulate_drive, train_from_line
 from floebreak.shaft.excitation import EXCITATION_CASES, arrival_times_s, excitation_case, ice_torque_series
 from floebreak.shaft.fatigue import RainflowHistogram, miner_damage, rainflow_histogram
@@ -404,20 +404,32 @@ def milled_cusps(
     spec: PropellerSpec | None = None,
     lead_s: float = 2.0,
     transport: bool = True,
+    transport_settings: TransportSettings | None = None,
 ) -> MilledCusps:
     """The cusps of a run's `columns` (MILLING_INPUT_COLUMNS) that reach the port propeller, at their
-    arrival times (`propeller.transport.transport_cusps`, default hull and arrangement), shifted so the
-    first arrives at `lead_s` (the constant bow-to-propeller delay is left out, as in the linear model);
-    blade impacts from the milling model at the nominal rpm (`impact_loads`: ⌈length / cut depth⌉, ≥ 1;
-    advance speed = ship speed). `transport=False`: every cusp, at the linear model's arrival times."""
+    arrival times (`propeller.transport.transport_cusps` with the hull, parameters and tip clearance of
+    `transport_settings`, default `TransportSettings()`, on the default two-shaft arrangement, as the
+    propeller analysis of a two-propeller run), shifted so the first arrives at `lead_s` (the constant
+    bow-to-propeller delay is left out, as in the linear model); blade impacts from the milling model at
+    the nominal rpm (`impact_loads`: ⌈length / cut depth⌉, ≥ 1; advance speed = ship speed).
+    `transport=False`: every cusp, at the linear model's arrival times."""
     col, spec = columns, PropellerSpec() if spec is None else spec
     if transport:
-        moved = transport_cusps(*(col[k] for k in TRANSPORT_INPUT_COLUMNS), speed_m_s=speed_m_s)
-        port = port_propeller_index(PropellerArrangement())
+        settings = TransportSettings() if transport_settings is None else transport_settings
+        arrangement = settings.on(PropellerArrangement())
+        moved = transport_cusps(
+            *(col[k] for k in TRANSPORT_INPUT_COLUMNS),
+            speed_m_s=speed_m_s,
+            hull=settings.hull,
+            arrangement=arrangement,
+            params=settings.params,
+        )
+        port = port_propeller_index(arrangement)
         chosen = np.flatnonzero(moved.propeller_index == port)
         arrival = moved.arrival_time_s[chosen]
         counts = {"reaching_port": int(chosen.size), **moved.path_counts()}
         counts["reaching"] = moved.counts().tolist()
+        counts["settings"] = settings.as_dict()
     else:
         chosen = np.arange(col["bow_x_m"].size)
         arrival = arrival_times_s(col["bow_x_m"], speed_m_s, lead_s)

@@ -599,7 +599,7 @@ def write_voyage_results(
     if analysis.shaft_line is not None:
         from floebreak.studies.voyage_shaft import voyage_shaft
 
-        shaft = voyage_shaft(voyage_dir, periods, rows, analysis.shaft_line)
+        shaft = voyage_shaft(voyage_dir, periods, rows, analysis.shaft_line, analysis.transport)
         summary["shaft"] = shaft.summary
     spectrum_rows, exceedance_rows = _spectra_rows(spectra)
     with atomic_directory(voyage_dir / RESULTS_DIR, overwrite=True, field="out") as temp:

@@ -46,12 +46,16 @@ class RunShaft:
         return self.torque_knm.size * self.time_step_s
 
 
-def run_shaft(run_dir: Path, shaft_line: str) -> RunShaft:
-    """The shaft analysis of one run (`shaft_analysis_of_run`, its defaults), reduced to `RunShaft`."""
+def run_shaft(run_dir: Path, shaft_line: str, transport: dict[str, Any] | None = None) -> RunShaft:
+    """The shaft analysis of one run (`shaft_analysis_of_run`, its defaults, with the transport settings
+    `transport`: `propeller.transport.TRANSPORT_KEYS` → value, as the voyage's propeller analysis), reduced
+    to `RunShaft`."""
     from floebreak.app.shaft import shaft_analysis_of_run
+    from floebreak.propeller.transport import transport_settings
     from floebreak.shaft.analysis import shaft_fatigue
 
-    result = shaft_analysis_of_run(run_dir, shaft_line).result
+    settings = transport_settings(transport)
+    result = shaft_analysis_of_run(run_dir, shaft_line, transport_settings=settings).result
     t = result.time_s
     step = float(t[1] - t[0]) if t.size > 1 else 0.0
     cycles = shaft_fatigue(result)[0].cycles
@@ -127,9 +131,16 @@ class VoyageShaft:
 NOTE = "shaft torque (first excitation case) per period and pooled by the periods' hours in ice"
 
 
-def voyage_shaft(voyage_dir: Path, periods: list[dict], rows: list[dict], shaft_line: str) -> VoyageShaft:
+def voyage_shaft(
+    voyage_dir: Path,
+    periods: list[dict],
+    rows: list[dict],
+    shaft_line: str,
+    transport: dict[str, Any] | None = None,
+) -> VoyageShaft:
     """The shaft analysis of each complete run of each period (a run shared by periods is analysed once),
-    pooled by time (`pool_periods`). `rows`: the period table (its `n_fields_complete`)."""
+    pooled by time (`pool_periods`). `rows`: the period table (its `n_fields_complete`); `transport`: the
+    voyage's transport settings (`VoyageAnalysis.transport`)."""
     cache: dict[str, RunShaft] = {}
     shafts: dict[int, list[RunShaft]] = {}
     for period, row in zip(periods, rows, strict=True):
@@ -141,7 +152,7 @@ def voyage_shaft(voyage_dir: Path, periods: list[dict], rows: list[dict], shaft_
             if not (run_dir / "summary.json").exists():
                 continue
             if name not in cache:
-                cache[name] = run_shaft(run_dir, shaft_line)
+                cache[name] = run_shaft(run_dir, shaft_line, transport)
             shafts[period["index"]].append(cache[name])
     summary = pool_periods(periods, shafts)
     models = sorted({s.model for s in cache.values()})

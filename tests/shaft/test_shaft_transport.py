@@ -1,0 +1,84 @@
+"""The shaft analysis's drive model uses the transport settings of the propeller analysis
+(`--transport-parameter`, `milled_cusps(transport_settings=)`)."""
+
+import json
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from floebreak.propeller.transport import transport_settings
+from floebreak.shaft.analysis import milled_cusps
+
+# four stem cusps to port: two on the port shaft's line (y = 5.5 m), two further inboard (3.5 m, 4.5 m)
+Y_M = np.array([5.5, 3.5, 4.5, 5.5])
+LENGTH_M = np.array([3.0, 4.0, 5.0, 6.0])
+# hull.bilge_radius_m = 6 m: the flat bottom's half-width is B/2 − r_bilge = 21.7/2 − 6 = 4.85 m, so the
+# cusps beyond it (y = 5.5 m) lie on the bilge and rise beside the hull (docs/model.md, transport step 3)
+BILGE = {"hull.bilge_radius_m": 6.0}
+INBOARD = np.abs(Y_M) <= 21.7 / 2 - 6.0
+
+
+def _columns():
+    n = Y_M.size
+    bow_x = 5.0 * np.arange(n) + 1.0
+    return {
+        "bow_x_m": bow_x,
+        "step": np.arange(n),
+        "bbox_length_m": LENGTH_M,
+        "bbox_width_m": np.ones(n),
+        "thickness_m": np.full(n, 0.4),
+        "volume_m3": 0.32 * LENGTH_M,
+        "centroid_x_m": bow_x - 2.0,  # 2 m aft of the stem: stem region
+        "centroid_y_m": Y_M,
+        "area_m2": 0.8 * LENGTH_M,
+    }
+
+
+def test_transport_settings_choose_the_milled_cusps():
+    default = milled_cusps(_columns(), speed_m_s=3.0)
+    assert default.arrival_s.size == Y_M.size  # all four reach the port disc by default
+    wide_bilge = milled_cusps(_columns(), speed_m_s=3.0, transport_settings=transport_settings(BILGE))
+    assert wide_bilge.arrival_s.size == int(INBOARD.sum()) == 2
+    # the milled blocks are the inboard cusps' (box sides: length × 1 m)
+    sides = np.maximum(wide_bilge.block.length_m, wide_bilge.block.width_m)
+    assert sorted(sides) == sorted(LENGTH_M[INBOARD])
+    assert wide_bilge.counts["bilge"] == int((~INBOARD).sum())
+    assert wide_bilge.counts["settings"]["hull.bilge_radius_m"] == 6.0
+
+
+def _run(path):
+    path.mkdir()
+    pq.write_table(pa.table(_columns()), path / "cusps.parquet")
+    (path / "scenario.resolved.toml").write_text('profile = "default"\n', encoding="utf-8")
+    return path
+
+
+def test_transport_parameter_reaches_the_shaft_run(tmp_path, cli):
+    run = _run(tmp_path / "run")
+    summaries = {}
+    for name, extra in (("default", []), ("bilge", ["--transport-parameter", "hull.bilge_radius_m=6"])):
+        out = tmp_path / name
+        code, _, err = cli(
+            "propeller", run, "--out", out, "--shaft-line", "agulhas_ii", "--speed-m-s", "3", *extra
+        )
+        assert code == 0, err
+        summaries[name] = json.loads((out / "shaft" / "summary.json").read_text())
+    assert summaries["default"]["transport"]["reaching_port"] == Y_M.size
+    assert summaries["bilge"]["transport"]["reaching_port"] == int(INBOARD.sum())
+    assert summaries["bilge"]["transport"]["settings"]["hull.bilge_radius_m"] == 6.0
+    impacts = [summaries[n]["drive"]["cases"]["1"]["impacts"] for n in ("default", "bilge")]
+    assert impacts[1] < impacts[0]  # fewer cusps milled, fewer blade impacts
+
+
+def test_voyage_shaft_run_uses_the_voyage_transport(tmp_path):
+    from floebreak.studies.voyage_shaft import run_shaft
+
+    run = _run(tmp_path / "run")
+    (run / "scenario.resolved.toml").write_text(
+        'profile = "default"\n[ship]\nspeed_m_s = 3.0\n', encoding="utf-8"
+    )
+    default = run_shaft(run, "agulhas_ii")
+    wide_bilge = run_shaft(run, "agulhas_ii", BILGE)
+    # two of four cusps milled: the ice torque ends sooner, the series is shorter
+    assert wide_bilge.duration_s < default.duration_s
