@@ -13,29 +13,63 @@ from floebreak.ice.field import FloeField
 from floebreak.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.simulation import SimulationParams, simulate
-from floebreak.simulation_events import bisect_event
+from floebreak.simulation_events import locate_event
 from floebreak.studies.single_floe import SingleFloeCase, single_floe_field
 
 
-def test_bisection_brackets_the_first_failure_within_the_tolerance():
-    threshold, trials = 0.3141, []
+def _counting(outcome_at, trials):
+    """A trial that records its positions: outcome_at(x) → (evaluation or None, margin)."""
 
     def trial(x):
         trials.append(x)
-        return ("failed at", x) if x >= threshold else None
+        return outcome_at(x)
 
-    x, value = bisect_event(0.0, 1.0, ("failed at", 1.0), trial, 0.01)
+    return trial
+
+
+def test_without_margins_the_search_bisects_to_the_first_failure():
+    threshold, trials = 0.3141, []
+    outcome = lambda x: (("failed at", x) if x >= threshold else None, None)  # noqa: E731
+    x, value = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), 0.01)
     assert threshold <= x <= threshold + 0.01
     assert value == ("failed at", x)  # the evaluation of the position returned, not of the bracket's end
     assert len(trials) == math.ceil(math.log2(1.0 / 0.01))  # halving a 1 m bracket to 1 cm: 7 trials
     # the trial positions are a function of the bracket alone
     again = []
-    bisect_event(0.0, 1.0, None, lambda x: again.append(x) or (x if x >= threshold else None), 0.01)
+    locate_event(0.0, 1.0, None, _counting(outcome, again), 0.01)
     assert again == trials
 
 
+def test_a_linear_margin_is_located_in_fewer_trials_than_bisection():
+    """A margin linear in x (ln(driving/resistance) of a criterion that grows steadily over the bracket):
+    regula falsi brackets its zero to the tolerance in at most four trials, where bisection takes seven."""
+    threshold, trials = 0.3141, []
+
+    def outcome(x):
+        margin = 2.0 * (x - threshold)
+        return ("failed at", x) if margin > 0.0 else None, margin
+
+    x, value = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), 0.01, 2.0 * 0.6859)
+    assert threshold < x <= threshold + 0.01
+    assert value == ("failed at", x)
+    assert len(trials) <= 4
+    assert all(0.0 < t < 1.0 for t in trials)
+
+
+def test_a_margin_that_disagrees_with_the_outcome_does_not_move_the_bracket_wrongly():
+    """The outcome, not the margin, decides: a margin that says "fails" where the outcome is intact (a
+    split that separates nothing) is not used, and the first failure is still bracketed."""
+    threshold, trials = 0.7, []
+
+    def outcome(x):
+        return ("failed at", x) if x >= threshold else None, 1.0  # always "met", failing only from 0.7
+
+    x, _ = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), 0.01, 1.0)
+    assert threshold <= x <= threshold + 0.01
+
+
 def test_a_bracket_within_the_tolerance_is_not_searched():
-    assert bisect_event(0.0, 0.01, "hi", lambda x: pytest.fail("searched"), 0.01) == (0.01, "hi")
+    assert locate_event(0.0, 0.01, "hi", lambda x: pytest.fail("searched"), 0.01) == (0.01, "hi")
 
 
 def _single_floe(diameter_m=20.0, thickness_m=1.0, position="a"):

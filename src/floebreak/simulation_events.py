@@ -27,6 +27,8 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
+Trial = Callable[[float], tuple[Any, float | None]]
+
 EVENT_LOCATIONS = ("step_end", "root")
 # Bisection tolerance [m] of the located bow position: below it the paired outputs of the reference study
 # move by less than their sampling error (docs/validation.md, convergence).
@@ -43,19 +45,57 @@ class _Item(NamedTuple):
     lo: float
 
 
-def bisect_event(lo: float, hi: float, at_hi: Any, trial: Callable[[float], Any], tolerance_m: float):
+def locate_event(lo: float, hi: float, at_hi: Any, trial: Trial, tolerance_m: float, margin_hi=None):
     """The first failure in (lo, hi] to within `tolerance_m`: the outcome does not fail at `lo`, fails at
-    `hi` with `at_hi`; `trial(x)` gives the failed evaluation at x or None. Returns (x, evaluation at x), x
-    the upper end of the final bracket (a failed position, never more than `tolerance_m` past the last
-    position found intact)."""
+    `hi` with `at_hi`; `trial(x)` gives (the failed evaluation at x or None, its margin or None). Returns
+    (x, evaluation at x), x the upper end of the final bracket (a failed position, never more than
+    `tolerance_m` past the last position found intact).
+
+    The bracket is narrowed on the outcome alone; the margins (`Outcome.margin`, ln(driving/resistance) of
+    the deciding criterion) only place the next trial (`_next_trial`; Illinois-weighted regula falsi: an
+    end that stays twice has its margin halved). The trial positions are a function of the bracket and the
+    margins found alone: runs stay deterministic."""
+    ends = {"lo": None, "hi": _signed(margin_hi, True)}  # usable margins at the bracket's ends
+    last: list = []  # the last two (position, usable margin)
+    previous = None
     while hi - lo > tolerance_m:
-        mid = 0.5 * (lo + hi)
-        found = trial(mid)
+        x = _next_trial(lo, hi, ends, last, tolerance_m)
+        found, margin = trial(x)
+        side = "hi" if found is not None else "lo"
         if found is None:
-            lo = mid
+            lo = x
         else:
-            hi, at_hi = mid, found
+            hi, at_hi = x, found
+        other = "lo" if side == "hi" else "hi"
+        if previous == side and ends[other] is not None:
+            ends[other] *= 0.5  # Illinois: the other end stayed twice, so it pulls the next trial less
+        ends[side] = usable = _signed(margin, found is not None)
+        last = [] if usable is None else [*last[-1:], (x, usable)]
+        previous = side
     return hi, at_hi
+
+
+def _signed(margin: float | None, failed: bool) -> float | None:
+    """A margin usable for the secant: of the outcome's sign, else None (the outcome was decided by
+    something else than the criterion, e.g. a split that separates nothing or a mode without a margin)."""
+    if margin is None or (margin > 0.0) != failed:
+        return None
+    return margin
+
+
+def _next_trial(lo: float, hi: float, ends: dict, last: list, tolerance_m: float) -> float:
+    """Regula falsi between the bracket's ends where both have a usable margin, else the secant's zero
+    through the last two positions with one (the margin is near linear in the bow position over a step),
+    else the midpoint; at least `tolerance_m`/2 inside the bracket (wider than `tolerance_m`), so each
+    trial narrows it by that much."""
+    if ends["lo"] is not None and ends["hi"] is not None:
+        (x0, m0), (x1, m1) = (lo, ends["lo"]), (hi, ends["hi"])
+    elif len(last) == 2 and last[0][1] != last[1][1]:
+        (x0, m0), (x1, m1) = last
+    else:
+        return 0.5 * (lo + hi)
+    x = x1 - m1 * (x1 - x0) / (m1 - m0)
+    return min(max(x, lo + 0.5 * tolerance_m), hi - 0.5 * tolerance_m)
 
 
 def locate_step(run, step: int, x0: float, x1: float, touching: list[int], evaluations: int) -> None:
@@ -91,7 +131,7 @@ def _settle(run, step: int, x1: float, item: _Item, contact) -> list[_Item]:
     tolerance_m = run.params.event_tolerance_m
     if judged[1].failed and x - lo > tolerance_m:
         trial = lambda trial_x: _failed_at(run, pid, trial_x)  # noqa: E731
-        x, (contact, judged) = bisect_event(lo, x, (contact, judged), trial, tolerance_m)
+        x, (contact, judged) = locate_event(lo, x, (contact, judged), trial, tolerance_m, judged[1].margin)
     children = run._apply(step, x, pid, contact, judged)
     if judged[1].failed:
         return [_Item(child, child_bf, x, x) for child, child_bf in children]
@@ -99,15 +139,15 @@ def _settle(run, step: int, x1: float, item: _Item, contact) -> list[_Item]:
 
 
 def _failed_at(run, pid: int, x: float):
-    """A bisection trial: (contact, (classification, outcome)) of piece `pid` at bow position `x` if it
-    fails there, else None. Nothing is applied or reported."""
+    """A trial of `locate_event`: ((contact, (classification, outcome)) of piece `pid` at bow position `x`
+    if it fails there, else None; the outcome's margin). Nothing is applied or reported."""
     run.check_time(x)
     polygon_bf = run.bow_frame([pid], x)[0]
     contact = run.contacts([pid], [polygon_bf])[0]
     if not contact.in_contact:
-        return None
+        return None, None
     judged = run._judge(pid, polygon_bf, contact)
-    return (contact, judged) if judged[1].failed else None
+    return ((contact, judged) if judged[1].failed else None), judged[1].margin
 
 
 def _again(run, pid: int, x: float, x1: float) -> list[_Item]:

@@ -107,6 +107,9 @@ def test_floe_bends_exactly_when_the_vertical_force_exceeds_the_capacity(
     check = bending_check(inp, context, BendingSettings())
     assert low <= check.capacity_n <= high
     assert check.vertical_force_n == pytest.approx(f_v, rel=1e-9)
+    # the outcome's margin ln(F_v / P_f), from the hand calculation's capacity bracket, of the verdict's sign
+    assert math.log(f_v / high) - 1e-9 <= outcome.margin <= math.log(f_v / low) + 1e-9
+    assert (outcome.margin > 0.0) is must_bend
     if must_bend:
         assert len(outcome.pieces) >= 2
         assert all(piece.fate == Fate.FLOE for piece in outcome.pieces)

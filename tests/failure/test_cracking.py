@@ -127,6 +127,7 @@ def test_point_load_tensile_capacity(make_input, context, kit, thickness_m, must
     check = criterion_check(Cracking(settings), inp, context)
     assert check.resistance == pytest.approx(p_t, rel=1e-9)
     assert check.driving == pytest.approx(f_h, rel=1e-9)
+    assert outcome.margin == pytest.approx(math.log(f_h / p_t), rel=1e-9)  # ln(F_h / P_t), > 0 if it fails
     # P_t is the default capacity (erratum 20, docs/model.md §11)
     default = criterion_check(Cracking(CrackingSettings(criterion="point_load")), inp, context)
     assert default.resistance == pytest.approx(p_t, rel=1e-9)

@@ -76,6 +76,10 @@ class Outcome:
     mode: str
     status: Status
     pieces: tuple[NewPiece, ...] = ()
+    # the deciding criterion's margin ln(driving / resistance) (> 0: met), where the mode has one (bending:
+    # F_v / P_f, cracking: its criterion's); None otherwise. It decides nothing: located events
+    # (`floebreak.simulation_events`) use it to place their trial positions (regula falsi)
+    margin: float | None = None
 
     @property
     def failed(self) -> bool:
@@ -88,19 +92,27 @@ class FailureMode(Protocol):
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome: ...
 
 
-def intact(mode: str) -> Outcome:
+def intact(mode: str, margin: float | None = None) -> Outcome:
     """The floe withstands `mode`: nothing changes and no further mode is tried."""
-    return Outcome(mode, Status.INTACT)
+    return Outcome(mode, Status.INTACT, margin=margin)
 
 
-def pass_on(mode: str) -> Outcome:
+def pass_on(mode: str, margin: float | None = None) -> Outcome:
     """`mode` does not break the floe here: the dispatch policy tries its next mode."""
-    return Outcome(mode, Status.PASS_ON)
+    return Outcome(mode, Status.PASS_ON, margin=margin)
 
 
-def failed(mode: str, pieces) -> Outcome:
+def failed(mode: str, pieces, margin: float | None = None) -> Outcome:
     """The floe failed in `mode` and is replaced by `pieces` (`NewPiece`s)."""
-    return Outcome(mode, Status.FAILED, tuple(pieces))
+    return Outcome(mode, Status.FAILED, tuple(pieces), margin)
+
+
+def log_margin(driving: float, resistance: float) -> float | None:
+    """ln(driving / resistance), the `Outcome.margin` of a criterion "driving > resistance"; None where it
+    has no finite value (a zero or infinite term)."""
+    if driving > 0.0 and 0.0 < resistance < float("inf"):
+        return float(np.log(driving / resistance))
+    return None
 
 
 MIN_PIECE_AREA_M2 = 1e-6  # split parts at or below this are slivers of the cut, merged into a neighbour

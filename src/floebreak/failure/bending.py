@@ -27,6 +27,7 @@ from floebreak.failure.base import (
     Outcome,
     failed,
     intact,
+    log_margin,
     pass_on,
     split_parts,
 )
@@ -95,6 +96,11 @@ class BendingCheck:
     @property
     def fails(self) -> bool:
         return self.fan.opening_rad > 0.0 and self.vertical_force_n > self.capacity_n
+
+    @property
+    def margin(self) -> float | None:
+        """ln(F_v / P_f) (`Outcome.margin`)."""
+        return log_margin(self.vertical_force_n, self.capacity_n)
 
 
 def bending_check(inp: FailureInput, ctx: FailureContext, settings: BendingSettings) -> BendingCheck:
@@ -165,7 +171,7 @@ def split_by_radius(polygon, check: BendingCheck, thickness_m: float = 0.0) -> t
 
 def bending_gate(mode: str, check: BendingCheck) -> Outcome | None:
     """Intact when there is no intact-ice fan or F_v ≤ P_f (shared by bending and local cracking)."""
-    return None if check.fails else intact(mode)
+    return None if check.fails else intact(mode, check.margin)
 
 
 @dataclass(frozen=True)
@@ -179,12 +185,13 @@ class Bending:
             return held
         near, far = split_by_radius(inp.polygon, check, inp.thickness_m)
         if not near:  # the bending line misses the floe
-            return intact(self.name)
+            return intact(self.name, check.margin)
         if not far:
             # no bending line crosses the floe (it lies within the breaking radius): it cannot fail in
             # bending here, and the policy's next mode (cracking) is tried
-            return pass_on(self.name)
-        return failed(self.name, (NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far]))
+            return pass_on(self.name, check.margin)
+        pieces = (NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far])
+        return failed(self.name, pieces, check.margin)
 
 
 # thesis-literal switches (physics-notes §5)

@@ -35,6 +35,7 @@ from floebreak.failure.base import (
     NewPiece,
     Outcome,
     failed,
+    log_margin,
     pass_on,
     split_parts,
 )
@@ -249,12 +250,15 @@ class Cracking:
         direction = crack_direction(inp, np.radians(self.settings.next_crack_angle_deg))
         # no crack starts (driving < resistance, or the crack line does not split the floe): passed on — at
         # the shoulder the default policy then rotates the floe by its position (thesis §4.4)
-        if not self.criterion_check(inp, ctx, direction).fails:
-            return pass_on(self.name)
+        check = self.criterion_check(inp, ctx, direction)
+        margin = log_margin(check.driving, check.resistance)
+        if not check.fails:
+            return pass_on(self.name, margin)
         left, right = split_by_line(inp.polygon, inp.zone.centre_xy_m, direction, inp.thickness_m)
         if not left or not right:
-            return pass_on(self.name)
-        return failed(self.name, (NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*left, *right]))
+            return pass_on(self.name, margin)
+        pieces = (NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*left, *right])
+        return failed(self.name, pieces, margin)
 
 
 # thesis-literal switches (physics-notes §5); bending's settings give ℓ's material and P

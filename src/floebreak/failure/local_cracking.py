@@ -147,10 +147,11 @@ class LocalCracking:
             thickness_m=inp.thickness_m,
         )
         if not near:  # the local cracking line misses the floe
-            return intact(self.name)
+            return intact(self.name, check.margin)
         if not far:  # no line crosses the floe: no local cracking here (the policy's next mode is tried)
-            return pass_on(self.name)
-        return failed(self.name, (NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*near, *far]))
+            return pass_on(self.name, check.margin)
+        pieces = (NewPiece(p, Fate.FLOE, inp.crack_count + 1) for p in [*near, *far])
+        return failed(self.name, pieces, check.margin)
 
 
 # no settings of its own: it shares bending's ([failure.bending], and bending's thesis values)
