@@ -63,3 +63,15 @@ def test_an_interrupt_under_an_inherited_ignored_sigint_exits_130_with_one_line(
     assert result.returncode == 130, result.stderr
     assert result.stderr == "interrupted (Ctrl-C); nothing half-written was kept\n"
     assert "floebreak" in result.stdout  # the command itself had finished
+
+
+def test_a_reported_sigterm_does_not_colour_a_later_ctrl_c():
+    """The record is consumed when reported: a Ctrl-C after a reported SIGTERM in the same process (a test
+    session, a notebook) exits 130, not 143."""
+    import signal
+
+    from floebreak.exit_codes import EXIT_INTERRUPTED, EXIT_TERMINATED, interruption, record_signal
+
+    record_signal(signal.SIGTERM)
+    assert interruption()[1] == EXIT_TERMINATED
+    assert interruption()[1] == EXIT_INTERRUPTED

@@ -22,9 +22,13 @@ def record_signal(signum: int) -> None:
 
 
 def interruption() -> tuple[str, int]:
-    """(message, exit code) of the interruption being reported: SIGTERM's if one came, else Ctrl-C's."""
+    """(message, exit code) of the interruption being reported: SIGTERM's if one came, else Ctrl-C's.
+    Reporting consumes the record, so that a later interruption in the same process (a notebook, a test
+    session) is judged on its own signal."""
     import signal
 
-    if _received and _received[-1] == signal.SIGTERM:
+    terminated = bool(_received) and _received[-1] == signal.SIGTERM
+    _received.clear()
+    if terminated:
         return TERMINATED_MESSAGE, EXIT_TERMINATED
     return INTERRUPTED_MESSAGE, EXIT_INTERRUPTED
