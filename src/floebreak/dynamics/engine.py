@@ -99,6 +99,8 @@ class IceMotionEngine:
             # Chipmunk takes a contact's restitution as the product of the shapes' (an arbiter's value set
             # in a callback does not reach the bounce); friction is set per hull contact in pre_solve
             shape.elasticity = _hull_shape_elasticity(self.settings)
+            if self.settings.hull_contact == "crushing":  # the hull's force is the loop's crushing force
+                shape.filter = pymunk.ShapeFilter(mask=0)
         self.space.add(self.hull, *self._hull_shapes)
         self._hull_bounds0 = hull_polygon.bounds
         self.set_hull_velocity(hull_velocity_m_s)
@@ -107,6 +109,7 @@ class IceMotionEngine:
         self._forces: dict[int, list[tuple[float, float, float, float]]] = {}
         self._impulses: dict[int, tuple[float, float]] = {}
         self._retired: list[PieceState] = []
+        self._retired_outlines: dict[int, shapely.Polygon] = {}
         self.space.on_collision(
             HULL_COLLISION_TYPE,
             ICE_COLLISION_TYPE,
@@ -243,6 +246,11 @@ class IceMotionEngine:
         retired, self._retired = self._retired, []
         return retired
 
+    def drain_retired_outlines(self) -> dict[int, shapely.Polygon]:
+        """The last outlines (field frame) of the pieces retired since the last call, by id."""
+        outlines, self._retired_outlines = self._retired_outlines, {}
+        return outlines
+
     # --- stepping ------------------------------------------------------------------------------------
     def step(self, dt_s: float | None = None) -> None:
         """Advance by `dt_s` (default `settings.time_step_s`): water and applied forces, contacts, window."""
@@ -285,6 +293,7 @@ class IceMotionEngine:
                 piece.bounds = _bounds(piece)
             bb = piece.bounds
             if bb[2] < behind:
+                self._retired_outlines[pid] = self.polygon(pid)
                 self._retired.append(self.remove_piece(pid))
             elif not piece.pinned:
                 awake = bb[0] <= window[2] and bb[1] <= window[3] and bb[3] >= window[1]

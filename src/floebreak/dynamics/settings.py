@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Annotated, ClassVar
+from typing import Annotated, ClassVar, Literal
 
 from floebreak import constants as c
 from floebreak.errors import Bounds, InputError, check_bounds
@@ -70,6 +70,13 @@ class IceMotionSettings:
     1 m piece); in (0, 1]"""
     solver_iterations: Annotated[int, Bounds(1, 1000)] = 20
     """contact solver iterations per step (Chipmunk's default 10; AUTO-IceNav 50), in [1, 1000]"""
+    hull_contact: Literal["crushing", "engine"] = "crushing"
+    """which force the hull puts on a piece: floebreak's crushing force alone ("crushing", applied by the
+    stepping loop; the hull passes through pieces in the engine, the overlap being the crushed ice), or
+    also the engine's non-penetration contact ("engine"), which holds a piece at the hull whatever its mass:
+    it pushes aside floes that must break (docs/model.md, Ice motion, coupling)"""
+    pin_all: bool = False
+    """pin every piece (no motion): the check that the coupled loop then gives the static results"""
 
     def __post_init__(self) -> None:
         check_bounds(self, self.PREFIX)
