@@ -55,6 +55,7 @@ class IceMotion:
         self._next = 0
         self.origin: dict[int, tuple[float, float]] = {}  # centroid when added: unmoved pieces keep polygons
         self.moved: set[int] = set()
+        self.written: dict[int, tuple[float, float, float]] = {}  # pose of the outline last stored
         self.forces: dict[int, list[tuple[float, float, float, float]]] = {}
 
     # --- between searches ---------------------------------------------------------------------------
@@ -85,12 +86,13 @@ class IceMotion:
             pid = state.piece_id
             if self._has_moved(state):
                 self._store(pid, outlines[pid])
-            self.origin.pop(pid)
-            self.moved.discard(pid)
-            self.forces.pop(pid, None)
+            self._forget(pid)
         for pid in sorted(self.moved.union(self.engine.awake_ids())):
-            if self._has_moved(self.engine.state(pid)):
+            state = self.engine.state(pid)
+            pose = (state.x_m, state.y_m, state.angle_rad)
+            if self._has_moved(state) and self.written.get(pid) != pose:
                 self.moved.add(pid)
+                self.written[pid] = pose
                 self._store(pid, self.engine.polygon(pid))
 
     def _has_moved(self, state) -> bool:
@@ -143,8 +145,12 @@ class IceMotion:
 
     def leave(self, pid: int) -> None:
         """A piece leaves the engine (broken, cusp, flipped); its stored polygon is its current outline."""
-        if self.origin.pop(pid, None) is None:
-            return
+        if pid in self.origin:
+            self._forget(pid)
+            self.engine.remove_piece(pid)
+
+    def _forget(self, pid: int) -> None:
+        del self.origin[pid]
         self.moved.discard(pid)
+        self.written.pop(pid, None)
         self.forces.pop(pid, None)
-        self.engine.remove_piece(pid)
