@@ -210,3 +210,24 @@ def test_children_take_the_rigid_body_velocity_at_their_centroid():
     engine.add_piece(1, shapely.box(0, 0, 4, 2), 1.0, velocity_m_s=(1.0, 0.5), angular_velocity_rad_s=0.25)
     assert engine.velocity_at(1, (3.0, 1.0)) == pytest.approx((1.0 - 0.25 * 0.0, 0.5 + 0.25 * 1.0))
     assert engine.velocity_at(1, (2.0, 2.0)) == pytest.approx((1.0 - 0.25 * 1.0, 0.5))
+
+
+def test_a_retired_piece_leaves_its_last_outline():
+    s = IceMotionSettings(window_ahead_m=10.0, window_behind_m=5.0, window_side_m=5.0)
+    engine = IceMotionEngine(shapely.box(-10, -2, 0, 2), (3.0, 0.0), s)
+    floe = shapely.box(-30.0, 20.0, -27.0, 22.0)  # behind the window from the start
+    engine.add_piece(1, floe, 0.5)
+    engine.step()
+    [state] = engine.drain_retired()
+    outline = engine.drain_retired_outlines()[1]
+    assert state.piece_id == 1 and engine.piece_ids() == []
+    assert shapely.hausdorff_distance(outline, floe) < 1e-12  # at rest: where it was added
+    assert engine.drain_retired_outlines() == {}
+
+
+@pytest.mark.parametrize(("speed_m_s", "stops"), [(5e-4, True), (2e-3, False)])
+def test_a_creeping_piece_comes_to_rest_below_the_rest_speed(speed_m_s, stops):
+    engine = IceMotionEngine(FAR_HULL, (0.0, 0.0), IceMotionSettings(window_ahead_m=1e3))
+    engine.add_piece(1, shapely.box(0, 0, 2, 2), 0.5, velocity_m_s=(speed_m_s, 0.0))
+    engine.step()
+    assert (engine.state(1).vx_m_s == 0.0) == stops
