@@ -400,8 +400,8 @@ class _Pieces:
         x0, y0, x1, y1 = box
         waiting = self._waiting
         while self._next_waiting < len(waiting) and waiting[self._next_waiting][0][0] <= x1:
-            bounds, pid = waiting[self._next_waiting]
-            self.active[pid] = bounds
+            pid = waiting[self._next_waiting][1]
+            self.active[pid] = tuple(self.bounds[4 * pid : 4 * pid + 4])  # moving ice: its current box
             self._next_waiting += 1
         return sorted(
             pid for pid, (a, b, cc, d) in self.active.items() if a <= x1 and cc >= x0 and b <= y1 and d >= y0

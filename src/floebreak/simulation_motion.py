@@ -108,13 +108,16 @@ class IceMotion:
         return (state.x_m, state.y_m) != self.origin[state.piece_id] or state.angle_rad != 0.0
 
     def _store(self, pid: int, outline: shapely.Polygon) -> None:
-        """`outline` becomes the piece's polygon and box; its out-of-contact skip no longer holds."""
+        """`outline` becomes the piece's polygon and box (the contact sweep's box too, where it holds the
+        piece); its out-of-contact skip no longer holds."""
         pieces = self.pieces
         pieces.polygon[pid] = outline
         bounds = tuple(shapely.bounds(outline).tolist())
         pieces.bounds[4 * pid : 4 * pid + 4] = type(pieces.bounds)("d", bounds)
         if pid in pieces.active:
             pieces.active[pid] = bounds
+        else:  # not (or no longer) searched for contact: kept compact as the loop keeps such pieces
+            pieces._finish(pid)
         pieces.quiet_until[pid] = -np.inf
 
     def _add(self, pid: int, velocity_m_s: tuple[float, float], angular_velocity_rad_s: float) -> None:
