@@ -44,7 +44,7 @@ def _hull() -> shapely.Polygon:
 def main() -> None:
     polygons, thickness = _floes()
     order = np.argsort([p.bounds[0] for p in polygons], kind="stable")
-    settings = IceMotionSettings()
+    settings = IceMotionSettings(hull_contact="engine")  # the engine alone pushes the floes here
     start = time.perf_counter()
     engine = IceMotionEngine(_hull(), (SPEED_M_S, 0.0), settings)
     steps = round(DURATION_S / settings.time_step_s)

@@ -43,6 +43,8 @@ LAYERS = {
     "floebreak.failure": COMPUTING,
     "floebreak.simulation": COMPUTING,
     "floebreak.simulation_events": COMPUTING,
+    "floebreak.simulation_motion": COMPUTING,
+    "floebreak.dynamics": COMPUTING,
     "floebreak.results": COMPUTING,
     "floebreak.profiles": COMPUTING,
     "floebreak.scenario": COMPUTING,

@@ -623,17 +623,46 @@ def _validated_table(
 def _table_model(spec: Any) -> type[BaseModel]:
     """A pydantic model of the scenario table ``[failure.<mode>]``: the settings dataclass's fields (minus
     the [ice] material) with their types, defaults and docstrings, strict and closed."""
-    hints = typing.get_type_hints(spec.settings)
-    docs = attribute_docstrings(spec.settings)
-    bounds = field_bounds(spec.settings)
+    return settings_table_model(spec.settings, f"failure.{spec.name}", spec.table_keys())
+
+
+def settings_table_model(settings: type, title: str, keys: Iterable[str] | None = None) -> type[BaseModel]:
+    """A pydantic model of a scenario table holding the fields `keys` (default all) of the settings
+    dataclass `settings`, with their types, defaults, docstrings and `Bounds`, strict and closed."""
+    hints = typing.get_type_hints(settings)
+    docs = attribute_docstrings(settings)
+    bounds = field_bounds(settings)
     fields: dict[str, Any] = {}
-    for item in dataclasses.fields(spec.settings):
-        if item.name in spec.table_keys():
+    for item in dataclasses.fields(settings):
+        if keys is None or item.name in keys:
             default = item.default if item.default is not dataclasses.MISSING else item.default_factory()
             limits = bounds[item.name].pydantic_constraints() if item.name in bounds else {}
             fields[item.name] = (hints[item.name], Field(default, description=docs.get(item.name), **limits))
     config = ConfigDict(extra="forbid", strict=True, frozen=True, allow_inf_nan=False)  # finite, as Float
-    return create_model(f"failure.{spec.name}", __config__=config, **fields)
+    return create_model(title, __config__=config, **fields)
+
+
+def validated_ice_motion(table: Mapping[str, Any]) -> dict[str, Any]:
+    """``[ice_motion]`` checked: keys and types (a model of `IceMotionSettings`), then its own range and
+    cross-field checks; errors name ``ice_motion.<key>``."""
+    from floebreak.dynamics.settings import IceMotionSettings
+
+    model = settings_table_model(IceMotionSettings, "ice_motion")
+    try:
+        values = model.model_validate(dict(table)).model_dump(exclude_unset=True)
+    except ValidationError as error:
+        first = error.errors(include_url=False)[0]
+        key = str(first["loc"][0]) if first["loc"] else ""
+        if first["type"] == "extra_forbidden":
+            raise _cross(key, "unknown key", ", ".join(model.model_fields)) from None
+        interval = allowed_interval(model.model_json_schema(), first["loc"])
+        raise _cross(key, f"{first['msg']} (got {first.get('input')!r})", interval) from None
+    try:
+        IceMotionSettings(**values)
+    except InputError as error:
+        message = str(error).removeprefix(f"{error.field}: ")
+        raise _cross(error.field.removeprefix("ice_motion."), message, error.allowed) from None
+    return values
 
 
 def attribute_docstrings(cls: type) -> dict[str, str]:
@@ -719,6 +748,11 @@ class SimulationSection(_Section):
         description="bisection tolerance of a located failure (event_location = root) [m]; default 0.01 m "
         "(docs/validation.md, convergence)",
     )
+    ice_motion: Literal["static", "dynamic"] | None = Field(
+        None,
+        description="how the ice moves (docs/model.md, Ice motion): static (never, the thesis) or dynamic "
+        "(rigid bodies pushed by the hull and by each other, settings in [ice_motion]); default static",
+    )
 
 
 class Scenario(_Section):
@@ -741,6 +775,23 @@ class Scenario(_Section):
     failure: FailureSection = Field(default_factory=FailureSection)
     propeller: PropellerSection = Field(default_factory=PropellerSection)
     simulation: SimulationSection = Field(default_factory=SimulationSection)
+    ice_motion: dict[str, Any] | None = Field(
+        None,
+        description="settings of the rigid-body ice motion under simulation.ice_motion = dynamic "
+        "(floebreak.dynamics.IceMotionSettings: drag, added mass, friction, restitution, awake window, time "
+        "step; docs/model.md, Ice motion); keys left out keep their defaults",
+    )
+
+    @field_validator("ice_motion")
+    @classmethod
+    def _ice_motion_table(cls, value: dict[str, Any] | None) -> dict[str, Any] | None:
+        return None if value is None else validated_ice_motion(value)
+
+    def ice_motion_settings(self) -> Any:
+        """The `IceMotionSettings` of ``[ice_motion]`` (defaults where not given)."""
+        from floebreak.dynamics.settings import IceMotionSettings
+
+        return IceMotionSettings(**(self.ice_motion or {}))
 
     # --- construction -----------------------------------------------------------------------------
     @classmethod

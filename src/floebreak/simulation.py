@@ -50,6 +50,7 @@ from floebreak.mechanics.contact import (
 from floebreak.mechanics.polygon_kernel import advance_to_contact, ring_arrays
 from floebreak.simulation_events import EVENT_LOCATIONS, EVENT_TOLERANCE_M, locate_step
 
+ICE_MOTIONS = ("static", "dynamic")
 AREA_BALANCE_TOLERANCE = 1e-9  # relative; breaks split polygons with GEOS overlay (exact up to rounding)
 # A piece found out of contact is not evaluated again until the bow has advanced to where its outline could
 # first touch the hull (`polygon_kernel.advance_to_contact`), less this margin [m] against rounding; pieces
@@ -121,6 +122,12 @@ class SimulationParams:
     # position ("step_end", thesis §3.2) or located by bisection to within `event_tolerance_m` ("root")
     event_location: Literal["step_end", "root"] = "step_end"
     event_tolerance_m: float = EVENT_TOLERANCE_M
+    # how the ice moves (`floebreak.simulation_motion`, docs/model.md "Ice motion"): never ("static", the
+    # thesis) or as rigid bodies pushed by the hull ("dynamic", with `ice_motion_settings`, an
+    # `IceMotionSettings`, and the hull moving at `speed_m_s`)
+    ice_motion: Literal["static", "dynamic"] = "static"
+    ice_motion_settings: Any = None
+    speed_m_s: float = c.SHIP_SPEED_IN_ICE_M_S
 
     def __post_init__(self) -> None:
         if self.max_wall_s is not None:
@@ -138,6 +145,18 @@ class SimulationParams:
                 "simulation.event_location", repr(self.event_location), allowed=", ".join(EVENT_LOCATIONS)
             )
         require_range("simulation.event_tolerance_m", self.event_tolerance_m, low=0.0, unit="m")
+        if self.ice_motion not in ICE_MOTIONS:
+            raise InputError("simulation.ice_motion", repr(self.ice_motion), allowed=", ".join(ICE_MOTIONS))
+        if self.ice_motion == "dynamic":
+            require_range("ship.speed_m_s", self.speed_m_s, low=0.0, unit="m/s")
+            if self.event_location != "step_end":
+                raise InputError(
+                    "simulation.ice_motion",
+                    "'dynamic' with simulation.event_location = 'root': located events would re-advance "
+                    "the ice motion between contact searches, which is not implemented yet",
+                    value="dynamic",
+                    allowed="simulation.ice_motion = static, or simulation.event_location = step_end",
+                )
         if self.initial_contact not in ("shift_field", "shift_floes"):
             raise InputError(
                 "simulation.initial_contact", repr(self.initial_contact), allowed="shift_field, shift_floes"
@@ -381,8 +400,8 @@ class _Pieces:
         x0, y0, x1, y1 = box
         waiting = self._waiting
         while self._next_waiting < len(waiting) and waiting[self._next_waiting][0][0] <= x1:
-            bounds, pid = waiting[self._next_waiting]
-            self.active[pid] = bounds
+            pid = waiting[self._next_waiting][1]
+            self.active[pid] = tuple(self.bounds[4 * pid : 4 * pid + 4])  # moving ice: its current box
             self._next_waiting += 1
         return sorted(
             pid for pid, (a, b, cc, d) in self.active.items() if a <= x1 and cc >= x0 and b <= y1 and d >= y0
@@ -614,6 +633,11 @@ class _Run:
         # broken pieces may be nearly degenerate, and so may floes that no generator of ours made (a file,
         # inline floes): those are checked after every translation (`_translate_pieces`); generated ones not
         self.check_floes = floe_field.metadata.get("generator") not in GENERATORS
+        self.motion = None
+        if params.ice_motion == "dynamic":  # imported here: the physics engine loads only when used
+            from floebreak.simulation_motion import IceMotion
+
+            self.motion = IceMotion(self)
 
     def emit(self, event: Event) -> None:
         for callback in self.callbacks:
@@ -628,6 +652,8 @@ class _Run:
     def advance(self, step: int) -> None:
         bow_x = self.params.x_start_m + step * self.params.step_m
         self.check_time(bow_x)
+        if self.motion is not None:
+            self.motion.advance_to(bow_x)
         x0, y0, x1, y1 = self.hull_box
         d = self.params.dist_bow_max_m
         candidates = self.pieces.candidates((bow_x + x0 - d, y0 - d, bow_x + x1 + d, y1 + d))
@@ -721,6 +747,8 @@ class _Run:
         self.emit(
             ContactEvaluated(step, bow_x, pid, parent_floe, thickness, contact, classification, outcome)
         )
+        if self.motion is not None:
+            self.motion.contact(pid, contact, bow_x)
         if not outcome.failed:
             return []
         self.breaks_by_mode[outcome.mode] = self.breaks_by_mode.get(outcome.mode, 0) + 1
@@ -742,6 +770,8 @@ class _Run:
         self.pieces.ended_by[pid] = outcome.mode
         self.pieces.retire(pid, fate, step, bow_x)
         self.counters["cusps" if fate == "cusp" else "flipped"] += 1
+        if self.motion is not None:
+            self.motion.leave(pid)
 
     def _break(self, pid: int, outcome: Outcome, thickness: float, step: int, bow_x: float) -> list:
         """Replace the piece by its children: cusps and flipped pieces leave, floes stay (returned)."""
@@ -758,6 +788,8 @@ class _Run:
                 else:
                     pieces.retire(child, str(new.fate), step, bow_x)
                     self.counters["cusps" if new.fate == Fate.CUSP else "flipped"] += 1
+        if self.motion is not None:
+            self.motion.broken(pid, [child for child, _ in stay])
         return stay
 
     def result(self) -> SimulationResult:

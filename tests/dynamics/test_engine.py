@@ -73,7 +73,7 @@ def test_drag_decay_matches_analytic_solution():
 def _panel_push(alpha_deg: float, mu: float) -> tuple[float, float]:
     """A wide panel whose face normal is at α from +x, moving at 3 m/s in +x, pushing a square floe whose
     face lies flush with it; returns the floe's direction of motion [deg] and speed after 10 s."""
-    s = IceMotionSettings(ice_hull_friction=mu, window_ahead_m=1e3, window_side_m=1e3)
+    s = IceMotionSettings(ice_hull_friction=mu, window_ahead_m=1e3, window_side_m=1e3, hull_contact="engine")
     panel = affinity.rotate(shapely.box(-1.0, -40.0, 0.0, 40.0), alpha_deg, origin=(0, 0))
     floe = affinity.rotate(shapely.box(0.05, -1.0, 2.05, 1.0), alpha_deg, origin=(0, 0))
     engine = IceMotionEngine(panel, (3.0, 0.0), s)
@@ -118,7 +118,7 @@ def _hull_polygon() -> shapely.Polygon:
 
 
 def _transit(floes: list[shapely.Polygon], seconds: float = 6.0) -> dict:
-    engine = IceMotionEngine(_hull_polygon(), (3.0, 0.0))
+    engine = IceMotionEngine(_hull_polygon(), (3.0, 0.0), IceMotionSettings(hull_contact="engine"))
     for pid, floe in enumerate(floes):
         engine.add_piece(pid, floe, 0.8)
     for _ in range(round(seconds / engine.settings.time_step_s)):
@@ -156,7 +156,7 @@ def test_mirror_symmetric_set_up_gives_mirrored_motion():
 
 
 def test_pieces_outside_the_window_sleep_and_behind_it_retire():
-    s = IceMotionSettings(window_ahead_m=10.0, window_behind_m=5.0, window_side_m=5.0)
+    s = IceMotionSettings(window_ahead_m=10.0, window_behind_m=5.0, window_side_m=5.0, hull_contact="engine")
     engine = IceMotionEngine(_hull_polygon(), (3.0, 0.0), s)
     engine.add_piece(1, shapely.box(30, 8, 32, 10), 0.8)  # ahead of the window, off the hull's path
     engine.add_piece(2, shapely.box(0, 30, 2, 32), 0.8, velocity_m_s=(0.0, 1.0))  # beside it
@@ -174,7 +174,9 @@ def test_pieces_outside_the_window_sleep_and_behind_it_retire():
 
 def test_held_pieces_do_not_grow_with_the_transit():
     """Pieces added as the window reaches them and retired behind it: the count held stays bounded."""
-    s = IceMotionSettings(window_ahead_m=10.0, window_behind_m=5.0, window_side_m=5.0, time_step_s=0.05)
+    s = IceMotionSettings(
+        window_ahead_m=10.0, window_behind_m=5.0, window_side_m=5.0, time_step_s=0.05, hull_contact="engine"
+    )
     engine = IceMotionEngine(_hull_polygon(), (3.0, 0.0), s)
     held, next_x = [], 5.0
     for _ in range(round(150.0 / s.time_step_s)):  # 450 m
@@ -189,7 +191,9 @@ def test_held_pieces_do_not_grow_with_the_transit():
 
 
 def test_hull_impulse_is_the_momentum_given_to_the_floe():
-    engine = IceMotionEngine(shapely.box(-10, -2, 0, 2), (3.0, 0.0), water=False)
+    engine = IceMotionEngine(
+        shapely.box(-10, -2, 0, 2), (3.0, 0.0), IceMotionSettings(hull_contact="engine"), water=False
+    )
     engine.add_piece(1, shapely.box(1, -1, 3, 1), 1.0)
     total = np.zeros(2)
     for _ in range(40):
@@ -206,3 +210,24 @@ def test_children_take_the_rigid_body_velocity_at_their_centroid():
     engine.add_piece(1, shapely.box(0, 0, 4, 2), 1.0, velocity_m_s=(1.0, 0.5), angular_velocity_rad_s=0.25)
     assert engine.velocity_at(1, (3.0, 1.0)) == pytest.approx((1.0 - 0.25 * 0.0, 0.5 + 0.25 * 1.0))
     assert engine.velocity_at(1, (2.0, 2.0)) == pytest.approx((1.0 - 0.25 * 1.0, 0.5))
+
+
+def test_a_retired_piece_leaves_its_last_outline():
+    s = IceMotionSettings(window_ahead_m=10.0, window_behind_m=5.0, window_side_m=5.0)
+    engine = IceMotionEngine(shapely.box(-10, -2, 0, 2), (3.0, 0.0), s)
+    floe = shapely.box(-30.0, 20.0, -27.0, 22.0)  # behind the window from the start
+    engine.add_piece(1, floe, 0.5)
+    engine.step()
+    [state] = engine.drain_retired()
+    outline = engine.drain_retired_outlines()[1]
+    assert state.piece_id == 1 and engine.piece_ids() == []
+    assert shapely.hausdorff_distance(outline, floe) < 1e-12  # at rest: where it was added
+    assert engine.drain_retired_outlines() == {}
+
+
+@pytest.mark.parametrize(("speed_m_s", "stops"), [(5e-4, True), (2e-3, False)])
+def test_a_creeping_piece_comes_to_rest_below_the_rest_speed(speed_m_s, stops):
+    engine = IceMotionEngine(FAR_HULL, (0.0, 0.0), IceMotionSettings(window_ahead_m=1e3))
+    engine.add_piece(1, shapely.box(0, 0, 2, 2), 0.5, velocity_m_s=(speed_m_s, 0.0))
+    engine.step()
+    assert (engine.state(1).vx_m_s == 0.0) == stops

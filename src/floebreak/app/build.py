@@ -49,7 +49,6 @@ def waterline_rule(scenario: Scenario) -> str:
     )
 
 
-
 def event_location(scenario: Scenario) -> str:
     """ "step_end" or "root": the scenario's `simulation.event_location`, else its profile's."""
     from floebreak.profiles import DEFAULT_EVENT_LOCATION, profile_switches
@@ -57,6 +56,17 @@ def event_location(scenario: Scenario) -> str:
     return scenario.simulation.event_location or profile_switches(scenario.profile).get(
         "simulation.event_location", DEFAULT_EVENT_LOCATION
     )
+
+
+def ice_motion_params(scenario: Scenario) -> dict[str, Any]:
+    """The `SimulationParams` of the ice motion: ``simulation.ice_motion`` (default static) and, when
+    dynamic, the ``[ice_motion]`` settings and the ship's speed."""
+    motion = scenario.simulation.ice_motion or "static"
+    if motion == "static":
+        return {}
+    settings = scenario.ice_motion_settings()
+    return {"ice_motion": motion, "ice_motion_settings": settings, "speed_m_s": scenario.ship.speed_m_s}
+
 
 def _bow_thickness_m(scenario: Scenario, floe_field: FloeField | None = None) -> float:
     """Δz of a built-in hull's waterlines: the ice thickness, or the fixed design value (thesis §3.1)."""

@@ -28,6 +28,7 @@ from floebreak.app.build import (
     build_field,
     build_model_for,
     event_location,
+    ice_motion_params,
     set_up_warnings,
 )
 from floebreak.app.build import field_key as field_key  # re-exported (`as`), as the names below
@@ -222,6 +223,7 @@ def run(
         max_wall_s=scenario.simulation.max_wall_s,
         event_location=event_location(scenario),
         event_tolerance_m=scenario.simulation.event_tolerance_m or EVENT_TOLERANCE_M,
+        **ice_motion_params(scenario),
     )
     contacts_file = (
         None

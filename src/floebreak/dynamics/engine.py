@@ -50,6 +50,8 @@ class _Piece:
         "mass_kg",
         "moment_kg_m2",
         "pinned",
+        "pose",
+        "radius_m",
         "shapes",
         "thickness_m",
     )
@@ -57,6 +59,7 @@ class _Piece:
     def __init__(self, geometry: BodyGeometry, thickness_m: float, settings: IceMotionSettings):
         self.geometry = geometry
         self.thickness_m = thickness_m
+        self.radius_m = float(np.hypot(geometry.ring_xy_m[:, 0], geometry.ring_xy_m[:, 1]).max())
         areal = settings.ice_density_kg_m3 * thickness_m
         self.mass_kg = (1.0 + settings.added_mass_coefficient) * areal * geometry.area_m2
         self.moment_kg_m2 = (1.0 + settings.added_inertia_coefficient) * areal * geometry.polar_moment_m4
@@ -70,6 +73,7 @@ class _Piece:
         self.pinned = False
         self.awake = True
         self.bounds = (0.0, 0.0, 0.0, 0.0)  # field-frame box; kept current for awake pieces only
+        self.pose = (math.nan, math.nan, math.nan)  # (x, y, angle) when `bounds` was last computed
 
 
 class IceMotionEngine:
@@ -99,6 +103,8 @@ class IceMotionEngine:
             # Chipmunk takes a contact's restitution as the product of the shapes' (an arbiter's value set
             # in a callback does not reach the bounce); friction is set per hull contact in pre_solve
             shape.elasticity = _hull_shape_elasticity(self.settings)
+            if self.settings.hull_contact == "crushing":  # the hull's force is the loop's crushing force
+                shape.filter = pymunk.ShapeFilter(mask=0)
         self.space.add(self.hull, *self._hull_shapes)
         self._hull_bounds0 = hull_polygon.bounds
         self.set_hull_velocity(hull_velocity_m_s)
@@ -107,6 +113,7 @@ class IceMotionEngine:
         self._forces: dict[int, list[tuple[float, float, float, float]]] = {}
         self._impulses: dict[int, tuple[float, float]] = {}
         self._retired: list[PieceState] = []
+        self._retired_outlines: dict[int, shapely.Polygon] = {}
         self.space.on_collision(
             HULL_COLLISION_TYPE,
             ICE_COLLISION_TYPE,
@@ -243,6 +250,11 @@ class IceMotionEngine:
         retired, self._retired = self._retired, []
         return retired
 
+    def drain_retired_outlines(self) -> dict[int, shapely.Polygon]:
+        """The last outlines (field frame) of the pieces retired since the last call, by id."""
+        outlines, self._retired_outlines = self._retired_outlines, {}
+        return outlines
+
     # --- stepping ------------------------------------------------------------------------------------
     def step(self, dt_s: float | None = None) -> None:
         """Advance by `dt_s` (default `settings.time_step_s`): water and applied forces, contacts, window."""
@@ -259,13 +271,19 @@ class IceMotionEngine:
 
     def _load(self, pid: int, piece: _Piece, dt: float) -> None:
         body = piece.body
-        if self.water:
+        velocity, omega = body.velocity, body.angular_velocity
+        rest = self.settings.rest_speed_m_s
+        if (velocity.x or velocity.y or omega) and (
+            velocity.length < rest and abs(omega) * piece.radius_m < rest
+        ):
+            body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
+        elif self.water and (velocity.x or velocity.y or omega):  # water pulls nothing at rest
             fx, fy, m = water_force_and_moment(
                 piece.geometry,
                 piece.thickness_m,
                 body.angle,
-                (body.velocity.x, body.velocity.y),
-                body.angular_velocity,
+                (velocity.x, velocity.y),
+                omega,
                 piece.mass_kg,
                 piece.moment_kg_m2,
                 dt,
@@ -281,10 +299,13 @@ class IceMotionEngine:
         behind = window[0]
         for pid in list(self._pieces):
             piece = self._pieces[pid]
-            if piece.awake:  # a static piece's box does not change
-                piece.bounds = _bounds(piece)
+            if piece.awake:  # a static piece's box does not change, nor that of one that did not move
+                pose = (*piece.body.position, piece.body.angle)
+                if pose != piece.pose:
+                    piece.bounds, piece.pose = _bounds(piece), pose
             bb = piece.bounds
             if bb[2] < behind:
+                self._retired_outlines[pid] = self.polygon(pid)
                 self._retired.append(self.remove_piece(pid))
             elif not piece.pinned:
                 awake = bb[0] <= window[2] and bb[1] <= window[3] and bb[3] >= window[1]
@@ -332,13 +353,11 @@ def _hull_shape_elasticity(settings: IceMotionSettings) -> float:
 
 
 def _bounds(piece: _Piece) -> tuple[float, float, float, float]:
-    boxes = [shape.cache_bb() for shape in piece.shapes]
-    return (
-        min(b.left for b in boxes),
-        min(b.bottom for b in boxes),
-        max(b.right for b in boxes),
-        max(b.top for b in boxes),
-    )
+    """A box that holds the piece in any orientation: its centroid ± its largest radius (cheaper than the
+    shapes' boxes every step; the window only needs a box that is not too small)."""
+    x, y = piece.body.position
+    r = piece.radius_m
+    return (x - r, y - r, x + r, y + r)
 
 
 def body_geometry_parts(polygon: shapely.Polygon) -> tuple[np.ndarray, ...]:

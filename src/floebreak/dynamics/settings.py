@@ -1,7 +1,7 @@
 """Settings of the rigid-body ice motion (docs/model.md, "Ice motion (rigid-body dynamics)").
 
 Every coefficient carries its unit, its allowed interval (`floebreak.errors.Bounds`, checked on construction)
-and its source in its docstring. The scenario table that will state them is ``[ice_motion]`` (issue 29); an
+and its source in its docstring. The scenario table that states them is ``[ice_motion]`` (issue 29); an
 InputError names ``ice_motion.<field>``.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Annotated, ClassVar
+from typing import Annotated, ClassVar, Literal
 
 from floebreak import constants as c
 from floebreak.errors import Bounds, InputError, check_bounds
@@ -70,6 +70,18 @@ class IceMotionSettings:
     1 m piece); in (0, 1]"""
     solver_iterations: Annotated[int, Bounds(1, 1000)] = 20
     """contact solver iterations per step (Chipmunk's default 10; AUTO-IceNav 50), in [1, 1000]"""
+    rest_speed_m_s: Annotated[float, Bounds(0.0, 0.1, unit="m/s")] = 1e-3
+    """a piece whose speed and edge speed from yaw (ω times its largest radius) are both below this is set
+    at rest [m/s]: under quadratic drag the speed decays as 1/t without end (the distance still to go grows
+    as ln t), and a piece creeping at < 1 mm/s moves less than 0.1 mm in a 0.1 s search interval. In
+    [0, 0.1]; 0 never stops a piece"""
+    hull_contact: Literal["crushing", "engine"] = "crushing"
+    """which force the hull puts on a piece: floebreak's crushing force alone ("crushing", applied by the
+    stepping loop; the hull passes through pieces in the engine, the overlap being the crushed ice), or
+    also the engine's non-penetration contact ("engine"), which holds a piece at the hull whatever its mass:
+    it pushes aside floes that must break (docs/model.md, Ice motion, coupling)"""
+    pin_all: bool = False
+    """pin every piece (no motion): the check that the coupled loop then gives the static results"""
 
     def __post_init__(self) -> None:
         check_bounds(self, self.PREFIX)

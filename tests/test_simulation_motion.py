@@ -1,0 +1,139 @@
+"""Moving ice in the stepping loop (`simulation.ice_motion = "dynamic"`, issue 29 item 2; docs/model.md,
+"Ice motion", "Coupling with breaking")."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from floebreak.app.run import run
+from floebreak.dynamics import IceMotionSettings
+from floebreak.errors import InputError
+from floebreak.ice.field import FloeField, circle_polygons
+from floebreak.profiles import build_model
+from floebreak.scenario import Scenario
+from floebreak.ship.hulls import agulhas_ii
+from floebreak.simulation import SimulationParams, _Run, simulate
+
+SHORT = ["field.length_m=50"]  # the reference observation's floes, 50 m × 100 m
+
+
+def _reference(*overrides: str):
+    return run(Scenario.reference([*SHORT, *overrides])).simulation
+
+
+def _same_pieces(a, b) -> bool:
+    return len(a.fate) == len(b.fate) and all(
+        shapely.equals_exact(p, q, 0.0) for p, q in zip(a.polygon, b.polygon, strict=True)
+    )
+
+
+def test_every_piece_pinned_gives_exactly_the_static_results():
+    static = _reference()
+    pinned = _reference("simulation.ice_motion=dynamic", "ice_motion.pin_all=true")
+    assert pinned.params.ice_motion == "dynamic"
+    assert static.n_breaks > 10  # the comparison has breaks to compare
+    assert (pinned.n_contacts, pinned.n_breaks) == (static.n_contacts, static.n_breaks)
+    assert np.array_equal(pinned.fate, static.fate)
+    assert pinned.area_m2("cusp") == static.area_m2("cusp")
+    assert _same_pieces(static, pinned)
+
+
+def test_a_dynamic_run_is_deterministic_and_conserves_area_through_breaks():
+    first = _reference("simulation.ice_motion=dynamic")
+    again = _reference("simulation.ice_motion=dynamic")
+    assert _same_pieces(first, again)
+    assert np.array_equal(first.fate, again.fate)
+    static = _reference()
+    moved = [
+        i
+        for i in range(first.field.n_floes)
+        if first.fate[i] == "remaining" and not shapely.equals_exact(first.polygon[i], static.polygon[i], 0.0)
+    ]
+    assert moved  # the ice did move
+    assert first.n_breaks > 0
+    # each broken piece's children hold its area (cut from its current outline, a rigid motion of it)
+    area, parents = first.piece_area_m2, first.parent_piece_id
+    children = np.bincount(parents[parents >= 0], weights=area[parents >= 0], minlength=len(area))
+    for parent in np.flatnonzero(first.fate == "broken"):
+        assert children[parent] == pytest.approx(area[parent], rel=1e-9)
+    final = sum(first.area_m2(fate) for fate in ("cusp", "flipped", "remaining"))
+    assert final == pytest.approx(first.field.ice_area_m2, rel=1e-9)
+
+
+def _lone_floe(thickness_m=1.0, diameter_m=6.0, offset_m=8.0):
+    """One floe ahead of the bow, its centre `offset_m` to port of the stem: the bow's flank meets it."""
+    polygon = circle_polygons(np.array([[diameter_m / 2 + 2.0, offset_m]]), np.array([diameter_m / 2]), 64)
+    field = FloeField(
+        polygon, np.array([thickness_m]), np.array([diameter_m]), np.array([0]), tuple(polygon[0].bounds)
+    )
+    return field, agulhas_ii(ice_thickness_m=thickness_m)
+
+
+def test_a_lone_small_floe_off_the_stem_is_pushed_aside_not_broken():
+    field, bow = _lone_floe()
+    model = build_model("default")
+    static = simulate(field, bow, model, SimulationParams(x_end_m=60.0))
+    dynamic = simulate(field, bow, model, SimulationParams(x_end_m=60.0, ice_motion="dynamic"))
+    # static: evaluated where it lies, the hull's advance into it breaks it
+    assert static.fate[0] == "broken" and static.n_breaks > 0
+    # dynamic: the crushing force pushes it to port, out of the hull's way, whole
+    assert dynamic.n_breaks == 0 and list(dynamic.fate) == ["remaining"] and dynamic.n_contacts > 0
+    before, after = shapely.centroid(field.polygons[0]), shapely.centroid(dynamic.polygon[0])
+    assert after.y - before.y > 2.0
+    assert dynamic.polygon[0].area == pytest.approx(field.polygons[0].area, rel=1e-12)
+
+
+def test_children_inherit_the_parents_rigid_body_velocity_at_their_centroids():
+    field, bow = _lone_floe()  # the engine is not stepped: only the velocities set here act
+    params = SimulationParams(x_end_m=60.0, ice_motion="dynamic")
+    run_ = _Run(field, bow, build_model("default"), params, ())
+    motion = run_.motion
+    motion.advance_to(0.0)
+    parent_polygon = field.polygons[0]
+    v, omega = (1.5, -0.5), 0.2
+    motion.leave(0)
+    motion._add(0, v, omega)  # the parent moving at a known rigid-body velocity
+    left = shapely.clip_by_rect(parent_polygon, -1e3, -1e3, 4.0, 1e3)
+    right = shapely.clip_by_rect(parent_polygon, 4.0, -1e3, 1e3, 1e3)
+    ids = [run_.pieces.add(part, 1.0, 0, 0, 0, 0.0) for part in (left, right)]
+    motion.broken(0, ids)
+    c = shapely.centroid(parent_polygon)
+    for pid, part in zip(ids, (left, right), strict=True):
+        p = shapely.centroid(part)
+        expected = (v[0] - omega * (p.y - c.y), v[1] + omega * (p.x - c.x))  # v + ω ẑ × (p − c)
+        state = motion.engine.state(pid)
+        assert (state.vx_m_s, state.vy_m_s) == pytest.approx(expected, abs=1e-9)
+        assert state.angular_velocity_rad_s == omega
+    assert 0 not in motion.engine.piece_ids()
+
+
+def test_dynamic_with_located_events_is_refused_naming_both_keys():
+    with pytest.raises(InputError, match=r"simulation\.event_location") as error:
+        SimulationParams(ice_motion="dynamic", event_location="root")
+    assert error.value.field == "simulation.ice_motion"
+    with pytest.raises(InputError, match=r"simulation\.ice_motion"):
+        SimulationParams(ice_motion="moving")
+
+
+@pytest.mark.parametrize(
+    ("override", "key"),
+    [
+        ("ice_motion.form_drag_coefficient=0.0", "ice_motion.form_drag_coefficient"),
+        ("ice_motion.window_ahead_m=-1.0", "ice_motion.window_ahead_m"),
+        ("ice_motion.ice_hull_restitution=1.5", "ice_motion.ice_hull_restitution"),
+        ("ice_motion.hull_contact='both'", "ice_motion.hull_contact"),
+        ("ice_motion.wind_m_s=1.0", "ice_motion.wind_m_s"),
+        ("simulation.ice_motion='moving'", "simulation.ice_motion"),
+    ],
+)
+def test_bad_ice_motion_keys_name_the_key(override, key):
+    with pytest.raises(InputError) as error:
+        Scenario.reference([override])
+    assert error.value.field == key
+
+
+def test_the_ice_motion_table_reaches_the_settings():
+    scenario = Scenario.reference(["simulation.ice_motion=dynamic", "ice_motion.time_step_s=0.01"])
+    assert scenario.ice_motion_settings() == IceMotionSettings(time_step_s=0.01)
