@@ -47,6 +47,13 @@ _LINK_PC5 = (
     "H_ice^1.1 to 1 m (403 kN·m); tests/propeller/test_milling.py"
     "::test_the_impact_torque_at_1_m_exceeds_the_rules_thickness_scaling"
 )
+_LINK_RATE = (
+    "links measured in docs/propeller.md §10 (selection log): on the reference run 2 426 cusps per hour reach "
+    "one propeller (hull transport, fraction reaching 0.339) with 4.4 blade impacts each (a free block is "
+    "thrown after a few impacts): 2 668 impacts per hour on one blade against N_ice / 25 000 h = 560; no "
+    "published full-scale rate was found to test N_ice's rate for this ship; tests/propeller/test_milling.py"
+    "::test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts"
+)
 PC5_METRICS = ("pc5_lifetime_max_over_q_max", "pc5_blade_loads_over_rule_rate")
 
 CHAIN_ROWS: tuple[dict, ...] = (
@@ -106,7 +113,7 @@ CHAIN_ROWS: tuple[dict, ...] = (
         "point": "reference",
         "thesis_value": 1.0,
         "tolerance": ("range", 1.0 / RATE_FACTOR, RATE_FACTOR),
-        "explained": _LINK_PC5,
+        "explained": _LINK_RATE,
     },
 )
 
