@@ -51,8 +51,8 @@ _LINK_RATE = (
     "links measured in docs/propeller.md §10 (selection log): on the reference run 2 426 cusps per hour "
     "reach one propeller (hull transport, fraction reaching 0.339) with 4.4 blade impacts each "
     "(a free block is thrown after a few impacts): 2 668 impacts per hour on one blade against "
-    "N_ice / 25 000 h = 560; no published full-scale rate was found to test N_ice's rate for this ship; tests/propeller/test_milling.py"
-    "::test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts"
+    "N_ice / 25 000 h = 560; no published full-scale rate was found to test N_ice's rate for this ship; "
+    "tests/propeller/test_milling.py::test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts"
 )
 PC5_METRICS = ("pc5_lifetime_max_over_q_max", "pc5_blade_loads_over_rule_rate")
 
