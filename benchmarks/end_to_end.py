@@ -20,8 +20,8 @@ An editable install's src/ is compiled to bytecode first, as an installed copy i
 the modules the command line loads in the order it loads them, wraps the functions the run goes through
 with timers and calls the command line's `main` (`PHASES` below).
 
-Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N] [--phases]`` (the CLI next to the running
-Python is used).
+Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N] [--phases] [--case 250]`` (the CLI next to the
+running Python is used; ``--case`` keeps the cases whose name contains the text).
 """
 
 from __future__ import annotations
@@ -178,6 +178,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=1, help="runs per case (every run is listed)")
     parser.add_argument("--phases", action="store_true", help="time the 250 m × 200 m run's phases")
+    parser.add_argument("--case", help="only the cases whose name contains this text (e.g. 250)")
     options = parser.parse_args()
     _compile_bytecode()
     if options.phases:
@@ -192,6 +193,8 @@ def main() -> None:
     )
     rows = []
     for name, args in CASES.items():
+        if options.case and options.case not in name:
+            continue
         runs = [measure(args) for _ in range(max(options.repeat, 1))]
         best = min(runs, key=lambda r: r["wall_s"])
         peak = max(r["peak_mb"] for r in runs)
