@@ -58,22 +58,31 @@ def convex_parts(polygon: shapely.Polygon) -> list[shapely.Polygon]:
     if _is_convex(polygon):
         return [polygon]
     triangles = list(shapely.constrained_delaunay_triangles(polygon).geoms)
+    boxes = [t.bounds for t in triangles]
     parts: list[shapely.Polygon] = []
     while triangles:
-        part = triangles.pop(0)
+        part, box = triangles.pop(0), boxes.pop(0)
         merged = True
         while merged:
             merged = False
             for k, tri in enumerate(triangles):
-                if part.intersection(tri).length > 0.0:  # share an edge
-                    union = shapely.union(part, tri)
-                    if isinstance(union, shapely.Polygon) and _is_convex(union):
-                        part = shapely.Polygon(union.exterior.coords)
-                        triangles.pop(k)
-                        merged = True
-                        break
+                # boxes apart: no shared edge (the exact test below is the costly one)
+                if _boxes_apart(box, boxes[k]) or part.intersection(tri).length <= 0.0:
+                    continue
+                union = shapely.union(part, tri)
+                if isinstance(union, shapely.Polygon) and _is_convex(union):
+                    part = shapely.Polygon(union.exterior.coords)
+                    box = part.bounds
+                    triangles.pop(k)
+                    boxes.pop(k)
+                    merged = True
+                    break
         parts.append(part)
     return parts
+
+
+def _boxes_apart(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+    return a[2] < b[0] or b[2] < a[0] or a[3] < b[1] or b[3] < a[1]
 
 
 def _yaw_form_integrals(ring: np.ndarray) -> tuple[float, float]:

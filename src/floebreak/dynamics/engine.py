@@ -308,9 +308,13 @@ class IceMotionEngine:
             fx, fy, m = water_forces_and_moments(
                 table, motion[:, 3], velocity, omega, dt, self.settings.water_density_kg_m3
             )
-            for i in pulled.tolist():
-                bodies[i].force = (float(fx[i]), float(fy[i]))
-                bodies[i].torque = float(m[i])
+            # the properties' setters directly: pymunk's typing __setattr__ wrapper cost as much as the call
+            set_force, set_torque = pymunk.Body.force.fset, pymunk.Body.torque.fset
+            for i, fx_n, fy_n, m_n_m in zip(
+                pulled.tolist(), fx[pulled].tolist(), fy[pulled].tolist(), m[pulled].tolist(), strict=True
+            ):
+                set_force(bodies[i], (fx_n, fy_n))
+                set_torque(bodies[i], m_n_m)
         for pid, piece in awake:
             for fx_n, fy_n, px, py in self._forces.get(pid, ()):
                 piece.body.apply_force_at_world_point((fx_n, fy_n), (px, py))
