@@ -75,7 +75,9 @@ class _Piece:
         self.pinned = False
         self.awake = True
         self.bounds = (0.0, 0.0, 0.0, 0.0)  # field-frame box; kept current for awake pieces only
-        self.pose = (math.nan, math.nan, math.nan)  # (x, y, angle) when `bounds` was last computed
+        # (x, y, angle) of the body now, `bounds` computed from it: read after each step for awake pieces,
+        # on entry and on waking (static bodies do not move), so the step need not read it again
+        self.pose = (math.nan, math.nan, math.nan)
 
 
 class IceMotionEngine:
@@ -170,7 +172,7 @@ class IceMotionEngine:
         self.space.add(piece.body, *piece.shapes)
         self._pieces[piece_id] = piece
         self._by_body[piece.body] = piece_id
-        piece.bounds = _bounds(piece)
+        _read_pose(piece)
         if pinned:
             self.set_pinned(piece_id, True)
         else:
@@ -236,9 +238,7 @@ class IceMotionEngine:
 
     def pose(self, piece_id: int) -> tuple[float, float, float]:
         """(x, y, angle) of a piece's centroid and rotation now."""
-        body = self._pieces[piece_id].body
-        x, y = body.position
-        return float(x), float(y), float(body.angle)
+        return self._pieces[piece_id].pose
 
     def polygon(self, piece_id: int) -> shapely.Polygon:
         """The piece's outline now, field frame (its ring rotated by the angle and moved to the centroid)."""
@@ -252,7 +252,7 @@ class IceMotionEngine:
         rings = [p.geometry.ring_xy_m for p in pieces]
         sizes = [len(r) for r in rings]
         ring = np.concatenate(rings)
-        poses = np.array([(*p.body.position, p.body.angle) for p in pieces])
+        poses = np.array([p.pose for p in pieces])
         cos_sin = np.array([(math.cos(a), math.sin(a)) for a in poses[:, 2]])
         per_vertex = np.repeat(np.column_stack([poses[:, :2], cos_sin]), sizes, axis=0)
         px, py, c, s = per_vertex.T
@@ -293,7 +293,7 @@ class IceMotionEngine:
     def _load(self, awake: list[tuple[int, _Piece]], dt: float) -> None:
         """The water forces on all awake pieces at once, the rest speed's stop, the applied forces."""
         bodies = [piece.body for _, piece in awake]
-        motion = np.array([(*b.velocity, b.angular_velocity, b.angle) for b in bodies])
+        motion = np.array([(*p.body.velocity, p.body.angular_velocity, p.pose[2]) for _, p in awake])
         velocity, omega = motion[:, :2], motion[:, 2]
         table = self._drag_table(awake)
         rest = self.settings.rest_speed_m_s
@@ -371,6 +371,7 @@ class IceMotionEngine:
         if awake:  # Chipmunk recomputes the mass from the shapes (massless here): set ours again
             body.mass = piece.mass_kg
             body.moment = piece.moment_kg_m2
+            _read_pose(piece)
         self.space.reindex_shapes_for_body(body)
 
     # --- contact callbacks ---------------------------------------------------------------------------
@@ -393,12 +394,12 @@ def _hull_shape_elasticity(settings: IceMotionSettings) -> float:
     return settings.ice_hull_restitution / math.sqrt(settings.ice_ice_restitution)
 
 
-def _bounds(piece: _Piece) -> tuple[float, float, float, float]:
-    """A box that holds the piece in any orientation: its centroid ± its largest radius (cheaper than the
-    shapes' boxes every step; the window only needs a box that is not too small)."""
+def _read_pose(piece: _Piece) -> None:
+    """The piece's pose from its body and its box: centroid ± its largest radius, which holds the piece in
+    any orientation (cheaper than the shapes' boxes every step; the window only needs a box not too small)."""
     x, y = piece.body.position
     r = piece.radius_m
-    return (x - r, y - r, x + r, y + r)
+    piece.pose, piece.bounds = (x, y, piece.body.angle), (x - r, y - r, x + r, y + r)
 
 
 def body_geometry_parts(polygon: shapely.Polygon) -> tuple[np.ndarray, ...]:
