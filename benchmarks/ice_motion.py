@@ -6,7 +6,9 @@ steps) on the 385 m × 100 m field and, with `--long`, the 1 km × 200 m field. 
 time of `simulate` (field, bow and model built once beforehand, the numba kernels compiled), cusps per km,
 and of the initial floes the hull touched (evaluated in contact at least once) the share that broke or left
 the field, the rest being pushed aside (dynamic) or left where they lie untouched by failure (static).
-Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [--long]`.
+With `--time-steps`, the engine-step convergence instead: dynamic motion on the 385 m field for
+`ice_motion.time_step_s` 0.02 / 0.01 / 0.005 and seeds 1–3 (the same results in the same order, measured).
+Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [--long | --time-steps]`.
 """
 
 from __future__ import annotations
@@ -33,6 +35,10 @@ MOTIONS = {
         "ice_motion.step_travel_fraction=0.5",
     ],
 }
+
+
+TIME_STEPS_S = (0.02, 0.01, 0.005)
+SEEDS = (1, 2, 3)
 
 
 def _measure(size: list[str], motion: list[str]) -> dict[str, float]:
@@ -79,9 +85,26 @@ def compare(length_m: float, width_m: float) -> None:
         print(f"  cost ratio {name} / static: {rows[name]['cpu_s'] / rows['static']['cpu_s']:.2f}")
 
 
+def time_step_table() -> None:
+    size = ["field.length_m=385.0", "field.width_m=100.0"]
+    for seed in SEEDS:
+        for dt_s in TIME_STEPS_S:
+            motion = [*MOTIONS["dynamic"], f"ice_motion.time_step_s={dt_s}", f"seed={seed}"]
+            row = _measure(size, motion)
+            print(
+                f"seed {seed}, time step {dt_s} s: {row['cusps_per_km']:.0f} cusps/km, "
+                f"cusp area {row['cusp_area_m2']:.0f} m², {row['touched']} floes touched, "
+                f"{100 * (1 - row['broke_share']):.0f} % pushed aside, CPU {row['cpu_s']:.1f} s",
+                flush=True,
+            )
+
+
 if __name__ == "__main__":
     compile_kernels()
     gc.freeze()
+    if "--time-steps" in sys.argv:
+        time_step_table()
+        sys.exit(0)
     compare(385.0, 100.0)
     if "--long" in sys.argv:
         compare(1000.0, 200.0)

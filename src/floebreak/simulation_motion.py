@@ -91,34 +91,37 @@ class IceMotion:
 
     def _write_back(self) -> None:
         outlines = self.engine.drain_retired_outlines()
-        for state in self.engine.drain_retired():
-            pid = state.piece_id
-            if self._has_moved(state):
-                self._store(pid, outlines[pid])
-            self._forget(pid)
+        retired = self.engine.drain_retired()
+        moved = [s.piece_id for s in retired if self._has_moved(s.piece_id, (s.x_m, s.y_m, s.angle_rad))]
+        self._store(moved, [outlines[pid] for pid in moved])
+        for state in retired:
+            self._forget(state.piece_id)
+        changed = []
         for pid in sorted(self.moved.union(self.engine.awake_ids())):
-            state = self.engine.state(pid)
-            pose = (state.x_m, state.y_m, state.angle_rad)
-            if self._has_moved(state) and self.written.get(pid) != pose:
+            pose = self.engine.pose(pid)
+            if self._has_moved(pid, pose) and self.written.get(pid) != pose:
                 self.moved.add(pid)
                 self.written[pid] = pose
-                self._store(pid, self.engine.polygon(pid))
+                changed.append(pid)
+        self._store(changed, self.engine.polygons(changed))
 
-    def _has_moved(self, state) -> bool:
-        return (state.x_m, state.y_m) != self.origin[state.piece_id] or state.angle_rad != 0.0
+    def _has_moved(self, pid: int, pose: tuple[float, float, float]) -> bool:
+        return (pose[0], pose[1]) != self.origin[pid] or pose[2] != 0.0
 
-    def _store(self, pid: int, outline: shapely.Polygon) -> None:
-        """`outline` becomes the piece's polygon and box (the contact sweep's box too, where it holds the
-        piece); its out-of-contact skip no longer holds."""
+    def _store(self, pids: list[int], outlines: list[shapely.Polygon]) -> None:
+        """Each outline becomes its piece's polygon and box (the contact sweep's box too, where it holds
+        the piece); the piece's out-of-contact skip no longer holds."""
         pieces = self.pieces
-        pieces.polygon[pid] = outline
-        bounds = tuple(shapely.bounds(outline).tolist())
-        pieces.bounds[4 * pid : 4 * pid + 4] = type(pieces.bounds)("d", bounds)
-        if pid in pieces.active:
-            pieces.active[pid] = bounds
-        else:  # not (or no longer) searched for contact: kept compact as the loop keeps such pieces
-            pieces._finish(pid)
-        pieces.quiet_until[pid] = -np.inf
+        boxes = shapely.bounds(outlines).reshape(-1, 4).tolist()
+        for pid, outline, bounds in zip(pids, outlines, boxes, strict=True):
+            pieces.polygon[pid] = outline
+            bounds = tuple(bounds)
+            pieces.bounds[4 * pid : 4 * pid + 4] = type(pieces.bounds)("d", bounds)
+            if pid in pieces.active:
+                pieces.active[pid] = bounds
+            else:  # not (or no longer) searched for contact: kept compact as the loop keeps such pieces
+                pieces._finish(pid)
+            pieces.quiet_until[pid] = -np.inf
 
     def _add(self, pid: int, velocity_m_s: tuple[float, float], angular_velocity_rad_s: float) -> None:
         self.engine.add_piece(

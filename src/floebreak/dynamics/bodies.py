@@ -58,22 +58,31 @@ def convex_parts(polygon: shapely.Polygon) -> list[shapely.Polygon]:
     if _is_convex(polygon):
         return [polygon]
     triangles = list(shapely.constrained_delaunay_triangles(polygon).geoms)
+    boxes = [t.bounds for t in triangles]
     parts: list[shapely.Polygon] = []
     while triangles:
-        part = triangles.pop(0)
+        part, box = triangles.pop(0), boxes.pop(0)
         merged = True
         while merged:
             merged = False
             for k, tri in enumerate(triangles):
-                if part.intersection(tri).length > 0.0:  # share an edge
-                    union = shapely.union(part, tri)
-                    if isinstance(union, shapely.Polygon) and _is_convex(union):
-                        part = shapely.Polygon(union.exterior.coords)
-                        triangles.pop(k)
-                        merged = True
-                        break
+                # boxes apart: no shared edge (the exact test below is the costly one)
+                if _boxes_apart(box, boxes[k]) or part.intersection(tri).length <= 0.0:
+                    continue
+                union = shapely.union(part, tri)
+                if isinstance(union, shapely.Polygon) and _is_convex(union):
+                    part = shapely.Polygon(union.exterior.coords)
+                    box = part.bounds
+                    triangles.pop(k)
+                    boxes.pop(k)
+                    merged = True
+                    break
         parts.append(part)
     return parts
+
+
+def _boxes_apart(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+    return a[2] < b[0] or b[2] < a[0] or a[3] < b[1] or b[3] < a[1]
 
 
 def _yaw_form_integrals(ring: np.ndarray) -> tuple[float, float]:
@@ -107,25 +116,32 @@ _RULE_WEIGHTS = np.array([0.225] + [0.132394152788506] * 3 + [0.125939180544827]
 _SPLIT = 4  # each fan triangle split into _SPLIT² sub-triangles
 
 
-def _sub_triangles() -> list[np.ndarray]:
+def _sub_triangle_points() -> np.ndarray:
+    """The rule's points in fan coordinates (u, v) of each of the _SPLIT² sub-triangles: (_SPLIT², 7, 2)."""
     n = _SPLIT
     up = [((i, j), (i + 1, j), (i, j + 1)) for i in range(n) for j in range(n - i)]
     down = [((i + 1, j), (i + 1, j + 1), (i, j + 1)) for i in range(n) for j in range(n - i - 1)]
-    return [np.array(t, dtype=float) / n for t in up + down]
+    corners = np.array(up + down, dtype=float) / n  # (_SPLIT², 3, 2)
+    c0, c1, c2 = corners[:, None, 0], corners[:, None, 1], corners[:, None, 2]
+    return c0 + _RULE_POINTS[None, :, :1] * (c1 - c0) + _RULE_POINTS[None, :, 1:] * (c2 - c0)
+
+
+_SUB_POINTS = _sub_triangle_points()
 
 
 def _yaw_skin_integral(ring: np.ndarray) -> float:
     """∫ |r|³ dA over the polygon about its centroid: the signed fan of triangles (centroid, a_i, a_i+1),
-    each split into 16 sub-triangles integrated by Dunavant's degree-5 rule."""
+    each split into 16 sub-triangles integrated by Dunavant's degree-5 rule (all points at once, summed
+    per sub-triangle in order)."""
     a, b = ring, np.roll(ring, -1, axis=0)
     signed_area = (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) / 2.0
+    uv = _SUB_POINTS  # point = u·a + v·b
+    pts = uv[:, None, :, 0, None] * a[None, :, None, :] + uv[:, None, :, 1, None] * b[None, :, None, :]
+    r3 = np.hypot(pts[..., 0], pts[..., 1]) ** 3  # (_SPLIT², n, 7)
+    terms = signed_area[None, :, None] / _SPLIT**2 * _RULE_WEIGHTS[None, None, :] * r3
     total = 0.0
-    for corners in _sub_triangles():  # corners (3, 2) in fan coordinates: point = u·a + v·b
-        c0, c1, c2 = corners
-        uv = c0 + _RULE_POINTS[:, :1] * (c1 - c0) + _RULE_POINTS[:, 1:] * (c2 - c0)
-        pts = uv[None, :, 0, None] * a[:, None, :] + uv[None, :, 1, None] * b[:, None, :]
-        r3 = np.hypot(pts[..., 0], pts[..., 1]) ** 3
-        total += float((signed_area[:, None] / _SPLIT**2 * _RULE_WEIGHTS[None, :] * r3).sum())
+    for sub in terms:
+        total += float(sub.sum())
     return abs(total)
 
 

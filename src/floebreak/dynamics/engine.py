@@ -19,7 +19,7 @@ import pymunk
 import shapely
 
 from floebreak.dynamics.bodies import BodyGeometry, body_geometry
-from floebreak.dynamics.forces import water_force_and_moment
+from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_forces_and_moments
 from floebreak.dynamics.settings import IceMotionSettings
 
 ICE_COLLISION_TYPE = 1
@@ -46,6 +46,7 @@ class _Piece:
         "awake",
         "body",
         "bounds",
+        "drag",
         "geometry",
         "mass_kg",
         "moment_kg_m2",
@@ -63,6 +64,7 @@ class _Piece:
         areal = settings.ice_density_kg_m3 * thickness_m
         self.mass_kg = (1.0 + settings.added_mass_coefficient) * areal * geometry.area_m2
         self.moment_kg_m2 = (1.0 + settings.added_inertia_coefficient) * areal * geometry.polar_moment_m4
+        self.drag = drag_constants(geometry, thickness_m, settings)
         self.body = pymunk.Body(self.mass_kg, self.moment_kg_m2)
         self.shapes = [pymunk.Poly(self.body, [tuple(v) for v in part]) for part in geometry.convex_parts]
         for shape in self.shapes:
@@ -73,7 +75,9 @@ class _Piece:
         self.pinned = False
         self.awake = True
         self.bounds = (0.0, 0.0, 0.0, 0.0)  # field-frame box; kept current for awake pieces only
-        self.pose = (math.nan, math.nan, math.nan)  # (x, y, angle) when `bounds` was last computed
+        # (x, y, angle) of the body now, `bounds` computed from it: read after each step for awake pieces,
+        # on entry and on waking (static bodies do not move), so the step need not read it again
+        self.pose = (math.nan, math.nan, math.nan)
 
 
 class IceMotionEngine:
@@ -114,6 +118,7 @@ class IceMotionEngine:
         self._impulses: dict[int, tuple[float, float]] = {}
         self._retired: list[PieceState] = []
         self._retired_outlines: dict[int, shapely.Polygon] = {}
+        self._table: tuple[tuple[int, ...], DragTable | None] = ((), None)  # of the awake pieces, by ids
         self.space.on_collision(
             HULL_COLLISION_TYPE,
             ICE_COLLISION_TYPE,
@@ -167,7 +172,7 @@ class IceMotionEngine:
         self.space.add(piece.body, *piece.shapes)
         self._pieces[piece_id] = piece
         self._by_body[piece.body] = piece_id
-        piece.bounds = _bounds(piece)
+        _read_pose(piece)
         if pinned:
             self.set_pinned(piece_id, True)
         else:
@@ -231,14 +236,30 @@ class IceMotionEngine:
         w = body.angular_velocity
         return float(body.velocity.x - w * ry), float(body.velocity.y + w * rx)
 
+    def pose(self, piece_id: int) -> tuple[float, float, float]:
+        """(x, y, angle) of a piece's centroid and rotation now."""
+        return self._pieces[piece_id].pose
+
     def polygon(self, piece_id: int) -> shapely.Polygon:
         """The piece's outline now, field frame (its ring rotated by the angle and moved to the centroid)."""
-        piece = self._pieces[piece_id]
-        c, s = math.cos(piece.body.angle), math.sin(piece.body.angle)
-        ring = piece.geometry.ring_xy_m
-        x = piece.body.position.x + c * ring[:, 0] - s * ring[:, 1]
-        y = piece.body.position.y + s * ring[:, 0] + c * ring[:, 1]
-        return shapely.Polygon(np.column_stack([x, y]))
+        return self.polygons([piece_id])[0]
+
+    def polygons(self, piece_ids: list[int]) -> list[shapely.Polygon]:
+        """The outlines of several pieces now (as `polygon`), built in one pass."""
+        if not piece_ids:
+            return []
+        pieces = [self._pieces[pid] for pid in piece_ids]
+        rings = [p.geometry.ring_xy_m for p in pieces]
+        sizes = [len(r) for r in rings]
+        ring = np.concatenate(rings)
+        poses = np.array([p.pose for p in pieces])
+        cos_sin = np.array([(math.cos(a), math.sin(a)) for a in poses[:, 2]])
+        per_vertex = np.repeat(np.column_stack([poses[:, :2], cos_sin]), sizes, axis=0)
+        px, py, c, s = per_vertex.T
+        x = px + c * ring[:, 0] - s * ring[:, 1]
+        y = py + s * ring[:, 0] + c * ring[:, 1]
+        owner = np.repeat(np.arange(len(pieces)), sizes)
+        return list(shapely.polygons(shapely.linearrings(np.column_stack([x, y]), indices=owner)))
 
     def hull_impulses(self) -> dict[int, tuple[float, float]]:
         """Impulse of the hull on each piece during the last step [N·s], field frame; the ship receives the
@@ -261,38 +282,56 @@ class IceMotionEngine:
         dt = self.settings.time_step_s if dt_s is None else float(dt_s)
         self.settings.check_time_step(self.hull.velocity.length, dt)
         self._impulses = {}
-        for pid, piece in self._pieces.items():
-            if piece.awake:
-                self._load(pid, piece, dt)
+        awake = [(pid, piece) for pid, piece in self._pieces.items() if piece.awake]
+        if awake:
+            self._load(awake, dt)
         self._forces.clear()
         self.space.step(dt)
         self.time_s += dt
         self._update_window()
 
-    def _load(self, pid: int, piece: _Piece, dt: float) -> None:
-        body = piece.body
-        velocity, omega = body.velocity, body.angular_velocity
+    def _load(self, awake: list[tuple[int, _Piece]], dt: float) -> None:
+        """The water forces on all awake pieces at once, the rest speed's stop, the applied forces."""
+        bodies = [piece.body for _, piece in awake]
+        motion = np.array([(*p.body.velocity, p.body.angular_velocity, p.pose[2]) for _, p in awake])
+        velocity, omega = motion[:, :2], motion[:, 2]
+        table = self._drag_table(awake)
         rest = self.settings.rest_speed_m_s
-        if (velocity.x or velocity.y or omega) and (
-            velocity.length < rest and abs(omega) * piece.radius_m < rest
-        ):
-            body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
-        elif self.water and (velocity.x or velocity.y or omega):  # water pulls nothing at rest
-            fx, fy, m = water_force_and_moment(
-                piece.geometry,
-                piece.thickness_m,
-                body.angle,
-                (velocity.x, velocity.y),
-                omega,
-                piece.mass_kg,
-                piece.moment_kg_m2,
-                dt,
-                self.settings,
+        moving = np.flatnonzero((velocity != 0.0).any(axis=1) | (omega != 0.0))
+        speed = np.hypot(velocity[moving, 0], velocity[moving, 1])
+        radius = np.array([awake[i][1].radius_m for i in moving])
+        stops = (speed < rest) & (np.abs(omega[moving]) * radius < rest)
+        for i in moving[stops]:
+            bodies[i].velocity, bodies[i].angular_velocity = (0.0, 0.0), 0.0
+        pulled = moving[~stops]
+        if self.water and pulled.size:  # water pulls nothing at rest
+            fx, fy, m = water_forces_and_moments(
+                table, motion[:, 3], velocity, omega, dt, self.settings.water_density_kg_m3
             )
-            body.force = (fx, fy)
-            body.torque = m
-        for fx, fy, px, py in self._forces.get(pid, ()):
-            body.apply_force_at_world_point((fx, fy), (px, py))
+            # the properties' setters directly: pymunk's typing __setattr__ wrapper cost as much as the call
+            set_force, set_torque = pymunk.Body.force.fset, pymunk.Body.torque.fset
+            for i, fx_n, fy_n, m_n_m in zip(
+                pulled.tolist(), fx[pulled].tolist(), fy[pulled].tolist(), m[pulled].tolist(), strict=True
+            ):
+                set_force(bodies[i], (fx_n, fy_n))
+                set_torque(bodies[i], m_n_m)
+        for pid, piece in awake:
+            for fx_n, fy_n, px, py in self._forces.get(pid, ()):
+                piece.body.apply_force_at_world_point((fx_n, fy_n), (px, py))
+
+    def _drag_table(self, awake: list[tuple[int, _Piece]]) -> DragTable:
+        """The awake pieces' `DragTable`, rebuilt when the awake set changes."""
+        ids = tuple(pid for pid, _ in awake)
+        if self._table[0] != ids or self._table[1] is None:
+            pieces = [piece for _, piece in awake]
+            table = drag_table(
+                [p.geometry.ring_xy_m for p in pieces],
+                [p.drag for p in pieces],
+                [p.mass_kg for p in pieces],
+                [p.moment_kg_m2 for p in pieces],
+            )
+            self._table = (ids, table)
+        return self._table[1]
 
     def _update_window(self) -> None:
         window = self.window()
@@ -300,9 +339,11 @@ class IceMotionEngine:
         for pid in list(self._pieces):
             piece = self._pieces[pid]
             if piece.awake:  # a static piece's box does not change, nor that of one that did not move
-                pose = (*piece.body.position, piece.body.angle)
+                x, y = piece.body.position
+                pose = (x, y, piece.body.angle)
                 if pose != piece.pose:
-                    piece.bounds, piece.pose = _bounds(piece), pose
+                    r = piece.radius_m
+                    piece.bounds, piece.pose = (x - r, y - r, x + r, y + r), pose
             bb = piece.bounds
             if bb[2] < behind:
                 self._retired_outlines[pid] = self.polygon(pid)
@@ -330,6 +371,7 @@ class IceMotionEngine:
         if awake:  # Chipmunk recomputes the mass from the shapes (massless here): set ours again
             body.mass = piece.mass_kg
             body.moment = piece.moment_kg_m2
+            _read_pose(piece)
         self.space.reindex_shapes_for_body(body)
 
     # --- contact callbacks ---------------------------------------------------------------------------
@@ -352,12 +394,12 @@ def _hull_shape_elasticity(settings: IceMotionSettings) -> float:
     return settings.ice_hull_restitution / math.sqrt(settings.ice_ice_restitution)
 
 
-def _bounds(piece: _Piece) -> tuple[float, float, float, float]:
-    """A box that holds the piece in any orientation: its centroid ± its largest radius (cheaper than the
-    shapes' boxes every step; the window only needs a box that is not too small)."""
+def _read_pose(piece: _Piece) -> None:
+    """The piece's pose from its body and its box: centroid ± its largest radius, which holds the piece in
+    any orientation (cheaper than the shapes' boxes every step; the window only needs a box not too small)."""
     x, y = piece.body.position
     r = piece.radius_m
-    return (x - r, y - r, x + r, y + r)
+    piece.pose, piece.bounds = (x, y, piece.body.angle), (x - r, y - r, x + r, y + r)
 
 
 def body_geometry_parts(polygon: shapely.Polygon) -> tuple[np.ndarray, ...]:

@@ -1,4 +1,4 @@
-"""Water forces on a piece, applied as external forces each step (not by the physics engine): pure functions.
+"""Water forces on the pieces, applied as external forces each step (not by the engine): pure functions.
 
 Quadratic drag in translation, F = −k |u| u with k = ½ρ_w (C_d T W(û) + C_s A) (form drag on the submerged
 edge, T = h ρ_i/ρ_w, W the width projected across the velocity; skin drag on the underside), and in yaw,
@@ -6,81 +6,102 @@ M = −c |ω| ω with c = ½ρ_w (C_d T K± + C_s J₃) (K± = ∫ max(±s, 0)³
 The force over a step Δt is the one that gives the exact solution of m_eff du/dt = −k |u| u over the step
 with k frozen: u' = u / (1 + k |u| Δt / m_eff), so F = m_eff (u' − u)/Δt. This never reverses the velocity,
 whatever Δt (an explicit −k|u|u does for k|u|Δt > m_eff: small fast pieces), and equals −k|u|u as Δt → 0.
+What does not change with a piece's motion (C_d T, C_s A, c±) is computed once, when it enters
+(`DragConstants`); each step evaluates all awake pieces at once (`water_forces_and_moments`).
 Sources of the coefficients: `IceMotionSettings` and docs/model.md ("Ice motion").
 """
 
 from __future__ import annotations
 
-import math
+from dataclasses import dataclass
 
 import numpy as np
 
-from floebreak.dynamics.bodies import BodyGeometry, projected_width_m
+from floebreak.dynamics.bodies import BodyGeometry
 from floebreak.dynamics.settings import IceMotionSettings
 
 
-def translational_drag_factor(
-    geometry: BodyGeometry, thickness_m: float, direction_body: np.ndarray, settings: IceMotionSettings
-) -> float:
-    """k [kg/m] of F = −k|u|u for motion along the unit `direction_body` (body frame)."""
+@dataclass(frozen=True)
+class DragConstants:
+    """A piece's drag terms that do not depend on its motion: k = ½ρ_w (form_m · W + skin_m2)."""
+
+    form_m: float  # C_d T
+    skin_m2: float  # C_s A
+    yaw_kg_m2: tuple[float, float]  # c for ω > 0 and for ω < 0 (the advancing edges differ)
+
+
+def drag_constants(geometry: BodyGeometry, thickness_m: float, settings: IceMotionSettings) -> DragConstants:
+    """The motion-independent drag terms of a piece of `geometry` and `thickness_m`."""
     draft = thickness_m * settings.draft_ratio
-    width = projected_width_m(geometry.ring_xy_m, direction_body)
     rho = settings.water_density_kg_m3
-    return (
-        0.5
-        * rho
-        * (settings.form_drag_coefficient * draft * width + settings.skin_drag_coefficient * geometry.area_m2)
+    skin_yaw = settings.skin_drag_coefficient * geometry.yaw_skin_m5
+    form_yaw = geometry.yaw_form_m3
+    yaw = tuple(0.5 * rho * (settings.form_drag_coefficient * draft * form + skin_yaw) for form in form_yaw)
+    return DragConstants(
+        settings.form_drag_coefficient * draft, settings.skin_drag_coefficient * geometry.area_m2, yaw
     )
 
 
-def yaw_drag_factor(
-    geometry: BodyGeometry, thickness_m: float, positive: bool, settings: IceMotionSettings
-) -> float:
-    """c [kg·m²] of M = −c|ω|ω, for ω > 0 (`positive`) or ω < 0 (the advancing edges differ)."""
-    draft = thickness_m * settings.draft_ratio
-    form = geometry.yaw_form_m3[0 if positive else 1]
-    rho = settings.water_density_kg_m3
-    return (
-        0.5
-        * rho
-        * (
-            settings.form_drag_coefficient * draft * form
-            + settings.skin_drag_coefficient * geometry.yaw_skin_m5
-        )
-    )
-
-
-def step_drag(speed: float, factor: float, effective_mass: float, dt_s: float) -> float:
-    """The drag's magnitude over one step, m_eff·(|u| − |u'|)/Δt with |u'| = |u|/(1 + k|u|Δt/m_eff)."""
+def step_drag(speed, factor, effective_mass, dt_s: float):
+    """The drag's magnitude over one step, m_eff·(|u| − |u'|)/Δt with |u'| = |u|/(1 + k|u|Δt/m_eff)
+    (scalars or arrays)."""
     decay = factor * speed * dt_s / effective_mass
     return effective_mass * speed * decay / ((1.0 + decay) * dt_s)
 
 
-def water_force_and_moment(
-    geometry: BodyGeometry,
-    thickness_m: float,
-    angle_rad: float,
-    velocity_xy_m_s: tuple[float, float],
-    angular_velocity_rad_s: float,
-    effective_mass_kg: float,
-    effective_moment_kg_m2: float,
+@dataclass(frozen=True)
+class DragTable:
+    """The drag data of a set of pieces, one row each (rings concatenated, body frame)."""
+
+    ring_xy_m: np.ndarray  # (N, 2) all rings, one after the other
+    starts: np.ndarray  # (n,) index of each piece's first vertex in ring_xy_m
+    owner: np.ndarray  # (N,) the row of each vertex
+    form_m: np.ndarray  # (n,)
+    skin_m2: np.ndarray  # (n,)
+    yaw_kg_m2: np.ndarray  # (n, 2)
+    mass_kg: np.ndarray  # (n,) effective
+    moment_kg_m2: np.ndarray  # (n,) effective
+
+
+def drag_table(
+    rings: list[np.ndarray], constants: list[DragConstants], mass_kg: list[float], moment_kg_m2: list[float]
+) -> DragTable:
+    """The `DragTable` of pieces given by their body-frame rings, drag constants and effective inertia."""
+    sizes = np.array([len(r) for r in rings], dtype=np.int64)
+    return DragTable(
+        np.concatenate(rings),
+        np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64),
+        np.repeat(np.arange(len(rings)), sizes),
+        np.array([c.form_m for c in constants]),
+        np.array([c.skin_m2 for c in constants]),
+        np.array([c.yaw_kg_m2 for c in constants]).reshape(-1, 2),
+        np.array(mass_kg, dtype=float),
+        np.array(moment_kg_m2, dtype=float),
+    )
+
+
+def water_forces_and_moments(
+    table: DragTable,
+    angle_rad: np.ndarray,
+    velocity_xy_m_s: np.ndarray,
+    angular_velocity_rad_s: np.ndarray,
     dt_s: float,
-    settings: IceMotionSettings,
-) -> tuple[float, float, float]:
-    """(F_x, F_y, M_z) of the water on a piece over a step [N, N, N·m], field frame, at its centroid."""
-    vx, vy = velocity_xy_m_s
-    fx = fy = 0.0
-    speed = math.hypot(vx, vy)
-    if speed > 0.0:
-        cos_a, sin_a = math.cos(angle_rad), math.sin(angle_rad)
-        ux, uy = vx / speed, vy / speed
-        direction_body = np.array([cos_a * ux + sin_a * uy, -sin_a * ux + cos_a * uy])
-        k = translational_drag_factor(geometry, thickness_m, direction_body, settings)
-        magnitude = step_drag(speed, k, effective_mass_kg, dt_s)
-        fx, fy = -magnitude * ux, -magnitude * uy
-    moment = 0.0
-    if angular_velocity_rad_s != 0.0:
-        omega = angular_velocity_rad_s
-        c_yaw = yaw_drag_factor(geometry, thickness_m, omega > 0.0, settings)
-        moment = -math.copysign(step_drag(abs(omega), c_yaw, effective_moment_kg_m2, dt_s), omega)
-    return fx, fy, moment
+    water_density_kg_m3: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(F_x, F_y, M_z) of the water on each piece of `table` over a step [N, N, N·m], field frame, at the
+    centroids; `velocity_xy_m_s` (n, 2). W(û) is the spread of the ring's vertices across û in the body
+    frame (exact for any polygon: its shadow is one interval)."""
+    vx, vy = velocity_xy_m_s[:, 0], velocity_xy_m_s[:, 1]
+    speed = np.hypot(vx, vy)
+    divisor = np.where(speed > 0.0, speed, 1.0)  # at rest: û = 0, and the drag is 0
+    ux, uy = vx / divisor, vy / divisor
+    cos_a, sin_a = np.cos(angle_rad), np.sin(angle_rad)
+    dx, dy = cos_a * ux + sin_a * uy, -sin_a * ux + cos_a * uy  # û in the body frame
+    across = table.ring_xy_m[:, 1] * dx[table.owner] - table.ring_xy_m[:, 0] * dy[table.owner]
+    width = np.maximum.reduceat(across, table.starts) - np.minimum.reduceat(across, table.starts)
+    k = 0.5 * water_density_kg_m3 * (table.form_m * width + table.skin_m2)
+    magnitude = step_drag(speed, k, table.mass_kg, dt_s)
+    omega = angular_velocity_rad_s
+    c_yaw = np.where(omega > 0.0, table.yaw_kg_m2[:, 0], table.yaw_kg_m2[:, 1])
+    moment = -np.copysign(step_drag(np.abs(omega), c_yaw, table.moment_kg_m2, dt_s), omega)
+    return -magnitude * ux, -magnitude * uy, moment
