@@ -26,6 +26,7 @@ from floebreak.cli_options import (
     PropellersOption,
     ShaftLineOption,
     TransportParameterOption,
+    operating_profile,
     transport_option,
 )
 from floebreak.errors import InputError, require_range
@@ -1046,14 +1047,9 @@ def propeller(
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
     from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
-    from floebreak.propeller.ruleform import OperatingProfile
 
     models = _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters)
-    if (hours_per_year is None) != (years is None):
-        raise InputError(
-            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
-        )
-    profile = None if years is None else OperatingProfile(hours_per_year, years)
+    profile = operating_profile(hours_per_year, years)
     curve = None if sn_curve is None else _sn_curve(sn_curve)
     tables = _fem_tables(fem_table)
     with _stage_progress("shaft", quiet) as progress:

@@ -50,3 +50,14 @@ def transport_option(items: list[str] | None):
     from floebreak.propeller.transport import transport_settings
 
     return transport_settings(transport_values(items))
+
+
+def operating_profile(hours_per_year: float | None, years: float | None):
+    """`--hours-in-ice-per-year` and `--years` → an `OperatingProfile` (both) or None (neither)."""
+    from floebreak.propeller.ruleform import OperatingProfile
+
+    if (hours_per_year is None) != (years is None):
+        raise InputError(
+            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
+        )
+    return None if years is None else OperatingProfile(hours_per_year, years)

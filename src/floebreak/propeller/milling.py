@@ -351,6 +351,18 @@ def _check_operation(rpm, advance_speed_m_s):
     return rpm, speed
 
 
+def _strips_under_block(blade: BladeGeometry, thickness_m, strips: int):
+    """The radial extent e = min(h, R − r_hub) a block covers from the tip, and per strip of [r_hub, R] its
+    overlap with [R − e, R] and the overlap's mid radius (a strip outside the block: overlap 0)."""
+    radius, hub = blade.radius_m, blade.hub_radius_m
+    extent = np.minimum(thickness_m, radius - hub)
+    edges = np.linspace(hub, radius, strips + 1)
+    inner = np.maximum(edges[:-1], (radius - extent)[..., None])
+    overlap = np.clip(edges[1:] - inner, 0.0, None)
+    mid = np.where(overlap > 0.0, 0.5 * (inner + edges[1:]), edges[1:])
+    return extent, overlap, mid
+
+
 def impact_loads(
     block: IceBlock,
     blade: BladeGeometry,
@@ -378,12 +390,8 @@ def impact_loads(
     thickness, length, width, rpm, speed = np.broadcast_arrays(
         block.thickness_m, block.length_m, block.width_m, rpm, speed
     )
-    radius, hub = blade.radius_m, blade.hub_radius_m
-    extent = np.minimum(thickness, radius - hub)
-    edges = np.linspace(hub, radius, int(strips) + 1)
-    inner = np.maximum(edges[:-1], (radius - extent)[..., None])
-    overlap = np.clip(edges[1:] - inner, 0.0, None)
-    mid = np.where(overlap > 0.0, 0.5 * (inner + edges[1:]), edges[1:])
+    radius = blade.radius_m
+    extent, overlap, mid = _strips_under_block(blade, thickness, int(strips))
     cut = cut_depth_m(speed, rpm, blade.blades)
     with np.errstate(divide="ignore", invalid="ignore"):
         fraction = np.where(cut > length, length / np.where(cut > 0.0, cut, 1.0), 1.0)

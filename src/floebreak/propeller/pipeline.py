@@ -379,6 +379,13 @@ def _check_options(
         raise InputError("weibull", f"unknown propeller type {weibull!r}", allowed=", ".join(WEIBULL_SHAPE))
 
 
+def _unload_missed(loads: dict, pitches) -> None:
+    """Cusps that reach no propeller carry no load: their force and torque become NaN (in place)."""
+    for pitch in pitches:
+        for column in ("force_n", "torque_nm"):
+            loads[f"{column}_{pitch_label(pitch)}"][~loads["reaches_propeller"]] = math.nan
+
+
 def analyse_propeller(
     cusps,
     *,
@@ -439,9 +446,7 @@ def analyse_propeller(
     _report(progress, "per-cusp loads")
     reaching, transport_info = _reaching(columns, exposures, transport, transport_settings)
     loads.update(reaching)
-    for pitch in pitches:  # cusps that reach no propeller carry no load
-        for column in ("force_n", "torque_nm"):
-            loads[f"{column}_{pitch_label(pitch)}"][~loads["reaches_propeller"]] = math.nan
+    _unload_missed(loads, pitches)
     _report(progress, "transport")
     ds = load_spectra(loads, dict.fromkeys(pitches), force_bin_kn, torque_bin_knm)
     options["force_bin_kn"] = ds.attrs["force_bin_width_kn"]  # as used: wider for far loads

@@ -23,6 +23,7 @@ from floebreak.cli_options import (
     PropellersOption,
     ShaftLineOption,
     TransportParameterOption,
+    operating_profile,
     transport_values,
 )
 from floebreak.errors import InputError
@@ -163,7 +164,7 @@ def voyage(
 
     if workers is not None and workers < 1:
         raise InputError("workers", f"{workers} < 1", value=workers, allowed="an integer ≥ 1")
-    profile = _operating_profile(hours_per_year, years)
+    profile = operating_profile(hours_per_year, years)
     analysis = VoyageAnalysis(
         polar_class, fraction_reaching, propellers, shaft_line, transport_values(transport_parameters)
     ).checked()
@@ -200,17 +201,6 @@ def voyage(
     finally:
         executor.close()
     _print_voyage(summary, out)
-
-
-def _operating_profile(hours_per_year: float | None, years: float | None):
-    """`--hours-in-ice-per-year` and `--years` → an `OperatingProfile` (both) or None (neither)."""
-    from floebreak.propeller.ruleform import OperatingProfile
-
-    if (hours_per_year is None) != (years is None):
-        raise InputError(
-            "--years", "give both --hours-in-ice-per-year and --years", allowed="both or neither"
-        )
-    return None if years is None else OperatingProfile(hours_per_year, years)
 
 
 def _progress_columns() -> tuple:
