@@ -219,6 +219,7 @@ def _fmt(value, spec: str) -> str:
 
 
 def _print_voyage(summary: dict, out: Path) -> None:
+    from rich.markup import escape
     from rich.table import Table
 
     table = Table(title=f"voyage: {summary['hours_in_ice']:.3g} h in ice, {summary['distance_km']:.3g} km")
@@ -229,8 +230,8 @@ def _print_voyage(summary: dict, out: Path) -> None:
         "max |F| [kN]",
         "max |Q| [kN·m]",
         "beyond FEM table",
-    ):
-        table.add_column(column, justify="right")
+    ):  # escaped: rich would take "[kN]" for markup and drop it; folded: piped output is 80 columns wide
+        table.add_column(escape(column), justify="right", overflow="fold")
     for case, values in summary["cases"].items():
         table.add_row(
             case,
@@ -293,13 +294,14 @@ def voyage_shaft_line(shaft: dict) -> str:
 
 
 def _print_rule_form(rule_form: dict) -> None:
+    from rich.markup import escape
     from rich.table import Table
 
     from floebreak.studies.voyage_results import RULE_FORM_COLUMNS, rule_form_rows
 
     table = Table(title="rule-form fit of the operated loads (weighted; as recalled, verify with the rule)")
     for column in RULE_FORM_COLUMNS:
-        table.add_column(column, justify="right")
+        table.add_column(escape(column), justify="right", overflow="fold")
     for row in rule_form_rows(rule_form):
-        table.add_row(*row)
+        table.add_row(*(escape(cell) for cell in row))
     console.print(table)
