@@ -738,14 +738,14 @@ class SimulationSection(_Section):
     event_location: Literal["step_end", "root"] | None = Field(
         None,
         description="where a piece fails between two contact searches (docs/model.md §9): at the search "
-        "position (step_end, the thesis' stepping, §3.2) or located by bisection (root), so that ship.step_m "
-        "only sets how often contacts are searched; default: the profile's (§11)",
+        "position (step_end, the thesis' stepping, §3.2) or located by a bracketing search (root), so that "
+        "ship.step_m only sets how often contacts are searched; default: the profile's (§11)",
     )
     event_tolerance_m: Float | None = Field(
         None,
         gt=0.0,
         le=STEP_M[1],
-        description="bisection tolerance of a located failure (event_location = root) [m]; default 0.01 m "
+        description="search tolerance of a located failure (event_location = root) [m]; default 0.01 m "
         "(docs/validation.md, convergence)",
     )
     ice_motion: Literal["static", "dynamic"] | None = Field(
