@@ -14,8 +14,10 @@ h = 0.4 m is run (kept in DIR/seedN and reused when present), then the shaft cha
 - one link swapped at a time from `default`: `all cusps` (no transport), `FEM torque` (the FEM table's
   torque and 2hZ impacts instead of the milling model), `constant rpm` (the linear line instead of the
   drive, with the default chain's arrivals, impacts and milling torque at the nominal rpm), `rigid line`
-  (the drive on one rigid inertia: no 7.76 Hz shaft mode), `leading-edge contact` (the milling model
-  without the blade face's contact: chord → 0, so only the nose crushes; the blocks' impacts recomputed).
+  (the drive on one rigid inertia: no 7.76 Hz shaft mode), `full flank contact` (the milling model with the
+  flank touching the ice over its whole swept length, `IceStrength.flank_contact_chord_fraction = 1`: the
+  chain before docs/propeller.md §10 choice 4), `leading-edge contact` (fraction 0: only the nose crushes);
+  the blocks' impacts recomputed with each.
 
 Columns: cusps milled, shaft torque max and min, envelope of the range above 0.1 %/(kN·m) (10 kN·m bins),
 min rpm, and the issue's criteria against the measured −100…400 kN·m and 58–152 kN·m: max within
@@ -25,7 +27,6 @@ min rpm, and the issue's criteria against the measured −100…400 kN·m and 58
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import tempfile
 from pathlib import Path
 
@@ -34,7 +35,7 @@ import numpy as np
 import floebreak
 from floebreak.io.run_files import read_run_cusps
 from floebreak.propeller.fem import shipped_fem_tables
-from floebreak.propeller.milling import impact_loads
+from floebreak.propeller.milling import IceBlock, IceStrength, impact_loads
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.shaft.analysis import (
     MILLING_INPUT_COLUMNS,
@@ -130,15 +131,27 @@ def chains(columns: dict, line, case: int) -> dict:
         ),
     )
     out["default, rigid line"] = (port.arrival_s.size, _rigid(port, line, case))
-    nose_blade = dataclasses.replace(port.blade, chord_07_m=1e-6)
-    nose = dataclasses.replace(
-        port, blade=nose_blade, n_impacts=impact_loads(port.block, nose_blade, spec.rpm, SPEED_M_S).n_impacts
-    )
-    out["default, leading-edge contact"] = (
-        port.arrival_s.size,
-        shaft_drive_response(nose.arrival_s, nose.n_impacts, nose.impact_torque_n_m, line, **common),
-    )
+    for name, fraction in (("full flank contact", 1.0), ("leading-edge contact", 0.0)):
+        n_impacts, torque = _with_flank_fraction(port, fraction, spec.rpm)
+        out[f"default, {name}"] = (
+            port.arrival_s.size,
+            shaft_drive_response(port.arrival_s, n_impacts, torque, line, **common),
+        )
     return out
+
+
+def _with_flank_fraction(port, fraction: float, rpm: float):
+    """The port cusps' impacts and per-impact torque(cusp, rpm) with the flank contact capped at
+    `fraction` × the chord (1: the full geometric overlap, before choice 4; 0: the nose alone)."""
+    ice = IceStrength(flank_contact_chord_fraction=fraction)
+    n_impacts = np.maximum(impact_loads(port.block, port.blade, rpm, SPEED_M_S, ice).n_impacts, 1)
+
+    def torque(k: int, rpm_now: float) -> float:
+        b = port.block
+        one = IceBlock(b.thickness_m[k : k + 1], b.length_m[k : k + 1], b.width_m[k : k + 1])
+        return float(impact_loads(one, port.blade, rpm_now, port.advance_speed_m_s, ice).torque_n_m[0])
+
+    return n_impacts, torque
 
 
 class _RigidResult:

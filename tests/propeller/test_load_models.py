@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pyarrow as pa
@@ -129,16 +130,24 @@ def test_force_warnings_thresholds_by_hand():
     assert force_warnings(info, 795.4e3, 1600.0e3) == []
 
 
+# PC7 backward force at 60 rpm by hand (D > 0.85 · 1.5^1.4 = 1.50 m):
+# 23 · 1.0 · (60/60 · 4.3)^0.7 · (0.55/4)^0.3 · 4.3 · 1.5^1.4 = 267.1 kN
+PC7_BACKWARD_FORCE_60_RPM_N = 23 * 1.0 * 4.3**0.7 * (0.55 / 4) ** 0.3 * 4.3 * 1.5**1.4 * 1e3
+
+
 def test_blade_force_above_the_rule_warns_in_the_summary():
-    # a 2 m × 2 m × 1 m block at 0 % pitch (`impact_loads`) against PC5's F_b (by hand, above)
-    blade = BladeGeometry.from_spec(PropellerSpec(pitch_percent=0.0))
+    # a 2 m × 2 m × 1 m block at 0 % pitch and 60 rpm (`impact_loads`) against PC7's F_b (by hand, above);
+    # at 140 rpm and PC5 the flank contact capped at 0.2 c keeps the force (319 kN) below F_b (795 kN)
+    assert PC7_BACKWARD_FORCE_60_RPM_N == pytest.approx(267.1e3, abs=100)
+    spec = PropellerSpec(rpm=60.0)
+    blade = BladeGeometry.from_spec(replace(spec, pitch_percent=0.0))
     block = IceBlock(np.ones(1), np.full(1, 2.0), np.full(1, 2.0))
-    force_n = float(impact_loads(block, blade, 140.0, 3.0).force_n[0])
-    result = analyse_propeller(_cusps(), polar_class="PC5")
+    force_n = float(impact_loads(block, blade, 60.0, 3.0).force_n[0])
+    result = analyse_propeller(_cusps(), polar_class="PC7", propeller=spec)
     warned = [w for w in result.summary["warnings"] if w.startswith("pitch 0 %") and "F_b" in w]
-    assert force_n > PC5_BACKWARD_FORCE_N and len(warned) == 1
+    assert force_n > PC7_BACKWARD_FORCE_60_RPM_N and len(warned) == 1
     assert f"{force_n / 1e3:.0f} kN" in warned[0]
-    unclassed = analyse_propeller(_cusps()).summary["warnings"]
+    unclassed = analyse_propeller(_cusps(), propeller=spec).summary["warnings"]
     assert not [w for w in unclassed if "F_b" in w]  # no polar class: no rule check
 
 

@@ -37,7 +37,9 @@ def one_strip_by_hand(geom: BladeGeometry, extent, rpm, speed, ice: IceStrength)
     layer = speed / (geom.blades * rpm / 60) * math.cos(beta)
     w_nose = min(t * abs(math.cos(alpha)), layer)
     w_flank = min(chord * abs(math.sin(alpha)), layer - w_nose)
-    a_nose, a_flank = w_nose * extent, w_flank / abs(math.sin(alpha)) * extent
+    # the flank touches the ice along the chord over its swept length, at most the rule's 0.2 c
+    length = min(w_flank / abs(math.sin(alpha)), ice.flank_contact_chord_fraction * chord)
+    a_nose, a_flank = w_nose * extent, length * extent
     area = a_nose + a_flank
     p = ice.crushing_pressure_pa * (area / ice.reference_area_m2) ** ice.area_exponent
     s = 1.0 if alpha > 0 else -1.0
@@ -46,11 +48,12 @@ def one_strip_by_hand(geom: BladeGeometry, extent, rpm, speed, ice: IceStrength)
     return against * r, aft, area
 
 
+@pytest.mark.parametrize("fraction", [0.2, 1.0])
 @pytest.mark.parametrize("pitch_percent", [0.0, 50.0, 95.8551])
 @pytest.mark.parametrize("strips", [1, 64])
-def test_one_radial_strip_torque_is_force_times_radius(pitch_percent, strips):
+def test_one_radial_strip_torque_is_force_times_radius(pitch_percent, strips, fraction):
     geom = replace(AGULHAS, pitch_percent=pitch_percent)
-    ice = IceStrength()
+    ice = IceStrength(flank_contact_chord_fraction=fraction)
     extent = 0.01  # thinner than one of 64 strips (1.505 m / 64 = 0.0235 m): only the tip strip is in ice
     q, f_aft, area = one_strip_by_hand(geom, extent, 140.0, 3.0, ice)
     loads = impact_loads(block(extent), geom, 140.0, 3.0, ice, strips=strips)
@@ -71,8 +74,9 @@ def test_face_contact_at_pitch_pushes_forward_and_back_contact_at_zero_pitch_pus
 def test_doubling_the_cut_depth_scales_loads_by_two_to_one_plus_the_area_exponent():
     # constant chord 3 m: the face (α ≈ 20°, c sin α ≈ 1 m) is wider than both layers, nose ≈ 0, no friction:
     # every load is p(A)·A·const, A ∝ cut depth → ratio 2^(1 + ex). Halving Z doubles the cut, angles equal.
+    # the full geometric flank contact (fraction 1): the contact length follows the layer
     geom = replace(AGULHAS, chord_07_m=3.0, chord_distribution="constant", thickness_07_m=1e-9)
-    ice = IceStrength(friction=0.0, area_exponent=-0.3)
+    ice = IceStrength(friction=0.0, area_exponent=-0.3, flank_contact_chord_fraction=1.0)
     four = impact_loads(block(1.2), geom, 140.0, 1.0, ice)
     two = impact_loads(block(1.2), replace(geom, blades=2), 140.0, 1.0, ice)
     assert two.cut_depth_m[0] == pytest.approx(2 * four.cut_depth_m[0])
@@ -187,19 +191,21 @@ def test_bad_operation_block_and_ice_name_the_key():
         impact_loads(block(1.0), AGULHAS, 140.0, 3.0, strips=0)
 
 
-def test_the_impact_torque_at_1_m_exceeds_the_rules_thickness_scaling():
-    """The failing link of the PC5 lifetime row (docs/propeller.md §10): a 1 m block at 95.86 % pitch,
-    140 rpm and 3 m/s gives a per-impact torque more than twice the rule's PC5 Q_max (H_ice = 2 m) scaled
-    to H_ice = 1 m by the rule's H_ice^1.1 (its branch for D > 1.8 H_ice: 4.3 m > 1.8 m), whatever the
-    block's length and width (the thickness, its radial extent, sets it)."""
+def test_the_impact_torque_at_1_m_lies_between_the_rules_thickness_scaling_and_q_max():
+    """The PC5 rows' link (docs/propeller.md §10): a 1 m block at 95.86 % pitch, 140 rpm and 3 m/s, with the
+    flank contact capped at 0.2 c, gives a per-impact torque below the rule's PC5 Q_max (H_ice = 2 m) but
+    above that Q_max scaled to H_ice = 1 m by the rule's H_ice^1.1 (its branch for D > 1.8 H_ice:
+    4.3 m > 1.8 m), whatever the block's length and width (the thickness, its radial extent, sets it);
+    without the cap (fraction 1) it exceeded the PC5 Q_max itself."""
     from floebreak.propeller.iceclass import ur_i3_loads
 
-    q_rule_1m = ur_i3_loads(PropellerSpec(), "PC5").max_torque_nm * (1.0 / 2.0) ** 1.1
-    loads = impact_loads(
-        block(1.0, np.array([2.0, 4.0, 8.0]), np.array([1.5, 3.0, 6.0])), AGULHAS, 140.0, 3.0
-    )
+    q_max = ur_i3_loads(PropellerSpec(), "PC5").max_torque_nm
+    q_rule_1m = q_max * (1.0 / 2.0) ** 1.1
+    blocks = block(1.0, np.array([2.0, 4.0, 8.0]), np.array([1.5, 3.0, 6.0]))
+    loads = impact_loads(blocks, AGULHAS, 140.0, 3.0)
+    full = impact_loads(blocks, AGULHAS, 140.0, 3.0, IceStrength(flank_contact_chord_fraction=1.0))
     assert np.ptp(loads.torque_n_m) == 0.0
-    assert loads.torque_n_m[0] > 2.0 * q_rule_1m
+    assert q_rule_1m < loads.torque_n_m[0] < q_max < full.torque_n_m[0]
 
 
 def test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts():
@@ -221,3 +227,51 @@ def test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts():
     while dv * (2 * math.pi / (4 * omega)) * k * (k + 1) / 2 < exit_m:
         k += 1
     assert free.n_impacts_thrown[0] == k == free.n_impacts[0] < held.n_impacts[0]
+
+
+def test_the_flank_contact_of_one_strip_is_capped_at_a_fifth_of_the_chord():
+    """One strip at the tip of a constant-chord blade (c = 1.268 m), 95.86 % pitch, 140 rpm, 3 m/s, written
+    out here: the swept flank length s_f / sin α (α ≈ 18°, layer ≈ 0.32 m) is ≈ 0.7 c; the rule's open-
+    propeller load cases 1 and 3 load 0.2 c from the leading edge, so the strip's flank force is
+    p(A) · 0.2 c · Δr with A = (w_n + 0.2 c) Δr."""
+    geom = replace(AGULHAS, chord_07_m=1.268, chord_distribution="constant")
+    extent, rpm, speed = 0.01, 140.0, 3.0
+    r = geom.radius_m - extent / 2
+    omega_r = 2 * math.pi * rpm / 60 * r
+    beta = math.atan(speed / omega_r)
+    alpha = math.atan(geom.pitch_m / (2 * math.pi * r)) - beta
+    layer = 2 * math.pi * r * speed / (4 * math.hypot(speed, omega_r))
+    w_nose = min(0.105 * math.cos(alpha), layer)
+    swept = (layer - w_nose) / math.sin(alpha)  # the layer is thinner than c sin α here
+    assert 1.268 * math.sin(alpha) > layer - w_nose and swept > 0.6 * 1.268
+    area = (w_nose + 0.2 * 1.268) * extent
+    p = 1.28e6 * area**-0.1
+    phi = alpha + beta
+    q = r * p * extent * (w_nose * math.cos(beta) + 0.2 * 1.268 * (math.sin(phi) + 0.15 * math.cos(phi)))
+    capped = impact_loads(block(extent), geom, rpm, speed, strips=1)
+    whole = IceStrength(flank_contact_chord_fraction=1.0)
+    full = impact_loads(block(extent), geom, rpm, speed, whole, strips=1)
+    assert capped.contact_area_m2[0] == pytest.approx(area, rel=1e-9)
+    assert capped.torque_n_m[0] == pytest.approx(q, rel=1e-9)
+    assert full.contact_area_m2[0] == pytest.approx((w_nose + swept) * extent, rel=1e-9)
+    # the cap changes the contact, not the layer removed
+    assert capped.removed_fraction[0] == pytest.approx(full.removed_fraction[0])
+
+
+def test_a_binding_cap_makes_the_impact_load_independent_of_the_cut_depth():
+    """With the nose negligible and the capped flank shorter than the swept length at both cut depths, the
+    contact area, and so every load, is that of 0.2 c whatever the cut: halving Z doubles the cut, the
+    loads stay (the uncapped model's ratio is 2^(1 + ex), test above)."""
+    geom = replace(AGULHAS, chord_07_m=3.0, chord_distribution="constant", thickness_07_m=1e-9)
+    ice = IceStrength(friction=0.0, area_exponent=-0.3)
+    four = impact_loads(block(1.2), geom, 140.0, 3.0, ice)
+    two = impact_loads(block(1.2), replace(geom, blades=2), 140.0, 3.0, ice)
+    assert two.cut_depth_m[0] == pytest.approx(2 * four.cut_depth_m[0])
+    assert four.contact_area_m2[0] == pytest.approx(0.2 * 3.0 * 1.2, rel=1e-6)  # + a 1e-9 m nose
+    assert two.torque_n_m[0] == pytest.approx(four.torque_n_m[0], rel=1e-12)
+
+
+def test_the_flank_fraction_is_checked():
+    for bad in (-0.1, 1.5, float("nan")):
+        with pytest.raises(InputError, match=r"ice\.flank_contact_chord_fraction"):
+            IceStrength(flank_contact_chord_fraction=bad)

@@ -136,17 +136,25 @@ class BladeGeometry:
 
 @dataclass(frozen=True)
 class IceStrength:
-    """Crushing pressure p = p_ref (A / A_ref)^ex over the blade's contact area A, and ice–steel friction.
+    """Crushing pressure p = p_ref (A / A_ref)^ex over the blade's contact area A, ice–steel friction, and
+    the extent of the flank contact along the chord.
 
     Defaults (docs/propeller.md, "Blade milling model"): p_ref = 1.28 MPa at A_ref = 1 m² (the project's
     crushing strength, thesis Alg. 3); ex = −0.1, the process pressure–area exponent of the IACS Polar
-    Class ice load model (Daley 2000); μ = 0.15 (thesis Alg. 3).
+    Class ice load model (Daley 2000); μ = 0.15 (thesis Alg. 3). flank_contact_chord_fraction = 0.2: the
+    flank (face or back) touches the ice at most from the leading edge to 0.2 × the local chord — the
+    loaded area of the open-propeller load cases 1 (back, F_b) and 3 (face, F_f) of the ice-class rules
+    (IACS UR I3 / Finnish-Swedish rules, Annex "Load cases for propeller", Table 2.1; 0.5 for a ducted
+    propeller's face), in the direction of Veitch (1994, IAHR Ice Symposium: pressure-side contact limited
+    by cracks from near the leading edge). In [0, 1]: 1 gives the full geometric overlap, 0 the nose
+    (leading edge) alone (docs/propeller.md §10, choice 4).
     """
 
     crushing_pressure_pa: float = CRUSHING_STRENGTH_PA
     reference_area_m2: float = 1.0
     area_exponent: float = -0.1
     friction: float = FRICTION_COEFFICIENT
+    flank_contact_chord_fraction: float = 0.2
 
     def __post_init__(self) -> None:
         require_range("ice.crushing_pressure_pa", self.crushing_pressure_pa, low=0.0, high=1e8, unit="Pa")
@@ -154,6 +162,13 @@ class IceStrength:
         require_range("ice.area_exponent", self.area_exponent, low=-1.0, high=0.0, low_inclusive=True)
         require_range(
             "ice.friction", self.friction, low=0.0, high=1.0, low_inclusive=True, high_inclusive=False
+        )
+        require_range(
+            "ice.flank_contact_chord_fraction",
+            self.flank_contact_chord_fraction,
+            low=0.0,
+            high=1.0,
+            low_inclusive=True,
         )
 
     def pressure_pa(self, area_m2) -> np.ndarray:
@@ -289,7 +304,16 @@ def cut_depth_m(advance_speed_m_s, rpm, blades: int) -> np.ndarray:
 
 
 def section_contact(
-    radius_m, chord_m, thickness_m, pitch_m, rpm, advance_speed_m_s, blades: int, layer_fraction=1.0
+    radius_m,
+    chord_m,
+    thickness_m,
+    pitch_m,
+    rpm,
+    advance_speed_m_s,
+    blades: int,
+    layer_fraction=1.0,
+    *,
+    flank_chord_fraction,
 ):
     """Contact widths of a blade section with the layer it mills (per unit radial length).
 
@@ -297,9 +321,11 @@ def section_contact(
     α = φ − β. The layer each blade removes, measured across the section's path relative to the ice, is
     s = h cos β = 2π r V_a / (Z U) with U = √(V_a² + (ω r)²). The section's frontal width across its path
     is t|cos α| (the nose) + c|sin α| (the face if α > 0, the back if α < 0); only the part inside the layer
-    meets ice: nose w_n = min(t|cos α|, s), flank w_f = min(c|sin α|, s − w_n). `layer_fraction` (≤ 1)
-    scales s where the block is shorter along the axis than the cut depth (its last, partial layer).
-    Returns (w_n, w_f, flank contact length along the chord, α, β, φ, s).
+    is swept: nose w_n = min(t|cos α|, s), flank w_f = min(c|sin α|, s − w_n). The flank touches the ice
+    along the chord over L_f = min(w_f / |sin α|, f c), f = `flank_chord_fraction` (the rest of the swept
+    layer spalls off along cracks from the leading edge; IceStrength.flank_contact_chord_fraction).
+    `layer_fraction` (≤ 1) scales s where the block is shorter along the axis than the cut depth (its last,
+    partial layer). Returns (w_n, w_f, L_f, α, β, φ, s).
     """
     r = np.asarray(radius_m, dtype=float)
     v = np.asarray(advance_speed_m_s, dtype=float)
@@ -314,7 +340,8 @@ def section_contact(
         nose = np.minimum(np.asarray(thickness_m, dtype=float) * np.abs(np.cos(alpha)), layer)
         sin_a = np.abs(np.sin(alpha))
         flank = np.minimum(np.asarray(chord_m, dtype=float) * sin_a, layer - nose)
-        flank_length = np.where(sin_a > 0.0, flank / np.where(sin_a > 0.0, sin_a, 1.0), 0.0)
+        swept_length = np.where(sin_a > 0.0, flank / np.where(sin_a > 0.0, sin_a, 1.0), 0.0)
+        flank_length = np.minimum(swept_length, flank_chord_fraction * np.asarray(chord_m, dtype=float))
     return nose, flank, flank_length, alpha, beta, phi, layer
 
 
@@ -376,7 +403,8 @@ def impact_loads(
 
     The blade span [r_hub, R] is cut into `strips` radial strips; the block covers [R − e, R] with
     e = min(thickness, R − r_hub), each strip counting with its overlap and the overlap's mid radius. The
-    contact area A = Σ (w_n + w_f / |sin α|) Δr sets one pressure p(A) for the blade (process
+    contact area A = Σ (w_n + L_f) Δr (`section_contact`; L_f the flank's contact length along the chord,
+    at most `ice.flank_contact_chord_fraction` × c) sets one pressure p(A) for the blade (process
     pressure–area), and Q = Σ r · (force against rotation), F = Σ axial force (`strip_forces`).
     The layer is at most the block's length along the axis (a block shorter than the cut depth is cut
     once, by its length). `block_motion`: the block is free and thrown out of the disc after
@@ -404,6 +432,7 @@ def impact_loads(
         speed[..., None],
         blade.blades,
         fraction[..., None],
+        flank_chord_fraction=ice.flank_contact_chord_fraction,
     )
     nose_area, flank_area = nose * overlap, flank_length * overlap
     area = np.sum(nose_area + flank_area, axis=-1)

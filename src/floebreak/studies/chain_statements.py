@@ -35,24 +35,29 @@ OPERATING_HOURS_PER_YEAR, OPERATING_YEARS, POLAR_CLASS = 1000.0, 25.0, "PC5"  # 
 
 _QUOTE_62 = "measured shaft torque −100 … 400 kN·m, density above 0.1 % at 58–152 kN·m (h = 0.4 m)"
 _LINK_62 = (
-    "links measured in docs/shaft.md §6 (scripts/chain_6_2.py): the per-impact milling torque, 0.46 MN·m "
-    "for a 0.4 m block at 95.86 % pitch, 3 m/s, 140 rpm (case 1 pulse 0.34 MN·m above the mean; the rule's "
-    "Q_max scaled by H_ice^1.1 to 0.4 m gives 0.15 MN·m), rings the 7.76 Hz mode of the assumed line 17 % "
-    "below the 9.33 Hz blade passage: shaft max 916 kN·m, 424 with a rigid line; tests/shaft/test_drive.py"
+    "links measured in docs/shaft.md §6 (scripts/chain_6_2.py): with the flank contact capped at 0.2 c "
+    "(docs/propeller.md §10, choice 4) the per-impact milling torque of a 0.4 m block at 95.86 % pitch, "
+    "3 m/s, 140 rpm is 219 kN·m (1.49 × the rule's Q_max scaled by H_ice^1.1 to 0.4 m, 147 kN·m): case 1's "
+    "pulse reaches 269 kN·m at the propeller; 221 port cusps × 3.8 impacts keep a blade in the ice for 48 % "
+    "of the 123 s series (33 % of it above 228 kN·m), and pulses at 9.33 Hz ring the assumed line's 7.76 Hz "
+    "mode: shaft max 493 kN·m (252 on a rigid line), range above 0.1 % 90–320 kN·m (100–250 on a rigid "
+    "line, 90–240 with the nose alone); tests/shaft/test_drive.py"
     "::test_one_blade_pulse_rings_the_first_mode_of_the_agulhas_line"
 )
 _LINK_PC5 = (
-    "links measured in docs/propeller.md §10 (selection log): the per-impact milling torque at h = 1 m, 972 "
-    "kN·m at 95.86 % pitch, 3 m/s, 140 rpm, the same for every cusp and 2.4 × the rule's Q_max scaled by "
-    "H_ice^1.1 to 1 m (403 kN·m); tests/propeller/test_milling.py"
-    "::test_the_impact_torque_at_1_m_exceeds_the_rules_thickness_scaling"
+    "links measured in docs/propeller.md §10 (selection log): the per-impact milling torque at h = 1 m with "
+    "the flank contact capped at 0.2 c, 508 kN·m at 95.86 % pitch, 3 m/s, 140 rpm, the same for every cusp "
+    "(so the ratio is the largest load, a lower bound of the lifetime maximum): 0.59 × the PC5 Q_max, "
+    "1.26 × the rule's Q_max scaled by H_ice^1.1 to 1 m (403 kN·m); tests/propeller/test_milling.py"
+    "::test_the_impact_torque_at_1_m_lies_between_the_rules_thickness_scaling_and_q_max"
 )
 _LINK_RATE = (
-    "links measured in docs/propeller.md §10 (selection log): on the reference run 2 426 cusps per hour "
-    "reach one propeller (hull transport, fraction reaching 0.339) with 4.4 blade impacts each "
-    "(a free block is thrown after a few impacts): 2 668 impacts per hour on one blade against "
-    "N_ice / 25 000 h = 560; no published full-scale rate was found to test N_ice's rate for this ship; "
-    "tests/propeller/test_milling.py::test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts"
+    "links measured in docs/propeller.md §10 (selection log): on the reference field 2 342 cusps per hour "
+    "reach one propeller (hull transport) with 6.1 blade impacts each (a free block is thrown after a few "
+    "impacts; the capped, smaller torque per impact throws it more slowly: 4.5 before choice 4): 3 573 "
+    "impacts per hour on one blade against N_ice / 25 000 h = 560; no published full-scale rate was found "
+    "to test N_ice's rate for this ship; tests/propeller/test_milling.py"
+    "::test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts"
 )
 PC5_METRICS = ("pc5_lifetime_max_over_q_max", "pc5_blade_loads_over_rule_rate")
 
