@@ -112,10 +112,10 @@ def test_outlines_at_a_pose():
         pose_angle_rad=np.array([math.pi / 2]),
         interval_steps=5,
     )
-    np.testing.assert_allclose(motion.outlines_at(4)[7], rectangle + [10.0, 0.0])
+    np.testing.assert_allclose(motion.outlines_at(4)[7], rectangle + np.array([10.0, 0.0]))
     # (x, y) turned by +90° is (−y, x)
     expected = np.array([[12.5, 2.0], [12.5, 4.0], [11.5, 4.0], [11.5, 2.0]])
     np.testing.assert_allclose(motion.outlines_at(5)[7], expected, atol=1e-12)
     np.testing.assert_allclose(motion.outlines_at(9)[7], expected, atol=1e-12)
-    assert motion.extent_m() == pytest.approx((12.0 - math.hypot(1, 0.5), 3.0 - math.hypot(1, 0.5),
-                                               12.0 + math.hypot(1, 0.5), 3.0 + math.hypot(1, 0.5)))  # fmt: skip
+    r = math.hypot(1.0, 0.5)  # the rectangle's largest radius
+    assert motion.extent_m() == pytest.approx((12.0 - r, 3.0 - r, 12.0 + r, 3.0 + r))

@@ -777,7 +777,7 @@ def animate(
 ) -> None:
     """Write an animation of the transit (bow advancing, floes breaking, cusps and flipped pieces appearing),
     replayed from DIR/pieces.parquet; the ice of a dynamic run moves, drawn from the poses it recorded
-    (DIR/poses.parquet, simulation.pose_interval_steps). Written atomically; nothing is written on bad input."""
+    (DIR/poses.parquet, simulation.pose_interval_steps). Written atomically; nothing written on bad input."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
     from floebreak.replay import animate_run_directory
