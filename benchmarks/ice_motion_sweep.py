@@ -30,9 +30,9 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.app.run import run
+from floebreak.app.surge import ice_force_series_n
 from floebreak.mechanics import compile_kernels
 from floebreak.propeller.transport import transport_cusp_table
-from floebreak.ship.surge import longitudinal_ice_force_n
 
 # (concentration, generator): circles reach ≈ 0.76 at 100 m width, voronoi any concentration
 CELLS = ((0.2, "circles"), (0.44, "circles"), (0.7, "circles"), (0.7, "voronoi"), (0.9, "voronoi"))
@@ -50,18 +50,8 @@ QUANTITIES = {
 
 def mean_ice_resistance_n(result) -> float:
     """The longitudinal ice force averaged over the transit at constant speed (module docstring)."""
-    sim, contacts = result.simulation, result.contacts
-    arrival, after = longitudinal_ice_force_n(
-        sim.n_steps,
-        contacts["step"],
-        contacts["piece_id"],
-        contacts["panel"],
-        contacts["f_h_n"],
-        np.asarray(contacts["outcome"]) != "no_failure",
-        sim.parent_piece_id,
-        np.asarray(sim.bow.panel_normals, dtype=float)[:, 0],
-    )
-    if sim.n_steps < 2:
+    arrival, after = ice_force_series_n(result)
+    if len(arrival) < 2:
         return 0.0
     return float(np.mean(0.5 * (after[:-1] + arrival[1:])))
 
