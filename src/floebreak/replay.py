@@ -20,7 +20,7 @@ import shapely
 
 from floebreak.errors import InputError, require_range
 from floebreak.io.atomic import atomic_path
-from floebreak.io.poses import POSES_FILE
+from floebreak.io.poses import POSES_FILE, read_poses
 from floebreak.plotting.animation import MAX_FRAMES, PieceMotion, Transit, TransitFigure, frame_steps
 
 FORMATS = ("gif", "mp4")
@@ -120,8 +120,6 @@ def _check_out(out: Path, overwrite: bool) -> None:
 
 def _piece_motion(run_dir: Path, scenario, piece_id: np.ndarray) -> PieceMotion | None:
     """The recorded poses of a dynamic run (None for static ice); InputError when they were not recorded."""
-    from floebreak.io.poses import read_poses
-
     if (scenario.simulation.ice_motion or "static") != "dynamic":
         return None
     path = run_dir / POSES_FILE
