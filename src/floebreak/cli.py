@@ -760,7 +760,11 @@ def animate(
     fps: Annotated[int, typer.Option("--fps", help="frames per second (1 … 60)")] = 10,
     every: Annotated[
         int | None,
-        typer.Option("--every", help="one frame every K bow steps (default: K for at most 200 frames)"),
+        typer.Option(
+            "--every",
+            help="one frame every K bow steps (default: K for at most 200 frames; a dynamic run: a multiple "
+            "of its simulation.pose_interval_steps)",
+        ),
     ] = None,
     fmt: Annotated[
         str | None,
@@ -772,7 +776,8 @@ def animate(
     quiet: QuietOption = False,
 ) -> None:
     """Write an animation of the transit (bow advancing, floes breaking, cusps and flipped pieces appearing),
-    replayed from DIR/pieces.parquet. Written atomically; nothing is written on bad input."""
+    replayed from DIR/pieces.parquet; the ice of a dynamic run moves, drawn from the poses it recorded
+    (DIR/poses.parquet, simulation.pose_interval_steps). Written atomically; nothing written on bad input."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
     from floebreak.replay import animate_run_directory

@@ -2,8 +2,10 @@
 
 Reads ``pieces.parquet`` (every piece with ``created_step``/``ended_step``, written by `floebreak.run`), the
 resolved scenario (the bow is rebuilt with `floebreak.app.run.build_bow`, as in the run) and draws the frames
-with `floebreak.plotting.animation`. The file is written under a temporary name and renamed when complete,
-so a failure leaves nothing; every input is checked before anything is written.
+with `floebreak.plotting.animation`. A `dynamic` run's pieces move: its replay needs the poses recorded with
+``simulation.pose_interval_steps`` (``poses.parquet``, `floebreak.io.poses`), and its frames fall on the
+recorded steps; a dynamic run without them is refused. The file is written under a temporary name and renamed
+when complete, so a failure leaves nothing; every input is checked before anything is written.
 """
 
 from __future__ import annotations
@@ -14,10 +16,12 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+import shapely
 
 from floebreak.errors import InputError, require_range
 from floebreak.io.atomic import atomic_path
-from floebreak.plotting.animation import MAX_FRAMES, Transit, TransitFigure, frame_steps
+from floebreak.io.poses import POSES_FILE, read_poses
+from floebreak.plotting.animation import MAX_FRAMES, PieceMotion, Transit, TransitFigure, frame_steps
 
 FORMATS = ("gif", "mp4")
 PIECE_COLUMNS = ("piece_id", "parent_piece_id", "fate", "created_step", "ended_step")
@@ -114,6 +118,44 @@ def _check_out(out: Path, overwrite: bool) -> None:
         raise InputError("out", f"directory {str(parent)!r} is not writable", allowed="a writable directory")
 
 
+def _piece_motion(run_dir: Path, scenario, piece_id: np.ndarray) -> PieceMotion | None:
+    """The recorded poses of a dynamic run (None for static ice); InputError when they were not recorded."""
+    if (scenario.simulation.ice_motion or "static") != "dynamic":
+        return None
+    path = run_dir / POSES_FILE
+    if not path.is_file():
+        raise InputError(
+            "run_dir",
+            f"{str(run_dir)!r} is a run of moving ice (simulation.ice_motion = dynamic) without "
+            f"{POSES_FILE}: the pieces' motion was not recorded",
+            allowed="a dynamic run made with simulation.pose_interval_steps set (e.g. --set "
+            "simulation.pose_interval_steps=4), or a static run",
+        )
+    outlines, pieces, poses, meta = read_poses(path)
+    index = np.searchsorted(piece_id, pieces["piece_id"])
+    if np.any(index >= len(piece_id)) or np.any(
+        piece_id[np.minimum(index, len(piece_id) - 1)] != pieces["piece_id"]
+    ):
+        raise InputError(
+            "run_dir", f"{POSES_FILE} names pieces that pieces.parquet lacks", allowed=RERUN_HINT
+        )
+    entry = np.column_stack([pieces["entry_x_m"], pieces["entry_y_m"]])
+    rings = tuple(
+        shapely.get_coordinates(shapely.get_exterior_ring(outline)) - xy
+        for outline, xy in zip(outlines, entry, strict=True)
+    )
+    return PieceMotion(
+        piece_index=index,
+        ring_xy_m=rings,
+        entry_xy_m=entry,
+        pose_row=poses["row"],
+        pose_step=poses["step"],
+        pose_xy_m=np.column_stack([poses["x_m"], poses["y_m"]]),
+        pose_angle_rad=poses["angle_rad"],
+        interval_steps=int(meta["pose_interval_steps"]),
+    )
+
+
 def load_transit(run_dir: str | os.PathLike[str]) -> tuple[Transit, str]:
     """The `Transit` of a run directory and a short label (scenario name, profile, seed) for titles."""
     from floebreak.app.run import build_bow
@@ -135,6 +177,7 @@ def load_transit(run_dir: str | os.PathLike[str]) -> tuple[Transit, str]:
     if scenario.ice.thickness_m is None and scenario.ice.thickness_range_m is None:
         floe_field = load_field(run_dir / "field.parquet", field="run_dir")  # bow at the field's mean h
     bow = build_bow(scenario, floe_field)
+    motion = _piece_motion(run_dir, scenario, np.asarray(columns["piece_id"], dtype=np.int64))
     transit = Transit(
         polygons=polygons,
         fate=np.asarray(columns["fate"], dtype=object),
@@ -145,6 +188,7 @@ def load_transit(run_dir: str | os.PathLike[str]) -> tuple[Transit, str]:
         x_start_m=float(meta["x_start_m"]),
         step_m=float(meta["step_m"]),
         n_steps=int(meta["n_steps"]),
+        motion=motion,
     )
     name = scenario.name or scenario.field.observation or scenario.field.source
     return transit, f"{name}, profile {scenario.profile}, seed {scenario.seed}"
@@ -182,7 +226,14 @@ def animate_run_directory(
     out_path = out_path if out_path is not None else run_dir / f"animation.{fmt}"
     _check_out(out_path, overwrite)
     transit, label = load_transit(run_dir)
-    steps = frame_steps(transit.n_steps, every, max_frames)
+    interval = 1 if transit.motion is None else transit.motion.interval_steps
+    if every is not None and every % interval:
+        raise InputError(
+            "every",
+            f"{every}: this dynamic run's poses were recorded every {interval} steps",
+            allowed=f"a multiple of {interval}",
+        )
+    steps = frame_steps(transit.n_steps, every, max_frames, stride_multiple=interval)
     if not steps:
         raise InputError("run_dir", "the run has no steps to show", allowed=RERUN_HINT)
     view = TransitFigure(transit, window_m=window_m, title=label)

@@ -753,6 +753,13 @@ class SimulationSection(_Section):
         description="how the ice moves (docs/model.md, Ice motion): static (never, the thesis) or dynamic "
         "(rigid bodies pushed by the hull and by each other, settings in [ice_motion]); default static",
     )
+    pose_interval_steps: Int | None = Field(
+        None,
+        ge=1,
+        le=1_000_000,
+        description="under ice_motion = dynamic: record the moved pieces' poses every this many steps (and "
+        "at the last) into poses.parquet, for floebreak animate; default: none recorded [-]",
+    )
 
 
 class Scenario(_Section):

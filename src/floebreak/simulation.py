@@ -212,6 +212,9 @@ class StepDone:
     n_candidates: int
     n_cusps: int
     n_flipped: int
+    # under `ice_motion = "dynamic"` the run's `simulation_motion.IceMotion`, to be read, not changed (the
+    # pieces' poses, recorded by `floebreak.app.poses`); None for static ice
+    ice_motion: Any = None
 
 
 Event = RunStarted | ContactEvaluated | StepDone
@@ -667,7 +670,8 @@ class _Run:
         elif touching:
             self._evaluate_queue(step, bow_x, touching, len(candidates) - len(touching))
         self.pieces.prune_behind(bow_x + x0 - d)
-        self.emit(StepDone(step, bow_x, len(candidates), self.counters["cusps"], self.counters["flipped"]))
+        counters = self.counters
+        self.emit(StepDone(step, bow_x, len(candidates), counters["cusps"], counters["flipped"], self.motion))
 
     def _evaluate_queue(self, step: int, bow_x: float, touching: list[int], evaluations: int) -> None:
         """Evaluate the pieces in contact, then the new pieces of their breaks, until nothing more fails.

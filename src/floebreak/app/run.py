@@ -33,6 +33,7 @@ from floebreak.app.build import (
 )
 from floebreak.app.build import field_key as field_key  # re-exported (`as`), as the names below
 from floebreak.app.build import waterline_rule as waterline_rule
+from floebreak.app.poses import PoseRecorder, check_pose_interval
 from floebreak.app.run_directory import CONTACTS_FILE, pieces_table, write_run_directory
 from floebreak.app.run_directory import FIGURES as FIGURES
 from floebreak.app.run_directory import PIECE_FILES as PIECE_FILES
@@ -85,6 +86,7 @@ class Result:
     contact_records: ContactRecords
     summary: dict[str, Any]
     contacts_file: Path | None = None  # the spooled records, if the run streamed them (`run`)
+    poses: PoseRecorder | None = None  # the moved pieces' poses (simulation.pose_interval_steps)
 
     @cached_property
     def contacts(self) -> dict[str, np.ndarray]:
@@ -231,8 +233,12 @@ def run(
         else ContactFile(Path(spool) / CONTACTS_FILE, _provenance(scenario, "contacts"), empty_contacts())
     )
     recorder = ContactRecorder(sink=None if contacts_file is None else contacts_file.write)
+    interval = scenario.simulation.pose_interval_steps
+    check_pose_interval(interval, params.ice_motion)
+    poses = None if interval is None else PoseRecorder(interval)
+    extra = [] if poses is None else [poses]
     try:
-        simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *callbacks])
+        simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *extra, *callbacks])
         records = recorder.records()  # the last chunk of records too
     except BaseException:
         if contacts_file is not None:
@@ -256,7 +262,7 @@ def run(
         "wall_time_s": time.perf_counter() - started,
     }
     path = None if contacts_file is None else contacts_file.path
-    result = Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path)
+    result = Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path, poses=poses)
     result.summary.update(surge_summary(result))  # only with ship.propulsion (app/surge.py)
     return result
 

@@ -17,6 +17,8 @@ directory atomically (temporary sibling, renamed when complete; a failed run lea
   whole, "" if none; `floebreak.results.failure_chain` rebuilds a piece's chain); the metadata adds
   ``x_start_m``, ``step_m``, ``n_steps`` (bow x at step s = x_start_m + s·step_m). Enough to replay the
   transit (``floebreak animate``);
+- ``poses.parquet`` (a `dynamic` run with ``simulation.pose_interval_steps``): the poses of the pieces the
+  ice motion moved, every that many steps (`floebreak.app.poses`, `floebreak.io.poses`), for the animation;
 - ``scenario.resolved.toml`` (every default filled in), ``figures/*.png``, ``report.html``.
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
@@ -34,6 +36,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
+from floebreak.app.poses import write_pose_file
 from floebreak.app.surge import write_surge_series
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField
@@ -229,6 +232,7 @@ def _write_run_files(
             {**result.provenance("pieces"), **stepping},
         )
         write_surge_series(temp, result)  # surge.csv, only with ship.propulsion
+        write_pose_file(temp, result, result.provenance("poses"))  # only with simulation.pose_interval_steps
         summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
         write_json(temp / "summary.json", summary_doc)
         header = (

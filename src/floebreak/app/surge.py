@@ -23,15 +23,12 @@ if TYPE_CHECKING:
 SURGE_FILE = "surge.csv"
 
 
-def surge_of(result: Result) -> SurgeResult | None:
-    """The ship's surge along the run's transit, None without ``ship.propulsion``."""
-    section = result.scenario.ship.propulsion
-    if section is None:
-        return None
-    propulsion = section.to_propulsion()
+def ice_force_series_n(result: Result) -> tuple[np.ndarray, np.ndarray]:
+    """The run's longitudinal ice force on the bow at each step, on arrival and after the step's breaks
+    (`floebreak.ship.surge.longitudinal_ice_force_n`) [N]."""
     sim = result.simulation
     contacts = result.contacts
-    arrival, after = longitudinal_ice_force_n(
+    return longitudinal_ice_force_n(
         sim.n_steps,
         contacts["step"],
         contacts["piece_id"],
@@ -41,6 +38,16 @@ def surge_of(result: Result) -> SurgeResult | None:
         sim.parent_piece_id,
         np.asarray(sim.bow.panel_normals, dtype=float)[:, 0],
     )
+
+
+def surge_of(result: Result) -> SurgeResult | None:
+    """The ship's surge along the run's transit, None without ``ship.propulsion``."""
+    section = result.scenario.ship.propulsion
+    if section is None:
+        return None
+    propulsion = section.to_propulsion()
+    sim = result.simulation
+    arrival, after = ice_force_series_n(result)
     x = sim.params.x_start_m + sim.params.step_m * np.arange(sim.n_steps)
     return integrate_surge(x, arrival, after, propulsion, result.scenario.ship.speed_m_s)
 

@@ -3,7 +3,10 @@
 Pure drawing: `Transit` holds every piece of a run with its life span (``created_step``, ``ended_step`` as in
 ``pieces.parquet``) and the bow outline; `TransitFigure.draw(step)` draws the state after that step on one
 figure (ice still in the field blue, flipped pieces orange and cusps red where they left the field, the bow's
-ice waterlines at the current position). Writing the frames to a file is `floebreak.replay`'s job.
+ice waterlines at the current position). A `dynamic` run's pieces move: its `Transit` also holds
+`PieceMotion`, the recorded poses of the moved pieces (``poses.parquet``), and a moved piece in the field is
+drawn at its latest recorded pose at or before the step. Writing the frames to a file is `floebreak.replay`'s
+job.
 """
 
 from __future__ import annotations
@@ -27,6 +30,54 @@ MARGIN_M = 2.0
 
 
 @dataclass(frozen=True, eq=False)
+class PieceMotion:
+    """The recorded poses of the pieces a `dynamic` run moved (the layout of ``poses.parquet``).
+
+    Per moved piece (row): its index among `Transit.polygons` and its outline relative to its centroid where
+    it entered the engine (`ring_xy_m`); per pose (sorted by row, then step): the row, the step, the centroid
+    and the rotation from the entry outline (counter-clockwise). Poses were kept every `interval_steps` steps
+    and at the last, only when a piece's pose had changed.
+    """
+
+    piece_index: np.ndarray
+    ring_xy_m: tuple[np.ndarray, ...]
+    entry_xy_m: np.ndarray  # (rows, 2)
+    pose_row: np.ndarray
+    pose_step: np.ndarray
+    pose_xy_m: np.ndarray  # (poses, 2)
+    pose_angle_rad: np.ndarray
+    interval_steps: int
+
+    def outlines_at(self, step: int) -> dict[int, np.ndarray]:
+        """Piece index → its outline's vertices at its latest pose at or before `step` (where it entered, if
+        it had not moved by then)."""
+        bounds = np.searchsorted(self.pose_row, np.arange(len(self.piece_index) + 1))
+        outlines = {}
+        for row, piece in enumerate(self.piece_index.tolist()):
+            lo, hi = bounds[row], bounds[row + 1]
+            k = lo + int(np.searchsorted(self.pose_step[lo:hi], step, side="right")) - 1
+            if k < lo:
+                outlines[piece] = self.ring_xy_m[row] + self.entry_xy_m[row]
+                continue
+            c, s = math.cos(self.pose_angle_rad[k]), math.sin(self.pose_angle_rad[k])
+            outlines[piece] = self.ring_xy_m[row] @ np.array([[c, s], [-s, c]]) + self.pose_xy_m[k]
+        return outlines
+
+    def extent_m(self) -> tuple[float, float, float, float] | None:
+        """(x0, y0, x1, y1) covering every recorded pose of every moved piece, None without poses."""
+        if not len(self.pose_row):
+            return None
+        radius = np.array([np.hypot(r[:, 0], r[:, 1]).max() for r in self.ring_xy_m])[self.pose_row]
+        x, y = self.pose_xy_m[:, 0], self.pose_xy_m[:, 1]
+        return (
+            float((x - radius).min()),
+            float((y - radius).min()),
+            float((x + radius).max()),
+            float((y + radius).max()),
+        )
+
+
+@dataclass(frozen=True, eq=False)
 class Transit:
     """Every piece of a run with its life span, and the bow (bow frame: upper stem tip at the origin).
 
@@ -44,6 +95,7 @@ class Transit:
     x_start_m: float
     step_m: float
     n_steps: int
+    motion: PieceMotion | None = None  # a dynamic run's recorded poses
 
     def bow_x_m(self, step: int) -> float:
         return self.x_start_m + step * self.step_m
@@ -67,6 +119,9 @@ class Transit:
         if len(self.polygons):
             bx0, by0, bx1, by1 = shapely.total_bounds(self.polygons)
             x0, y0, x1, y1 = min(x0, bx0), min(y0, by0), max(x1, bx1), max(y1, by1)
+        moved = self.motion.extent_m() if self.motion is not None else None
+        if moved is not None:
+            x0, y0, x1, y1 = min(x0, moved[0]), min(y0, moved[1]), max(x1, moved[2]), max(y1, moved[3])
         return (
             float(x0 - MARGIN_M),
             float(y0 - MARGIN_M),
@@ -75,15 +130,19 @@ class Transit:
         )
 
 
-def frame_steps(n_steps: int, every: int | None = None, max_frames: int = MAX_FRAMES) -> list[int]:
+def frame_steps(
+    n_steps: int, every: int | None = None, max_frames: int = MAX_FRAMES, stride_multiple: int = 1
+) -> list[int]:
     """Steps shown as frames: 0, K, 2K, … and always the last step.
 
-    Without `every`, K is the smallest step stride that keeps the count ≤ `max_frames`.
+    Without `every`, K is the smallest multiple of `stride_multiple` (a dynamic run's pose interval: its
+    poses are known at those steps) that keeps the count ≤ `max_frames`.
     """
     if n_steps <= 0:
         return []
     if every is None:
         every = max(1, math.ceil((n_steps - 1) / max(max_frames - 1, 1)))
+        every = stride_multiple * math.ceil(every / stride_multiple)
     steps = list(range(0, n_steps, every))
     if steps[-1] != n_steps - 1:
         steps.append(n_steps - 1)
@@ -155,6 +214,10 @@ class TransitFigure:
         self._owner = owner
         bounds = shapely.bounds(parts) if len(parts) else np.zeros((0, 4))
         self._part_x0, self._part_x1 = bounds[:, 0], bounds[:, 2]
+        # parts of moved pieces: drawn at their poses while in the field
+        self._posed = np.zeros(len(owner), dtype=bool)
+        if transit.motion is not None:
+            self._posed = np.isin(owner, transit.motion.piece_index)
         self._collections = {}
         for key, colour in (("field", UNTOUCHED_COLOUR), ("flipped", FLIPPED_COLOUR), ("cusp", CUSP_COLOUR)):
             collection = PolyCollection([], facecolors=colour, edgecolors="k", linewidths=0.15)
@@ -180,8 +243,14 @@ class TransitFigure:
         state = transit.state(step)
         visible = (self._part_x1 >= xlim[0]) & (self._part_x0 <= xlim[1])
         for key, collection in self._collections.items():
-            parts = np.flatnonzero(state[key][self._owner] & visible)
-            collection.set_verts([self._verts[i] for i in parts])
+            shown = state[key][self._owner]
+            if key != "field" or transit.motion is None:
+                collection.set_verts([self._verts[i] for i in np.flatnonzero(shown & visible)])
+                continue
+            moved = transit.motion.outlines_at(step)
+            verts = [self._verts[i] for i in np.flatnonzero(shown & visible & ~self._posed)]
+            verts += [moved[self._owner[i]] for i in np.flatnonzero(shown & self._posed)]
+            collection.set_verts(verts)
         bow_x = transit.bow_x_m(step)
         upper, lower = np.asarray(transit.upper_xy_m), np.asarray(transit.lower_xy_m)
         self._upper_line.set_data(upper[:, 0] + bow_x, upper[:, 1])
