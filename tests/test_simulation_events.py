@@ -162,6 +162,18 @@ def _summary(scenario: dict) -> tuple:
     return tuple(summary[k] for k in ("n_cusps", "n_flipped", "n_breaks", "cusp_area_m2", "flipped_area_m2"))
 
 
+def test_the_run_summary_records_its_event_location():
+    """The summary says where failures were placed, also when the profile chose it (not in the scenario)."""
+    import floebreak
+    from floebreak.profiles import DEFAULT_EVENT_LOCATION
+
+    small = {"profile": "default", "seed": 3, "field": {"length_m": 30.0, "width_m": 20.0}}
+    assert floebreak.run(small).summary["event_location"] == DEFAULT_EVENT_LOCATION
+    located = floebreak.run({**small, "simulation": {"event_location": "root", "event_tolerance_m": 0.02}})
+    assert located.summary["event_location"] == "root"
+    assert located.summary["event_tolerance_m"] == 0.02
+
+
 LOCATED = {
     "profile": "default",
     "seed": 3,
