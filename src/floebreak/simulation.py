@@ -633,6 +633,9 @@ class _Run:
         # broken pieces may be nearly degenerate, and so may floes that no generator of ours made (a file,
         # inline floes): those are checked after every translation (`_translate_pieces`); generated ones not
         self.check_floes = floe_field.metadata.get("generator") not in GENERATORS
+        # event_location = "root": the margins of the pieces judged intact at the last contact search, by
+        # piece id, as (bow x, margin): where the next search's brackets start (`simulation_events`)
+        self.search_margins: dict[int, tuple[float, float | None]] = {}
         self.motion = None
         if params.ice_motion == "dynamic":  # imported here: the physics engine loads only when used
             from floebreak.simulation_motion import IceMotion
