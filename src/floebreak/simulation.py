@@ -119,7 +119,7 @@ class SimulationParams:
     # None: WALL_S_BASE + WALL_S_PER_KM per km of transit
     max_wall_s: float | None = None
     # where a failure happens between two contact searches (`floebreak.simulation_events`): at the search
-    # position ("step_end", thesis §3.2) or located by bisection to within `event_tolerance_m` ("root")
+    # position ("step_end", thesis §3.2) or located to within `event_tolerance_m` ("root")
     event_location: Literal["step_end", "root"] = "step_end"
     event_tolerance_m: float = EVENT_TOLERANCE_M
     # how the ice moves (`floebreak.simulation_motion`, docs/model.md "Ice motion"): never ("static", the
