@@ -27,33 +27,67 @@ def _counting(outcome_at, trials):
     return trial
 
 
-def test_without_margins_the_search_bisects_to_the_first_failure():
+def test_without_margins_the_search_tries_the_lower_end_then_bisects():
+    """No margin at either end (rotation of a piece too small to break has no criterion): the first trial
+    is τ·0.95 above the lower end (such a piece leaves where it first touches the hull), then bisection."""
     threshold, trials = 0.3141, []
     outcome = lambda x: (("failed at", x) if x >= threshold else None, None)  # noqa: E731
     x, value = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), 0.01)
     assert threshold <= x <= threshold + 0.01
     assert value == ("failed at", x)  # the evaluation of the position returned, not of the bracket's end
-    assert len(trials) == math.ceil(math.log2(1.0 / 0.01))  # halving a 1 m bracket to 1 cm: 7 trials
-    # the trial positions are a function of the bracket alone
-    again = []
+    assert trials[0] == pytest.approx(0.0095)
+    # then halving the remaining 0.9905 m to 1 cm: ⌈log₂(99.05)⌉ = 7 trials
+    assert len(trials) == 1 + math.ceil(math.log2(0.9905 / 0.01))
+    again = []  # the trial positions are a function of the bracket alone
     locate_event(0.0, 1.0, None, _counting(outcome, again), 0.01)
     assert again == trials
+    at_touch = []
+    first_touch = lambda x: (("failed at", x) if x >= 0.002 else None, None)  # noqa: E731
+    assert locate_event(0.0, 1.0, None, _counting(first_touch, at_touch), 0.01)[0] == pytest.approx(0.0095)
+    assert len(at_touch) == 1
+
+
+def _square_law_margin(threshold, contact_start):
+    """ln(driving/resistance) of a load that grows as the square of the indentation (contact since
+    `contact_start`), against a constant resistance, met at `threshold`."""
+    return lambda x: 2.0 * math.log((x - contact_start) / (threshold - contact_start))
+
+
+def test_a_load_growing_as_the_square_of_the_indentation_is_located_in_two_trials():
+    """√(driving/resistance) is then straight in the bow position: with the margins of both ends the first
+    estimate is exact and two trials straddling it close the bracket (bisection: seven)."""
+    threshold, trials = 0.3141, []
+    margin = _square_law_margin(threshold, -0.2)
+
+    def outcome(x):
+        return ("failed at", x) if margin(x) > 0.0 else None, margin(x)
+
+    ends = margin(1.0), margin(0.0)
+    x, value = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), 0.01, *ends)
+    assert threshold < x <= threshold + 0.01
+    assert value == ("failed at", x)
+    assert len(trials) == 2
+    without_lower = []  # no margin at the lower end: a midpoint first
+    locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, without_lower), 0.01, margin(1.0))
+    assert len(without_lower) <= 4
 
 
 def test_a_linear_margin_is_located_in_fewer_trials_than_bisection():
-    """A margin linear in x (ln(driving/resistance) of a criterion that grows steadily over the bracket):
-    regula falsi brackets its zero to the tolerance in at most four trials, where bisection takes seven."""
-    threshold, trials = 0.3141, []
+    """A margin linear in x (ln(driving/resistance) of a criterion that grows steadily over the bracket)."""
+    threshold = 0.3141
+    for slope in (2.0, 5.0):
+        trials = []
 
-    def outcome(x):
-        margin = 2.0 * (x - threshold)
-        return ("failed at", x) if margin > 0.0 else None, margin
+        def outcome(x, slope=slope):
+            margin = slope * (x - threshold)
+            return ("failed at", x) if margin > 0.0 else None, margin
 
-    x, value = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), 0.01, 2.0 * 0.6859)
-    assert threshold < x <= threshold + 0.01
-    assert value == ("failed at", x)
-    assert len(trials) <= 4
-    assert all(0.0 < t < 1.0 for t in trials)
+        ends = slope * (1.0 - threshold), -slope * threshold
+        x, value = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), 0.01, *ends)
+        assert threshold < x <= threshold + 0.01
+        assert value == ("failed at", x)
+        assert len(trials) <= 5
+        assert all(0.0 < t < 1.0 for t in trials)
 
 
 def test_a_margin_that_disagrees_with_the_outcome_does_not_move_the_bracket_wrongly():
@@ -160,6 +194,18 @@ def _summary(scenario: dict) -> tuple:
 
     summary = floebreak.run(scenario).summary
     return tuple(summary[k] for k in ("n_cusps", "n_flipped", "n_breaks", "cusp_area_m2", "flipped_area_m2"))
+
+
+def test_the_run_summary_records_its_event_location():
+    """The summary says where failures were placed, also when the profile chose it (not in the scenario)."""
+    import floebreak
+    from floebreak.profiles import DEFAULT_EVENT_LOCATION
+
+    small = {"profile": "default", "seed": 3, "field": {"length_m": 30.0, "width_m": 20.0}}
+    assert floebreak.run(small).summary["event_location"] == DEFAULT_EVENT_LOCATION
+    located = floebreak.run({**small, "simulation": {"event_location": "root", "event_tolerance_m": 0.02}})
+    assert located.summary["event_location"] == "root"
+    assert located.summary["event_tolerance_m"] == 0.02
 
 
 LOCATED = {

@@ -119,7 +119,7 @@ class SimulationParams:
     # None: WALL_S_BASE + WALL_S_PER_KM per km of transit
     max_wall_s: float | None = None
     # where a failure happens between two contact searches (`floebreak.simulation_events`): at the search
-    # position ("step_end", thesis §3.2) or located by bisection to within `event_tolerance_m` ("root")
+    # position ("step_end", thesis §3.2) or located to within `event_tolerance_m` ("root")
     event_location: Literal["step_end", "root"] = "step_end"
     event_tolerance_m: float = EVENT_TOLERANCE_M
     # how the ice moves (`floebreak.simulation_motion`, docs/model.md "Ice motion"): never ("static", the
@@ -636,6 +636,9 @@ class _Run:
         # broken pieces may be nearly degenerate, and so may floes that no generator of ours made (a file,
         # inline floes): those are checked after every translation (`_translate_pieces`); generated ones not
         self.check_floes = floe_field.metadata.get("generator") not in GENERATORS
+        # event_location = "root": the margins of the pieces judged intact at the last contact search, by
+        # piece id, as (bow x, margin): where the next search's brackets start (`simulation_events`)
+        self.search_margins: dict[int, tuple[float, float | None]] = {}
         self.motion = None
         if params.ice_motion == "dynamic":  # imported here: the physics engine loads only when used
             from floebreak.simulation_motion import IceMotion

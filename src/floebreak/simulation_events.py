@@ -5,17 +5,20 @@ The stepping engine searches contacts every `step_m` with the bow position as it
 position where its failure is first seen, so the indentation at failure — and with it the pieces' sizes —
 depends on the step. With ``"root"`` a piece that had not failed at its last known position x₀ (the previous
 search, the position where it was made, or where it could first touch the hull) and fails at the search
-position x₁ breaks at the bow position x* ∈ (x₀, x₁] where its failure is first met, found by bisection on the
-outcome of the whole dispatch (failed / not failed) to within `event_tolerance_m`. The failure modes expose
-no continuous margin (the dispatch mixes bending, cracking and rotation, each with its own criterion and
-`PASS_ON`), so the bracket is halved on the outcome itself; the located evaluation is the failed one at the
-bracket's upper end. Its children are evaluated at x*, and those that survive there again at x₁, with the
-same location between x* and x₁; so `step_m` only sets how often contacts are searched.
+position x₁ breaks at the bow position x* ∈ (x₀, x₁] where its failure is first met, found to within
+`event_tolerance_m` by narrowing a bracket on the outcome of the whole dispatch (failed / not failed). The
+outcome alone moves the bracket; the deciding criterion's margin (`Outcome.margin`), where it has one of the
+outcome's sign, places the trials (`locate_event`): its zero is estimated by a secant and straddled. The
+margin at x₀ comes from the piece's evaluation there (kept from the previous search, `_Run.search_margins`,
+or from the position where the piece was made), so a margin that behaves as the model expects is located in
+two trials. The located evaluation is the failed one at the bracket's upper end. Its children are evaluated
+at x*, and those that survive there again at x₁, with the same location between x* and x₁; so `step_m` only
+sets how often contacts are searched.
 
-Bisection finds *a* crossing of the outcome in the bracket: the first one when the outcome changes once,
+The search finds *a* crossing of the outcome in the bracket: the first one when the outcome changes once,
 which is the usual case over a step (the indentation grows monotonically as the bow advances). The trial
-positions are a function of the bracket alone: runs stay deterministic and mirror-symmetric. Trials are not
-reported to callbacks and do not count as evaluations; only the located failure (at x*) is.
+positions are a function of the bracket and the margins found: runs stay deterministic and mirror-symmetric.
+Trials are not reported to callbacks and do not count as evaluations; only the located failure (at x*) is.
 
 The functions here drive a `floebreak.simulation._Run` through its methods (`bow_frame`, `contacts`,
 `_judge`, `_apply`, `_quiet`, `check_time`) and import nothing from it.
@@ -23,6 +26,7 @@ The functions here drive a `floebreak.simulation._Run` through its methods (`bow
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from collections.abc import Callable
 from typing import Any, NamedTuple
@@ -37,77 +41,105 @@ EVENT_TOLERANCE_M = 0.01
 
 class _Item(NamedTuple):
     """A piece to evaluate at bow position `x` (`polygon_bf` in that bow frame), known not to have failed at
-    any position up to `lo`."""
+    any position up to `lo`; `margin_lo` its `Outcome.margin` at `lo` if it was judged intact there."""
 
     pid: int
     polygon_bf: Any
     x: float
     lo: float
+    margin_lo: float | None = None
 
 
-def locate_event(lo: float, hi: float, at_hi: Any, trial: Trial, tolerance_m: float, margin_hi=None):
-    """The first failure in (lo, hi] to within `tolerance_m`: the outcome does not fail at `lo`, fails at
-    `hi` with `at_hi`; `trial(x)` gives (the failed evaluation at x or None, its margin or None). Returns
-    (x, evaluation at x), x the upper end of the final bracket (a failed position, never more than
-    `tolerance_m` past the last position found intact).
+def locate_event(lo, hi, at_hi, trial, tolerance_m, margin_hi=None, margin_lo=None):
+    """The first failure in (lo, hi] to within `tolerance_m`: the outcome does not fail at `lo` (its margin
+    there `margin_lo`, if known), fails at `hi` with `at_hi` (margin `margin_hi`); `trial(x)` gives (the
+    failed evaluation at x or None, its margin or None). Returns (x, evaluation at x), x the upper end of the
+    final bracket (a failed position, never more than `tolerance_m` past the last position found intact).
 
     The bracket is narrowed on the outcome alone; the margins (`Outcome.margin`, ln(driving/resistance) of
-    the deciding criterion) only place the next trial (`_next_trial`; Illinois-weighted regula falsi: an
-    end that stays twice has its margin halved). The trial positions are a function of the bracket and the
-    margins found alone: runs stay deterministic."""
-    ends = {"lo": None, "hi": _signed(margin_hi, True)}  # usable margins at the bracket's ends
+    the deciding criterion) only place the next trial (`_next_trial`). The trial positions are a function of
+    the bracket and the margins found alone: runs stay deterministic."""
+    ends = {"lo": _usable(margin_lo, False), "hi": _usable(margin_hi, True)}
     last: list = []  # the last two (position, usable margin)
-    previous = None
+    widths = [hi - lo]  # the bracket's width before each trial
     while hi - lo > tolerance_m:
-        x = _next_trial(lo, hi, ends, last, tolerance_m)
-        found, margin = trial(x)
-        side = "hi" if found is not None else "lo"
-        if found is None:
-            lo = x
+        if len(widths) >= 4 and hi - lo > 0.5 * widths[-4]:
+            x = 0.5 * (lo + hi)  # three trials did not halve the bracket: the margin is far from straight
         else:
-            hi, at_hi = x, found
-        other = "lo" if side == "hi" else "hi"
-        if previous == side and ends[other] is not None:
-            ends[other] *= 0.5  # Illinois: the other end stayed twice, so it pulls the next trial less
-        ends[side] = usable = _signed(margin, found is not None)
+            x = _next_trial(lo, hi, ends, last, tolerance_m, len(widths) == 1)
+        found, margin = trial(x)
+        usable = _usable(margin, found is not None)
+        if found is None:
+            lo, ends["lo"] = x, usable
+        else:
+            hi, at_hi, ends["hi"] = x, found, usable
         last = [] if usable is None else [*last[-1:], (x, usable)]
-        previous = side
+        widths.append(hi - lo)
     return hi, at_hi
 
 
-def _signed(margin: float | None, failed: bool) -> float | None:
-    """A margin usable for the secant: of the outcome's sign, else None (the outcome was decided by
-    something else than the criterion, e.g. a split that separates nothing or a mode without a margin)."""
+def _usable(margin: float | None, failed: bool) -> float | None:
+    """√(driving/resistance) − 1 = exp(margin/2) − 1 for the secant, or None where the margin is not of the
+    outcome's sign (the outcome was decided by something else than the criterion, e.g. a split that
+    separates nothing or a mode without a margin). The square root: the contact load grows about as the
+    square of the indentation, so this is close to linear in the bow position over a step (fewer trials than
+    the margin itself, benchmarks/README.md)."""
     if margin is None or (margin > 0.0) != failed:
         return None
-    return margin
+    return math.expm1(0.5 * margin)
 
 
-def _next_trial(lo: float, hi: float, ends: dict, last: list, tolerance_m: float) -> float:
-    """Regula falsi between the bracket's ends where both have a usable margin, else the secant's zero
-    through the last two positions with one (the margin is near linear in the bow position over a step),
-    else the midpoint; at least `tolerance_m`/2 inside the bracket (wider than `tolerance_m`), so each
-    trial narrows it by that much."""
-    if ends["lo"] is not None and ends["hi"] is not None:
-        (x0, m0), (x1, m1) = (lo, ends["lo"]), (hi, ends["hi"])
-    elif len(last) == 2 and last[0][1] != last[1][1]:
-        (x0, m0), (x1, m1) = last
+def _next_trial(lo: float, hi: float, ends: dict, last: list, tolerance_m: float, first: bool) -> float:
+    """Where the zero of the usable margin lies — regula falsi between the bracket's ends where both have
+    one, else the secant through the last two trials with one — the next trial straddles it: τ/2 to the
+    side of the larger part of the bracket, or, once the estimate is within τ of an end, at τ from that end,
+    so that a straight margin closes the bracket in two trials. With no estimate: the midpoint, or, at the
+    first trial with no margin at either end, just above `lo` (a mode without a criterion, rotation of an
+    unbreakable piece, acts when the piece first touches the hull, at the bracket's lower end). Always at
+    least τ/20 inside the bracket (wider than τ)."""
+    zero = _secant_zero(lo, hi, ends, last)
+    if zero is None:
+        nothing_known = first and ends["lo"] is None and ends["hi"] is None
+        x = lo + 0.95 * tolerance_m if nothing_known else 0.5 * (lo + hi)
+    elif hi - zero <= 0.9 * tolerance_m:
+        x = hi - 0.95 * tolerance_m  # an intact trial here closes the bracket
+    elif zero - lo <= 0.9 * tolerance_m:
+        x = lo + 0.95 * tolerance_m  # a failed trial here closes the bracket
     else:
-        return 0.5 * (lo + hi)
-    x = x1 - m1 * (x1 - x0) / (m1 - m0)
-    return min(max(x, lo + 0.5 * tolerance_m), hi - 0.5 * tolerance_m)
+        x = zero - 0.45 * tolerance_m if hi - zero > zero - lo else zero + 0.45 * tolerance_m
+    return min(max(x, lo + 0.05 * tolerance_m), hi - 0.05 * tolerance_m)
+
+
+def _secant_zero(lo: float, hi: float, ends: dict, last: list) -> float | None:
+    """The zero of the line through the last two trials' usable margins if it lies in the bracket (they are
+    the nearest to it), else through the bracket's ends'."""
+    if len(last) == 2 and last[0][1] != last[1][1]:
+        zero = _line_zero(*last)
+        if lo < zero < hi:
+            return zero
+    if ends["lo"] is not None and ends["hi"] is not None:
+        return _line_zero((lo, ends["lo"]), (hi, ends["hi"]))
+    return None
+
+
+def _line_zero(a: tuple[float, float], b: tuple[float, float]) -> float:
+    (x0, m0), (x1, m1) = a, b
+    return x1 - m1 * (x1 - x0) / (m1 - m0)
 
 
 def locate_step(run, step: int, x0: float, x1: float, touching: list[int], evaluations: int) -> None:
     """`_Run._evaluate_queue` with located events: the pieces in contact at the search position `x1` (the
     previous search at `x0`), their breaks at located positions, the children at theirs, until nothing more
     fails up to `x1`. Contacts are evaluated in batches as in `_evaluate_queue` (each item in its own bow
-    frame: a contact depends on the piece's bow-frame polygon only)."""
-    pieces = run.pieces
-    queue = deque(
-        _Item(pid, polygon, x1, max(x0, pieces.quiet_until[pid]))
-        for pid, polygon in zip(touching, run.bow_frame(touching, x1), strict=True)
-    )
+    frame: a contact depends on the piece's bow-frame polygon only). The margins of the pieces judged intact
+    at `x1` are kept (`run.search_margins`) for the brackets of the next search, which start at `x1`."""
+    pieces, previous = run.pieces, run.search_margins
+    run.search_margins = {}
+    queue = deque()
+    for pid, polygon in zip(touching, run.bow_frame(touching, x1), strict=True):
+        lo = max(x0, pieces.quiet_until[pid])
+        known_x, margin = previous.get(pid, (math.nan, None))
+        queue.append(_Item(pid, polygon, x1, lo, margin if abs(known_x - lo) <= 1e-9 else None))
     batch: deque = deque()
     while queue:
         if not batch:
@@ -123,19 +155,22 @@ def locate_step(run, step: int, x0: float, x1: float, touching: list[int], evalu
 def _settle(run, step: int, x1: float, item: _Item, contact) -> list[_Item]:
     """Evaluate one item; a failure is located in (item.lo, item.x] and applied there. The items that
     follow: the children at the located position, or the piece itself at `x1` if it survived before it."""
-    pid, polygon_bf, x, lo = item
+    pid, polygon_bf, x, lo, margin_lo = item
     if not contact.in_contact:
         run._quiet(pid, polygon_bf, x)
-        return _again(run, pid, x, x1)
+        return _again(run, pid, x, x1, None)
     judged = run._judge(pid, polygon_bf, contact)
     tolerance_m = run.params.event_tolerance_m
     if judged[1].failed and x - lo > tolerance_m:
         trial = lambda trial_x: _failed_at(run, pid, trial_x)  # noqa: E731
-        x, (contact, judged) = locate_event(lo, x, (contact, judged), trial, tolerance_m, judged[1].margin)
+        located = locate_event(lo, x, (contact, judged), trial, tolerance_m, judged[1].margin, margin_lo)
+        x, (contact, judged) = located
     children = run._apply(step, x, pid, contact, judged)
     if judged[1].failed:
         return [_Item(child, child_bf, x, x) for child, child_bf in children]
-    return _again(run, pid, x, x1)
+    if x == x1:
+        run.search_margins[pid] = (x1, judged[1].margin)
+    return _again(run, pid, x, x1, judged[1].margin)
 
 
 def _failed_at(run, pid: int, x: float):
@@ -150,10 +185,11 @@ def _failed_at(run, pid: int, x: float):
     return ((contact, judged) if judged[1].failed else None), judged[1].margin
 
 
-def _again(run, pid: int, x: float, x1: float) -> list[_Item]:
-    """A piece that did not fail at `x` before the search position `x1` is evaluated again at `x1`, unless
-    it cannot touch the hull by then (`quiet_until`)."""
+def _again(run, pid: int, x: float, x1: float, margin: float | None) -> list[_Item]:
+    """A piece that did not fail at `x` (its margin there `margin`) before the search position `x1` is
+    evaluated again at `x1`, unless it cannot touch the hull by then (`quiet_until`)."""
     quiet = run.pieces.quiet_until[pid]
     if x >= x1 or quiet > x1:
         return []
-    return [_Item(pid, run.bow_frame([pid], x1)[0], x1, max(x, quiet))]
+    lo = max(x, quiet)
+    return [_Item(pid, run.bow_frame([pid], x1)[0], x1, lo, margin if lo == x else None)]

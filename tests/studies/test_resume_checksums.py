@@ -45,3 +45,24 @@ def test_an_untouched_summary_is_trusted(tmp_path):
     summary_file.write_text(json.dumps(doc) + "\n", encoding="utf-8")  # other layout, same content
     state = run_study(spec, runs, members, tmp_path)
     assert state.skipped == 1 and state.done == 1
+
+
+def test_a_study_resumed_under_another_event_location_runs_again(tmp_path, monkeypatch):
+    """The profile's event location is not in the scenario hash (the scenario does not state it): a run made
+    under one default is not reused under another (issue 32 item 4)."""
+    from floebreak import profiles
+
+    spec = study_from_dict(STUDY)
+    runs, members = expand(spec)
+    run_study(spec, runs, members, tmp_path)
+    summary_file = tmp_path / "runs" / "run-00000" / "summary.json"
+    first = json.loads(summary_file.read_text(encoding="utf-8"))
+    assert first["event_location"] == profiles.DEFAULT_EVENT_LOCATION
+    other = "root" if profiles.DEFAULT_EVENT_LOCATION == "step_end" else "step_end"
+    monkeypatch.setattr(profiles, "DEFAULT_EVENT_LOCATION", other)
+
+    state = run_study(spec, runs, members, tmp_path)
+    assert state.skipped == 0 and state.done == 1 and state.failed == 0
+    again = json.loads(summary_file.read_text(encoding="utf-8"))
+    assert again["event_location"] == other and again["scenario_hash"] == first["scenario_hash"]
+    assert run_study(spec, runs, members, tmp_path).skipped == 1  # and now it is trusted again

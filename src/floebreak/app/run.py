@@ -254,6 +254,9 @@ def run(
         "seed": scenario.seed,
         "scenario_hash": scenario.hash(),
         "model_hash": model.fingerprint(),
+        # where failures happen between contact searches: not in the scenario hash when the profile sets it
+        "event_location": params.event_location,
+        "event_tolerance_m": params.event_tolerance_m,
     }
     tail = {
         "field_shift_m": float(sum(s["dx_m"] for s in shift)) if shift else 0.0,

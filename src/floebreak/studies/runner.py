@@ -15,11 +15,11 @@ reads them: the design points then see the same fields even when the runs go to 
 CPUs make OpenBLAS pick other kernels, with which the packing would generate other fields from the same
 seed (docs/model.md §4, Reproducibility), and a run's result does not depend on where it ran.
 
-Resume: a run is complete when ``runs/<name>/summary.json`` exists with the scenario hash of the run and
-the fingerprint of its model's settings (a profile's value can change between versions while the scenario
-stays the same), and every file it lists (``files``: SHA-256 per file, `floebreak.api.file_checksums`) is
-there with that checksum: a damaged run (a truncated Parquet file) is run again. So is a run whose
-``summary.json`` does not match the checksum of its own content (``summary_sha256``,
+Resume: a run is complete when ``runs/<name>/summary.json`` exists with the scenario hash of the run, the
+fingerprint of its model's settings and its event location (a profile's value can change between versions
+while the scenario stays the same), and every file it lists (``files``: SHA-256 per file,
+`floebreak.api.file_checksums`) is there with that checksum: a damaged run (a truncated Parquet file) is run
+again. So is a run whose ``summary.json`` does not match the checksum of its own content (``summary_sha256``,
 `floebreak.io.checksums`: an edited value, or a summary written before summaries carried one), since the
 aggregate reads its values. Since run directories appear only by an atomic rename, a study killed at any
 moment (even SIGKILL) resumes with no run lost or duplicated.
@@ -54,19 +54,21 @@ class StudyProgress:
     failures: list[dict[str, Any]] = field(default_factory=list)
 
 
-def run_identity(scenario: dict[str, Any]) -> tuple[str, str]:
-    """(scenario hash, model fingerprint) of a run: what its summary must record for it to be reused."""
+def run_identity(scenario: dict[str, Any]) -> tuple[str, str, str]:
+    """(scenario hash, model fingerprint, event location) of a run: what its summary must record for it to
+    be reused. The event location is the resolved one: a profile's default is not in the scenario hash."""
+    from floebreak.app.build import event_location
     from floebreak.app.run import build_model_for
     from floebreak.scenario import Scenario
 
     resolved = Scenario.from_dict(scenario).resolved()
-    return resolved.hash(), build_model_for(resolved).fingerprint()
+    return resolved.hash(), build_model_for(resolved).fingerprint(), event_location(resolved)
 
 
-def is_complete(run_dir: Path, identity: tuple[str, str]) -> bool:
+def is_complete(run_dir: Path, identity: tuple[str, str, str]) -> bool:
     """Whether `run_dir` holds the finished run of `identity` (`run_identity`: the same scenario run with the
-    same model settings) with every file intact (checksums), its summary included (the checksum of its own
-    content, `floebreak.io.checksums`)."""
+    same model settings and event location) with every file intact (checksums), its summary included (the
+    checksum of its own content, `floebreak.io.checksums`)."""
     from floebreak.app.run import file_checksums
     from floebreak.io.checksums import checksum_matches
 
@@ -77,9 +79,8 @@ def is_complete(run_dir: Path, identity: tuple[str, str]) -> bool:
         doc = json.loads(summary.read_text(encoding="utf-8"))
         if not isinstance(doc, dict) or not checksum_matches(doc):
             return False
-        if (doc.get("scenario_hash"), doc.get("model_hash")) != identity or not isinstance(
-            doc.get("files"), dict
-        ):
+        recorded = (doc.get("scenario_hash"), doc.get("model_hash"), doc.get("event_location"))
+        if recorded != identity or not isinstance(doc.get("files"), dict):
             return False
         return file_checksums(run_dir, doc["files"]) == doc["files"]
     except (OSError, json.JSONDecodeError):
