@@ -1,8 +1,6 @@
 """A `Result` → its run directory, written atomically (temporary sibling, renamed when complete; a failed
 run leaves no half directory):
 
-directory atomically (temporary sibling, renamed when complete; a failed run leaves no half directory):
-
 - ``summary.json``: thesis Tables 5–8 columns (n_cusp, A_cusp^tot, n_flip, A_flip^tot, V̄_cusp, Ā_cusp), the
   area balance, contact/break counters, the maximum crushing force, wall time, provenance;
 - ``cusps.parquet``, ``flipped.parquet``, ``remaining.parquet``, ``field.parquet`` (the initial field as
@@ -20,6 +18,11 @@ directory atomically (temporary sibling, renamed when complete; a failed run lea
 - ``scenario.resolved.toml`` (every default filled in), ``figures/*.png``, ``report.html``.
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
+
+The figures take most of the writing (importing matplotlib, drawing, encoding the PNGs). Where fork exists
+and the process has ≥ 2 cores, no other thread and no pool parent (`_fork_for_figures`), a forked child
+draws half of them while this process writes the tables and draws the other half; the files are the same
+as drawn serially (benchmarks/README.md, "Issue 34 §6").
 """
 
 from __future__ import annotations
