@@ -7,7 +7,9 @@ report). Goal for the 1 km × 200 m run: ≤ 5 s on one core and ≤ 500 MB. Iss
 on a 250 m × 200 m field (246 floes) spends ≤ 1.5 s outside the engine ("outside s" = wall − engine, both
 from one run, so the machine's phase cancels; "outside/engine" is their ratio).
 
-Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1). Wall
+Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1;
+``--cores 2``: two CPUs, as on the issue's quiet 2-core machine, where the run directory's writer draws half
+of the figures in a forked child, `floebreak.app.run_directory`). Wall
 time: ``time.perf_counter`` around the child. Peak memory: the child's ``ru_maxrss`` (``os.wait4`` returns
 the rusage of that one child; ``resource.getrusage(RUSAGE_CHILDREN)`` would give the maximum over all
 children so far, which hides a smaller later case). CPU time (user + system) is printed too: on a shared
@@ -18,10 +20,13 @@ An editable install's src/ is compiled to bytecode first, as an installed copy i
 
 ``--phases`` times the 250 m × 200 m run's phases in one process instead (pinned to one core): it imports
 the modules the command line loads in the order it loads them, wraps the functions the run goes through
-with timers and calls the command line's `main` (`PHASES` below).
+with timers and calls the command line's `main` (`PHASES` below). ``--cpu``: process time instead of wall
+time (a shared machine's load barely moves it); with ``--cores 2`` the figure child's CPU time is listed, and
+the write's critical path on two idle cores is estimated from it (the child's figures overlap this
+process' tables and figures). There, matplotlib is imported before the fork, outside the "draw" phase.
 
-Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N] [--phases] [--case 250]`` (the CLI next to the
-running Python is used; ``--case`` keeps the cases whose name contains the text).
+Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N] [--phases [--cpu]] [--case 250] [--cores 2]``
+(the CLI next to the running Python is used; ``--case`` keeps the cases whose name contains the text).
 """
 
 from __future__ import annotations
@@ -68,7 +73,6 @@ def _pin(cores: int):
             os.sched_setaffinity(0, sorted(os.sched_getaffinity(0))[:cores])
 
     return pin
-
 
 
 def print_load_average() -> None:

@@ -31,7 +31,8 @@ def _write(result, out, monkeypatch, fork: bool):
 
 
 def _files(folder):
-    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+    files = sorted(p for p in folder.rglob("*") if p.is_file())
+    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in files}
 
 
 def test_a_forked_child_writes_the_same_files_as_the_serial_path(result, tmp_path, monkeypatch):
@@ -48,7 +49,7 @@ def test_a_forked_child_writes_the_same_files_as_the_serial_path(result, tmp_pat
 def _fail_in_the_child(monkeypatch, error):
     """`_save_png` raises `error` for the breaking pattern, one of the child's figures (`keys[0::2]`)."""
     save = run_directory._save_png
-    child_figure = run_directory.FIGURES[list(run_directory.FIGURES)[0]]
+    child_figure = run_directory.FIGURES[next(iter(run_directory.FIGURES))]
 
     def failing(figure, path, meta):
         if path.name == child_figure:

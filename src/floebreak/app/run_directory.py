@@ -19,8 +19,8 @@ run leaves no half directory):
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
 
-The figures take most of the writing (importing matplotlib, drawing, encoding the PNGs). Where fork exists
-and the process has ≥ 2 cores, no other thread and no pool parent (`_fork_for_figures`), a forked child
+The figures take most of the writing (importing matplotlib, drawing, encoding the PNGs). On Linux, when
+the process has ≥ 2 cores, no other thread and no pool parent (`_fork_for_figures`), a forked child
 draws half of them while this process writes the tables and draws the other half; the files are the same
 as drawn serially (benchmarks/README.md, "Issue 34 §6").
 """
@@ -31,6 +31,7 @@ import hashlib
 import multiprocessing
 import os
 import shutil
+import sys
 import threading
 import traceback
 from collections.abc import Iterable, Iterator, Mapping
@@ -195,10 +196,11 @@ def _figure_child(send, result: Result, folder: Path, keys: list[str]) -> None:
 
 
 def _fork_for_figures() -> bool:
-    """Whether half of the figures may be drawn in a forked child: fork exists, ≥ 2 cores are this
-    process's, and it is the only thread of a process no pool started (a study's worker draws serially, as
-    its pool already uses the cores; a child forked from a threaded process could inherit a held lock)."""
-    if "fork" not in multiprocessing.get_all_start_methods() or multiprocessing.parent_process() is not None:
+    """Whether half of the figures may be drawn in a forked child: on Linux (macOS has fork, but its system
+    libraries are not safe in a forked child, which is why Python spawns there), with ≥ 2 cores this
+    process's, in the only thread of a process no pool started (a study's worker draws serially, as its
+    pool already uses the cores; a child forked from a threaded process could inherit a held lock)."""
+    if not sys.platform.startswith("linux") or multiprocessing.parent_process() is not None:
         return False
     if threading.active_count() > 1:
         return False
