@@ -101,6 +101,17 @@ def test_a_failure_in_the_parent_stops_the_child_and_leaves_nothing(result, tmp_
     assert list(tmp_path.iterdir()) == []
 
 
+def test_no_process_to_be_had_draws_every_figure_here(result, tmp_path, monkeypatch):
+    import multiprocessing.context
+
+    def refuse(self):
+        raise BlockingIOError(errno.EAGAIN, "Resource temporarily unavailable")
+
+    monkeypatch.setattr(multiprocessing.context.ForkProcess, "start", refuse)
+    out = _write(result, tmp_path / "out", monkeypatch, fork=True)
+    assert sorted(p.name for p in (out / "figures").iterdir()) == sorted(run_directory.FIGURES.values())
+
+
 def test_one_core_or_a_second_thread_draws_serially(monkeypatch):
     if hasattr(os, "sched_getaffinity"):
         monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0})

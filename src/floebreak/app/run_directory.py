@@ -219,31 +219,42 @@ def _figures_alongside(result: Result, folder: Path) -> Iterator[None]:
     """
     folder.mkdir()
     keys = list(FIGURES)
-    if not _fork_for_figures():
+    started = _start_figure_child(result, folder, keys[0::2]) if _fork_for_figures() else None
+    if started is None:
         yield
         _save_figures(result, folder, keys)
         return
-    from floebreak.plotting import field, pattern, spectra  # noqa: F401  (the child inherits them)
-
-    context = multiprocessing.get_context("fork")
-    receive, send = context.Pipe(duplex=False)
-    child = context.Process(target=_figure_child, args=(send, result, folder, keys[0::2]), daemon=True)
+    child, receive = started
     try:
-        child.start()
-        send.close()
         yield
         _save_figures(result, folder, keys[1::2])
         error = _answer(child, receive)
     except BaseException:
-        if child.pid is not None:
-            child.kill()
+        child.kill()
         raise
     finally:
-        if child.pid is not None:
-            child.join()
+        child.join()
         receive.close()
     if error is not None:
         raise error
+
+
+def _start_figure_child(result: Result, folder: Path, keys: list[str]):
+    """A forked child drawing `keys` and the end of the pipe it answers on, or None where no process can be
+    had (EAGAIN, ENOMEM: the figures are then drawn here)."""
+    from floebreak.plotting import field, pattern, spectra  # noqa: F401  (the child inherits them)
+
+    context = multiprocessing.get_context("fork")
+    receive, send = context.Pipe(duplex=False)
+    child = context.Process(target=_figure_child, args=(send, result, folder, keys), daemon=True)
+    try:
+        child.start()
+    except OSError:
+        receive.close()
+        return None
+    finally:
+        send.close()
+    return child, receive
 
 
 def _answer(child, receive) -> BaseException | None:
