@@ -7,7 +7,9 @@ report). Goal for the 1 km × 200 m run: ≤ 5 s on one core and ≤ 500 MB. Iss
 on a 250 m × 200 m field (246 floes) spends ≤ 1.5 s outside the engine ("outside s" = wall − engine, both
 from one run, so the machine's phase cancels; "outside/engine" is their ratio).
 
-Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1). Wall
+Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1;
+``--cores 2``: two CPUs, as on the issue's quiet 2-core machine, where the run directory's writer draws half
+of the figures in a forked child, `floebreak.app.run_directory`). Wall
 time: ``time.perf_counter`` around the child. Peak memory: the child's ``ru_maxrss`` (``os.wait4`` returns
 the rusage of that one child; ``resource.getrusage(RUSAGE_CHILDREN)`` would give the maximum over all
 children so far, which hides a smaller later case). CPU time (user + system) is printed too: on a shared
@@ -18,10 +20,13 @@ An editable install's src/ is compiled to bytecode first, as an installed copy i
 
 ``--phases`` times the 250 m × 200 m run's phases in one process instead (pinned to one core): it imports
 the modules the command line loads in the order it loads them, wraps the functions the run goes through
-with timers and calls the command line's `main` (`PHASES` below).
+with timers and calls the command line's `main` (`PHASES` below). ``--cpu``: process time instead of wall
+time (a shared machine's load barely moves it); with ``--cores 2`` the figure child's CPU time is listed, and
+the write's critical path on two idle cores is estimated from it (the child's figures overlap this
+process' tables and figures). There, matplotlib is imported before the fork, outside the "draw" phase.
 
-Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N] [--phases] [--case 250]`` (the CLI next to the
-running Python is used; ``--case`` keeps the cases whose name contains the text).
+Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N] [--phases [--cpu]] [--case 250] [--cores 2]``
+(the CLI next to the running Python is used; ``--case`` keeps the cases whose name contains the text).
 """
 
 from __future__ import annotations
@@ -60,9 +65,14 @@ def _compile_bytecode() -> None:
         compileall.compile_dir(REPO / "src", quiet=1)
 
 
-def _one_core() -> None:
-    if hasattr(os, "sched_setaffinity"):
-        os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
+def _pin(cores: int):
+    """A `preexec_fn` pinning the child to the first `cores` CPUs it may use (all of them if fewer)."""
+
+    def pin() -> None:
+        if hasattr(os, "sched_setaffinity"):
+            os.sched_setaffinity(0, sorted(os.sched_getaffinity(0))[:cores])
+
+    return pin
 
 
 def print_load_average() -> None:
@@ -73,8 +83,8 @@ def print_load_average() -> None:
         pass
 
 
-def measure(args: list[str]) -> dict:
-    """Run the CLI with `args` (``{out}`` → a fresh directory) in a child pinned to one core."""
+def measure(args: list[str], cores: int = 1) -> dict:
+    """Run the CLI with `args` (``{out}`` → a fresh directory) in a child pinned to `cores` CPUs."""
     env = {
         **os.environ,
         **{k: "1" for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")},
@@ -87,7 +97,7 @@ def measure(args: list[str]) -> dict:
         errors = Path(tmp) / "stderr.txt"
         with errors.open("wb") as stderr:  # a file, not a pipe: nothing can block while we wait
             child = subprocess.Popen(
-                command, stdout=subprocess.DEVNULL, stderr=stderr, env=env, cwd=REPO, preexec_fn=_one_core
+                command, stdout=subprocess.DEVNULL, stderr=stderr, env=env, cwd=REPO, preexec_fn=_pin(cores)
             )
             _, status, usage = os.wait4(child.pid, 0)
         wall = time.perf_counter() - start
@@ -112,26 +122,30 @@ CASES = {
 
 
 PHASES = """
-import json, sys, time
+import json, resource, sys, time
+clock = time.process_time if sys.argv[2] == "cpu" else time.perf_counter
 phases = {}
 def timed(name, t):
-    phases[name] = phases.get(name, 0.0) + time.perf_counter() - t
+    phases[name] = phases.get(name, 0.0) + clock() - t
 def wrap(owner, attribute, name):
     function = getattr(owner, attribute)
     def wrapped(*args, **kwargs):
-        t = time.perf_counter()
+        t = clock()
         try:
             return function(*args, **kwargs)
         finally:
             timed(name, t)
     setattr(owner, attribute, wrapped)
-t0 = t = time.perf_counter(); import floebreak.cli as cli; timed("import floebreak.cli", t)
-t = time.perf_counter(); import floebreak.scenario as scenario; timed("import scenario", t)
-t = time.perf_counter(); import floebreak.api as api; timed("import the engine (floebreak.api)", t)
+def children_cpu():
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+t0 = t = clock(); import floebreak.cli as cli; timed("import floebreak.cli", t)
+t = clock(); import floebreak.scenario as scenario; timed("import scenario", t)
+t = clock(); import floebreak.api as api; timed("import the engine (floebreak.api)", t)
 import floebreak.app.run as app_run, floebreak.app.run_directory as run_directory
 from_toml = scenario.Scenario.from_toml.__func__
 def read(cls, *args, **kwargs):
-    t = time.perf_counter()
+    t = clock()
     try:
         return from_toml(cls, *args, **kwargs)
     finally:
@@ -143,6 +157,16 @@ wrap(app_run.Result, "write", "write the run directory")
 for key in run_directory.FIGURES:
     wrap(app_run.Result, f"plot_{key}", "of which: draw the figures (first: import matplotlib)")
 wrap(run_directory, "_save_png", "of which: render and encode the PNGs")
+wrap(run_directory, "_write_tables", "of which here: tables and figures")
+wrap(run_directory, "_save_figures", "of which here: tables and figures")
+write = app_run.Result.write
+def write_and_wait(*args, **kwargs):
+    before = children_cpu()
+    try:
+        return write(*args, **kwargs)
+    finally:
+        phases["of which in the figure child (CPU)"] = children_cpu() - before
+app_run.Result.write = write_and_wait
 out = sys.argv[1]
 sys.argv = ["floebreak", "run", "examples/reference.toml", "--quiet", "--out", out,
             "--set", "field.length_m=250", "--set", "field.width_m=200"]
@@ -150,22 +174,27 @@ try:
     cli.main()
 except SystemExit:
     pass
-phases["total (in process)"] = time.perf_counter() - t0
+phases["total (in process)"] = clock() - t0
 phases["engine (wall_time_s)"] = json.load(open(out + "/summary.json"))["wall_time_s"]
+# the write on two idle cores: this process' part, with its tables and figures overlapping the child's
+here, child = phases.pop("of which here: tables and figures"), phases["of which in the figure child (CPU)"]
+phases["write, on 2 idle cores (estimate)"] = phases["write the run directory"] - here + max(here, child)
 print(json.dumps(phases))
 """
 
 
-def phases() -> None:
-    """The 250 m × 200 m run's phases, in one process pinned to one core (`PHASES`)."""
+def phases(cores: int = 1, cpu: bool = False) -> None:
+    """The 250 m × 200 m run's phases, in one process pinned to `cores` CPUs (`PHASES`); `cpu`: process
+    time instead of wall time (less sensitive to a shared machine's load; the forked figure child's CPU
+    time is reported on its own line)."""
     with tempfile.TemporaryDirectory(prefix="floebreak-e2e-") as tmp:
         env = {
             **os.environ,
             **{k: "1" for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")},
         }
-        command = [sys.executable, "-c", PHASES, str(Path(tmp) / "out")]
+        command = [sys.executable, "-c", PHASES, str(Path(tmp) / "out"), "cpu" if cpu else "wall"]
         done = subprocess.run(
-            command, capture_output=True, text=True, env=env, cwd=REPO, preexec_fn=_one_core
+            command, capture_output=True, text=True, env=env, cwd=REPO, preexec_fn=_pin(cores)
         )
         if done.returncode != 0:
             sys.exit(done.stderr)
@@ -178,14 +207,19 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=1, help="runs per case (every run is listed)")
     parser.add_argument("--phases", action="store_true", help="time the 250 m × 200 m run's phases")
+    parser.add_argument("--cpu", action="store_true", help="with --phases: process time, not wall time")
     parser.add_argument("--case", help="only the cases whose name contains this text (e.g. 250)")
+    parser.add_argument(
+        "--cores", type=int, default=1, help="CPUs each run may use (default 1; 2: a 2-core machine's both)"
+    )
     options = parser.parse_args()
     _compile_bytecode()
     if options.phases:
         for _ in range(max(options.repeat, 1)):
-            phases()
+            phases(options.cores, options.cpu)
         return
     print_load_average()
+    print(f"each run pinned to {options.cores} CPU(s)")
     header = (
         "| case | floes | steps | cusps | wall s (best) | every run, wall s | CPU s | engine s | outside s "
         "| outside/engine | peak MB | goal |",
@@ -195,7 +229,7 @@ def main() -> None:
     for name, args in CASES.items():
         if options.case and options.case not in name:
             continue
-        runs = [measure(args) for _ in range(max(options.repeat, 1))]
+        runs = [measure(args, options.cores) for _ in range(max(options.repeat, 1))]
         best = min(runs, key=lambda r: r["wall_s"])
         peak = max(r["peak_mb"] for r in runs)
         s = best["summary"]

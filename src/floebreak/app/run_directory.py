@@ -1,8 +1,6 @@
 """A `Result` → its run directory, written atomically (temporary sibling, renamed when complete; a failed
 run leaves no half directory):
 
-directory atomically (temporary sibling, renamed when complete; a failed run leaves no half directory):
-
 - ``summary.json``: thesis Tables 5–8 columns (n_cusp, A_cusp^tot, n_flip, A_flip^tot, V̄_cusp, Ā_cusp), the
   area balance, contact/break counters, the maximum crushing force, wall time, provenance;
 - ``cusps.parquet``, ``flipped.parquet``, ``remaining.parquet``, ``field.parquet`` (the initial field as
@@ -22,14 +20,24 @@ directory atomically (temporary sibling, renamed when complete; a failed run lea
 - ``scenario.resolved.toml`` (every default filled in), ``figures/*.png``, ``report.html``.
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
+
+The figures take most of the writing (importing matplotlib, drawing, encoding the PNGs). On Linux, when
+the process has ≥ 2 cores, no other thread and no pool parent (`_fork_for_figures`), a forked child
+draws half of them while this process writes the tables and draws the other half; the files are the same
+as drawn serially (benchmarks/README.md, "Issue 34 §6").
 """
 
 from __future__ import annotations
 
 import hashlib
+import multiprocessing
 import os
 import shutil
-from collections.abc import Iterable, Mapping
+import sys
+import threading
+import traceback
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -167,6 +175,100 @@ def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
     figure.savefig(path, format="png", dpi=150, metadata=text)
 
 
+def _save_figures(result: Result, folder: Path, keys: Iterable[str]) -> None:
+    """The figures `keys` (of `FIGURES`) of `result` as PNG files in `folder`."""
+    meta = result.provenance("figure")
+    for key in keys:
+        _save_png(getattr(result, f"plot_{key}")(), folder / FIGURES[key], meta)
+
+
+def _figure_child(send, result: Result, folder: Path, keys: list[str]) -> None:
+    """A forked child's work: draw `keys`, then send None, or the exception (its traceback as a note)."""
+    try:
+        _save_figures(result, folder, keys)
+    except BaseException as error:  # the parent raises it
+        error.add_note("".join(traceback.format_exception(error)).rstrip())
+        try:
+            send.send(error)
+        except Exception:  # an exception that does not pickle
+            send.send(RuntimeError(f"drawing the figures failed: {type(error).__name__}: {error}"))
+    else:
+        send.send(None)
+    finally:
+        send.close()
+
+
+def _fork_for_figures() -> bool:
+    """Whether half of the figures may be drawn in a forked child: on Linux (macOS has fork, but its system
+    libraries are not safe in a forked child, which is why Python spawns there), with ≥ 2 cores this
+    process's, in the only thread of a process no pool started (a study's worker draws serially, as its
+    pool already uses the cores; a child forked from a threaded process could inherit a held lock)."""
+    if not sys.platform.startswith("linux") or multiprocessing.parent_process() is not None:
+        return False
+    if threading.active_count() > 1:
+        return False
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    return cores >= 2
+
+
+@contextmanager
+def _figures_alongside(result: Result, folder: Path) -> Iterator[None]:
+    """Draw the run's figures into `folder`, around the body that writes the other files.
+
+    Where `_fork_for_figures`: half of them in a forked child while the body runs and this process draws
+    the other half after it (the child inherits the result and matplotlib, imported here first: nothing is
+    pickled, nothing imported twice); a child's exception is raised here, an exception of the body kills
+    the child (the caller's temporary directory is discarded either way). Else all of them after the body.
+    """
+    folder.mkdir()
+    keys = list(FIGURES)
+    started = _start_figure_child(result, folder, keys[0::2]) if _fork_for_figures() else None
+    if started is None:
+        yield
+        _save_figures(result, folder, keys)
+        return
+    child, receive = started
+    try:
+        yield
+        _save_figures(result, folder, keys[1::2])
+        error = _answer(child, receive)
+    except BaseException:
+        child.kill()
+        raise
+    finally:
+        child.join()
+        receive.close()
+    if error is not None:
+        raise error
+
+
+def _start_figure_child(result: Result, folder: Path, keys: list[str]):
+    """A forked child drawing `keys` and the end of the pipe it answers on, or None where no process can be
+    had (EAGAIN, ENOMEM: the figures are then drawn here)."""
+    from floebreak.plotting import field, pattern, spectra  # noqa: F401  (the child inherits them)
+
+    context = multiprocessing.get_context("fork")
+    receive, send = context.Pipe(duplex=False)
+    child = context.Process(target=_figure_child, args=(send, result, folder, keys), daemon=True)
+    try:
+        child.start()
+    except OSError:
+        receive.close()
+        return None
+    finally:
+        send.close()
+    return child, receive
+
+
+def _answer(child, receive) -> BaseException | None:
+    """What a figure child sent (None: its figures are written), or why it sent nothing."""
+    try:
+        return receive.recv()
+    except EOFError:
+        child.join()
+        return RuntimeError(f"the figure process ended without an answer (exit code {child.exitcode})")
+
+
 def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path:
     """Refuse (InputError on key "out") an existing `out` without `overwrite` or a missing parent; raise
     StorageError if the parent cannot be written (full, read-only, no permission)."""
@@ -209,43 +311,9 @@ def _write_run_files(
     result: Result, out: Path, overwrite: bool, report: bool, figures: bool, directory_name: str | None
 ) -> None:
     with atomic_directory(out, overwrite=overwrite, field="out") as temp:
-        field_meta = {
-            **result.provenance("floe_field"),
-            "domain_m": list(result.field.domain_m),
-            "field": dict(result.field.metadata),
-        }
-        _write_table(temp / "field.parquet", field_table(result.field), field_meta)
-        sim = result.simulation
-        for fate, name in PIECE_FILES.items():
-            _write_piece_file(temp / name, sim, fate, result.provenance(fate))
-        if result.contacts_file is not None and result.contact_records.columns is None:
-            shutil.copyfile(result.contacts_file, temp / CONTACTS_FILE)  # the records streamed there
-        else:
-            write_contacts(temp / CONTACTS_FILE, result.contacts, result.provenance("contacts"))
-        stepping = {"x_start_m": sim.params.x_start_m, "step_m": sim.params.step_m, "n_steps": sim.n_steps}
-        columns = pieces_table(sim, result.contact_records, geometry=False)
-        write_geoparquet_groups(
-            temp / PIECES_FILE,
-            row_groups(len(sim.piece_id)),
-            sim.polygons,
-            lambda rows: (sim.polygons(rows), {k: v[rows] for k, v in columns.items()}),
-            {**result.provenance("pieces"), **stepping},
-        )
-        write_surge_series(temp, result)  # surge.csv, only with ship.propulsion
-        write_pose_file(temp, result, result.provenance("poses"))  # only with simulation.pose_interval_steps
-        summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
-        write_json(temp / "summary.json", summary_doc)
-        header = (
-            f"# resolved scenario written by floebreak {floebreak_version()}; "
-            f"scenario_hash = {result.summary['scenario_hash']}\n"
-        )
-        (temp / "scenario.resolved.toml").write_text(header + result.scenario.to_toml(), encoding="utf-8")
-        if figures:
-            folder = temp / "figures"
-            folder.mkdir()
-            meta = result.provenance("figure")
-            for key, name in FIGURES.items():
-                _save_png(getattr(result, f"plot_{key}")(), folder / name, meta)
+        drawn = _figures_alongside(result, temp / "figures") if figures else nullcontext()
+        with drawn:
+            summary_doc = _write_tables(result, temp)
         if report:
             from floebreak.report import write_report
 
@@ -253,6 +321,43 @@ def _write_run_files(
         summary_doc["files"] = file_checksums(temp)  # a resumed study re-runs a run whose files differ
         summary_doc = with_checksum(summary_doc)  # ... or whose summary was edited
         write_json(temp / "summary.json", summary_doc)
+
+
+def _write_tables(result: Result, temp: Path) -> dict[str, Any]:
+    """The run directory's tables, summary.json (without its checksums, which it returns) and
+    scenario.resolved.toml."""
+    field_meta = {
+        **result.provenance("floe_field"),
+        "domain_m": list(result.field.domain_m),
+        "field": dict(result.field.metadata),
+    }
+    _write_table(temp / "field.parquet", field_table(result.field), field_meta)
+    sim = result.simulation
+    for fate, name in PIECE_FILES.items():
+        _write_piece_file(temp / name, sim, fate, result.provenance(fate))
+    if result.contacts_file is not None and result.contact_records.columns is None:
+        shutil.copyfile(result.contacts_file, temp / CONTACTS_FILE)  # the records streamed there
+    else:
+        write_contacts(temp / CONTACTS_FILE, result.contacts, result.provenance("contacts"))
+    stepping = {"x_start_m": sim.params.x_start_m, "step_m": sim.params.step_m, "n_steps": sim.n_steps}
+    columns = pieces_table(sim, result.contact_records, geometry=False)
+    write_geoparquet_groups(
+        temp / PIECES_FILE,
+        row_groups(len(sim.piece_id)),
+        sim.polygons,
+        lambda rows: (sim.polygons(rows), {k: v[rows] for k, v in columns.items()}),
+        {**result.provenance("pieces"), **stepping},
+    )
+    write_surge_series(temp, result)  # surge.csv, only with ship.propulsion
+    write_pose_file(temp, result, result.provenance("poses"))  # only with simulation.pose_interval_steps
+    summary_doc = jsonable({**result.summary, "provenance": result.provenance("summary")})
+    write_json(temp / "summary.json", summary_doc)
+    header = (
+        f"# resolved scenario written by floebreak {floebreak_version()}; "
+        f"scenario_hash = {result.summary['scenario_hash']}\n"
+    )
+    (temp / "scenario.resolved.toml").write_text(header + result.scenario.to_toml(), encoding="utf-8")
+    return summary_doc
 
 
 def file_checksums(run_dir: Path, names: Iterable[str] | None = None) -> dict[str, str]:
