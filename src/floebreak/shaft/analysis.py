@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -33,6 +34,7 @@ from floebreak.propeller.transport import PropellerArrangement, TransportSetting
 from floebreak.shaft.drive import DriveResult, drive_for_line, simulate_drive, train_from_line
 from floebreak.shaft.excitation import EXCITATION_CASES, arrival_times_s, excitation_case, ice_torque_series
 from floebreak.shaft.fatigue import RainflowHistogram, miner_damage, rainflow_histogram
+from floebreak.shaft.impact_torque import CuspTorques
 from floebreak.shaft.line import Modes, ShaftLine, modal_analysis, with_operating_point
 from floebreak.shaft.resonance import DEFAULT_REQUIRED_MARGIN, campbell
 from floebreak.shaft.response import station_torque_n_m
@@ -387,14 +389,14 @@ class MilledCusps:
     n_cusps_run: int
     counts: dict
 
+    @cached_property
+    def _torques(self) -> CuspTorques:
+        return CuspTorques(self.block, self.blade, self.advance_speed_m_s)
+
     def impact_torque_n_m(self, cusp: int, rpm: float) -> float:
-        """Torque of one blade impact on cusp `cusp` at `rpm` (`propeller.milling.impact_loads`) [N·m]."""
-        block = IceBlock(
-            self.block.thickness_m[cusp : cusp + 1],
-            self.block.length_m[cusp : cusp + 1],
-            self.block.width_m[cusp : cusp + 1],
-        )
-        return float(impact_loads(block, self.blade, rpm, self.advance_speed_m_s).torque_n_m[0])
+        """Torque of one blade impact on cusp `cusp` at `rpm` (`propeller.milling.impact_loads`'s, through
+        `floebreak.shaft.impact_torque.CuspTorques`) [N·m]."""
+        return self._torques.torque_n_m(cusp, rpm)
 
 
 def milled_cusps(
