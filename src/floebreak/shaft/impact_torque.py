@@ -1,25 +1,19 @@
 """The milling model's torque of one blade impact, cusp by cusp at any rpm, for the drive model.
 
 The drive (`floebreak.shaft.drive`) asks for the torque of the cusp being milled at the rpm of each blade
-passage, one passage at a time (the rpm there follows from the impacts before it, so the impacts cannot be
-batched). `CuspTorques` evaluates `floebreak.propeller.milling.impact_loads`' torque for one cusp: the
-blade strips each block covers (radial extent, overlap, mid radius, chord) do not depend on the rpm and are
-computed once for all cusps; per call only the rpm-dependent part runs (cut depth, `section_contact`, the
-pressure–area relation, `strip_forces`) with the same operations in the same order, so the torque is the
-one `impact_loads` gives, to the bit (tests/shaft/test_impact_torque.py), at a fraction of its cost (no
-block checks, no block motion, no impact counts).
+passage, one passage at a time: the rpm there follows from the impacts before it, so the impacts cannot be
+batched. `CuspTorques` keeps one checked `IceBlock` per cusp and calls
+`floebreak.propeller.milling.impact_loads` without the block's motion (`block_motion=None`: the torque does
+not depend on it, only the impact count does), so the torque is `impact_loads`' own, to the bit
+(tests/shaft/test_impact_torque.py), without the per-call block checks and throw-out counts.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
-from floebreak.errors import InputError
 from floebreak.propeller import milling
 from floebreak.propeller.milling import BladeGeometry, IceBlock, IceStrength
-from floebreak.propeller.spec import MAX_PROPELLER_RPM
 
 
 @dataclass(frozen=True)
@@ -30,30 +24,16 @@ class CuspTorques:
     block: IceBlock
     blade: BladeGeometry
     advance_speed_m_s: float
-    ice: IceStrength = IceStrength()
+    ice: IceStrength | None = None
     strips: int = milling.DEFAULT_STRIPS
 
     def __post_init__(self) -> None:
-        _, overlap, mid = milling._strips_under_block(self.blade, self.block.thickness_m, int(self.strips))
-        object.__setattr__(self, "_overlap", overlap)
-        object.__setattr__(self, "_mid", mid)
-        object.__setattr__(self, "_chord", self.blade.chord_m(mid))
+        sides = (self.block.thickness_m, self.block.length_m, self.block.width_m)
+        blocks = tuple(IceBlock(*(a[i : i + 1] for a in sides)) for i in range(self.block.thickness_m.size))
+        object.__setattr__(self, "_blocks", blocks)
 
     def torque_n_m(self, cusp: int, rpm: float) -> float:
         """Ice torque of one blade impact on cusp `cusp` (index into `block`) at `rpm` [N·m]."""
-        if not 0.0 <= rpm <= MAX_PROPELLER_RPM:
-            raise InputError("rpm", f"{rpm:g} is outside [0, {MAX_PROPELLER_RPM:g}]", value=rpm)
-        blade, speed = self.blade, self.advance_speed_m_s
-        overlap, mid = self._overlap[cusp], self._mid[cusp]
-        length = self.block.length_m[cusp]
-        cut = milling.cut_depth_m(speed, rpm, blade.blades)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            fraction = np.where(cut > length, length / np.where(cut > 0.0, cut, 1.0), 1.0)
-        nose, _, flank_length, alpha, beta, phi, _ = milling.section_contact(
-            mid, self._chord[cusp], blade.thickness_07_m, blade.pitch_m, rpm, speed, blade.blades, fraction
-        )
-        nose_area, flank_area = nose * overlap, flank_length * overlap
-        pressure = self.ice.pressure_pa(np.sum(nose_area + flank_area, axis=-1))
-        friction = self.ice.friction
-        resisting, _ = milling.strip_forces(pressure, nose_area, flank_area, alpha, beta, phi, friction)
-        return float(np.sum(resisting * mid, axis=-1))
+        block, speed = self._blocks[cusp], self.advance_speed_m_s
+        loads = milling.impact_loads(block, self.blade, rpm, speed, self.ice, self.strips, block_motion=None)
+        return float(loads.torque_n_m[0])
