@@ -314,7 +314,8 @@ class DriveResult:
 
     def stall(self) -> dict | None:
         """The first stop (None: never): its time [s], the cusp milled then (input order), how many of
-        that cusp's impacts had started, and their mean peak C_q·Q_imp [N·m] (`stall_diagnosis`)."""
+        that cusp's impacts had started, and their mean peak C_q·Q_imp [N·m] (from which
+        `floebreak.shaft.analysis.drive_case_summary` gives the case's mean ice torque per passage)."""
         if not math.isfinite(self.stalled_at_s):
             return None
         row = min(round(self.stalled_at_s / self.dt_s) - 1, self.milled_cusp.size - 1)
