@@ -73,3 +73,24 @@ def test_netcdf_cf_coordinates_without_fill_value(tmp_path):
             assert "_FillValue" not in back[name].attrs, name
         assert "_FillValue" in back["density"].attrs  # data variables keep their missing-value marker
     assert "Conventions" not in ds.attrs  # the caller's dataset is not changed
+
+
+def test_csv_numeric_table_as_the_csv_module_writes_it():
+    # long numeric tables are joined without the csv module (issue 33): the same text, cell by cell as
+    # Python's repr / str and the csv module's dialect would give it
+    rng = np.random.default_rng(7)
+    bits = rng.integers(0, 2**62, 3000, dtype=np.int64).view(np.float64)  # any exponent, denormals included
+    x = np.concatenate([bits, [0.0, -0.0, 1.0, 1e-5, 1e16, 1e15, np.nan, np.inf, -np.inf, 105.0]])
+    n = np.arange(x.size) - 5
+    ok = rng.uniform(size=x.size) < 0.5
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(["x", "n", "ok", "y"])
+    for a, b, c, d in zip(x.tolist(), n.tolist(), ok.tolist(), x[::-1].tolist(), strict=True):
+        text = [repr(v) if math.isfinite(v) else "" for v in (a, d)]
+        writer.writerow([text[0], str(b), "true" if c else "false", text[1]])
+    expected = "# c\n" + buffer.getvalue()
+    assert csv_text({"x": x, "n": n, "ok": ok, "y": x[::-1]}, ["c"]) == expected
+    assert "1e-05" in expected and "1e+16" in expected and "\n1.0," in expected  # the forms kept
+    # one column: a lone empty cell is quoted by the csv module, and still is
+    assert csv_text({"x": np.array([1.0, np.nan])}) == 'x\n1.0\n""\n'

@@ -31,8 +31,10 @@ from floebreak.shaft.analysis import (
     shaft_fatigue,
     shaft_response,
     shaft_summary,
+    stall_message,
     torque_densities,
     torque_series_knm,
+    with_stall_positions,
 )
 from floebreak.shaft.line import load_shaft_line
 from floebreak.shaft.resonance import campbell
@@ -214,6 +216,8 @@ class PreparedShaftAnalysis:
                 f"{d['peak_motor_torque_knm']:.0f} kN·m (limit {d['torque_limit_knm']:.0f}), "
                 f"{'stalled' if d['stalled'] else 'not stalled'}"
             )
+            if d["stalled"]:
+                lines.append(stall_message(c, d))
         resonance = resonance_summary(r.line, r.blades)
         lowest = float(resonance["margin"].min())
         lines.append(
@@ -273,6 +277,7 @@ def _drive_response(
         n_cusps=milled.n_cusps_run,
         progress=progress,
     )
+    result = with_stall_positions(result, milled)
     extra = {
         "torque_model": "milling (propeller.milling.impact_loads at the rpm of each blade passage)",
         "transport": milled.counts,

@@ -47,21 +47,28 @@ def _cell(value: Any) -> str:
     return str(value)
 
 
-def _column_text(values: Any) -> list[str]:
-    """The cells of one column as text (the module's format); float arrays in one pass (long series)."""
+def _column_text(values: Any) -> tuple[list[str], bool]:
+    """The cells of one column as text (the module's format) and whether they are numbers or booleans
+    (no cell then needs quoting). Float arrays in one pass: ``repr`` mapped over the values in C (long
+    series), the non-finite ones emptied afterwards."""
     array = np.asarray(values)
     if array.dtype.kind == "f":
-        finite = np.isfinite(array)
-        return [repr(v) if ok else "" for v, ok in zip(array.tolist(), finite.tolist(), strict=True)]
+        cells = list(map(repr, array.tolist()))
+        for i in np.flatnonzero(~np.isfinite(array)).tolist():
+            cells[i] = ""
+        return cells, True
     if array.dtype.kind in "iu":
-        return [str(v) for v in array.tolist()]
-    return [_cell(v) for v in (values if isinstance(values, list) else array.tolist())]
+        return list(map(str, array.tolist())), True
+    if array.dtype.kind == "b":
+        return ["true" if v else "false" for v in array.tolist()], True
+    return [_cell(v) for v in (values if isinstance(values, list) else array.tolist())], False
 
 
 def csv_text(columns: Mapping[str, Any], comments: Iterable[str] = ()) -> str:
     """The text `write_csv` writes (for a caller that needs it in memory)."""
     names = list(columns)
-    cells = [_column_text(columns[name]) for name in names]
+    texts = [_column_text(columns[name]) for name in names]
+    cells = [c for c, _ in texts]
     lengths = {len(c) for c in cells}
     if len(lengths) > 1:
         raise ValueError(f"columns of unequal length: {dict(zip(names, map(len, cells), strict=True))}")
@@ -70,7 +77,11 @@ def csv_text(columns: Mapping[str, Any], comments: Iterable[str] = ()) -> str:
         buffer.write(f"# {line}\n")
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(names)
-    writer.writerows(zip(*cells, strict=True))
+    if len(names) > 1 and all(numeric for _, numeric in texts):
+        # no cell to quote (and no lone empty field, which csv quotes): rows joined directly, the same text
+        buffer.writelines(f"{row}\n" for row in map(",".join, zip(*cells, strict=True)))
+    else:
+        writer.writerows(zip(*cells, strict=True))
     return buffer.getvalue()
 
 

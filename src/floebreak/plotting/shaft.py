@@ -9,22 +9,29 @@ from matplotlib.figure import Figure
 
 from floebreak.plotting.common import SPECTRUM_MARGINS_IN, add_legend, new_figure, page_fonts, with_note_line
 
-MAX_PLOTTED_POINTS = 3_000  # ≈ 2 groups per pixel column at 150 dpi
+MAX_PLOTTED_GROUPS = 3_000  # ≈ 2 groups per pixel column of the full series' axes at 150 dpi
 
 
-def _envelope(t, y, max_points: int = MAX_PLOTTED_POINTS):
-    """(t, lower, upper) per group of samples, so a long series plots as its min-max band."""
-    group = max(1, int(np.ceil(y.size / max_points)))
-    if group == 1:
-        return t, y, y
+def decimated(t, y, max_groups: int = MAX_PLOTTED_GROUPS):
+    """(t, y) reduced to each group's minimum and maximum, in time order (groups of ⌈n/max_groups⌉
+    consecutive samples; the last, shorter group as it is): drawn as a line at ≥ 1 group per pixel column,
+    it covers the pixels the whole series covers, and every extreme is drawn."""
+    t, y = np.asarray(t), np.asarray(y)
+    group = max(1, int(np.ceil(y.size / max_groups)))
     n = y.size // group * group
+    if group < 3 or n == 0:
+        return t, y
     shaped = y[:n].reshape(-1, group)
-    return t[:n:group], shaped.min(axis=1), shaped.max(axis=1)
+    lo, hi = shaped.argmin(axis=1), shaped.argmax(axis=1)
+    first, second = np.minimum(lo, hi), np.maximum(lo, hi)
+    start = np.arange(0, n, group)
+    keep = np.concatenate([np.stack([start + first, start + second], axis=1).ravel(), np.arange(n, y.size)])
+    return t[keep], y[keep]
 
 
 def plot_series(time_s, series_knm: dict[str, np.ndarray], title: str, zoom_s: float = 3.0) -> Figure:
-    """Torque series [kN·m] over time [s] (long series as min–max bands) and, below, `zoom_s` seconds
-    around the largest value of the last series, sample by sample."""
+    """Torque series [kN·m] over time [s] (long series `decimated` to their extremes per group) and, below,
+    `zoom_s` seconds around the largest value of the last series, sample by sample."""
     with page_fonts(10.0):
         return _draw_series(time_s, series_knm, title, zoom_s)
 
@@ -38,11 +45,7 @@ def _draw_series(time_s, series_knm: dict[str, np.ndarray], title: str, zoom_s: 
     window = (time_s >= centre - zoom_s / 2) & (time_s <= centre + zoom_s / 2)
     for i, (label, y) in enumerate(series_knm.items()):
         y = np.asarray(y)
-        t, lo, hi = _envelope(time_s, y)
-        if lo is hi:
-            full.plot(t, y, color=f"C{i}", lw=0.6, label=label)
-        else:
-            full.fill_between(t, lo, hi, color=f"C{i}", alpha=0.6, lw=0, label=f"{label} (min–max)")
+        full.plot(*decimated(time_s, y), color=f"C{i}", lw=0.6, label=label)
         zoom.plot(time_s[window], y[window], color=f"C{i}", lw=0.9, label=label)
     for ax in (full, zoom):
         ax.set_xlabel("time t [s]")

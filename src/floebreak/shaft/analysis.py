@@ -9,7 +9,8 @@ See docs/shaft.md.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -31,8 +32,15 @@ from floebreak.propeller.spectra import (
 )
 from floebreak.propeller.transport import PropellerArrangement, TransportSettings, transport_cusps
 from floebreak.shaft.drive import DriveResult, drive_for_line, simulate_drive, train_from_line
-from floebreak.shaft.excitation import EXCITATION_CASES, arrival_times_s, excitation_case, ice_torque_series
+from floebreak.shaft.excitation import (
+    EXCITATION_CASES,
+    arrival_times_s,
+    excitation_case,
+    ice_torque_series,
+    mean_torque_per_passage_n_m,
+)
 from floebreak.shaft.fatigue import RainflowHistogram, miner_damage, rainflow_histogram
+from floebreak.shaft.impact_torque import CuspTorques
 from floebreak.shaft.line import Modes, ShaftLine, modal_analysis, with_operating_point
 from floebreak.shaft.resonance import DEFAULT_REQUIRED_MARGIN, campbell
 from floebreak.shaft.response import station_torque_n_m
@@ -194,7 +202,7 @@ def shaft_drive_response(
     if not cases:
         raise InputError("excitation_case", "no case given", allowed="1, 2, 3, 4")
     require_range("speed_m_s", speed_m_s, low=0.0, unit="m/s")
-    train = train_from_line(line, station_name)
+    train, q_mean = train_from_line(line, station_name), line.mean_torque()
     runs: list[DriveResult] = []
     for case in cases:
         runs.append(
@@ -204,7 +212,7 @@ def shaft_drive_response(
                 arrival_s,
                 n_impacts,
                 impact_torque_n_m,
-                mean_torque_n_m=line.mean_torque(),
+                mean_torque_n_m=q_mean,
                 blades=blades,
                 case=case,
                 tail_s=tail_s,
@@ -214,6 +222,7 @@ def shaft_drive_response(
         )
         report_case(progress, cases, len(runs))
     t = runs[0].time_s
+    summaries = tuple(drive_case_summary(r, c, blades, q_mean) for r, c in zip(runs, cases, strict=True))
 
     def stacked(name):
         return np.vstack([np.interp(t, r.time_s, getattr(r, name)) for r in runs])
@@ -233,7 +242,7 @@ def shaft_drive_response(
         model="drive",
         rpm=stacked("rpm"),
         motor_torque_n_m=stacked("motor_torque_n_m"),
-        drive_summaries=tuple(drive_case_summary(r) for r in runs),
+        drive_summaries=summaries,
         torque_limit_n_m=drive.torque_limit_n_m,
     )
 
@@ -244,20 +253,54 @@ def report_case(progress: Callable[[str, int, int], None] | None, cases: tuple[i
         progress(f"shaft case {cases[done - 1]}", done, len(cases))
 
 
-def drive_case_summary(result: DriveResult) -> dict:
-    """Min rpm, peak motor torque, time at the limit, stall of one drive run [rpm, kN·m, s]."""
+def drive_case_summary(
+    result: DriveResult, case: int = 1, blades: int = PropellerSpec().blades, hydro_n_m: float = 0.0
+) -> dict:
+    """Min rpm, peak motor torque, time at the limit and the stall of one drive run [rpm, kN·m, s]: the
+    first stop (`DriveResult.stall`) with the case's mean ice torque per blade passage of the cusp then
+    milled (`mean_torque_per_passage_n_m` of its impacts' mean peak) against the limit, and the stops."""
     s = result.summary()
+    stall = result.stall()
+    if stall is not None:
+        peak = stall.pop("mean_impact_peak_n_m")
+        stall |= {
+            "mean_ice_torque_per_passage_knm": float(mean_torque_per_passage_n_m(peak, case, blades)) / 1e3,
+            "hydrodynamic_torque_knm": hydro_n_m / 1e3,
+        }
     return {
         "min_rpm": s["min_rpm"],
         "peak_motor_torque_knm": s["peak_motor_torque_n_m"] / 1e3,
         "torque_limit_knm": result.drive.torque_limit_n_m / 1e3,
         "time_at_torque_limit_s": s["time_at_torque_limit_s"],
-        "stalled": bool(np.isfinite(s["stalled_at_s"])),
-        "stalled_at_s": None if not np.isfinite(s["stalled_at_s"]) else s["stalled_at_s"],
+        "stalled": stall is not None,
+        "stalled_at_s": None if stall is None else stall["time_s"],
+        "stall": stall,
+        "stops": s["stops"],
         "impacts": int(result.impact_time_s.size),
         "complete": result.complete,
         "time_step_s": result.dt_s,
     }
+
+
+def stall_message(case: int, d: dict) -> str | None:
+    """'case N stalls at t = … s, position …' with why (the case's mean ice torque per passage plus the
+    hydrodynamic torque against the limit) and what follows; None when the case does not stall. `d`: a
+    `drive_case_summary` (with ``bow_x_m`` and ``run_cusp`` in its stall when the caller knows them)."""
+    stall = d.get("stall")
+    if not stall:
+        return None
+    where = f"milling cusp {stall['cusp']}"
+    if stall.get("run_cusp") is not None:
+        where = f"milling the run's cusp {stall['run_cusp']} (broken off at bow x = {stall['bow_x_m']:.1f} m)"
+    load = stall["mean_ice_torque_per_passage_knm"] + stall["hydrodynamic_torque_knm"]
+    return (
+        f"case {case} stalls at t = {stall['time_s']:.2f} s, position: {where}, after its impact "
+        f"{stall['impacts_of_cusp']}; the case's mean ice torque per blade passage, "
+        f"{stall['mean_ice_torque_per_passage_knm']:.0f} kN·m, plus the hydrodynamic "
+        f"{stall['hydrodynamic_torque_knm']:.0f} kN·m ({load:.0f} kN·m) exceeds the motor's "
+        f"{d['torque_limit_knm']:.0f} kN·m limit ({d['stops']} stop(s) in the run; a stopped blade's free "
+        "block is pushed away and the run goes on)"
+    )
 
 
 RESONANCE_MARGIN_NOTE = f"margin {DEFAULT_REQUIRED_MARGIN:.0%} (assumed; IACS UR I3 text not available)"
@@ -386,15 +429,17 @@ class MilledCusps:
     advance_speed_m_s: float
     n_cusps_run: int
     counts: dict
+    run_index: np.ndarray | None = None  # per cusp: its row in the run's cusp table
+    bow_x_m: np.ndarray | None = None  # per cusp: the bow position where it broke off [m]
+
+    @cached_property
+    def _torques(self) -> CuspTorques:
+        return CuspTorques(self.block, self.blade, self.advance_speed_m_s)
 
     def impact_torque_n_m(self, cusp: int, rpm: float) -> float:
-        """Torque of one blade impact on cusp `cusp` at `rpm` (`propeller.milling.impact_loads`) [N·m]."""
-        block = IceBlock(
-            self.block.thickness_m[cusp : cusp + 1],
-            self.block.length_m[cusp : cusp + 1],
-            self.block.width_m[cusp : cusp + 1],
-        )
-        return float(impact_loads(block, self.blade, rpm, self.advance_speed_m_s).torque_n_m[0])
+        """Torque of one blade impact on cusp `cusp` at `rpm` (`propeller.milling.impact_loads`'s, through
+        `floebreak.shaft.impact_torque.CuspTorques`) [N·m]."""
+        return self._torques.torque_n_m(cusp, rpm)
 
 
 def milled_cusps(
@@ -449,7 +494,22 @@ def milled_cusps(
         advance_speed_m_s=float(speed_m_s),
         n_cusps_run=int(col["bow_x_m"].size),
         counts=counts,
+        run_index=chosen,
+        bow_x_m=np.asarray(col["bow_x_m"], dtype=float)[chosen],
     )
+
+
+def with_stall_positions(result: ShaftResult, milled: MilledCusps) -> ShaftResult:
+    """`result` with each stall's cusp located in the run: its row in the cusp table (``run_cusp``) and the
+    bow position where it broke off (``bow_x_m``)."""
+    summaries = []
+    for d in result.drive_summaries:
+        stall = d.get("stall")
+        if stall and milled.run_index is not None and milled.bow_x_m is not None:
+            cusp = stall["cusp"]
+            stall = stall | {"run_cusp": int(milled.run_index[cusp]), "bow_x_m": float(milled.bow_x_m[cusp])}
+        summaries.append(d | {"stall": stall})
+    return replace(result, drive_summaries=tuple(summaries))
 
 
 def torque_densities(series_knm: dict[str, np.ndarray], bin_knm: float = 10.0):
@@ -562,11 +622,7 @@ def _model_summary(result: ShaftResult) -> dict:
             "torque_limit_knm": result.torque_limit_n_m / 1e3,
             "cases": dict(zip(result.cases, result.drive_summaries, strict=True)),
         }
-        for c, d in zip(result.cases, result.drive_summaries, strict=True):
-            if d["stalled"]:
-                warnings.append(
-                    f"case {c}: the propeller stalls at {d['stalled_at_s']:.1f} s (ice torque above the "
-                    f"motor's {d['torque_limit_knm']:.0f} kN·m limit)"
-                )
+        stalls = (stall_message(c, d) for c, d in zip(result.cases, result.drive_summaries, strict=True))
+        warnings += [m for m in stalls if m]
     out["warnings"] = warnings
     return out

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
@@ -291,6 +291,8 @@ class DriveResult:
     impact_rpm: np.ndarray  # propeller rpm at the passage
     complete: bool  # every impact of every cusp started within the run
     stalled_at_s: float = math.nan  # when the propeller first came to a stop held by the ice (NaN: never)
+    # every stop, once per blade passage (free blocks: the run goes on after each)
+    stop_times_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def summary(self) -> dict[str, float]:
         """Extremes [rpm, N·m] and the time spent at the torque limit and at standstill [s]."""
@@ -307,6 +309,23 @@ class DriveResult:
             "time_at_torque_limit_s": float(at_limit.sum() * self.dt_s),
             "time_stalled_s": float((self.rpm <= 0.0).sum() * self.dt_s),
             "stalled_at_s": self.stalled_at_s,
+            "stops": int(self.stop_times_s.size),
+        }
+
+    def stall(self) -> dict | None:
+        """The first stop (None: never): its time [s], the cusp milled then (input order), how many of
+        that cusp's impacts had started, and their mean peak C_q·Q_imp [N·m] (from which
+        `floebreak.shaft.analysis.drive_case_summary` gives the case's mean ice torque per passage)."""
+        if not math.isfinite(self.stalled_at_s):
+            return None
+        row = min(round(self.stalled_at_s / self.dt_s) - 1, self.milled_cusp.size - 1)
+        cusp = int(self.milled_cusp[max(row, 0)])
+        mine = (self.impact_cusp == cusp) & (self.impact_time_s <= self.stalled_at_s)
+        return {
+            "time_s": self.stalled_at_s,
+            "cusp": cusp,
+            "impacts_of_cusp": int(mine.sum()),
+            "mean_impact_peak_n_m": float(self.impact_torque_n_m[mine].mean()) if mine.any() else math.nan,
         }
 
 
@@ -485,7 +504,7 @@ def simulate_drive(
     x = _initial_state(train, drive, q_mean)
     mech = _kernel_arguments(train, drive, q_mean, schedule)
     out = np.empty((min(cap, 1 << 16), 6))
-    step, row, m, step_end, stalled_at = 0, 0, 0, cap, math.nan
+    step, row, m, step_end, stalled_at, stops, stop_passages = 0, 0, 0, cap, math.nan, [], set()
     starts, amps = schedule.active_pulses(0.0)
     while True:
         status, step, row, t_cross, w_cross = _advance(
@@ -506,7 +525,10 @@ def simulate_drive(
         elif status == _END:
             break
         elif status == _STALL:
-            stalled_at = step * dt if math.isnan(stalled_at) else stalled_at
+            if m not in stop_passages:  # once per blade passage (the line's ringing can stop it again)
+                stops.append(step * dt)
+                stop_passages.add(m)
+            stalled_at = stops[0]
             if free_blocks:
                 schedule.release()
                 starts, amps = schedule.active_pulses(float(x[mech[0] - 1]))
@@ -518,10 +540,10 @@ def simulate_drive(
             starts, amps = schedule.active_pulses(float(x[mech[0] - 1]))
             if duration_s is None and schedule.finished:
                 step_end = min(step_end, math.ceil((t_cross + tail_s) / dt))
-    return _result(schedule, drive, train, dt, out[:row], arrival.size, stalled_at)
+    return _result(schedule, drive, train, dt, out[:row], arrival.size, np.array(stops))
 
 
-def _result(schedule: _Schedule, drive, train, dt, out, n_cusps, stalled_at) -> DriveResult:
+def _result(schedule: _Schedule, drive, train, dt, out, n_cusps, stops) -> DriveResult:
     to_rpm = 60.0 / (2.0 * math.pi)
     time = np.arange(out.shape[0]) * dt
     start, end = np.full(n_cusps, np.nan), np.full(n_cusps, np.nan)
@@ -553,5 +575,6 @@ def _result(schedule: _Schedule, drive, train, dt, out, n_cusps, stalled_at) -> 
         impact_torque_n_m=imp[:, 2],
         impact_rpm=imp[:, 3],
         complete=schedule.finished,
-        stalled_at_s=stalled_at,
+        stalled_at_s=float(stops[0]) if stops.size else math.nan,
+        stop_times_s=stops,
     )

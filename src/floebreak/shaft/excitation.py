@@ -58,6 +58,14 @@ def excitation_case(number) -> ExcitationCase:
     return EXCITATION_CASES[number]
 
 
+def mean_torque_per_passage_n_m(peak_n_m, case: int | ExcitationCase, blades: int) -> np.ndarray:
+    """The mean ice torque over one blade passage (360°/Z) of a steady impact train of the case [N·m]:
+    blocks × peak × (2/π) × α_i/(360°/Z) (a half sine's mean is 2/π of its peak; pulses longer than a
+    passage overlap and add). `peak_n_m`: C_q · Q_imp."""
+    spec = case if isinstance(case, ExcitationCase) else excitation_case(case)
+    return spec.blocks * np.asarray(peak_n_m, dtype=float) * (2.0 / math.pi) * spec.alpha_deg * blades / 360.0
+
+
 def arrival_times_s(bow_x_m, speed_m_s: float, lead_s: float = 2.0) -> np.ndarray:
     """t = t_lead + (x_bow − min x_bow)/v [s] for each cusp (module docstring)."""
     speed = require_range("speed_m_s", speed_m_s, low=0.0, unit="m/s")
