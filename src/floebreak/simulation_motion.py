@@ -54,8 +54,6 @@ class IceMotion:
         self._min_x = bounds[:, 0]
         self._next = 0
         self.origin: dict[int, tuple[float, float]] = {}  # centroid when added: unmoved pieces keep polygons
-        self.moved: set[int] = set()
-        self.written: dict[int, tuple[float, float, float]] = {}  # pose of the outline last stored
         self.forces: dict[int, list[tuple[float, float, float, float]]] = {}
 
     # --- between searches ---------------------------------------------------------------------------
@@ -96,13 +94,8 @@ class IceMotion:
         self._store(moved, [outlines[pid] for pid in moved])
         for state in retired:
             self._forget(state.piece_id)
-        changed = []
-        for pid in sorted(self.moved.union(self.engine.awake_ids())):
-            pose = self.engine.pose(pid)
-            if self._has_moved(pid, pose) and self.written.get(pid) != pose:
-                self.moved.add(pid)
-                self.written[pid] = pose
-                changed.append(pid)
+        ids, _ = self.engine.changed_poses()
+        changed = sorted(ids)
         self._store(changed, self.engine.polygons(changed))
 
     def _has_moved(self, pid: int, pose: tuple[float, float, float]) -> bool:
@@ -166,6 +159,4 @@ class IceMotion:
 
     def _forget(self, pid: int) -> None:
         del self.origin[pid]
-        self.moved.discard(pid)
-        self.written.pop(pid, None)
         self.forces.pop(pid, None)
