@@ -105,12 +105,16 @@ class _Rows:
         held = tuple(pieces.values())
         body_ids = np.array([p.body.id for p in held], dtype=np.uintp)
         order = np.argsort(body_ids, kind="stable")
-        table = drag_table(
-            [p.geometry.ring_xy_m for p in held],
-            [p.drag for p in held],
-            [p.mass_kg for p in held],
-            [p.moment_kg_m2 for p in held],
-        ) if held else None
+        table = (
+            drag_table(
+                [p.geometry.ring_xy_m for p in held],
+                [p.drag for p in held],
+                [p.mass_kg for p in held],
+                [p.moment_kg_m2 for p in held],
+            )
+            if held
+            else None
+        )
         return cls(
             tuple(pieces),
             held,
@@ -389,7 +393,7 @@ class IceMotionEngine:
                 fx, fy, m = water_forces_and_moments(
                     rows.drag, angle, velocity, omega, dt, self.settings.water_density_kg_m3
                 )
-                # the properties' setters directly: pymunk's typing __setattr__ wrapper cost as much as the call
+                # the setters directly: pymunk's typing __setattr__ wrapper costs as much as the call
                 set_force, set_torque = pymunk.Body.force.fset, pymunk.Body.torque.fset
                 for i, fx_n, fy_n, m_n_m in zip(
                     pulled.tolist(), fx[pulled].tolist(), fy[pulled].tolist(), m[pulled].tolist(), strict=True
