@@ -72,7 +72,11 @@ def _lone_floe(thickness_m=1.0, diameter_m=6.0, offset_m=8.0):
 
 
 def test_a_lone_small_floe_off_the_stem_is_pushed_aside_not_broken():
-    field, bow = _lone_floe()
+    """A 6 m floe centred 10 m to port (the bow's half-beam is 10.85 m): its flank meets the hull. Nearer
+    the stem (8 m) it is carried along the bow at the hull's normal speed until it fails in bending at the
+    shoulder, at every engine step from 0.083 to 0.01 s (the plastic cap of the crushing impulse,
+    docs/model.md "Coupling", 2)."""
+    field, bow = _lone_floe(offset_m=10.0)
     model = build_model("default")
     static = simulate(field, bow, model, SimulationParams(x_end_m=60.0))
     dynamic = simulate(field, bow, model, SimulationParams(x_end_m=60.0, ice_motion="dynamic"))
@@ -137,3 +141,29 @@ def test_bad_ice_motion_keys_name_the_key(override, key):
 def test_the_ice_motion_table_reaches_the_settings():
     scenario = Scenario.reference(["simulation.ice_motion=dynamic", "ice_motion.time_step_s=0.01"])
     assert scenario.ice_motion_settings() == IceMotionSettings(time_step_s=0.01)
+
+
+@pytest.mark.parametrize(("force_n", "lever_m"), [(1e9, 0.0), (1e9, 2.0), (1e3, 0.0)])
+def test_the_crushing_impulse_stops_at_the_hulls_speed_at_its_point(force_n, lever_m):
+    """Plastic contact: over a step the crushing force's impulse is |F|Δt, but at most the one that brings
+    the piece's point under the force to the hull's speed along F̂ (v + ω ẑ × r)·F̂ = V; a piece is never
+    driven faster than the hull pushes it, whatever the step."""
+    field, bow = _lone_floe()
+    params = SimulationParams(x_end_m=60.0, ice_motion="dynamic")
+    motion = _Run(field, bow, build_model("default"), params, ()).motion
+    motion.advance_to(0.0)
+    motion.engine.water = False  # the check is of the contact impulse alone
+    c = shapely.centroid(field.polygons[0])
+    dt, speed = 0.02, params.speed_m_s
+    motion.forces = {0: [(force_n, 0.0, c.x, c.y + lever_m)]}
+    motion._push(dt)
+    motion.engine.step(dt)
+    state = motion.engine.state(0)
+    point_vx = state.vx_m_s - state.angular_velocity_rad_s * lever_m  # x of v + ω ẑ × (0, lever)
+    if force_n > 1e6:  # |F|Δt far above what the hull's speed allows
+        assert point_vx == pytest.approx(speed, rel=1e-9)
+        assert (abs(state.angular_velocity_rad_s) > 1e-9) == (lever_m != 0.0)  # the lever turns it
+    else:  # a small force acts whole: Δv = FΔt/m, m = (1 + C_a)·ρ_i·A·h
+        s = IceMotionSettings()
+        mass = (1 + s.added_mass_coefficient) * s.ice_density_kg_m3 * field.polygons[0].area * 1.0
+        assert state.vx_m_s == pytest.approx(force_n * dt / mass, rel=1e-9)

@@ -139,6 +139,8 @@ _READ_FIELDS = (
     | pymunk.batch.BodyFields.ANGULAR_VELOCITY
 )
 
+_FORCE_FIELDS = pymunk.batch.BodyFields.FORCE | pymunk.batch.BodyFields.TORQUE
+
 
 class IceMotionEngine:
     """Pieces by id, a kinematic hull moving at a set velocity, `step(dt)` with the water forces."""
@@ -362,7 +364,7 @@ class IceMotionEngine:
     def _current(self) -> tuple[_Rows, np.ndarray]:
         """The rows and every body's state now, read in one batch call if stale."""
         if self._rows is None:
-            self._rows = _Rows.of(self._pieces)
+            self._rows, self._state = _Rows.of(self._pieces), None
         if self._state is None:
             rows = self._rows
             self._buffer.clear()
@@ -393,18 +395,28 @@ class IceMotionEngine:
                 fx, fy, m = water_forces_and_moments(
                     rows.drag, angle, velocity, omega, dt, self.settings.water_density_kg_m3
                 )
-                # the setters directly: pymunk's typing __setattr__ wrapper costs as much as the call
-                set_force, set_torque = pymunk.Body.force.fset, pymunk.Body.torque.fset
-                for i, fx_n, fy_n, m_n_m in zip(
-                    pulled.tolist(), fx[pulled].tolist(), fy[pulled].tolist(), m[pulled].tolist(), strict=True
-                ):
-                    set_force(rows.pieces[i].body, (fx_n, fy_n))
-                    set_torque(rows.pieces[i].body, m_n_m)
+                loads = np.zeros((len(rows.ids), 3))
+                loads[pulled, 0], loads[pulled, 1], loads[pulled, 2] = fx[pulled], fy[pulled], m[pulled]
+                self._set_forces(loads)
         for pid, loads in self._forces.items():
             piece = self._pieces.get(pid)
             if piece is not None and piece.awake:
                 for fx_n, fy_n, px, py in loads:
                     piece.body.apply_force_at_world_point((fx_n, fy_n), (px, py))
+
+    def _set_forces(self, loads: np.ndarray) -> None:
+        """Every body's force and torque from `loads` (rows, 3) in one batch call, in the order the bodies
+        were last read (no body entered or left since); the hull's are zero. Chipmunk zeroes a body's force
+        after each step, so a zero here is no force."""
+        body_ids = np.frombuffer(self._buffer.int_buf(), dtype=np.uintp)
+        rows = self._rows
+        k = np.minimum(np.searchsorted(rows.body_ids, body_ids), len(rows.ids) - 1)
+        ours = rows.body_ids[k] == body_ids
+        values = np.zeros((len(body_ids), 3))
+        values[ours] = loads[rows.row_of_body[k[ours]]]
+        buffer = pymunk.batch.Buffer()
+        buffer.set_float_buf(values.ravel())
+        pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, buffer)
 
     def _update_window(self) -> None:
         """Wake, freeze or retire the pieces whose box (centroid ± largest radius, all rows at once) crossed
