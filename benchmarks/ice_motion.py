@@ -20,6 +20,7 @@ import time
 import numpy as np
 
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
+from floebreak.dynamics import forces
 from floebreak.mechanics import compile_kernels
 from floebreak.scenario import Scenario
 from floebreak.simulation import ContactEvaluated, SimulationParams, simulate
@@ -101,6 +102,7 @@ def time_step_table() -> None:
 
 if __name__ == "__main__":
     compile_kernels()
+    forces.compile_now()
     gc.freeze()
     if "--time-steps" in sys.argv:
         time_step_table()

@@ -183,6 +183,9 @@ class IceMotionEngine:
         self._rows: _Rows | None = None  # the pieces held as rows; None once one entered or left
         self._state: np.ndarray | None = None  # (rows, 6) x, y, angle, vx, vy, ω; None once stale
         self._buffer = pymunk.batch.Buffer()
+        self._force_buffer = pymunk.batch.Buffer()
+        # the body ids in the order of the last batch read, where the pieces' rows sit among them, which rows
+        self._read_order: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.zeros(0, np.uintp),) * 3
         self.space.on_collision(
             HULL_COLLISION_TYPE,
             ICE_COLLISION_TYPE,
@@ -365,16 +368,20 @@ class IceMotionEngine:
         """The rows and every body's state now, read in one batch call if stale."""
         if self._rows is None:
             self._rows, self._state = _Rows.of(self._pieces), None
+            self._read_order = (np.zeros(0, np.uintp),) * 3
         if self._state is None:
             rows = self._rows
             self._buffer.clear()
             pymunk.batch.get_space_bodies(self.space, _READ_FIELDS, self._buffer)
             body_ids = np.frombuffer(self._buffer.int_buf(), dtype=np.uintp)
             values = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 6)
-            k = np.minimum(np.searchsorted(rows.body_ids, body_ids), max(len(rows.ids) - 1, 0))
-            ours = rows.body_ids[k] == body_ids if len(rows.ids) else np.zeros(len(body_ids), bool)
+            if not np.array_equal(body_ids, self._read_order[0]):  # bodies in another order: map again
+                k = np.minimum(np.searchsorted(rows.body_ids, body_ids), max(len(rows.ids) - 1, 0))
+                ours = rows.body_ids[k] == body_ids if len(rows.ids) else np.zeros(len(body_ids), bool)
+                self._read_order = (body_ids.copy(), np.flatnonzero(ours), rows.row_of_body[k[ours]])
+            _, read_at, row = self._read_order
             state = np.empty((len(rows.ids), 6))
-            state[rows.row_of_body[k[ours]]] = values[ours]  # the hull is not a row
+            state[row] = values[read_at]  # the hull is not a row
             self._state = state
         return self._rows, self._state
 
@@ -408,15 +415,11 @@ class IceMotionEngine:
         """Every body's force and torque from `loads` (rows, 3) in one batch call, in the order the bodies
         were last read (no body entered or left since); the hull's are zero. Chipmunk zeroes a body's force
         after each step, so a zero here is no force."""
-        body_ids = np.frombuffer(self._buffer.int_buf(), dtype=np.uintp)
-        rows = self._rows
-        k = np.minimum(np.searchsorted(rows.body_ids, body_ids), len(rows.ids) - 1)
-        ours = rows.body_ids[k] == body_ids
+        body_ids, read_at, row = self._read_order
         values = np.zeros((len(body_ids), 3))
-        values[ours] = loads[rows.row_of_body[k[ours]]]
-        buffer = pymunk.batch.Buffer()
-        buffer.set_float_buf(values.ravel())
-        pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, buffer)
+        values[read_at] = loads[row]
+        self._force_buffer.set_float_buf(values.ravel())
+        pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, self._force_buffer)
 
     def _update_window(self) -> None:
         """Wake, freeze or retire the pieces whose box (centroid ± largest radius, all rows at once) crossed
