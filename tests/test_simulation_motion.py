@@ -146,7 +146,7 @@ def test_the_ice_motion_table_reaches_the_settings():
 @pytest.mark.parametrize(("force_n", "lever_m"), [(1e9, 0.0), (1e9, 2.0), (1e3, 0.0)])
 def test_the_crushing_impulse_stops_at_the_hulls_speed_at_its_point(force_n, lever_m):
     """Plastic contact: over a step the crushing force's impulse is |F|Δt, but at most the one that brings
-    the piece's point under the force to the hull's speed along F̂ (v + ω ẑ × r)·F̂ = V; a piece is never
+    the piece's point under the force to the hull's speed along F̂, (v + ω ẑ × r)·F̂ = V: a piece is never
     driven faster than the hull pushes it, whatever the step."""
     field, bow = _lone_floe()
     params = SimulationParams(x_end_m=60.0, ice_motion="dynamic")
@@ -156,7 +156,7 @@ def test_the_crushing_impulse_stops_at_the_hulls_speed_at_its_point(force_n, lev
     c = shapely.centroid(field.polygons[0])
     dt, speed = 0.02, params.speed_m_s
     motion.forces = {0: [(force_n, 0.0, c.x, c.y + lever_m)]}
-    motion._push(dt)
+    motion._push()
     motion.engine.step(dt)
     state = motion.engine.state(0)
     point_vx = state.vx_m_s - state.angular_velocity_rad_s * lever_m  # x of v + ω ẑ × (0, lever)

@@ -63,9 +63,10 @@ class IceMotion:
         if dx > 0.0:
             n = max(1, math.ceil(dx / (self.speed_m_s * self.settings.time_step_s) - 1e-9))
             dt = dx / (n * self.speed_m_s)
+            self._push()
             for _ in range(n):
-                self._push(dt)
                 self.engine.step(dt)
+            self.engine.release_holds()
             self.forces.clear()
             self.bow_x = bow_x
             self._write_back()
@@ -76,36 +77,14 @@ class IceMotion:
             if self.pieces.fate[pid] == "remaining":
                 self._add(pid, (0.0, 0.0), 0.0)
 
-    def _push(self, dt_s: float) -> None:
-        """The crushing forces of the last search over one engine step, each as the impulse F·Δt capped at
-        the one that stops the hull closing in on the piece at the force's point (plastic contact: the
-        crushed ice does not bounce): j = min(|F|Δt, m_p·c), with c = (V x̂ − v_p)·F̂ the closing speed
-        and 1/m_p = 1/m + (r × F̂)²/I the piece's inverse effective mass at the point along F̂ (zones in
-        order, each seeing the velocity the previous ones gave). Uncapped, a light piece would leave at
-        up to V + |F|Δt/m, faster the larger the step (docs/model.md, "Coupling", 2)."""
-        engine, speed = self.engine, self.speed_m_s
+    def _push(self) -> None:
+        """The crushing forces of the last search, each as a plastic hull contact over the interval
+        (`IceMotionEngine.hold_against_hull`): at most |F|, and never pushing the piece's point faster than
+        the hull closes in along F̂. Held as a plain force, a light piece would leave at up to
+        V + |F|Δt/m, faster the larger the engine step (docs/model.md, "Coupling", 2)."""
         for pid, loads in self.forces.items():
-            state = engine.state(pid)
-            if not state.awake:
-                continue
-            mass, moment = engine.mass_kg(pid), engine.moment_kg_m2(pid)
-            vx, vy, omega = state.vx_m_s, state.vy_m_s, state.angular_velocity_rad_s
             for fx, fy, px, py in loads:
-                force = math.hypot(fx, fy)
-                if force == 0.0:
-                    continue
-                nx, ny, rx, ry = fx / force, fy / force, px - state.x_m, py - state.y_m
-                closing = (speed - vx + omega * ry) * nx - (vy + omega * rx) * ny
-                if closing <= 0.0:
-                    continue
-                lever = rx * ny - ry * nx
-                impulse = min(force * dt_s, closing / (1.0 / mass + lever * lever / moment))
-                engine.apply_force(pid, (impulse * nx / dt_s, impulse * ny / dt_s), (px, py))
-                vx, vy, omega = (
-                    vx + impulse * nx / mass,
-                    vy + impulse * ny / mass,
-                    omega + impulse * lever / moment,
-                )
+                self.engine.hold_against_hull(pid, (fx, fy), (px, py))
 
     def _write_back(self) -> None:
         outlines = self.engine.drain_retired_outlines()

@@ -24,6 +24,9 @@ from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, wat
 from floebreak.dynamics.settings import IceMotionSettings
 
 ICE_COLLISION_TYPE = 1
+# a hull contact's anchor on the hull lies this far behind the contact point [m], so that the direction of
+# the hold stays F̂ while the piece turns and slides by metres during an interval
+_HOLD_REACH_M = 1.0e4
 HULL_COLLISION_TYPE = 2
 
 
@@ -177,6 +180,7 @@ class IceMotionEngine:
         self._pieces: dict[int, _Piece] = {}
         self._by_body: dict[pymunk.Body, int] = {}
         self._forces: dict[int, list[tuple[float, float, float, float]]] = {}
+        self._holds: dict[int, list[pymunk.SlideJoint]] = {}
         self._impulses: dict[int, tuple[float, float]] = {}
         self._retired: list[PieceState] = []
         self._retired_outlines: dict[int, shapely.Polygon] = {}
@@ -251,6 +255,7 @@ class IceMotionEngine:
         piece = self._pieces.pop(piece_id)
         del self._by_body[piece.body]
         self._forces.pop(piece_id, None)
+        self._release(piece_id)
         self.space.remove(piece.body, *piece.shapes)
         self._rows = self._state = None
         return state
@@ -267,6 +272,45 @@ class IceMotionEngine:
     ) -> None:
         """Add a force at a field-frame point for the next step (e.g. floebreak's contact force)."""
         self._forces.setdefault(piece_id, []).append((force_n[0], force_n[1], point_xy_m[0], point_xy_m[1]))
+
+    def hold_against_hull(
+        self, piece_id: int, force_n: tuple[float, float], point_xy_m: tuple[float, float]
+    ) -> None:
+        """A plastic hull contact until `release_holds`: the hull pushes the piece at a field-frame point
+        along F̂ with at most |F|, and never faster than the hull itself closes in along F̂ (the crushed
+        ice does not bounce); the piece may move away freely. A Chipmunk slide joint from a hull anchor
+        `_HOLD_REACH_M` behind the point along −F̂ to the point on the piece, its minimum length just
+        above the present one (active from the first step), `max_force` = |F|, no position correction
+        (`max_bias` 0: the overlap is crushed ice, not an error). Solved with the ice–ice contacts, so a
+        piece jammed against others takes the whole force and a free one exactly the hull's speed,
+        whatever the step. Nothing for a piece that is not awake."""
+        piece = self._pieces[piece_id]
+        force = math.hypot(force_n[0], force_n[1])
+        if not piece.awake or force == 0.0:
+            return
+        px, py = float(point_xy_m[0]), float(point_xy_m[1])
+        ax, ay = px - _HOLD_REACH_M * force_n[0] / force, py - _HOLD_REACH_M * force_n[1] / force
+        joint = pymunk.SlideJoint(
+            self.hull,
+            piece.body,
+            self.hull.world_to_local((ax, ay)),
+            piece.body.world_to_local((px, py)),
+            math.hypot(px - ax, py - ay) * (1.0 + 1e-12),
+            math.inf,
+        )
+        joint.max_force, joint.max_bias = force, 0.0
+        self.space.add(joint)
+        self._holds.setdefault(piece_id, []).append(joint)
+
+    def release_holds(self) -> None:
+        """End every hull contact of `hold_against_hull`."""
+        for piece_id in list(self._holds):
+            self._release(piece_id)
+
+    def _release(self, piece_id: int) -> None:
+        joints = self._holds.pop(piece_id, ())
+        if joints:
+            self.space.remove(*joints)
 
     def piece_ids(self) -> list[int]:
         return list(self._pieces)
@@ -445,6 +489,8 @@ class IceMotionEngine:
     def _set_awake(self, piece: _Piece, awake: bool) -> None:
         """Dynamic inside the window; static (frozen, at rest) outside it or when pinned."""
         piece.awake = awake
+        if not awake:
+            self._release(self._by_body[piece.body])
         if self._rows is not None:
             self._rows.awake[self._rows.row_of_id[self._by_body[piece.body]]] = awake
         body = piece.body
