@@ -21,7 +21,7 @@ import time
 import numpy as np
 
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
-from floebreak.dynamics import forces
+from floebreak.dynamics import engine
 from floebreak.mechanics import compile_kernels
 from floebreak.scenario import Scenario
 from floebreak.simulation import ContactEvaluated, SimulationParams, simulate
@@ -121,7 +121,7 @@ def time_step_table(time_steps_s: tuple[float, ...]) -> None:
 
 if __name__ == "__main__":
     compile_kernels()
-    forces.compile_now()
+    engine.compile_now()
     gc.freeze()
     if "--time-steps" in sys.argv:
         time_step_table((*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S)

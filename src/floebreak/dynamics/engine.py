@@ -14,13 +14,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import pymunk
 import pymunk.batch
 import shapely
 
 from floebreak.dynamics.bodies import BodyGeometry, body_geometry
-from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_forces_and_moments
+from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_loads
+from floebreak.dynamics.forces import compile_now as _compile_water
 from floebreak.dynamics.settings import IceMotionSettings
 
 ICE_COLLISION_TYPE = 1
@@ -430,29 +432,27 @@ class IceMotionEngine:
         return self._rows, self._state
 
     def _load(self, rows: _Rows, state: np.ndarray, dt: float) -> None:
-        """The water forces on the moving pieces (all rows in one numpy pass), the rest speed's stop, the
-        applied forces. Pieces at rest (static ones among them) take no water force."""
-        angle, velocity, omega = state[:, 2], state[:, 3:5], state[:, 5]
-        moving = np.flatnonzero((velocity != 0.0).any(axis=1) | (omega != 0.0))
-        if moving.size:
-            rest = self.settings.rest_speed_m_s
-            speed = np.hypot(velocity[moving, 0], velocity[moving, 1])
-            stops = (speed < rest) & (np.abs(omega[moving]) * rows.radius_m[moving] < rest)
-            for i in moving[stops].tolist():
-                body = rows.pieces[i].body
-                body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
-            pulled = moving[~stops]
-            if self.water and pulled.size:  # water pulls nothing at rest
-                fx, fy, m = water_forces_and_moments(
-                    rows.drag, angle, velocity, omega, dt, self.settings.water_density_kg_m3
-                )
-                loads = np.zeros((len(rows.ids), 3))
-                loads[pulled, 0], loads[pulled, 1], loads[pulled, 2] = fx[pulled], fy[pulled], m[pulled]
-                self._set_forces(loads)
-        for pid, loads in self._forces.items():
+        """The water forces on the moving pieces (all rows in one compiled pass), the rest speed's stop,
+        the applied forces. Pieces at rest (static ones among them) take no water force."""
+        if not rows.ids:
+            return
+        loads, status = water_loads(
+            rows.drag,
+            state,
+            rows.radius_m,
+            self.settings.rest_speed_m_s,
+            dt,
+            self.settings.water_density_kg_m3,
+        )
+        for i in np.flatnonzero(status == 1).tolist():
+            body = rows.pieces[i].body
+            body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
+        if self.water and (status == 2).any():  # water pulls nothing at rest
+            self._set_forces(loads)
+        for pid, applied in self._forces.items():
             piece = self._pieces.get(pid)
             if piece is not None and piece.awake:
-                for fx_n, fy_n, px, py in loads:
+                for fx_n, fy_n, px, py in applied:
                     piece.body.apply_force_at_world_point((fx_n, fy_n), (px, py))
 
     def _set_forces(self, loads: np.ndarray) -> None:
@@ -469,18 +469,14 @@ class IceMotionEngine:
         """Wake, freeze or retire the pieces whose box (centroid ± largest radius, all rows at once) crossed
         the window's edges; the others are not touched."""
         rows, state = self._current()
-        x0, y0, x1, y1 = self.window()
-        x, y, r = state[:, 0], state[:, 1], rows.radius_m
-        retire = x + r < x0
-        inside = (x - r <= x1) & (y - r <= y1) & (y + r >= y0)
-        changes = np.flatnonzero(retire | (~rows.pinned & (inside != rows.awake)))
-        for i in changes.tolist():
+        changes = _window_changes(state, rows.radius_m, rows.awake, rows.pinned, *self.window())
+        for i, change in changes.tolist():
             pid, piece = rows.ids[i], rows.pieces[i]
-            if retire[i]:
+            if change == _RETIRE:
                 self._retired_outlines[pid] = _outlines([piece], state[i : i + 1, :3])[0]
                 self._retired.append(self.remove_piece(pid))
             else:
-                self._set_awake(piece, bool(inside[i]))
+                self._set_awake(piece, change == _WAKE)
 
     def _in_window(self, piece: _Piece, window: tuple[float, float, float, float]) -> bool:
         x0, y0, x1, y1 = piece.box()
@@ -525,6 +521,34 @@ def _hull_shape_elasticity(settings: IceMotionSettings) -> float:
     if settings.ice_hull_restitution == 0.0:
         return 0.0
     return settings.ice_hull_restitution / math.sqrt(settings.ice_ice_restitution)
+
+
+_RETIRE, _WAKE, _FREEZE = 0, 1, 2
+
+
+@numba.njit(cache=True, nogil=True)
+def _window_changes(state, radius, awake, pinned, x0, y0, x1, y1):
+    """(row, change) of the pieces whose box (centroid ± largest radius) is wholly behind the window
+    (retire), or crossed its front or sides (wake, freeze: not for pinned pieces), in row order."""
+    out = []
+    for i in range(len(radius)):
+        x, y, r = state[i, 0], state[i, 1], radius[i]
+        if x + r < x0:
+            out.append((i, _RETIRE))
+        elif not pinned[i]:
+            inside = x - r <= x1 and y - r <= y1 and y + r >= y0
+            if inside != awake[i]:
+                out.append((i, _WAKE if inside else _FREEZE))
+    result = np.empty((len(out), 2), dtype=np.int64)
+    for k in range(len(out)):
+        result[k, 0], result[k, 1] = out[k]
+    return result
+
+
+def compile_now() -> None:
+    """Compile the engine's kernels (or load them from numba's cache) ahead of a run."""
+    _compile_water()
+    _window_changes(np.zeros((1, 6)), np.ones(1), np.ones(1, bool), np.zeros(1, bool), -1.0, -1.0, 1.0, 1.0)
 
 
 def _outlines(pieces: list[_Piece], poses: np.ndarray) -> list[shapely.Polygon]:

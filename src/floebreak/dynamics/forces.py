@@ -93,10 +93,27 @@ def water_forces_and_moments(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(F_x, F_y, M_z) of the water on each piece of `table` over a step [N, N, N·m], field frame, at the
     centroids; `velocity_xy_m_s` (n, 2). W(û) is the spread of the ring's vertices across û in the body
-    frame (exact for any polygon: its shadow is one interval). One compiled pass over the rows (called
-    every engine step: numpy's per-call overhead cost more than the arithmetic)."""
-    velocity = np.ascontiguousarray(velocity_xy_m_s, dtype=np.float64)
-    out = _water_kernel(
+    frame (exact for any polygon: its shadow is one interval)."""
+    velocity = np.asarray(velocity_xy_m_s, dtype=np.float64)
+    state = np.zeros((len(table.starts), 6))
+    state[:, 2], state[:, 3:5], state[:, 5] = angle_rad, velocity, angular_velocity_rad_s
+    loads, _ = water_loads(table, state, np.zeros(len(table.starts)), -1.0, dt_s, water_density_kg_m3)
+    return loads[:, 0], loads[:, 1], loads[:, 2]
+
+
+def water_loads(
+    table: DragTable,
+    state: np.ndarray,
+    radius_m: np.ndarray,
+    rest_speed_m_s: float,
+    dt_s: float,
+    water_density_kg_m3: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The water's (F_x, F_y, M_z) on each piece over a step, (n, 3), from its `state` row (x, y, angle,
+    vx, vy, ω), and each piece's status: 0 at rest, 1 to be set at rest (speed and ω times its largest
+    radius both below `rest_speed_m_s`; no water force), 2 moving. One compiled pass over the rows
+    (called every engine step: numpy's per-call overhead cost more than the arithmetic)."""
+    return _water_kernel(
         table.ring_xy_m,
         table.starts,
         table.form_m,
@@ -104,25 +121,31 @@ def water_forces_and_moments(
         table.yaw_kg_m2,
         table.mass_kg,
         table.moment_kg_m2,
-        np.ascontiguousarray(angle_rad, dtype=np.float64),
-        velocity[:, 0].copy(),
-        velocity[:, 1].copy(),
-        np.ascontiguousarray(angular_velocity_rad_s, dtype=np.float64),
+        np.ascontiguousarray(state, dtype=np.float64),
+        np.ascontiguousarray(radius_m, dtype=np.float64),
+        float(rest_speed_m_s),
         float(dt_s),
         float(water_density_kg_m3),
     )
-    return out[:, 0], out[:, 1], out[:, 2]
 
 
 @numba.njit(cache=True, nogil=True)
-def _water_kernel(ring, starts, form, skin, yaw, mass, moment, angle, vx, vy, omega, dt, rho):
+def _water_kernel(ring, starts, form, skin, yaw, mass, moment, state, radius, rest, dt, rho):
     n = len(starts)
     out = np.zeros((n, 3))
+    status = np.zeros(n, dtype=np.int8)
     for i in range(n):
-        speed = math.hypot(vx[i], vy[i])
+        vx, vy, w = state[i, 3], state[i, 4], state[i, 5]
+        if vx == 0.0 and vy == 0.0 and w == 0.0:
+            continue
+        speed = math.hypot(vx, vy)
+        if speed < rest and abs(w) * radius[i] < rest:
+            status[i] = 1
+            continue
+        status[i] = 2
         if speed > 0.0:  # at rest: û = 0, and the drag is 0
-            ux, uy = vx[i] / speed, vy[i] / speed
-            c, s = math.cos(angle[i]), math.sin(angle[i])
+            ux, uy = vx / speed, vy / speed
+            c, s = math.cos(state[i, 2]), math.sin(state[i, 2])
             dx, dy = c * ux + s * uy, -s * ux + c * uy  # û in the body frame
             end = starts[i + 1] if i + 1 < n else len(ring)
             low, high = np.inf, -np.inf
@@ -132,28 +155,16 @@ def _water_kernel(ring, starts, form, skin, yaw, mass, moment, angle, vx, vy, om
             k = 0.5 * rho * (form[i] * (high - low) + skin[i])
             magnitude = step_drag(speed, k, mass[i], dt)
             out[i, 0], out[i, 1] = -magnitude * ux, -magnitude * uy
-        w = omega[i]
         if w != 0.0:
             c_yaw = yaw[i, 0] if w > 0.0 else yaw[i, 1]
             out[i, 2] = -math.copysign(step_drag(abs(w), c_yaw, moment[i], dt), w)
-    return out
+    return out, status
 
 
 def compile_now() -> None:
     """Compile the water kernel (or load it from numba's cache) ahead of a run."""
-    one = np.zeros(1)
-    _water_kernel(
-        np.zeros((3, 2)),
-        np.zeros(1, np.int64),
-        one,
-        one,
-        np.zeros((1, 2)),
-        one + 1,
-        one + 1,
-        one,
-        one + 1,
-        one,
-        one,
-        0.01,
-        1025.0,
+    one = np.ones(1)
+    table = DragTable(
+        np.zeros((3, 2)), np.zeros(1, np.int64), np.zeros(3, np.int64), one, one, np.ones((1, 2)), one, one
     )
+    water_loads(table, np.ones((1, 6)), one, 1e-3, 0.01, 1025.0)
