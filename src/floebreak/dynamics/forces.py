@@ -7,7 +7,7 @@ The force over a step Δt is the one that gives the exact solution of m_eff du/d
 with k frozen: u' = u / (1 + k |u| Δt / m_eff), so F = m_eff (u' − u)/Δt. This never reverses the velocity,
 whatever Δt (an explicit −k|u|u does for k|u|Δt > m_eff: small fast pieces), and equals −k|u|u as Δt → 0.
 What does not change with a piece's motion (C_d T, C_s A, c±) is computed once, when it enters
-(`DragConstants`); each step evaluates all awake pieces at once (`water_forces_and_moments`).
+(`DragConstants`); each step evaluates all pieces in one compiled pass (`water_loads`).
 Sources of the coefficients: `IceMotionSettings` and docs/model.md ("Ice motion").
 """
 
