@@ -9,7 +9,8 @@ searches the rigid-body engine (`floebreak.dynamics.IceMotionEngine`) advances n
   get their current outlines (stored polygon, bounding box; their out-of-contact skip is reset), retired
   pieces their final outlines, and the floes the window's front reached enter the engine;
 - `IceMotion.contact(pid, contact, bow_x)` for a piece in contact: floebreak's crushing force (horizontal,
-  at each zone's centre) acts on the piece over the next interval;
+  at each zone's centre) acts on the piece over the next interval as a plastic hull contact (at most |F|,
+  never faster than the hull closes in: `IceMotionEngine.hold_against_hull`);
 - `IceMotion.broken(pid, floe_children)`: the parent leaves the engine, the floe children enter with the
   parent's rigid-body velocity at their centroids and its angular velocity;
 - `IceMotion.leave(pid)`: a piece that left the field whole (cusp, flipped).

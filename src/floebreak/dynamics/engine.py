@@ -102,6 +102,7 @@ class _Rows:
     awake: np.ndarray  # kept equal to the pieces' `awake`
     pinned: np.ndarray
     reported: np.ndarray  # (n, 3) the pieces' `reported`
+    last_speed_m_s: np.ndarray  # each piece's speed at the last step (∞ after a rebuild): the rest stop
     body_ids: np.ndarray  # sorted
     row_of_body: np.ndarray  # the row of each of body_ids
 
@@ -129,6 +130,7 @@ class _Rows:
             np.array([p.awake for p in held], dtype=bool),
             np.array([p.pinned for p in held], dtype=bool),
             np.array([p.reported for p in held], dtype=float).reshape(-1, 3),
+            np.full(len(held), np.inf),
             body_ids[order],
             order,
         )
@@ -432,14 +434,19 @@ class IceMotionEngine:
         return self._rows, self._state
 
     def _load(self, rows: _Rows, state: np.ndarray, dt: float) -> None:
-        """The water forces on the moving pieces (all rows in one compiled pass), the rest speed's stop,
-        the applied forces. Pieces at rest (static ones among them) take no water force."""
+        """The water forces on the moving pieces (all rows in one compiled pass), the rest speed's stop
+        (not for pieces the hull holds or a force pushes), the applied forces. Pieces at rest (static ones
+        among them) take no water force."""
         if not rows.ids:
             return
+        held = np.zeros(len(rows.ids), dtype=bool)
+        held[[rows.row_of_id[pid] for pid in (*self._holds, *self._forces) if pid in rows.row_of_id]] = True
         loads, status = water_loads(
             rows.drag,
             state,
             rows.radius_m,
+            held,
+            rows.last_speed_m_s,
             self.settings.rest_speed_m_s,
             dt,
             self.settings.water_density_kg_m3,

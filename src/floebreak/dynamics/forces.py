@@ -97,7 +97,10 @@ def water_forces_and_moments(
     velocity = np.asarray(velocity_xy_m_s, dtype=np.float64)
     state = np.zeros((len(table.starts), 6))
     state[:, 2], state[:, 3:5], state[:, 5] = angle_rad, velocity, angular_velocity_rad_s
-    loads, _ = water_loads(table, state, np.zeros(len(table.starts)), -1.0, dt_s, water_density_kg_m3)
+    n = len(table.starts)
+    loads, _ = water_loads(
+        table, state, np.zeros(n), np.zeros(n, bool), np.full(n, np.inf), -1.0, dt_s, water_density_kg_m3
+    )
     return loads[:, 0], loads[:, 1], loads[:, 2]
 
 
@@ -105,14 +108,19 @@ def water_loads(
     table: DragTable,
     state: np.ndarray,
     radius_m: np.ndarray,
+    held: np.ndarray,
+    last_speed_m_s: np.ndarray,
     rest_speed_m_s: float,
     dt_s: float,
     water_density_kg_m3: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The water's (F_x, F_y, M_z) on each piece over a step, (n, 3), from its `state` row (x, y, angle,
-    vx, vy, ω), and each piece's status: 0 at rest, 1 to be set at rest (speed and ω times its largest
-    radius both below `rest_speed_m_s`; no water force), 2 moving. One compiled pass over the rows
-    (called every engine step: numpy's per-call overhead cost more than the arithmetic)."""
+    vx, vy, ω), and each piece's status: 0 at rest, 1 to be set at rest, 2 moving. A piece is set at rest
+    when its speed u = max(|v|, |ω|·its largest radius) is below `rest_speed_m_s` and not above its value
+    at the last step (`last_speed_m_s`, updated here): it creeps under drag. A piece pushed from rest
+    (by the hull, `held`, or through others) gains speed slowly if heavy and is not stopped. One compiled
+    pass over the rows (called every engine step: numpy's per-call overhead cost more than the
+    arithmetic)."""
     return _water_kernel(
         table.ring_xy_m,
         table.starts,
@@ -123,6 +131,8 @@ def water_loads(
         table.moment_kg_m2,
         np.ascontiguousarray(state, dtype=np.float64),
         np.ascontiguousarray(radius_m, dtype=np.float64),
+        np.ascontiguousarray(held, dtype=np.bool_),
+        last_speed_m_s,
         float(rest_speed_m_s),
         float(dt_s),
         float(water_density_kg_m3),
@@ -130,16 +140,17 @@ def water_loads(
 
 
 @numba.njit(cache=True, nogil=True)
-def _water_kernel(ring, starts, form, skin, yaw, mass, moment, state, radius, rest, dt, rho):
+def _water_kernel(ring, starts, form, skin, yaw, mass, moment, state, radius, held, last, rest, dt, rho):
     n = len(starts)
     out = np.zeros((n, 3))
     status = np.zeros(n, dtype=np.int8)
     for i in range(n):
         vx, vy, w = state[i, 3], state[i, 4], state[i, 5]
+        speed = math.hypot(vx, vy)
+        slow, last[i] = last[i], max(speed, abs(w) * radius[i])
         if vx == 0.0 and vy == 0.0 and w == 0.0:
             continue
-        speed = math.hypot(vx, vy)
-        if speed < rest and abs(w) * radius[i] < rest:
+        if last[i] < rest and last[i] <= slow and not held[i]:
             status[i] = 1
             continue
         status[i] = 2
@@ -167,4 +178,4 @@ def compile_now() -> None:
     table = DragTable(
         np.zeros((3, 2)), np.zeros(1, np.int64), np.zeros(3, np.int64), one, one, np.ones((1, 2)), one, one
     )
-    water_loads(table, np.ones((1, 6)), one, 1e-3, 0.01, 1025.0)
+    water_loads(table, np.ones((1, 6)), one, np.zeros(1, bool), np.zeros(1), 1e-3, 0.01, 1025.0)
