@@ -7,9 +7,10 @@ time of `simulate` (field, bow and model built once beforehand, the numba kernel
 and of the initial floes the hull touched (evaluated in contact at least once) the share that broke or left
 the field, the rest being pushed aside (dynamic) or left where they lie untouched by failure (static).
 With `--time-steps`, the engine-step convergence instead: dynamic motion on the 385 m field for
-`ice_motion.time_step_s` 0.02 / 0.01 / 0.005 (and 0.0025 with `--fine`) and seeds 1–3, with the seeds'
-means and their change from one step to the next (measured, nothing tuned).
-Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [--long | --time-steps [--fine]]`.
+`ice_motion.time_step_s` 0.02 / 0.01 / 0.005 (and 0.0025 with `--fine`) and seeds 1–3 (1–N with
+`--seeds N`), with the seeds' means and their change from one step to the next (measured, nothing tuned).
+Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [--long | --time-steps [--fine]
+[--seeds N]]`.
 """
 
 from __future__ import annotations
@@ -87,11 +88,11 @@ def compare(length_m: float, width_m: float) -> None:
         print(f"  cost ratio {name} / static: {rows[name]['cpu_s'] / rows['static']['cpu_s']:.2f}")
 
 
-def time_step_table(time_steps_s: tuple[float, ...]) -> None:
+def time_step_table(time_steps_s: tuple[float, ...], seeds: tuple[int, ...]) -> None:
     """Each seed at each time step, then the seeds' means and each mean's change from the step before."""
     size = ["field.length_m=385.0", "field.width_m=100.0"]
     rows: dict[float, list[dict[str, float]]] = {dt: [] for dt in time_steps_s}
-    for seed in SEEDS:
+    for seed in seeds:
         for dt_s in time_steps_s:
             motion = [*MOTIONS["dynamic"], f"ice_motion.time_step_s={dt_s}", f"seed={seed}"]
             row = _measure(size, motion)
@@ -124,7 +125,12 @@ if __name__ == "__main__":
     engine.compile_now()
     gc.freeze()
     if "--time-steps" in sys.argv:
-        time_step_table((*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S)
+        seeds = (
+            tuple(range(1, int(sys.argv[sys.argv.index("--seeds") + 1]) + 1))
+            if "--seeds" in sys.argv
+            else SEEDS
+        )
+        time_step_table((*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S, seeds)
         sys.exit(0)
     compare(385.0, 100.0)
     if "--long" in sys.argv:
