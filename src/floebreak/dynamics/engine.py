@@ -183,7 +183,6 @@ class IceMotionEngine:
         self.set_hull_velocity(hull_velocity_m_s)
         self._pieces: dict[int, _Piece] = {}
         self._by_body: dict[pymunk.Body, int] = {}
-        self._forces: dict[int, list[tuple[float, float, float, float]]] = {}
         self._holds: dict[int, list[pymunk.SlideJoint]] = {}
         self._impulses: dict[int, tuple[float, float]] = {}
         self._retired: list[PieceState] = []
@@ -258,7 +257,6 @@ class IceMotionEngine:
         state = self.state(piece_id)
         piece = self._pieces.pop(piece_id)
         del self._by_body[piece.body]
-        self._forces.pop(piece_id, None)
         self._release(piece_id)
         self.space.remove(piece.body, *piece.shapes)
         self._rows = self._state = None
@@ -270,12 +268,6 @@ class IceMotionEngine:
         piece.pinned = pinned
         self._rows = None
         self._set_awake(piece, not pinned and self._in_window(piece, self.window()))
-
-    def apply_force(
-        self, piece_id: int, force_n: tuple[float, float], point_xy_m: tuple[float, float]
-    ) -> None:
-        """Add a force at a field-frame point for the next step (e.g. floebreak's contact force)."""
-        self._forces.setdefault(piece_id, []).append((force_n[0], force_n[1], point_xy_m[0], point_xy_m[1]))
 
     def hold_against_hull(
         self, piece_id: int, force_n: tuple[float, float], point_xy_m: tuple[float, float]
@@ -406,7 +398,6 @@ class IceMotionEngine:
         self._impulses = {}
         rows, state = self._current()
         self._load(rows, state, dt)
-        self._forces.clear()
         self.space.step(dt)
         self._state = None
         self.time_s += dt
@@ -434,13 +425,12 @@ class IceMotionEngine:
         return self._rows, self._state
 
     def _load(self, rows: _Rows, state: np.ndarray, dt: float) -> None:
-        """The water forces on the moving pieces (all rows in one compiled pass), the rest speed's stop
-        (not for pieces the hull holds or a force pushes), the applied forces. Pieces at rest (static ones
-        among them) take no water force."""
+        """The water forces on the moving pieces (all rows in one compiled pass) and the rest speed's stop
+        (not for pieces the hull holds). Pieces at rest (static ones among them) take no water force."""
         if not rows.ids:
             return
         held = np.zeros(len(rows.ids), dtype=bool)
-        held[[rows.row_of_id[pid] for pid in (*self._holds, *self._forces) if pid in rows.row_of_id]] = True
+        held[[rows.row_of_id[pid] for pid in self._holds]] = True
         loads, status = water_loads(
             rows.drag,
             state,
@@ -456,11 +446,6 @@ class IceMotionEngine:
             body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
         if self.water and (status == 2).any():  # water pulls nothing at rest
             self._set_forces(loads)
-        for pid, applied in self._forces.items():
-            piece = self._pieces.get(pid)
-            if piece is not None and piece.awake:
-                for fx_n, fy_n, px, py in applied:
-                    piece.body.apply_force_at_world_point((fx_n, fy_n), (px, py))
 
     def _set_forces(self, loads: np.ndarray) -> None:
         """Every body's force and torque from `loads` (rows, 3) in one batch call, in the order the bodies
