@@ -7,8 +7,10 @@ time of `simulate` (field, bow and model built once beforehand, the numba kernel
 and of the initial floes the hull touched (evaluated in contact at least once) the share that broke or left
 the field, the rest being pushed aside (dynamic) or left where they lie untouched by failure (static).
 With `--time-steps`, the engine-step convergence instead: dynamic motion on the 385 m field for
-`ice_motion.time_step_s` 0.02 / 0.01 / 0.005 and seeds 1–3 (the same results in the same order, measured).
-Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [--long | --time-steps]`.
+`ice_motion.time_step_s` 0.02 / 0.01 / 0.005 (and 0.0025 with `--fine`) and seeds 1–3 (1–N with
+`--seeds N`), with the seeds' means and their change from one step to the next (measured, nothing tuned).
+Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [--long | --time-steps [--fine]
+[--seeds N]]`.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import time
 import numpy as np
 
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
+from floebreak.dynamics import engine
 from floebreak.mechanics import compile_kernels
 from floebreak.scenario import Scenario
 from floebreak.simulation import ContactEvaluated, SimulationParams, simulate
@@ -85,25 +88,49 @@ def compare(length_m: float, width_m: float) -> None:
         print(f"  cost ratio {name} / static: {rows[name]['cpu_s'] / rows['static']['cpu_s']:.2f}")
 
 
-def time_step_table() -> None:
+def time_step_table(time_steps_s: tuple[float, ...], seeds: tuple[int, ...]) -> None:
+    """Each seed at each time step, then the seeds' means and each mean's change from the step before."""
     size = ["field.length_m=385.0", "field.width_m=100.0"]
-    for seed in SEEDS:
-        for dt_s in TIME_STEPS_S:
+    rows: dict[float, list[dict[str, float]]] = {dt: [] for dt in time_steps_s}
+    for seed in seeds:
+        for dt_s in time_steps_s:
             motion = [*MOTIONS["dynamic"], f"ice_motion.time_step_s={dt_s}", f"seed={seed}"]
             row = _measure(size, motion)
+            rows[dt_s].append(row)
             print(
                 f"seed {seed}, time step {dt_s} s: {row['cusps_per_km']:.0f} cusps/km, "
                 f"cusp area {row['cusp_area_m2']:.0f} m², {row['touched']} floes touched, "
-                f"{100 * (1 - row['broke_share']):.0f} % pushed aside, CPU {row['cpu_s']:.1f} s",
+                f"{100 * (1 - row['broke_share']):.1f} % pushed aside, CPU {row['cpu_s']:.1f} s",
                 flush=True,
             )
+    previous = None
+    for dt_s in time_steps_s:
+        mean = {key: float(np.mean([r[key] for r in rows[dt_s]])) for key in ("cusps_per_km", "cusp_area_m2")}
+        pushed = 100 * (1 - float(np.mean([r["broke_share"] for r in rows[dt_s]])))
+        change = (
+            ""
+            if previous is None
+            else ", change from the step before: "
+            + ", ".join(f"{key} {100 * (mean[key] / previous[key] - 1):+.1f} %" for key in mean)
+        )
+        print(
+            f"mean of seeds, {dt_s} s: {mean['cusps_per_km']:.0f} cusps/km, "
+            f"{mean['cusp_area_m2']:.0f} m², {pushed:.1f} % pushed aside{change}"
+        )
+        previous = mean
 
 
 if __name__ == "__main__":
     compile_kernels()
+    engine.compile_now()
     gc.freeze()
     if "--time-steps" in sys.argv:
-        time_step_table()
+        seeds = (
+            tuple(range(1, int(sys.argv[sys.argv.index("--seeds") + 1]) + 1))
+            if "--seeds" in sys.argv
+            else SEEDS
+        )
+        time_step_table((*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S, seeds)
         sys.exit(0)
     compare(385.0, 100.0)
     if "--long" in sys.argv:

@@ -72,7 +72,11 @@ def _lone_floe(thickness_m=1.0, diameter_m=6.0, offset_m=8.0):
 
 
 def test_a_lone_small_floe_off_the_stem_is_pushed_aside_not_broken():
-    field, bow = _lone_floe()
+    """A 6 m floe centred 10 m to port (the bow's half-beam is 10.85 m): its flank meets the hull, and it
+    is pushed aside at every engine step from 0.083 to 0.0025 s. Nearer the stem (8 m) the case is
+    borderline: carried along the bow at the hull's normal speed (the plastic hull contact, docs/model.md
+    "Coupling", 2), it fails in bending at the shoulder at steps of 0.083–0.01 s and not at 0.005 s."""
+    field, bow = _lone_floe(offset_m=10.0)
     model = build_model("default")
     static = simulate(field, bow, model, SimulationParams(x_end_m=60.0))
     dynamic = simulate(field, bow, model, SimulationParams(x_end_m=60.0, ice_motion="dynamic"))
@@ -137,3 +141,85 @@ def test_bad_ice_motion_keys_name_the_key(override, key):
 def test_the_ice_motion_table_reaches_the_settings():
     scenario = Scenario.reference(["simulation.ice_motion=dynamic", "ice_motion.time_step_s=0.01"])
     assert scenario.ice_motion_settings() == IceMotionSettings(time_step_s=0.01)
+
+
+@pytest.mark.parametrize(("force_n", "lever_m"), [(1e9, 0.0), (1e9, 2.0), (1e3, 0.0)])
+def test_the_crushing_impulse_stops_at_the_hulls_speed_at_its_point(force_n, lever_m):
+    """Plastic contact: over a step the crushing force's impulse is |F|Δt, but at most the one that brings
+    the piece's point under the force to the hull's speed along F̂, (v + ω ẑ × r)·F̂ = V: a piece is never
+    driven faster than the hull pushes it, whatever the step."""
+    field, bow = _lone_floe()
+    params = SimulationParams(x_end_m=60.0, ice_motion="dynamic")
+    motion = _Run(field, bow, build_model("default"), params, ()).motion
+    motion.advance_to(0.0)
+    motion.engine.water = False  # the check is of the contact impulse alone
+    c = shapely.centroid(field.polygons[0])
+    dt, speed = 0.02, params.speed_m_s
+    motion.forces = {0: [(force_n, 0.0, c.x, c.y + lever_m)]}
+    motion._push()
+    motion.engine.step(dt)
+    state = motion.engine.state(0)
+    point_vx = state.vx_m_s - state.angular_velocity_rad_s * lever_m  # x of v + ω ẑ × (0, lever)
+    if force_n > 1e6:  # |F|Δt far above what the hull's speed allows
+        assert point_vx == pytest.approx(speed, rel=1e-9)
+        assert (abs(state.angular_velocity_rad_s) > 1e-9) == (lever_m != 0.0)  # the lever turns it
+    else:  # a small force acts whole: Δv = FΔt/m, m = (1 + C_a)·ρ_i·A·h
+        s = IceMotionSettings()
+        mass = (1 + s.added_mass_coefficient) * s.ice_density_kg_m3 * field.polygons[0].area * 1.0
+        assert state.vx_m_s == pytest.approx(force_n * dt / mass, rel=1e-9)
+
+
+def _mirrored(polygon):
+    return shapely.transform(polygon, lambda xy: xy * np.array([1.0, -1.0]))  # y → −y: exact in floats
+
+
+def _field_of(polygons) -> FloeField:
+    polygons = np.array(polygons, dtype=object)
+    diameters = 2.0 * np.sqrt(shapely.area(polygons) / np.pi)
+    n = len(polygons)
+    return FloeField(polygons, np.ones(n), diameters, np.arange(n), tuple(shapely.total_bounds(polygons)))
+
+
+def _final_pieces(result) -> list[tuple[str, shapely.Polygon]]:
+    pieces = [shapely.from_wkb(p) if isinstance(p, bytes) else p for p in result.polygon]
+    return [(str(f), p) for f, p in zip(result.fate, pieces, strict=True) if f != "broken"]
+
+
+def _mirror_gap(polygons, bow) -> tuple[float, list[str], list[str]]:
+    """Run the floes and their mirror image (the bow is symmetric: checked); the largest distance from a
+    final piece of the mirrored run to the mirror of its nearest counterpart, and both runs' fates."""
+    assert shapely.equals(_mirrored(bow.hull_upper), bow.hull_upper)
+    model, params = build_model("default"), SimulationParams(x_end_m=60.0, ice_motion="dynamic")
+    run_a = _final_pieces(simulate(_field_of(polygons), bow, model, params))
+    run_b = _final_pieces(simulate(_field_of([_mirrored(p) for p in polygons]), bow, model, params))
+    gap = 0.0
+    for _, piece in run_b:
+        gap = max(gap, min(shapely.hausdorff_distance(piece, _mirrored(q)) for _, q in run_a))
+    return gap, sorted(f for f, _ in run_a), sorted(f for f, _ in run_b)
+
+
+def test_a_mirrored_push_is_the_mirror_of_the_push():
+    """One floe pushed aside, no ice–ice contact: the only asymmetry is round-off (floebreak's contact
+    force on the mirrored ring, whose vertices run the other way, differs by ≈ 1e-14 of itself; the body
+    geometry is summed exactly). Over the ≈ 40 contacts and 10 m of travel that is ≈ 1e-12 m; 1e-9 m
+    leaves a wide margin and still fails for any real asymmetry (a contact-order or sign error)."""
+    field, bow = _lone_floe(offset_m=10.0)
+    gap, fates_a, fates_b = _mirror_gap(list(field.polygons), bow)
+    assert fates_a == fates_b == ["remaining"]
+    assert gap < 1e-9
+
+
+def test_a_mirrored_field_breaks_as_the_mirror_of_the_field_within_the_engines_slop():
+    """Two floes, one broken into touching children: Chipmunk resolves their contacts by sequential
+    impulses in the order it found the pairs, which the mirror changes, so the runs differ by the solver's
+    residual, not by round-off. The engine resolves contact positions only to its collision slop (pymunk's
+    default 0.1 m of overlap is let stand): every piece of the mirrored run must lie within it of the
+    mirror of a piece of the run, with the same fates."""
+    ring = 2 * np.pi * np.arange(40) / 40
+    floes = [
+        shapely.Polygon(np.c_[12.0 + 6 * np.cos(ring), 7.0 + 6 * np.sin(ring)]),
+        shapely.Polygon(np.c_[30.0 + 5 * np.cos(ring), -9.0 + 4 * np.sin(ring)]),
+    ]
+    gap, fates_a, fates_b = _mirror_gap(floes, agulhas_ii(ice_thickness_m=1.0))
+    assert fates_a == fates_b and len(fates_a) > 2  # it broke
+    assert gap < 0.1

@@ -9,7 +9,8 @@ searches the rigid-body engine (`floebreak.dynamics.IceMotionEngine`) advances n
   get their current outlines (stored polygon, bounding box; their out-of-contact skip is reset), retired
   pieces their final outlines, and the floes the window's front reached enter the engine;
 - `IceMotion.contact(pid, contact, bow_x)` for a piece in contact: floebreak's crushing force (horizontal,
-  at each zone's centre) acts on the piece over the next interval;
+  at each zone's centre) acts on the piece over the next interval as a plastic hull contact (at most |F|,
+  never faster than the hull closes in: `IceMotionEngine.hold_against_hull`);
 - `IceMotion.broken(pid, floe_children)`: the parent leaves the engine, the floe children enter with the
   parent's rigid-body velocity at their centroids and its angular velocity;
 - `IceMotion.leave(pid)`: a piece that left the field whole (cusp, flipped).
@@ -54,8 +55,6 @@ class IceMotion:
         self._min_x = bounds[:, 0]
         self._next = 0
         self.origin: dict[int, tuple[float, float]] = {}  # centroid when added: unmoved pieces keep polygons
-        self.moved: set[int] = set()
-        self.written: dict[int, tuple[float, float, float]] = {}  # pose of the outline last stored
         self.forces: dict[int, list[tuple[float, float, float, float]]] = {}
 
     # --- between searches ---------------------------------------------------------------------------
@@ -65,9 +64,10 @@ class IceMotion:
         if dx > 0.0:
             n = max(1, math.ceil(dx / (self.speed_m_s * self.settings.time_step_s) - 1e-9))
             dt = dx / (n * self.speed_m_s)
+            self._push()
             for _ in range(n):
-                self._push()
                 self.engine.step(dt)
+            self.engine.release_holds()
             self.forces.clear()
             self.bow_x = bow_x
             self._write_back()
@@ -79,15 +79,13 @@ class IceMotion:
                 self._add(pid, (0.0, 0.0), 0.0)
 
     def _push(self) -> None:
-        """The crushing forces of the last search, each while the hull still closes in on the piece at the
-        force's point: (V x̂ − v_point)·F > 0. A force held over the interval would otherwise keep pushing a
-        light piece that already moves away faster than the hull follows, up to 1.5 V on the reference field,
-        where in reality the contact opens."""
+        """The crushing forces of the last search, each as a plastic hull contact over the interval
+        (`IceMotionEngine.hold_against_hull`): at most |F|, and never pushing the piece's point faster than
+        the hull closes in along F̂. Held as a plain force, a light piece would leave at up to
+        V + |F|Δt/m, faster the larger the engine step (docs/model.md, "Coupling", 2)."""
         for pid, loads in self.forces.items():
             for fx, fy, px, py in loads:
-                vx, vy = self.engine.velocity_at(pid, (px, py))
-                if (self.speed_m_s - vx) * fx - vy * fy > 0.0:
-                    self.engine.apply_force(pid, (fx, fy), (px, py))
+                self.engine.hold_against_hull(pid, (fx, fy), (px, py))
 
     def _write_back(self) -> None:
         outlines = self.engine.drain_retired_outlines()
@@ -96,13 +94,8 @@ class IceMotion:
         self._store(moved, [outlines[pid] for pid in moved])
         for state in retired:
             self._forget(state.piece_id)
-        changed = []
-        for pid in sorted(self.moved.union(self.engine.awake_ids())):
-            pose = self.engine.pose(pid)
-            if self._has_moved(pid, pose) and self.written.get(pid) != pose:
-                self.moved.add(pid)
-                self.written[pid] = pose
-                changed.append(pid)
+        ids, _ = self.engine.changed_poses()
+        changed = sorted(ids)
         self._store(changed, self.engine.polygons(changed))
 
     def _has_moved(self, pid: int, pose: tuple[float, float, float]) -> bool:
@@ -166,6 +159,4 @@ class IceMotion:
 
     def _forget(self, pid: int) -> None:
         del self.origin[pid]
-        self.moved.discard(pid)
-        self.written.pop(pid, None)
         self.forces.pop(pid, None)

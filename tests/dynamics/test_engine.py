@@ -231,3 +231,25 @@ def test_a_creeping_piece_comes_to_rest_below_the_rest_speed(speed_m_s, stops):
     engine.add_piece(1, shapely.box(0, 0, 2, 2), 0.5, velocity_m_s=(speed_m_s, 0.0))
     engine.step()
     assert (engine.state(1).vx_m_s == 0.0) == stops
+
+
+def test_a_hull_hold_passes_its_whole_force_through_a_jammed_piece():
+    """A small piece held by the hull with |F| pushes a large one in front of it: below the hull's speed
+    the hold is a plain force, so the pair's momentum grows by exactly F·t (Newton's second law on the
+    pair, no water), whatever the step; the small piece alone could take only m·V from a per-step cap."""
+    s = IceMotionSettings(window_ahead_m=1e3, window_side_m=1e3, ice_ice_friction=0.0)
+    for dt in (0.02, 0.005):
+        engine = IceMotionEngine(FAR_HULL, (3.0, 0.0), s, water=False)
+        engine.add_piece(1, shapely.box(0.0, 4.0, 2.0, 6.0), 1.0)  # 4 m², ≈ 4.0 t
+        engine.add_piece(2, shapely.box(2.0, 0.0, 12.0, 10.0), 1.0)  # 100 m², ≈ 101 t, touching piece 1
+        force_n, seconds = 2.0e4, 1.0
+        engine.hold_against_hull(1, (force_n, 0.0), (1.0, 5.0))
+        for _ in range(round(seconds / dt)):
+            engine.step(dt)
+        momentum = sum(engine.mass_kg(i) * engine.state(i).vx_m_s for i in (1, 2))
+        assert momentum == pytest.approx(force_n * seconds, rel=1e-6)
+        assert engine.state(2).vx_m_s > 0.9 * engine.state(1).vx_m_s  # pushed through the contact
+        assert engine.state(1).vx_m_s < 3.0
+        engine.release_holds()
+        engine.step(dt)
+        assert sum(engine.mass_kg(i) * engine.state(i).vx_m_s for i in (1, 2)) == pytest.approx(momentum)

@@ -7,6 +7,7 @@ convex polygons only); the geometric integrals of the water drag (docs/model.md,
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,11 +36,18 @@ def polygon_area_moment(ring_xy_m: np.ndarray) -> tuple[float, np.ndarray, float
     x, y = ring_xy_m[:, 0], ring_xy_m[:, 1]
     xj, yj = np.roll(x, -1), np.roll(y, -1)
     cross = x * yj - xj * y
-    area = cross.sum() / 2.0
-    cx = ((x + xj) * cross).sum() / (6.0 * area)
-    cy = ((y + yj) * cross).sum() / (6.0 * area)
-    j_origin = (cross * (x * x + x * xj + xj * xj + y * y + y * yj + yj * yj)).sum() / 12.0
+    area = _exact_sum(cross) / 2.0
+    cx = _exact_sum((x + xj) * cross) / (6.0 * area)
+    cy = _exact_sum((y + yj) * cross) / (6.0 * area)
+    j_origin = _exact_sum(cross * (x * x + x * xj + xj * xj + y * y + y * yj + yj * yj)) / 12.0
     return abs(area), np.array([cx, cy]), abs(j_origin) - abs(area) * (cx * cx + cy * cy)
+
+
+def _exact_sum(terms: np.ndarray) -> float:
+    """The correctly rounded sum (`math.fsum`): independent of the terms' order, so a mirrored polygon (its
+    ring reversed, the same terms in another order, some negated) gets exactly the mirrored centroid and
+    the same mass and moment (docs/model.md, "Determinism and symmetry")."""
+    return math.fsum(terms.tolist())
 
 
 def _ccw_ring(polygon: shapely.Polygon) -> np.ndarray:
@@ -53,36 +61,69 @@ def _is_convex(polygon: shapely.Polygon) -> bool:
 
 def convex_parts(polygon: shapely.Polygon) -> list[shapely.Polygon]:
     """Convex polygons whose union is `polygon` exactly: the polygon itself if convex, else its constrained
-    Delaunay triangles merged greedily while the merge stays convex (Hertel–Mehlhorn style; deterministic:
-    triangles in GEOS's order)."""
+    Delaunay triangles merged across shared edges while the merge stays convex (Hertel & Mehlhorn 1983:
+    removing a diagonal keeps a part convex iff the angles at its two ends stay ≤ 180°). Deterministic:
+    parts grown in GEOS's triangle order, each across its edges in ring order."""
     if _is_convex(polygon):
         return [polygon]
-    triangles = list(shapely.constrained_delaunay_triangles(polygon).geoms)
-    boxes = [t.bounds for t in triangles]
-    parts: list[shapely.Polygon] = []
-    while triangles:
-        part, box = triangles.pop(0), boxes.pop(0)
-        merged = True
-        while merged:
-            merged = False
-            for k, tri in enumerate(triangles):
-                # boxes apart: no shared edge (the exact test below is the costly one)
-                if _boxes_apart(box, boxes[k]) or part.intersection(tri).length <= 0.0:
-                    continue
-                union = shapely.union(part, tri)
-                if isinstance(union, shapely.Polygon) and _is_convex(union):
-                    part = shapely.Polygon(union.exterior.coords)
-                    box = part.bounds
-                    triangles.pop(k)
-                    boxes.pop(k)
-                    merged = True
-                    break
-        parts.append(part)
-    return parts
+    triangles = shapely.get_coordinates(shapely.constrained_delaunay_triangles(polygon)).reshape(-1, 4, 2)
+    points: dict[tuple[float, float], int] = {}
+    cycles: list[list[int]] = []
+    for tri in triangles[:, :3].tolist():
+        ids = [points.setdefault((x, y), len(points)) for x, y in tri]
+        (ax, ay), (bx, by), (cx, cy) = tri
+        cycles.append(ids if (bx - ax) * (cy - ay) - (by - ay) * (cx - ax) > 0.0 else ids[::-1])
+    xy = np.array(list(points), dtype=float)
+    parts = [xy[cycle] for cycle in _merge_convex(cycles, xy.tolist())]
+    return [shapely.Polygon(part) for part in parts]
 
 
-def _boxes_apart(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
-    return a[2] < b[0] or b[2] < a[0] or a[3] < b[1] or b[3] < a[1]
+def _merge_convex(cycles: list[list[int]], xy: list[list[float]]) -> list[list[int]]:
+    """Counter-clockwise vertex cycles sharing edges, merged greedily while the merge stays convex."""
+    owner = {(c[i], c[(i + 1) % len(c)]): k for k, c in enumerate(cycles) for i in range(len(c))}
+    alive = [True] * len(cycles)
+    for k, cycle in enumerate(cycles):
+        if not alive[k]:
+            continue
+        i = 0
+        while i < len(cycle):
+            u, v = cycle[i], cycle[(i + 1) % len(cycle)]
+            other = owner.get((v, u))
+            if other is None or other == k or not _convex_merge(cycle, cycles[other], i, u, v, xy):
+                i += 1
+                continue
+            merged = _joined(cycle, cycles[other], i, u)
+            alive[other] = False
+            for j in range(len(merged)):
+                owner[(merged[j], merged[(j + 1) % len(merged)])] = k
+            del owner[(u, v)], owner[(v, u)]
+            cycles[k] = cycle = merged
+            i = 0
+    return [c for c, keep in zip(cycles, alive, strict=True) if keep]
+
+
+def _joined(a: list[int], b: list[int], i: int, u: int) -> list[int]:
+    """Cycle `a` (edge u → v at position i) and cycle `b` (edge v → u) without their shared edge."""
+    j = b.index(u)
+    after_v = a[i + 1 :] + a[: i + 1]  # v … u along a
+    along_b = b[j:] + b[:j]  # u … v along b
+    return after_v[:-1] + along_b[:-1]  # v … (before u) along a, then u … (before v) along b
+
+
+def _convex_merge(a: list[int], b: list[int], i: int, u: int, v: int, xy: list[list[float]]) -> bool:
+    """Whether removing the shared edge u → v (of `a`, at position i) keeps a convex union: a left turn
+    (or straight) at u from a's vertex before it to b's after it, and at v from b's before to a's after."""
+    j = b.index(u)
+    a_before_u, a_after_v = a[i - 1], a[(i + 2) % len(a)]
+    b_after_u, b_before_v = b[(j + 1) % len(b)], b[j - 2]
+    return (
+        _turn(xy[a_before_u], xy[u], xy[b_after_u]) >= 0.0
+        and _turn(xy[b_before_v], xy[v], xy[a_after_v]) >= 0.0
+    )
+
+
+def _turn(p: list[float], q: list[float], r: list[float]) -> float:
+    return (q[0] - p[0]) * (r[1] - q[1]) - (q[1] - p[1]) * (r[0] - q[0])
 
 
 def _yaw_form_integrals(ring: np.ndarray) -> tuple[float, float]:
@@ -100,8 +141,8 @@ def _yaw_form_integrals(ring: np.ndarray) -> tuple[float, float]:
         du = u1 - u0
         flat = np.abs(du) <= 1e-12 * np.maximum(np.abs(u0), 1e-300)
         f = (np.maximum(u1, 0.0) ** 4 - np.maximum(u0, 0.0) ** 4) / 4.0
-        return float(
-            np.where(flat, length * np.maximum(u0, 0.0) ** 3, length * f / np.where(flat, 1.0, du)).sum()
+        return _exact_sum(
+            np.where(flat, length * np.maximum(u0, 0.0) ** 3, length * f / np.where(flat, 1.0, du))
         )
 
     return positive_part(s0, s1), positive_part(-s0, -s1)
@@ -132,17 +173,14 @@ _SUB_POINTS = _sub_triangle_points()
 def _yaw_skin_integral(ring: np.ndarray) -> float:
     """∫ |r|³ dA over the polygon about its centroid: the signed fan of triangles (centroid, a_i, a_i+1),
     each split into 16 sub-triangles integrated by Dunavant's degree-5 rule (all points at once, summed
-    per sub-triangle in order)."""
+    exactly: the same value for the mirrored, reversed ring)."""
     a, b = ring, np.roll(ring, -1, axis=0)
     signed_area = (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) / 2.0
     uv = _SUB_POINTS  # point = u·a + v·b
     pts = uv[:, None, :, 0, None] * a[None, :, None, :] + uv[:, None, :, 1, None] * b[None, :, None, :]
     r3 = np.hypot(pts[..., 0], pts[..., 1]) ** 3  # (_SPLIT², n, 7)
     terms = signed_area[None, :, None] / _SPLIT**2 * _RULE_WEIGHTS[None, None, :] * r3
-    total = 0.0
-    for sub in terms:
-        total += float(sub.sum())
-    return abs(total)
+    return abs(_exact_sum(terms.ravel()))
 
 
 def body_geometry(polygon: shapely.Polygon) -> BodyGeometry:

@@ -14,15 +14,21 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import pymunk
+import pymunk.batch
 import shapely
 
 from floebreak.dynamics.bodies import BodyGeometry, body_geometry
-from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_forces_and_moments
+from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_loads
+from floebreak.dynamics.forces import compile_now as _compile_water
 from floebreak.dynamics.settings import IceMotionSettings
 
 ICE_COLLISION_TYPE = 1
+# a hull contact's anchor on the hull lies this far behind the contact point [m], so that the direction of
+# the hold stays F̂ while the piece turns and slides by metres during an interval
+_HOLD_REACH_M = 1.0e4
 HULL_COLLISION_TYPE = 2
 
 
@@ -45,14 +51,13 @@ class _Piece:
     __slots__ = (
         "awake",
         "body",
-        "bounds",
         "drag",
         "geometry",
         "mass_kg",
         "moment_kg_m2",
         "pinned",
-        "pose",
         "radius_m",
+        "reported",
         "shapes",
         "thickness_m",
     )
@@ -74,10 +79,74 @@ class _Piece:
             shape.elasticity = math.sqrt(settings.ice_ice_restitution)
         self.pinned = False
         self.awake = True
-        self.bounds = (0.0, 0.0, 0.0, 0.0)  # field-frame box; kept current for awake pieces only
-        # (x, y, angle) of the body now, `bounds` computed from it: read after each step for awake pieces,
-        # on entry and on waking (static bodies do not move), so the step need not read it again
-        self.pose = (math.nan, math.nan, math.nan)
+        # (x, y, angle) when `changed_poses` last reported the piece (on entry: where it was added)
+        self.reported = (*geometry.centroid_xy_m, 0.0)
+
+    def box(self) -> tuple[float, float, float, float]:
+        """Centroid ± the largest radius: holds the piece in any orientation (the window needs no more)."""
+        x, y = self.body.position
+        r = self.radius_m
+        return (x - r, y - r, x + r, y + r)
+
+
+@dataclass(frozen=True)
+class _Rows:
+    """The pieces held, one row each in the order they were added, and the map from Chipmunk's body ids
+    (the order `pymunk.batch` reads them in) to rows; rebuilt when a piece enters or leaves."""
+
+    ids: tuple[int, ...]
+    pieces: tuple[_Piece, ...]
+    row_of_id: dict[int, int]
+    drag: DragTable
+    radius_m: np.ndarray
+    awake: np.ndarray  # kept equal to the pieces' `awake`
+    pinned: np.ndarray
+    reported: np.ndarray  # (n, 3) the pieces' `reported`
+    last_speed_m_s: np.ndarray  # each piece's speed at the last step (∞ after a rebuild): the rest stop
+    body_ids: np.ndarray  # sorted
+    row_of_body: np.ndarray  # the row of each of body_ids
+
+    @classmethod
+    def of(cls, pieces: dict[int, _Piece]) -> _Rows:
+        held = tuple(pieces.values())
+        body_ids = np.array([p.body.id for p in held], dtype=np.uintp)
+        order = np.argsort(body_ids, kind="stable")
+        table = (
+            drag_table(
+                [p.geometry.ring_xy_m for p in held],
+                [p.drag for p in held],
+                [p.mass_kg for p in held],
+                [p.moment_kg_m2 for p in held],
+            )
+            if held
+            else None
+        )
+        return cls(
+            tuple(pieces),
+            held,
+            {pid: row for row, pid in enumerate(pieces)},
+            table,
+            np.array([p.radius_m for p in held], dtype=float),
+            np.array([p.awake for p in held], dtype=bool),
+            np.array([p.pinned for p in held], dtype=bool),
+            np.array([p.reported for p in held], dtype=float).reshape(-1, 3),
+            np.full(len(held), np.inf),
+            body_ids[order],
+            order,
+        )
+
+
+# x, y, angle, vx, vy, ω of every body, read in one call (pymunk's batch API; per-body attribute access
+# costs about 70 times more)
+_READ_FIELDS = (
+    pymunk.batch.BodyFields.BODY_ID
+    | pymunk.batch.BodyFields.POSITION
+    | pymunk.batch.BodyFields.ANGLE
+    | pymunk.batch.BodyFields.VELOCITY
+    | pymunk.batch.BodyFields.ANGULAR_VELOCITY
+)
+
+_FORCE_FIELDS = pymunk.batch.BodyFields.FORCE | pymunk.batch.BodyFields.TORQUE
 
 
 class IceMotionEngine:
@@ -114,11 +183,16 @@ class IceMotionEngine:
         self.set_hull_velocity(hull_velocity_m_s)
         self._pieces: dict[int, _Piece] = {}
         self._by_body: dict[pymunk.Body, int] = {}
-        self._forces: dict[int, list[tuple[float, float, float, float]]] = {}
+        self._holds: dict[int, list[pymunk.SlideJoint]] = {}
         self._impulses: dict[int, tuple[float, float]] = {}
         self._retired: list[PieceState] = []
         self._retired_outlines: dict[int, shapely.Polygon] = {}
-        self._table: tuple[tuple[int, ...], DragTable | None] = ((), None)  # of the awake pieces, by ids
+        self._rows: _Rows | None = None  # the pieces held as rows; None once one entered or left
+        self._state: np.ndarray | None = None  # (rows, 6) x, y, angle, vx, vy, ω; None once stale
+        self._buffer = pymunk.batch.Buffer()
+        self._force_buffer = pymunk.batch.Buffer()
+        # the body ids in the order of the last batch read, where the pieces' rows sit among them, which rows
+        self._read_order: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.zeros(0, np.uintp),) * 3
         self.space.on_collision(
             HULL_COLLISION_TYPE,
             ICE_COLLISION_TYPE,
@@ -172,7 +246,7 @@ class IceMotionEngine:
         self.space.add(piece.body, *piece.shapes)
         self._pieces[piece_id] = piece
         self._by_body[piece.body] = piece_id
-        _read_pose(piece)
+        self._rows = self._state = None
         if pinned:
             self.set_pinned(piece_id, True)
         else:
@@ -183,21 +257,56 @@ class IceMotionEngine:
         state = self.state(piece_id)
         piece = self._pieces.pop(piece_id)
         del self._by_body[piece.body]
-        self._forces.pop(piece_id, None)
+        self._release(piece_id)
         self.space.remove(piece.body, *piece.shapes)
+        self._rows = self._state = None
         return state
 
     def set_pinned(self, piece_id: int, pinned: bool) -> None:
         """Pin a piece (static: no motion, zero velocity) or release it."""
         piece = self._pieces[piece_id]
         piece.pinned = pinned
+        self._rows = None
         self._set_awake(piece, not pinned and self._in_window(piece, self.window()))
 
-    def apply_force(
+    def hold_against_hull(
         self, piece_id: int, force_n: tuple[float, float], point_xy_m: tuple[float, float]
     ) -> None:
-        """Add a force at a field-frame point for the next step (e.g. floebreak's contact force)."""
-        self._forces.setdefault(piece_id, []).append((force_n[0], force_n[1], point_xy_m[0], point_xy_m[1]))
+        """A plastic hull contact until `release_holds`: the hull pushes the piece at a field-frame point
+        along F̂ with at most |F|, and never faster than the hull itself closes in along F̂ (the crushed
+        ice does not bounce); the piece may move away freely. A Chipmunk slide joint from a hull anchor
+        `_HOLD_REACH_M` behind the point along −F̂ to the point on the piece, its minimum length just
+        above the present one (active from the first step), `max_force` = |F|, no position correction
+        (`max_bias` 0: the overlap is crushed ice, not an error). Solved with the ice–ice contacts, so a
+        piece jammed against others takes the whole force and a free one exactly the hull's speed,
+        whatever the step. Nothing for a piece that is not awake."""
+        piece = self._pieces[piece_id]
+        force = math.hypot(force_n[0], force_n[1])
+        if not piece.awake or force == 0.0:
+            return
+        px, py = float(point_xy_m[0]), float(point_xy_m[1])
+        ax, ay = px - _HOLD_REACH_M * force_n[0] / force, py - _HOLD_REACH_M * force_n[1] / force
+        joint = pymunk.SlideJoint(
+            self.hull,
+            piece.body,
+            self.hull.world_to_local((ax, ay)),
+            piece.body.world_to_local((px, py)),
+            math.hypot(px - ax, py - ay) * (1.0 + 1e-12),
+            math.inf,
+        )
+        joint.max_force, joint.max_bias = force, 0.0
+        self.space.add(joint)
+        self._holds.setdefault(piece_id, []).append(joint)
+
+    def release_holds(self) -> None:
+        """End every hull contact of `hold_against_hull`."""
+        for piece_id in list(self._holds):
+            self._release(piece_id)
+
+    def _release(self, piece_id: int) -> None:
+        joints = self._holds.pop(piece_id, ())
+        if joints:
+            self.space.remove(*joints)
 
     def piece_ids(self) -> list[int]:
         return list(self._pieces)
@@ -238,7 +347,20 @@ class IceMotionEngine:
 
     def pose(self, piece_id: int) -> tuple[float, float, float]:
         """(x, y, angle) of a piece's centroid and rotation now."""
-        return self._pieces[piece_id].pose
+        rows, state = self._current()
+        x, y, angle = state[rows.row_of_id[piece_id], :3].tolist()
+        return x, y, angle
+
+    def changed_poses(self) -> tuple[list[int], np.ndarray]:
+        """The pieces whose pose changed since the last call (since they entered, the first time), by id,
+        and their poses (n, 3) now: the outlines to re-store. Pieces that did not move are not read."""
+        rows, state = self._current()
+        changed = np.flatnonzero((state[:, :3] != rows.reported).any(axis=1))
+        rows.reported[changed] = state[changed, :3]
+        ids = [rows.ids[i] for i in changed.tolist()]
+        for i in changed.tolist():
+            rows.pieces[i].reported = tuple(rows.reported[i].tolist())
+        return ids, state[changed, :3]
 
     def polygon(self, piece_id: int) -> shapely.Polygon:
         """The piece's outline now, field frame (its ring rotated by the angle and moved to the centroid)."""
@@ -248,18 +370,10 @@ class IceMotionEngine:
         """The outlines of several pieces now (as `polygon`), built in one pass."""
         if not piece_ids:
             return []
-        pieces = [self._pieces[pid] for pid in piece_ids]
-        rings = [p.geometry.ring_xy_m for p in pieces]
-        sizes = [len(r) for r in rings]
-        ring = np.concatenate(rings)
-        poses = np.array([p.pose for p in pieces])
-        cos_sin = np.array([(math.cos(a), math.sin(a)) for a in poses[:, 2]])
-        per_vertex = np.repeat(np.column_stack([poses[:, :2], cos_sin]), sizes, axis=0)
-        px, py, c, s = per_vertex.T
-        x = px + c * ring[:, 0] - s * ring[:, 1]
-        y = py + s * ring[:, 0] + c * ring[:, 1]
-        owner = np.repeat(np.arange(len(pieces)), sizes)
-        return list(shapely.polygons(shapely.linearrings(np.column_stack([x, y]), indices=owner)))
+        rows, state = self._current()
+        return _outlines(
+            [self._pieces[pid] for pid in piece_ids], state[[rows.row_of_id[pid] for pid in piece_ids], :3]
+        )
 
     def hull_impulses(self) -> dict[int, tuple[float, float]]:
         """Impulse of the hull on each piece during the last step [N·s], field frame; the ship receives the
@@ -282,84 +396,91 @@ class IceMotionEngine:
         dt = self.settings.time_step_s if dt_s is None else float(dt_s)
         self.settings.check_time_step(self.hull.velocity.length, dt)
         self._impulses = {}
-        awake = [(pid, piece) for pid, piece in self._pieces.items() if piece.awake]
-        if awake:
-            self._load(awake, dt)
-        self._forces.clear()
+        rows, state = self._current()
+        self._load(rows, state, dt)
         self.space.step(dt)
+        self._state = None
         self.time_s += dt
         self._update_window()
 
-    def _load(self, awake: list[tuple[int, _Piece]], dt: float) -> None:
-        """The water forces on all awake pieces at once, the rest speed's stop, the applied forces."""
-        bodies = [piece.body for _, piece in awake]
-        motion = np.array([(*p.body.velocity, p.body.angular_velocity, p.pose[2]) for _, p in awake])
-        velocity, omega = motion[:, :2], motion[:, 2]
-        table = self._drag_table(awake)
-        rest = self.settings.rest_speed_m_s
-        moving = np.flatnonzero((velocity != 0.0).any(axis=1) | (omega != 0.0))
-        speed = np.hypot(velocity[moving, 0], velocity[moving, 1])
-        radius = np.array([awake[i][1].radius_m for i in moving])
-        stops = (speed < rest) & (np.abs(omega[moving]) * radius < rest)
-        for i in moving[stops]:
-            bodies[i].velocity, bodies[i].angular_velocity = (0.0, 0.0), 0.0
-        pulled = moving[~stops]
-        if self.water and pulled.size:  # water pulls nothing at rest
-            fx, fy, m = water_forces_and_moments(
-                table, motion[:, 3], velocity, omega, dt, self.settings.water_density_kg_m3
-            )
-            # the properties' setters directly: pymunk's typing __setattr__ wrapper cost as much as the call
-            set_force, set_torque = pymunk.Body.force.fset, pymunk.Body.torque.fset
-            for i, fx_n, fy_n, m_n_m in zip(
-                pulled.tolist(), fx[pulled].tolist(), fy[pulled].tolist(), m[pulled].tolist(), strict=True
-            ):
-                set_force(bodies[i], (fx_n, fy_n))
-                set_torque(bodies[i], m_n_m)
-        for pid, piece in awake:
-            for fx_n, fy_n, px, py in self._forces.get(pid, ()):
-                piece.body.apply_force_at_world_point((fx_n, fy_n), (px, py))
+    def _current(self) -> tuple[_Rows, np.ndarray]:
+        """The rows and every body's state now, read in one batch call if stale."""
+        if self._rows is None:
+            self._rows, self._state = _Rows.of(self._pieces), None
+            self._read_order = (np.zeros(0, np.uintp),) * 3
+        if self._state is None:
+            rows = self._rows
+            self._buffer.clear()
+            pymunk.batch.get_space_bodies(self.space, _READ_FIELDS, self._buffer)
+            body_ids = np.frombuffer(self._buffer.int_buf(), dtype=np.uintp)
+            values = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 6)
+            if not np.array_equal(body_ids, self._read_order[0]):  # bodies in another order: map again
+                k = np.minimum(np.searchsorted(rows.body_ids, body_ids), max(len(rows.ids) - 1, 0))
+                ours = rows.body_ids[k] == body_ids if len(rows.ids) else np.zeros(len(body_ids), bool)
+                self._read_order = (body_ids.copy(), np.flatnonzero(ours), rows.row_of_body[k[ours]])
+            _, read_at, row = self._read_order
+            state = np.empty((len(rows.ids), 6))
+            state[row] = values[read_at]  # the hull is not a row
+            self._state = state
+        return self._rows, self._state
 
-    def _drag_table(self, awake: list[tuple[int, _Piece]]) -> DragTable:
-        """The awake pieces' `DragTable`, rebuilt when the awake set changes."""
-        ids = tuple(pid for pid, _ in awake)
-        if self._table[0] != ids or self._table[1] is None:
-            pieces = [piece for _, piece in awake]
-            table = drag_table(
-                [p.geometry.ring_xy_m for p in pieces],
-                [p.drag for p in pieces],
-                [p.mass_kg for p in pieces],
-                [p.moment_kg_m2 for p in pieces],
-            )
-            self._table = (ids, table)
-        return self._table[1]
+    def _load(self, rows: _Rows, state: np.ndarray, dt: float) -> None:
+        """The water forces on the moving pieces (all rows in one compiled pass) and the rest speed's stop
+        (not for pieces the hull holds). Pieces at rest (static ones among them) take no water force."""
+        if not rows.ids:
+            return
+        held = np.zeros(len(rows.ids), dtype=bool)
+        held[[rows.row_of_id[pid] for pid in self._holds]] = True
+        loads, status = water_loads(
+            rows.drag,
+            state,
+            rows.radius_m,
+            held,
+            rows.last_speed_m_s,
+            self.settings.rest_speed_m_s,
+            dt,
+            self.settings.water_density_kg_m3,
+        )
+        for i in np.flatnonzero(status == 1).tolist():
+            body = rows.pieces[i].body
+            body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
+        if self.water and (status == 2).any():  # water pulls nothing at rest
+            self._set_forces(loads)
+
+    def _set_forces(self, loads: np.ndarray) -> None:
+        """Every body's force and torque from `loads` (rows, 3) in one batch call, in the order the bodies
+        were last read (no body entered or left since); the hull's are zero. Chipmunk zeroes a body's force
+        after each step, so a zero here is no force."""
+        body_ids, read_at, row = self._read_order
+        values = np.zeros((len(body_ids), 3))
+        values[read_at] = loads[row]
+        self._force_buffer.set_float_buf(values.ravel())
+        pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, self._force_buffer)
 
     def _update_window(self) -> None:
-        window = self.window()
-        behind = window[0]
-        for pid in list(self._pieces):
-            piece = self._pieces[pid]
-            if piece.awake:  # a static piece's box does not change, nor that of one that did not move
-                x, y = piece.body.position
-                pose = (x, y, piece.body.angle)
-                if pose != piece.pose:
-                    r = piece.radius_m
-                    piece.bounds, piece.pose = (x - r, y - r, x + r, y + r), pose
-            bb = piece.bounds
-            if bb[2] < behind:
-                self._retired_outlines[pid] = self.polygon(pid)
+        """Wake, freeze or retire the pieces whose box (centroid ± largest radius, all rows at once) crossed
+        the window's edges; the others are not touched."""
+        rows, state = self._current()
+        changes = _window_changes(state, rows.radius_m, rows.awake, rows.pinned, *self.window())
+        for i, change in changes.tolist():
+            pid, piece = rows.ids[i], rows.pieces[i]
+            if change == _RETIRE:
+                self._retired_outlines[pid] = _outlines([piece], state[i : i + 1, :3])[0]
                 self._retired.append(self.remove_piece(pid))
-            elif not piece.pinned:
-                awake = bb[0] <= window[2] and bb[1] <= window[3] and bb[3] >= window[1]
-                if awake != piece.awake:
-                    self._set_awake(piece, awake)
+            else:
+                self._set_awake(piece, change == _WAKE)
 
     def _in_window(self, piece: _Piece, window: tuple[float, float, float, float]) -> bool:
-        x0, y0, x1, y1 = piece.bounds
+        x0, y0, x1, y1 = piece.box()
         return x1 >= window[0] and x0 <= window[2] and y1 >= window[1] and y0 <= window[3]
 
     def _set_awake(self, piece: _Piece, awake: bool) -> None:
         """Dynamic inside the window; static (frozen, at rest) outside it or when pinned."""
         piece.awake = awake
+        if not awake:
+            self._release(self._by_body[piece.body])
+        if self._rows is not None:
+            self._rows.awake[self._rows.row_of_id[self._by_body[piece.body]]] = awake
         body = piece.body
         wanted = pymunk.Body.DYNAMIC if awake else pymunk.Body.STATIC
         if body.body_type == wanted:
@@ -371,7 +492,7 @@ class IceMotionEngine:
         if awake:  # Chipmunk recomputes the mass from the shapes (massless here): set ours again
             body.mass = piece.mass_kg
             body.moment = piece.moment_kg_m2
-            _read_pose(piece)
+        self._state = None
         self.space.reindex_shapes_for_body(body)
 
     # --- contact callbacks ---------------------------------------------------------------------------
@@ -394,12 +515,47 @@ def _hull_shape_elasticity(settings: IceMotionSettings) -> float:
     return settings.ice_hull_restitution / math.sqrt(settings.ice_ice_restitution)
 
 
-def _read_pose(piece: _Piece) -> None:
-    """The piece's pose from its body and its box: centroid ± its largest radius, which holds the piece in
-    any orientation (cheaper than the shapes' boxes every step; the window only needs a box not too small)."""
-    x, y = piece.body.position
-    r = piece.radius_m
-    piece.pose, piece.bounds = (x, y, piece.body.angle), (x - r, y - r, x + r, y + r)
+_RETIRE, _WAKE, _FREEZE = 0, 1, 2
+
+
+@numba.njit(cache=True, nogil=True)
+def _window_changes(state, radius, awake, pinned, x0, y0, x1, y1):
+    """(row, change) of the pieces whose box (centroid ± largest radius) is wholly behind the window
+    (retire), or crossed its front or sides (wake, freeze: not for pinned pieces), in row order."""
+    out = []
+    for i in range(len(radius)):
+        x, y, r = state[i, 0], state[i, 1], radius[i]
+        if x + r < x0:
+            out.append((i, _RETIRE))
+        elif not pinned[i]:
+            inside = x - r <= x1 and y - r <= y1 and y + r >= y0
+            if inside != awake[i]:
+                out.append((i, _WAKE if inside else _FREEZE))
+    result = np.empty((len(out), 2), dtype=np.int64)
+    for k in range(len(out)):
+        result[k, 0], result[k, 1] = out[k]
+    return result
+
+
+def compile_now() -> None:
+    """Compile the engine's kernels (or load them from numba's cache) ahead of a run."""
+    _compile_water()
+    _window_changes(np.zeros((1, 6)), np.ones(1), np.ones(1, bool), np.zeros(1, bool), -1.0, -1.0, 1.0, 1.0)
+
+
+def _outlines(pieces: list[_Piece], poses: np.ndarray) -> list[shapely.Polygon]:
+    """The pieces' outlines at `poses` (n, 3: x, y, angle), field frame, built in one pass: each body-frame
+    ring rotated by its angle and moved to its centroid."""
+    rings = [p.geometry.ring_xy_m for p in pieces]
+    sizes = [len(r) for r in rings]
+    ring = np.concatenate(rings)
+    cos_sin = np.array([(math.cos(a), math.sin(a)) for a in poses[:, 2].tolist()]).reshape(-1, 2)
+    per_vertex = np.repeat(np.column_stack([poses[:, :2], cos_sin]), sizes, axis=0)
+    px, py, c, s = per_vertex.T
+    x = px + c * ring[:, 0] - s * ring[:, 1]
+    y = py + s * ring[:, 0] + c * ring[:, 1]
+    owner = np.repeat(np.arange(len(pieces)), sizes)
+    return list(shapely.polygons(shapely.linearrings(np.column_stack([x, y]), indices=owner)))
 
 
 def body_geometry_parts(polygon: shapely.Polygon) -> tuple[np.ndarray, ...]:

@@ -7,14 +7,16 @@ The force over a step Δt is the one that gives the exact solution of m_eff du/d
 with k frozen: u' = u / (1 + k |u| Δt / m_eff), so F = m_eff (u' − u)/Δt. This never reverses the velocity,
 whatever Δt (an explicit −k|u|u does for k|u|Δt > m_eff: small fast pieces), and equals −k|u|u as Δt → 0.
 What does not change with a piece's motion (C_d T, C_s A, c±) is computed once, when it enters
-(`DragConstants`); each step evaluates all awake pieces at once (`water_forces_and_moments`).
+(`DragConstants`); each step evaluates all pieces in one compiled pass (`water_loads`).
 Sources of the coefficients: `IceMotionSettings` and docs/model.md ("Ice motion").
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from floebreak.dynamics.bodies import BodyGeometry
@@ -42,6 +44,7 @@ def drag_constants(geometry: BodyGeometry, thickness_m: float, settings: IceMoti
     )
 
 
+@numba.njit(cache=True, nogil=True)
 def step_drag(speed, factor, effective_mass, dt_s: float):
     """The drag's magnitude over one step, m_eff·(|u| − |u'|)/Δt with |u'| = |u|/(1 + k|u|Δt/m_eff)
     (scalars or arrays)."""
@@ -91,17 +94,88 @@ def water_forces_and_moments(
     """(F_x, F_y, M_z) of the water on each piece of `table` over a step [N, N, N·m], field frame, at the
     centroids; `velocity_xy_m_s` (n, 2). W(û) is the spread of the ring's vertices across û in the body
     frame (exact for any polygon: its shadow is one interval)."""
-    vx, vy = velocity_xy_m_s[:, 0], velocity_xy_m_s[:, 1]
-    speed = np.hypot(vx, vy)
-    divisor = np.where(speed > 0.0, speed, 1.0)  # at rest: û = 0, and the drag is 0
-    ux, uy = vx / divisor, vy / divisor
-    cos_a, sin_a = np.cos(angle_rad), np.sin(angle_rad)
-    dx, dy = cos_a * ux + sin_a * uy, -sin_a * ux + cos_a * uy  # û in the body frame
-    across = table.ring_xy_m[:, 1] * dx[table.owner] - table.ring_xy_m[:, 0] * dy[table.owner]
-    width = np.maximum.reduceat(across, table.starts) - np.minimum.reduceat(across, table.starts)
-    k = 0.5 * water_density_kg_m3 * (table.form_m * width + table.skin_m2)
-    magnitude = step_drag(speed, k, table.mass_kg, dt_s)
-    omega = angular_velocity_rad_s
-    c_yaw = np.where(omega > 0.0, table.yaw_kg_m2[:, 0], table.yaw_kg_m2[:, 1])
-    moment = -np.copysign(step_drag(np.abs(omega), c_yaw, table.moment_kg_m2, dt_s), omega)
-    return -magnitude * ux, -magnitude * uy, moment
+    velocity = np.asarray(velocity_xy_m_s, dtype=np.float64)
+    state = np.zeros((len(table.starts), 6))
+    state[:, 2], state[:, 3:5], state[:, 5] = angle_rad, velocity, angular_velocity_rad_s
+    n = len(table.starts)
+    loads, _ = water_loads(
+        table, state, np.zeros(n), np.zeros(n, bool), np.full(n, np.inf), -1.0, dt_s, water_density_kg_m3
+    )
+    return loads[:, 0], loads[:, 1], loads[:, 2]
+
+
+def water_loads(
+    table: DragTable,
+    state: np.ndarray,
+    radius_m: np.ndarray,
+    held: np.ndarray,
+    last_speed_m_s: np.ndarray,
+    rest_speed_m_s: float,
+    dt_s: float,
+    water_density_kg_m3: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The water's (F_x, F_y, M_z) on each piece over a step, (n, 3), from its `state` row (x, y, angle,
+    vx, vy, ω), and each piece's status: 0 at rest, 1 to be set at rest, 2 moving. A piece is set at rest
+    when its speed u = max(|v|, |ω|·its largest radius) is below `rest_speed_m_s` and not above its value
+    at the last step (`last_speed_m_s`, updated here): it creeps under drag. A piece pushed from rest
+    (by the hull, `held`, or through others) gains speed slowly if heavy and is not stopped. One compiled
+    pass over the rows (called every engine step: numpy's per-call overhead cost more than the
+    arithmetic)."""
+    return _water_kernel(
+        table.ring_xy_m,
+        table.starts,
+        table.form_m,
+        table.skin_m2,
+        table.yaw_kg_m2,
+        table.mass_kg,
+        table.moment_kg_m2,
+        np.ascontiguousarray(state, dtype=np.float64),
+        np.ascontiguousarray(radius_m, dtype=np.float64),
+        np.ascontiguousarray(held, dtype=np.bool_),
+        last_speed_m_s,
+        float(rest_speed_m_s),
+        float(dt_s),
+        float(water_density_kg_m3),
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _water_kernel(ring, starts, form, skin, yaw, mass, moment, state, radius, held, last, rest, dt, rho):
+    n = len(starts)
+    out = np.zeros((n, 3))
+    status = np.zeros(n, dtype=np.int8)
+    for i in range(n):
+        vx, vy, w = state[i, 3], state[i, 4], state[i, 5]
+        speed = math.hypot(vx, vy)
+        slow, last[i] = last[i], max(speed, abs(w) * radius[i])
+        if vx == 0.0 and vy == 0.0 and w == 0.0:
+            continue
+        if last[i] < rest and last[i] <= slow and not held[i]:
+            status[i] = 1
+            continue
+        status[i] = 2
+        if speed > 0.0:  # at rest: û = 0, and the drag is 0
+            ux, uy = vx / speed, vy / speed
+            c, s = math.cos(state[i, 2]), math.sin(state[i, 2])
+            dx, dy = c * ux + s * uy, -s * ux + c * uy  # û in the body frame
+            end = starts[i + 1] if i + 1 < n else len(ring)
+            low, high = np.inf, -np.inf
+            for j in range(starts[i], end):
+                across = ring[j, 1] * dx - ring[j, 0] * dy
+                low, high = min(low, across), max(high, across)
+            k = 0.5 * rho * (form[i] * (high - low) + skin[i])
+            magnitude = step_drag(speed, k, mass[i], dt)
+            out[i, 0], out[i, 1] = -magnitude * ux, -magnitude * uy
+        if w != 0.0:
+            c_yaw = yaw[i, 0] if w > 0.0 else yaw[i, 1]
+            out[i, 2] = -math.copysign(step_drag(abs(w), c_yaw, moment[i], dt), w)
+    return out, status
+
+
+def compile_now() -> None:
+    """Compile the water kernel (or load it from numba's cache) ahead of a run."""
+    one = np.ones(1)
+    table = DragTable(
+        np.zeros((3, 2)), np.zeros(1, np.int64), np.zeros(3, np.int64), one, one, np.ones((1, 2)), one, one
+    )
+    water_loads(table, np.ones((1, 6)), one, np.zeros(1, bool), np.zeros(1), 1e-3, 0.01, 1025.0)

@@ -71,10 +71,10 @@ class IceMotionSettings:
     solver_iterations: Annotated[int, Bounds(1, 1000)] = 20
     """contact solver iterations per step (Chipmunk's default 10; AUTO-IceNav 50), in [1, 1000]"""
     rest_speed_m_s: Annotated[float, Bounds(0.0, 0.1, unit="m/s")] = 1e-3
-    """a piece whose speed and edge speed from yaw (ω times its largest radius) are both below this is set
-    at rest [m/s]: under quadratic drag the speed decays as 1/t without end (the distance still to go grows
-    as ln t), and a piece creeping at < 1 mm/s moves less than 0.1 mm in a 0.1 s search interval. In
-    [0, 0.1]; 0 never stops a piece"""
+    """a piece whose speed and edge speed from yaw (ω times its largest radius) are both below this, and
+    not rising, is set at rest [m/s] (not while the hull holds it): under quadratic drag the speed decays
+    as 1/t without end (the distance still to go grows as ln t), and a piece creeping at < 1 mm/s moves
+    less than 0.1 mm in a 0.1 s search interval. In [0, 0.1]; 0 never stops a piece"""
     hull_contact: Literal["crushing", "engine"] = "crushing"
     """which force the hull puts on a piece: floebreak's crushing force alone ("crushing", applied by the
     stepping loop; the hull passes through pieces in the engine, the overlap being the crushed ice), or
