@@ -7,19 +7,24 @@ interval to the next search — the sum of pymunk's ``Constraint.impulse`` after
 Per run (the reference scenario, `examples/reference.toml`, with ``simulation.ice_motion=dynamic`` and the
 concentration set):
 
-- holds: the joints made; "at the limit" (the piece jammed, the joint passed |F| in every step) where the
-  transmitted force is at least `AT_LIMIT` × |F|; the distribution of transmitted / |F| by count and by |F|;
+- holds: the joints made; "at the limit" (the piece took the whole |F| in every step: jammed, or still
+  being accelerated to the hull's speed) where the transmitted force is at least `AT_LIMIT` × |F|; the
+  distribution of transmitted / |F| by count and by |F|;
+- at the limit: the share of the transmitted impulse that went into the piece's own momentum (m·Δv along
+  it; ≈ 1 a piece being accelerated, ≪ 1 one pushed against its neighbours);
 - holds not made: zones of a piece the engine had not awake (frozen outside its window), given no joint;
 - the mean longitudinal ice force on the bow over the transit (kN): recorded (the trapezoid of
   `benchmarks/ice_motion_sweep.py`, from the contact records' f_h_n), the joints' |F| along x (F_x, what they
-  were given), and what they transmitted along x (transmitted · F̂_x);
+  were given), what they transmitted along x (transmitted · F̂_x), and the recorded one under `static`;
 - failures: each evaluation that broke a piece or took it out whole, by the hold of the interval that ended at
   that search (the piece's contact at the search before): at the limit, below it (the floe was moving
-  freely, yet failed on the full crushing force), or no hold (not in contact at the search before).
+  freely, yet failed on the full crushing force), or no hold (a piece born at that search, or one not in
+  contact at the search before).
 
 The engine methods are wrapped for the measurement (class attributes, restored afterwards); they call the
 originals, so the runs are the ordinary ones. Run: ``PYTHONPATH=src OMP_NUM_THREADS=1 python
-benchmarks/hull_hold_force.py [--seeds 3] [--concentrations 0.2 0.7] [--length 385] [--width 100]``.
+benchmarks/hull_hold_force.py [--seeds 3] [--concentrations 0.2 0.7] [--length 385] [--width 100]``
+(about 1.5 min for the defaults); the figures of a run are in docs/model.md, "The force the hull passes on".
 """
 
 from __future__ import annotations
