@@ -253,3 +253,28 @@ def test_a_hull_hold_passes_its_whole_force_through_a_jammed_piece():
         engine.release_holds()
         engine.step(dt)
         assert sum(engine.mass_kg(i) * engine.state(i).vx_m_s for i in (1, 2)) == pytest.approx(momentum)
+
+
+def test_hold_impulses_report_what_the_hold_passed_on():
+    """The impulse a hold reports is the momentum it gave (no water, one piece alone: Newton's second law):
+    F·t while the piece is slower than the hull (|F| too small to bring it to V), only m·V once it moves at
+    the hull's speed, however large |F|."""
+    s = IceMotionSettings(window_ahead_m=1e3, window_side_m=1e3)
+    for force_n, dt in ((2.0e3, 0.02), (1.0e7, 0.02), (1.0e7, 0.005)):
+        engine = IceMotionEngine(FAR_HULL, (3.0, 0.0), s, water=False)
+        engine.add_piece(1, shapely.box(0.0, 0.0, 2.0, 2.0), 1.0)
+        engine.hold_against_hull(1, (force_n, 0.0), (1.0, 1.0))  # at the centroid: no turning
+        seconds = 0.5
+        for _ in range(round(seconds / dt)):
+            engine.step(dt)
+        [(given_n, impulse_n_s)] = engine.hold_impulses()[1]
+        momentum = engine.mass_kg(1) * engine.state(1).vx_m_s
+        assert given_n == force_n
+        assert impulse_n_s == pytest.approx(momentum, rel=1e-9)
+        if force_n * seconds < engine.mass_kg(1) * 3.0:
+            assert impulse_n_s == pytest.approx(force_n * seconds, rel=1e-9)  # at its limit throughout
+        else:
+            assert engine.state(1).vx_m_s == pytest.approx(3.0, rel=1e-9)
+            assert impulse_n_s == pytest.approx(engine.mass_kg(1) * 3.0, rel=1e-9)  # m·V ≪ F·t
+        engine.release_holds()
+        assert engine.hold_impulses() == {}

@@ -184,6 +184,7 @@ class IceMotionEngine:
         self._pieces: dict[int, _Piece] = {}
         self._by_body: dict[pymunk.Body, int] = {}
         self._holds: dict[int, list[pymunk.SlideJoint]] = {}
+        self._hold_impulses: dict[int, list[float]] = {}  # per hold of `_holds`, since it was made [N·s]
         self._impulses: dict[int, tuple[float, float]] = {}
         self._retired: list[PieceState] = []
         self._retired_outlines: dict[int, shapely.Polygon] = {}
@@ -297,6 +298,16 @@ class IceMotionEngine:
         joint.max_force, joint.max_bias = force, 0.0
         self.space.add(joint)
         self._holds.setdefault(piece_id, []).append(joint)
+        self._hold_impulses.setdefault(piece_id, []).append(0.0)
+
+    def hold_impulses(self) -> dict[int, list[tuple[float, float]]]:
+        """Each hull contact of `hold_against_hull` in place now, by piece, in the order made: (|F| it was
+        given [N], impulse it passed on since it was made [N·s], the sum of pymunk's `Constraint.impulse`
+        after each step). Below |F|·(time held), the piece moved away and took less than |F|."""
+        return {
+            pid: [(j.max_force, impulse) for j, impulse in zip(joints, self._hold_impulses[pid], strict=True)]
+            for pid, joints in self._holds.items()
+        }
 
     def release_holds(self) -> None:
         """End every hull contact of `hold_against_hull`."""
@@ -305,6 +316,7 @@ class IceMotionEngine:
 
     def _release(self, piece_id: int) -> None:
         joints = self._holds.pop(piece_id, ())
+        self._hold_impulses.pop(piece_id, None)
         if joints:
             self.space.remove(*joints)
 
@@ -399,6 +411,10 @@ class IceMotionEngine:
         rows, state = self._current()
         self._load(rows, state, dt)
         self.space.step(dt)
+        for pid, joints in self._holds.items():
+            passed = self._hold_impulses[pid]
+            for k, joint in enumerate(joints):
+                passed[k] += joint.impulse
         self._state = None
         self.time_s += dt
         self._update_window()
