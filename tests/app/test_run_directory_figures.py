@@ -229,3 +229,36 @@ def test_one_core_or_a_second_thread_draws_serially(monkeypatch):
     finally:
         stop.set()
         thread.join()
+
+
+def _gone(pid: int) -> bool:
+    """No such process, or a zombie (ended; reaping it is its new parent's business)."""
+    try:
+        with open(f"/proc/{pid}/stat") as stat:
+            return stat.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except FileNotFoundError:
+        return True
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="reads /proc")
+def test_workers_of_a_killed_run_end_with_it():
+    """SIGKILL the process that forked the workers (it cannot end them): they end too."""
+    code = (
+        "import sys, time; from floebreak.app import run_directory\n"
+        "run_directory._fork_for_figures = lambda: True\n"
+        "with run_directory.figure_workers() as workers:\n"
+        "    print(*[process.pid for process, _ in workers], flush=True)\n"
+        "    time.sleep(600)\n"
+    )
+    victim = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    try:
+        pids = [int(pid) for pid in victim.stdout.readline().split()]
+    finally:
+        victim.kill()
+        victim.wait()
+        victim.stdout.close()
+    assert len(pids) == run_directory.FIGURE_WORKERS
+    deadline = time.monotonic() + 30
+    while not all(_gone(pid) for pid in pids) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert all(_gone(pid) for pid in pids)

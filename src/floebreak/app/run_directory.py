@@ -32,6 +32,7 @@ the same as drawn serially (benchmarks/README.md, "Issue 34 §6").
 from __future__ import annotations
 
 import copyreg
+import ctypes
 import hashlib
 import importlib
 import io
@@ -39,6 +40,7 @@ import multiprocessing
 import os
 import pickle
 import shutil
+import signal
 import sys
 import threading
 import traceback
@@ -79,6 +81,7 @@ FIGURES = {
     "field": "field.png",
 }
 FIGURE_WORKERS = 2  # forked processes drawing the figures, each its share (benchmarks/README.md, issue 34 §6)
+PR_SET_PDEATHSIG = 1  # prctl(2)
 FigureWorker = tuple[multiprocessing.Process, Any]  # a process and this end of its pipe
 # the run directory's figures of a longer field or transit show its first this many metres: its whole length
 
@@ -237,7 +240,8 @@ def _start_figure_workers() -> list[FigureWorker]:
     for _ in range(FIGURE_WORKERS):
         here, there = context.Pipe()
         imported = context.Event()
-        process = context.Process(target=_figure_worker, args=(there, previous, imported), daemon=True)
+        args = (there, os.getpid(), previous, imported)
+        process = context.Process(target=_figure_worker, args=args, daemon=True)
         previous = imported
         try:
             process.start()
@@ -258,11 +262,13 @@ def _end_figure_workers(workers: list[FigureWorker]) -> None:
         connection.close()
 
 
-def _figure_worker(connection, after, imported) -> None:
-    """A figure worker: import the plotting modules once the worker before it has (`after`, an Event; one
+def _figure_worker(connection, parent: int, after, imported) -> None:
+    """A figure worker of the process `parent`: import the plotting modules once the worker before it has
+    (`after`, an Event; one
     import at a time leaves the engine a core of its own) and say so (`imported`), wait for its figures
     (pickled `(FigureCall, path, metadata)` jobs), draw and save them, then send None, or the exception
     (its traceback as a note)."""
+    _die_with(parent)
     try:
         if after is not None:
             after.wait()
@@ -285,6 +291,18 @@ def _figure_worker(connection, after, imported) -> None:
         connection.send(None)
     finally:
         connection.close()
+
+
+def _die_with(parent: int) -> None:
+    """Have Linux kill this process when `parent` ends, however it ends (SIGKILL too: it would otherwise
+    wait for figures forever, as it inherited the other ends of the pipes)."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    except (OSError, AttributeError):  # no prctl: the parent's `_end_figure_workers` alone ends it
+        pass
+    if os.getppid() != parent:  # it ended before prctl
+        os._exit(0)
 
 
 def _dumps(jobs: list[tuple[FigureCall, Path, dict[str, Any]]]) -> bytes:
