@@ -8,8 +8,8 @@ on a 250 m × 200 m field (246 floes) spends ≤ 1.5 s outside the engine ("outs
 from one run, so the machine's phase cancels; "outside/engine" is their ratio).
 
 Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1;
-``--cores 2``: two CPUs, as on the issue's quiet 2-core machine, where the run directory's writer draws half
-of the figures in a forked child, `floebreak.app.run_directory`). Wall
+``--cores 2``: two CPUs, as on the issue's quiet 2-core machine, where the command line forks figure workers
+before the run, which import matplotlib during it and draw the figures, `floebreak.app.run_directory`). Wall
 time: ``time.perf_counter`` around the child. Peak memory: the child's ``ru_maxrss`` (``os.wait4`` returns
 the rusage of that one child; ``resource.getrusage(RUSAGE_CHILDREN)`` would give the maximum over all
 children so far, which hides a smaller later case). CPU time (user + system) is printed too: on a shared
@@ -21,9 +21,9 @@ An editable install's src/ is compiled to bytecode first, as an installed copy i
 ``--phases`` times the 250 m × 200 m run's phases in one process instead (pinned to one core): it imports
 the modules the command line loads in the order it loads them, wraps the functions the run goes through
 with timers and calls the command line's `main` (`PHASES` below). ``--cpu``: process time instead of wall
-time (a shared machine's load barely moves it); with ``--cores 2`` the figure child's CPU time is listed, and
-the write's critical path on two idle cores is estimated from it (the child's figures overlap this
-process' tables and figures). There, matplotlib is imported before the fork, outside the "draw" phase.
+time (a shared machine's load barely moves it); with ``--cores 2`` the figure workers' CPU time is listed
+(forked before the run, they import matplotlib while the engine runs and draw every figure: the "draw" and
+"render" phases of this process are then empty).
 
 Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N] [--phases [--cpu]] [--case 250] [--cores 2]``
 (the CLI next to the running Python is used; ``--case`` keeps the cases whose name contains the text).
@@ -154,19 +154,9 @@ scenario.Scenario.from_toml = classmethod(read)
 wrap(cli, "_prepare_kernels", "load the compiled kernels")
 wrap(api, "run", "run (engine + summary)")
 wrap(app_run.Result, "write", "write the run directory")
-for key in run_directory.FIGURES:
-    wrap(app_run.Result, f"plot_{key}", "of which: draw the figures (first: import matplotlib)")
+wrap(run_directory, "draw_figure", "of which: draw the figures (first: import matplotlib)")
 wrap(run_directory, "_save_png", "of which: render and encode the PNGs")
-wrap(run_directory, "_write_tables", "of which here: tables and figures")
-wrap(run_directory, "_save_figures", "of which here: tables and figures")
-write = app_run.Result.write
-def write_and_wait(*args, **kwargs):
-    before = children_cpu()
-    try:
-        return write(*args, **kwargs)
-    finally:
-        phases["of which in the figure child (CPU)"] = children_cpu() - before
-app_run.Result.write = write_and_wait
+wrap(run_directory, "_write_tables", "of which here: tables")
 out = sys.argv[1]
 sys.argv = ["floebreak", "run", "examples/reference.toml", "--quiet", "--out", out,
             "--set", "field.length_m=250", "--set", "field.width_m=200"]
@@ -176,16 +166,14 @@ except SystemExit:
     pass
 phases["total (in process)"] = clock() - t0
 phases["engine (wall_time_s)"] = json.load(open(out + "/summary.json"))["wall_time_s"]
-# the write on two idle cores: this process' part, with its tables and figures overlapping the child's
-here, child = phases.pop("of which here: tables and figures"), phases["of which in the figure child (CPU)"]
-phases["write, on 2 idle cores (estimate)"] = phases["write the run directory"] - here + max(here, child)
+phases["figure workers (CPU, their matplotlib import included)"] = children_cpu()
 print(json.dumps(phases))
 """
 
 
 def phases(cores: int = 1, cpu: bool = False) -> None:
     """The 250 m × 200 m run's phases, in one process pinned to `cores` CPUs (`PHASES`); `cpu`: process
-    time instead of wall time (less sensitive to a shared machine's load; the forked figure child's CPU
+    time instead of wall time (less sensitive to a shared machine's load; the figure workers' CPU
     time is reported on its own line)."""
     with tempfile.TemporaryDirectory(prefix="floebreak-e2e-") as tmp:
         env = {

@@ -376,14 +376,24 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     directory stays atomic); its return value is returned. `engine_loaded()`, if given, is called once the
     engine is imported (`main`).
     """
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
     from floebreak.api import check_output_directory
-    from floebreak.api import run as run_scenario
-    from floebreak.io.atomic import atomic_directory, scratch_directory
+    from floebreak.app.run_directory import figure_workers
 
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
+    with figure_workers() as workers:  # forked now, they import matplotlib while the engine runs
+        return _run_and_write(resolved, out, overwrite, quiet, label, then, engine_loaded, workers)
+
+
+def _run_and_write(
+    resolved, out: Path, overwrite: bool, quiet: bool, label: str, then, engine_loaded, workers
+):
+    """`_execute`'s run and write, with the figure workers forked before it (or None)."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from floebreak.api import run as run_scenario
+    from floebreak.io.atomic import atomic_directory, scratch_directory
+
     _prepare_kernels(quiet)
     if engine_loaded is not None:
         engine_loaded()  # the console's hook (`main`)
@@ -404,12 +414,12 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
             with progress:
                 result = run_scenario(resolved, callbacks=[_Progress(progress)], spool=spool)
             if then is None:
-                result.write(out, overwrite=overwrite)
+                result.write(out, overwrite=overwrite, figure_workers=workers)
                 added = None
             else:
                 with atomic_directory(out, overwrite=overwrite, field="out") as temp:
                     # replaces the empty temporary directory; the report names the final directory
-                    result.write(temp, overwrite=True, directory_name=out.name)
+                    result.write(temp, overwrite=True, directory_name=out.name, figure_workers=workers)
                     added = then(temp, out.name)
     except InputError:
         raise

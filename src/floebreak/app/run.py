@@ -34,7 +34,14 @@ from floebreak.app.build import (
 from floebreak.app.build import field_key as field_key  # re-exported (`as`), as the names below
 from floebreak.app.build import waterline_rule as waterline_rule
 from floebreak.app.poses import PoseRecorder, check_pose_interval
-from floebreak.app.run_directory import CONTACTS_FILE, pieces_table, write_run_directory
+from floebreak.app.run_directory import (
+    CONTACTS_FILE,
+    FigureCall,
+    FigureWorker,
+    draw_figure,
+    pieces_table,
+    write_run_directory,
+)
 from floebreak.app.run_directory import FIGURES as FIGURES
 from floebreak.app.run_directory import PIECE_FILES as PIECE_FILES
 from floebreak.app.run_directory import PIECES_FILE as PIECES_FILE
@@ -63,13 +70,17 @@ FIGURE_WINDOW_M = 2000.0
 
 
 def plot_field_figure(floe_field: FloeField, title: str | None = None):
-    """The figure of a floe field: a field longer than `FIGURE_WINDOW_M` shows its first `FIGURE_WINDOW_M`
-    (the title says so), so that a figure's memory does not grow with the field (issue 20)."""
-    from floebreak.plotting.field import plot_field
+    """The figure of a floe field (`field_figure_call`)."""
+    return draw_figure(field_figure_call(floe_field, title))
 
+
+def field_figure_call(floe_field: FloeField, title: str | None = None) -> FigureCall:
+    """The plotting call of a floe field's figure: a field longer than `FIGURE_WINDOW_M` shows its first
+    `FIGURE_WINDOW_M` (the title says so), so that a figure's memory does not grow with the field
+    (issue 20)."""
     x0, _, x1, _ = floe_field.domain_m
     window = None if x1 - x0 <= FIGURE_WINDOW_M else (x0, x0 + FIGURE_WINDOW_M)
-    return plot_field(floe_field, title=title, x_window_m=window)
+    return "field", "plot_field", (floe_field,), {"title": title, "x_window_m": window}
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,12 +137,17 @@ class Result:
         return _provenance(self.scenario, kind)
 
     # --- figures (matplotlib Figures; the caller closes or saves them) -------------------------------
+    def figure_call(self, key: str) -> FigureCall:
+        """The plotting call, as plain data, of the figure `key` (of `FIGURES`; `plot_<key>` draws it)."""
+        return getattr(self, f"_{key}_call")()
+
     def plot_breaking_pattern(self, title: str | None = None):
         """Thesis colour code: blue remaining, orange flipped, red cusps; bow outline at start and end.
         A field longer than `FIGURE_WINDOW_M`: its first `FIGURE_WINDOW_M` (the title says so), bow outline at
         the start."""
-        from floebreak.plotting.pattern import plot_breaking_pattern
+        return draw_figure(self._breaking_pattern_call(title))
 
+    def _breaking_pattern_call(self, title: str | None = None) -> FigureCall:
         sim = self.simulation
         upper_x = np.asarray(sim.bow.upper_xy_m)[:, 0]
         x_last = sim.params.x_start_m + (sim.n_steps - 1) * sim.params.step_m
@@ -143,27 +159,33 @@ class Result:
         title = title or self._title("breaking pattern")
         field_x0, _, field_x1, _ = sim.field.domain_m
         if field_x1 - field_x0 <= FIGURE_WINDOW_M:
-            return plot_breaking_pattern(sim, title=title, xlim=xlim)
+            return "pattern", "plot_breaking_pattern", (sim,), {"title": title, "xlim": xlim}
         window = (xlim[0], field_x0 + FIGURE_WINDOW_M)  # from the bow at the start to 2 km into the field
-        return plot_breaking_pattern(sim, title=title, x_window_m=window, bow_at_end=False)
+        kwargs = {"title": title, "x_window_m": window, "bow_at_end": False}
+        return "pattern", "plot_breaking_pattern", (sim,), kwargs
 
     def plot_cusp_volume_spectrum(self):
         """Cusp-volume probability density (thesis Fig. 17 style)."""
-        from floebreak.plotting.spectra import plot_cusp_volume_spectrum
+        return draw_figure(self._cusp_volume_spectrum_call())
 
+    def _cusp_volume_spectrum_call(self) -> FigureCall:
         sim = self.simulation
         cusp = sim.mask("cusp")  # area × thickness, as the cusps table's, without decoding the polygons
-        return plot_cusp_volume_spectrum(sim.piece_area_m2[cusp] * sim.thickness_m[cusp])
+        return "spectra", "plot_cusp_volume_spectrum", (sim.piece_area_m2[cusp] * sim.thickness_m[cusp],), {}
 
     def plot_crushing_force_spectrum(self):
         """Crushing-force probability density per contact evaluation (thesis Fig. 13)."""
-        from floebreak.plotting.spectra import plot_crushing_force_spectrum
+        return draw_figure(self._crushing_force_spectrum_call())
 
-        return plot_crushing_force_spectrum(self.crushing_forces_n)
+    def _crushing_force_spectrum_call(self) -> FigureCall:
+        return "spectra", "plot_crushing_force_spectrum", (self.crushing_forces_n,), {}
 
     def plot_field(self):
         """The initial floe field (`plot_field_figure`)."""
-        return plot_field_figure(self.field, title=self._title("initial floe field"))
+        return draw_figure(self._field_call())
+
+    def _field_call(self) -> FigureCall:
+        return field_figure_call(self.field, title=self._title("initial floe field"))
 
     def _title(self, what: str) -> str:
         name = self.scenario.name or (self.scenario.field.observation or self.scenario.field.source)
@@ -177,14 +199,22 @@ class Result:
         report: bool = True,
         figures: bool = True,
         directory_name: str | None = None,
+        figure_workers: list[FigureWorker] | None = None,
     ) -> Path:
         """Write the run directory `out` atomically; refuses an existing `out` unless `overwrite`.
 
         `directory_name`: the name the report shows (default `out`'s), for a caller that writes into a
-        temporary directory of its own and renames it afterwards.
+        temporary directory of its own and renames it afterwards. `figure_workers`: processes forked before
+        the run to draw the figures (`floebreak.app.run_directory.figure_workers`).
         """
         return write_run_directory(
-            self, out, overwrite=overwrite, report=report, figures=figures, directory_name=directory_name
+            self,
+            out,
+            overwrite=overwrite,
+            report=report,
+            figures=figures,
+            directory_name=directory_name,
+            figure_workers=figure_workers,
         )
 
 

@@ -22,23 +22,32 @@ run leaves no half directory):
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
 
 The figures take most of the writing (importing matplotlib, drawing, encoding the PNGs). On Linux, when
-the process has ≥ 2 cores, no other thread and no pool parent (`_fork_for_figures`), a forked child
-draws half of them while this process writes the tables and draws the other half; the files are the same
-as drawn serially (benchmarks/README.md, "Issue 34 §6").
+the process has ≥ 2 cores, no other thread and no pool parent (`_fork_for_figures`), `FIGURE_WORKERS`
+forked workers draw them, each its share, sent as plain data (`Result.figure_call`), while this process
+writes the tables. The command line forks them before the run (`figure_workers`), so that they import
+matplotlib while the engine runs; a `Result.write` without them forks them at the write. The files are
+the same as drawn serially (benchmarks/README.md, "Issue 34 §6").
 """
 
 from __future__ import annotations
 
+import copyreg
+import ctypes
 import hashlib
+import importlib
+import io
 import multiprocessing
 import os
+import pickle
 import shutil
+import signal
 import sys
 import threading
 import traceback
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager, nullcontext
 from pathlib import Path
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -71,6 +80,9 @@ FIGURES = {
     "crushing_force_spectrum": "crushing_force_spectrum.png",
     "field": "field.png",
 }
+FIGURE_WORKERS = 2  # forked processes drawing the figures, each its share (benchmarks/README.md, issue 34 §6)
+PR_SET_PDEATHSIG = 1  # prctl(2)
+FigureWorker = tuple[multiprocessing.Process, Any]  # a process and this end of its pipe
 # the run directory's figures of a longer field or transit show its first this many metres: its whole length
 
 
@@ -175,34 +187,30 @@ def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
     figure.savefig(path, format="png", dpi=150, metadata=text)
 
 
+FigureCall = tuple[str, str, tuple[Any, ...], dict[str, Any]]
+"""A figure as plain data: a module of `floebreak.plotting`, its function and the call's arguments (numpy
+arrays, shapely geometries, dataclasses: they pickle, so a figure worker can draw it;
+`Result.figure_call`)."""
+
+
+def draw_figure(call: FigureCall):
+    """The matplotlib Figure of `call` (imports the plotting module, and so matplotlib, on first use)."""
+    module, function, args, kwargs = call
+    return getattr(importlib.import_module(f"floebreak.plotting.{module}"), function)(*args, **kwargs)
+
+
 def _save_figures(result: Result, folder: Path, keys: Iterable[str]) -> None:
     """The figures `keys` (of `FIGURES`) of `result` as PNG files in `folder`."""
     meta = result.provenance("figure")
     for key in keys:
-        _save_png(getattr(result, f"plot_{key}")(), folder / FIGURES[key], meta)
-
-
-def _figure_child(send, result: Result, folder: Path, keys: list[str]) -> None:
-    """A forked child's work: draw `keys`, then send None, or the exception (its traceback as a note)."""
-    try:
-        _save_figures(result, folder, keys)
-    except BaseException as error:  # the parent raises it
-        error.add_note("".join(traceback.format_exception(error)).rstrip())
-        try:
-            send.send(error)
-        except Exception:  # an exception that does not pickle
-            send.send(RuntimeError(f"drawing the figures failed: {type(error).__name__}: {error}"))
-    else:
-        send.send(None)
-    finally:
-        send.close()
+        _save_png(draw_figure(result.figure_call(key)), folder / FIGURES[key], meta)
 
 
 def _fork_for_figures() -> bool:
-    """Whether half of the figures may be drawn in a forked child: on Linux (macOS has fork, but its system
-    libraries are not safe in a forked child, which is why Python spawns there), with ≥ 2 cores this
-    process's, in the only thread of a process no pool started (a study's worker draws serially, as its
-    pool already uses the cores; a child forked from a threaded process could inherit a held lock)."""
+    """Whether figure workers may be forked: on Linux (macOS has fork, but its system libraries are not
+    safe in a forked child, which is why Python spawns there), with ≥ 2 cores this process's, in the only
+    thread of a process no pool started (a study's worker draws serially, as its pool already uses the
+    cores; a child forked from a threaded process could inherit a held lock)."""
     if not sys.platform.startswith("linux") or multiprocessing.parent_process() is not None:
         return False
     if threading.active_count() > 1:
@@ -212,61 +220,150 @@ def _fork_for_figures() -> bool:
 
 
 @contextmanager
-def _figures_alongside(result: Result, folder: Path) -> Iterator[None]:
+def figure_workers() -> Iterator[list[FigureWorker] | None]:
+    """Fork the processes that will draw a run's figures now, before the engine, where `_fork_for_figures`
+    (else None): each imports matplotlib on another core while this process imports and runs the engine,
+    then waits for its figures (`write_run_directory(..., figure_workers=)`). At exit every worker still
+    alive (never used: the run failed, was interrupted or wrote no figures) is killed and reaped."""
+    workers = _start_figure_workers() if _fork_for_figures() else None
+    try:
+        yield workers
+    finally:
+        _end_figure_workers(workers or [])
+
+
+def _start_figure_workers() -> list[FigureWorker]:
+    """`FIGURE_WORKERS` forked figure workers, fewer where no process can be had (EAGAIN, ENOMEM)."""
+    context = multiprocessing.get_context("fork")
+    workers = []
+    previous = None
+    for _ in range(FIGURE_WORKERS):
+        here, there = context.Pipe()
+        imported = context.Event()
+        args = (there, os.getpid(), previous, imported)
+        process = context.Process(target=_figure_worker, args=args, daemon=True)
+        previous = imported
+        try:
+            process.start()
+        except OSError:
+            here.close()
+            break
+        finally:
+            there.close()
+        workers.append((process, here))
+    return workers
+
+
+def _end_figure_workers(workers: list[FigureWorker]) -> None:
+    for process, connection in workers:
+        if process.is_alive():
+            process.kill()
+        process.join()
+        connection.close()
+
+
+def _figure_worker(connection, parent: int, after, imported) -> None:
+    """A figure worker of the process `parent`: import the plotting modules once the worker before it has
+    (`after`, an Event; one
+    import at a time leaves the engine a core of its own) and say so (`imported`), wait for its figures
+    (pickled `(FigureCall, path, metadata)` jobs), draw and save them, then send None, or the exception
+    (its traceback as a note)."""
+    _die_with(parent)
+    try:
+        if after is not None:
+            after.wait()
+        from floebreak.plotting import field, pattern, spectra  # noqa: F401  (before the jobs come)
+
+        imported.set()
+        jobs = pickle.loads(connection.recv_bytes())
+    except (EOFError, KeyboardInterrupt):  # not used, or the run was interrupted: the parent ends it
+        return
+    try:
+        for call, path, meta in jobs:
+            _save_png(draw_figure(call), path, meta)
+    except BaseException as error:  # the parent raises it
+        error.add_note("".join(traceback.format_exception(error)).rstrip())
+        try:
+            connection.send(error)
+        except Exception:  # an exception that does not pickle
+            connection.send(RuntimeError(f"drawing the figures failed: {type(error).__name__}: {error}"))
+    else:
+        connection.send(None)
+    finally:
+        connection.close()
+
+
+def _die_with(parent: int) -> None:
+    """Have Linux kill this process when `parent` ends, however it ends (SIGKILL too: it would otherwise
+    wait for figures forever, as it inherited the other ends of the pipes)."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    except (OSError, AttributeError):  # no prctl: the parent's `_end_figure_workers` alone ends it
+        pass
+    if os.getppid() != parent:  # it ended before prctl
+        os._exit(0)
+
+
+def _dumps(jobs: list[tuple[FigureCall, Path, dict[str, Any]]]) -> bytes:
+    """`jobs` pickled; the read-only mappings of the field and bow metadata as themselves."""
+    buffer = io.BytesIO()
+    pickler = pickle.Pickler(buffer, protocol=pickle.HIGHEST_PROTOCOL)
+    pickler.dispatch_table = {**copyreg.dispatch_table, MappingProxyType: _reduce_mapping_proxy}
+    pickler.dump(jobs)
+    return buffer.getvalue()
+
+
+def _reduce_mapping_proxy(mapping: MappingProxyType):
+    return _mapping_proxy, (dict(mapping),)
+
+
+def _mapping_proxy(items: dict[str, Any]) -> MappingProxyType:
+    return MappingProxyType(items)
+
+
+@contextmanager
+def _figures_alongside(result: Result, folder: Path, workers: list[FigureWorker] | None) -> Iterator[None]:
     """Draw the run's figures into `folder`, around the body that writes the other files.
 
-    Where `_fork_for_figures`: half of them in a forked child while the body runs and this process draws
-    the other half after it (the child inherits the result and matplotlib, imported here first: nothing is
-    pickled, nothing imported twice); a child's exception is raised here, an exception of the body kills
-    the child (the caller's temporary directory is discarded either way). Else all of them after the body.
+    With figure `workers` (`figure_workers`), or where `_fork_for_figures` with workers forked now (they
+    import matplotlib while the body runs): each is sent its share of the figures as plain data before the
+    body, and answers after it; a worker's exception is raised here, an exception of the body kills the
+    workers (the caller's temporary directory is discarded either way). Else all of them here after the body.
     """
     folder.mkdir()
     keys = list(FIGURES)
-    started = _start_figure_child(result, folder, keys[0::2]) if _fork_for_figures() else None
-    if started is None:
+    if workers is None and _fork_for_figures():
+        workers = _start_figure_workers()
+    if not workers:
         yield
         _save_figures(result, folder, keys)
         return
-    child, receive = started
+    meta = result.provenance("figure")
     try:
+        for index, (_, connection) in enumerate(workers):
+            share = keys[index :: len(workers)]
+            jobs = [(result.figure_call(key), folder / FIGURES[key], meta) for key in share]
+            try:
+                connection.send_bytes(_dumps(jobs))
+            except (BrokenPipeError, ConnectionResetError):  # it died: `_answer` says so
+                pass
         yield
-        _save_figures(result, folder, keys[1::2])
-        error = _answer(child, receive)
-    except BaseException:
-        child.kill()
-        raise
+        errors = [_answer(process, connection) for process, connection in workers]
     finally:
-        child.join()
-        receive.close()
-    if error is not None:
-        raise error
+        _end_figure_workers(workers)
+    for error in errors:
+        if error is not None:
+            raise error
 
 
-def _start_figure_child(result: Result, folder: Path, keys: list[str]):
-    """A forked child drawing `keys` and the end of the pipe it answers on, or None where no process can be
-    had (EAGAIN, ENOMEM: the figures are then drawn here)."""
-    from floebreak.plotting import field, pattern, spectra  # noqa: F401  (the child inherits them)
-
-    context = multiprocessing.get_context("fork")
-    receive, send = context.Pipe(duplex=False)
-    child = context.Process(target=_figure_child, args=(send, result, folder, keys), daemon=True)
+def _answer(process, connection) -> BaseException | None:
+    """What a figure worker sent (None: its figures are written), or why it sent nothing."""
     try:
-        child.start()
-    except OSError:
-        receive.close()
-        return None
-    finally:
-        send.close()
-    return child, receive
-
-
-def _answer(child, receive) -> BaseException | None:
-    """What a figure child sent (None: its figures are written), or why it sent nothing."""
-    try:
-        return receive.recv()
-    except EOFError:
-        child.join()
-        return RuntimeError(f"the figure process ended without an answer (exit code {child.exitcode})")
+        return connection.recv()
+    except (EOFError, ConnectionResetError):  # reset: it died with figures it had not read
+        process.join()
+        return RuntimeError(f"the figure process ended without an answer (exit code {process.exitcode})")
 
 
 def check_output_directory(out: str | os.PathLike[str], overwrite: bool) -> Path:
@@ -291,14 +388,16 @@ def write_run_directory(
     report: bool = True,
     figures: bool = True,
     directory_name: str | None = None,
+    figure_workers: list[FigureWorker] | None = None,
 ) -> Path:
     """Write the run directory (see the module docstring) atomically and return its path.
 
     `figures=False` skips ``figures/`` (and the report then has none): for large studies and tests.
+    `figure_workers`: the processes `figure_workers` forked before the run, to draw the figures.
     """
     out = check_output_directory(out, overwrite)
     try:
-        _write_run_files(result, out, overwrite, report, figures, directory_name)
+        _write_run_files(result, out, overwrite, report, figures, directory_name, figure_workers)
     except OSError as error:
         storage = as_storage_error(error, out)
         if storage is None:
@@ -308,10 +407,16 @@ def write_run_directory(
 
 
 def _write_run_files(
-    result: Result, out: Path, overwrite: bool, report: bool, figures: bool, directory_name: str | None
+    result: Result,
+    out: Path,
+    overwrite: bool,
+    report: bool,
+    figures: bool,
+    directory_name: str | None,
+    workers: list[FigureWorker] | None,
 ) -> None:
     with atomic_directory(out, overwrite=overwrite, field="out") as temp:
-        drawn = _figures_alongside(result, temp / "figures") if figures else nullcontext()
+        drawn = _figures_alongside(result, temp / "figures", workers) if figures else nullcontext()
         with drawn:
             summary_doc = _write_tables(result, temp)
         if report:
