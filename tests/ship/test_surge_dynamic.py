@@ -7,6 +7,8 @@ equation to the stop."""
 
 from __future__ import annotations
 
+import csv
+import json
 import math
 from types import SimpleNamespace
 
@@ -17,7 +19,7 @@ from scipy.integrate import solve_ivp
 
 from floebreak import constants as c
 from floebreak.app.run import run
-from floebreak.app.surge import recorded_ice_force_series_n
+from floebreak.app.surge import SURGE_FILE, recorded_ice_force_series_n
 from floebreak.dynamics import IceMotionSettings
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField
@@ -193,3 +195,17 @@ def test_a_ship_faster_than_the_engine_step_resolves_is_refused_naming_the_step(
         run(Scenario.reference(overrides))
     assert error.value.field == "ice_motion.time_step_s"
     assert c.SHIP_SPEED_IN_ICE_M_S * 0.02 <= 0.25  # the entry speed alone would pass
+
+
+def test_a_stuck_dynamic_run_writes_its_surge_up_to_the_stop(tmp_path):
+    """surge.csv and the summary as under static: one row per search reached and the stop last."""
+    overrides = [*SHORT, "ice_motion.pin_all=true", *_propulsion_overrides(1.0e4, 1.0e6)]
+    result = run(Scenario.reference(overrides))
+    out = result.write(tmp_path / "run", report=False, figures=False)
+    summary = json.loads((out / "summary.json").read_text())["surge"]
+    text = (out / SURGE_FILE).read_text()
+    rows = list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
+    x = np.array([float(r["bow_x_m"]) for r in rows])
+    assert summary["stuck"] is True and x[-1] == pytest.approx(summary["stuck_at_bow_x_m"], abs=1e-9)
+    assert len(rows) == result.simulation.n_steps + 1 and float(rows[-1]["speed_m_s"]) == 0.0
+    assert "the force the hull passed to the ice" in text
