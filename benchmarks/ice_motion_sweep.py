@@ -23,7 +23,8 @@ alone changes. Per run:
 
 Each cell: mean ± sample standard deviation over the seeds. Run (the table goes to stdout and, with
 ``--out``, to a file): ``PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion_sweep.py
-[--seeds 5] [--length 385] [--width 100] [--concentrations 0.2 0.7] [--out table.md]``.
+[--seeds 5] [--length 385] [--width 100] [--concentrations 0.2 0.7] [--motions dynamic]
+[--set KEY=VALUE ...] [--out table.md]``.
 """
 
 from __future__ import annotations
@@ -62,8 +63,11 @@ def mean_ice_resistance_n(result, series=ice_force_series_n) -> float:
     return float(np.mean(0.5 * (after[:-1] + arrival[1:])))
 
 
-def measure(concentration: float, generator: str, motion: str, seed: int, size: tuple[float, float]) -> dict:
+def measure(
+    concentration: float, generator: str, motion: str, seed: int, size: tuple[float, float], extra=()
+) -> dict:
     overrides = [
+        *extra,
         f"field.concentration={concentration}",
         f"field.generator={generator}",
         f"field.length_m={size[0]}",
@@ -118,16 +122,20 @@ def main() -> None:
     parser.add_argument(
         "--concentrations", type=float, nargs="+", default=None, help="only these cells' concentrations"
     )
+    parser.add_argument("--motions", nargs="+", default=list(MOTIONS), choices=MOTIONS)
+    parser.add_argument(
+        "--set", dest="overrides", action="append", default=[], help="a scenario override for every run"
+    )
     args = parser.parse_args()
     compile_kernels()
     size = (args.length, args.width)
     rows: dict[tuple[float, str, str], list[dict]] = {}
     cells = [cell for cell in CELLS if args.concentrations is None or cell[0] in args.concentrations]
     for concentration, generator in cells:
-        for motion in MOTIONS:
+        for motion in args.motions:
             runs = []
             for seed in range(1, args.seeds + 1):
-                runs.append(measure(concentration, generator, motion, seed, size))
+                runs.append(measure(concentration, generator, motion, seed, size, args.overrides))
                 print(f"c = {concentration}, {generator}, {motion}, seed {seed}: {runs[-1]}", flush=True)
             rows[(concentration, generator, motion)] = runs
     text = (

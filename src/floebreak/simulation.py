@@ -740,6 +740,8 @@ class _Run:
     def _judge(self, pid: int, polygon_bf, contact: Contact) -> tuple[Classification, Outcome]:
         """Classification and failure outcome of a piece in contact (pure: nothing is applied)."""
         thickness = self.pieces.thickness[pid]
+        if self.motion is not None:  # the force the piece can take (`ice_motion.failure_force`)
+            contact = self.motion.failure_contact(pid, contact)
         zone = contact.dominant
         classification = classify(
             polygon_bf,

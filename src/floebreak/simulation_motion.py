@@ -29,6 +29,7 @@ nothing from `floebreak.simulation`; it drives a `_Run` through its `pieces` tab
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -67,6 +68,8 @@ class IceMotion:
         # per search: the mean force the hull passed to the ice over the interval ending there [N], field
         # frame (the ship receives the opposite; the x part is the ice resistance); none before the first
         self.force_on_ice_xy_n: list[tuple[float, float]] = [(0.0, 0.0)]
+        # per piece held over the last interval: Σ transmitted / Σ |F|·time of its holds (`failure_contact`)
+        self.load_share: dict[int, float] = {}
         # with `params.propulsion` the ship's speed follows from its net thrust and that force
         self.surge = None
         if params.propulsion is not None:
@@ -101,8 +104,8 @@ class IceMotion:
                 self.engine.step(dt)
                 for ix, iy in self.engine.hull_impulses().values():
                     contact_x, contact_y = contact_x + ix, contact_y + iy
-            held_x, held_y = self._held_impulse_n_s()
             duration = dx / speed
+            held_x, held_y = self._held_impulse_n_s(duration)
             force = (
                 (held_x + contact_x) / duration + resisted[0],
                 (held_y + contact_y) / duration + resisted[1],
@@ -143,16 +146,39 @@ class IceMotion:
                     fx, fy = fx + load[0], fy + load[1]
         return fx, fy
 
-    def _held_impulse_n_s(self) -> tuple[float, float]:
-        """Σ of the impulses the holds made by `_push` transmitted since (N·s, field frame), each along its
-        F̂ (the hull anchor is `_HOLD_REACH_M` away along −F̂: the direction turns by less than 1e-4 rad as
-        the piece slides by metres). The holds of a piece follow its non-zero loads in order."""
+    def _held_impulse_n_s(self, duration_s: float) -> tuple[float, float]:
+        """Σ of the impulses the holds made by `_push` transmitted over the interval of `duration_s` (N·s,
+        field frame), each along its F̂ (the hull anchor is `_HOLD_REACH_M` away along −F̂: the direction
+        turns by less than 1e-4 rad as the piece slides by metres); the holds of a piece follow its non-zero
+        loads in order. Sets `load_share`, each held piece's Σ impulse / (Σ |F|·duration)."""
         jx = jy = 0.0
+        self.load_share = {}
         for pid, holds in self.engine.hold_impulses().items():
             loads = [(fx, fy) for fx, fy, _, _ in self.forces[pid] if fx != 0.0 or fy != 0.0]
             for (size, impulse), (fx, fy) in zip(holds, loads, strict=True):
                 jx, jy = jx + impulse * fx / size, jy + impulse * fy / size
+            given = sum(size for size, _ in holds) * duration_s
+            self.load_share[pid] = sum(impulse for _, impulse in holds) / given
         return jx, jy
+
+    def failure_contact(self, pid: int, contact):
+        """The contact the failure criteria see (``ice_motion.failure_force``): as found, or, under
+        "lagged_transmitted", every zone's forces times the share of the crushing force the piece's holds
+        passed on over the interval before (capped at 1; the whole force for a piece not held then)."""
+        share = self.load_share.get(pid, 1.0)
+        if self.settings.failure_force == "crushing" or share >= 1.0:
+            return contact
+        zones = tuple(
+            dataclasses.replace(
+                z,
+                f_c_n=z.f_c_n * share,
+                f_v_n=z.f_v_n * share,
+                f_h_n=z.f_h_n * share,
+                force_on_ice_xy_n=z.force_on_ice_xy_n * share,
+            )
+            for z in contact.zones
+        )
+        return dataclasses.replace(contact, zones=zones)
 
     def _sail(self, bow_x: float, force_x_n: float) -> None:
         """The ship's speed over the next interval: the energy equation of `floebreak.ship.surge` from the

@@ -22,13 +22,14 @@ from floebreak.app.run import run
 from floebreak.app.surge import SURGE_FILE, recorded_ice_force_series_n
 from floebreak.dynamics import IceMotionSettings
 from floebreak.errors import InputError
-from floebreak.ice.field import FloeField
+from floebreak.ice.field import FloeField, circle_polygons
+from floebreak.mechanics.contact import BowContactGeometry, evaluate_contact
 from floebreak.profiles import build_model
 from floebreak.results import ContactRecorder
 from floebreak.scenario import Scenario
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.ship.propulsion import Propulsion, juva_riska_net_thrust_n
-from floebreak.simulation import SimulationParams, StepDone, simulate
+from floebreak.simulation import SimulationParams, StepDone, _Run, simulate
 
 NO_BREAKING = {"policy": {"unbreakable": ["none"], "bending": ["none"], "cracking": ["none"]}}
 SHORT = ["field.length_m=50", "simulation.ice_motion=dynamic"]  # the reference observation's floes
@@ -209,3 +210,50 @@ def test_a_stuck_dynamic_run_writes_its_surge_up_to_the_stop(tmp_path):
     assert summary["stuck"] is True and x[-1] == pytest.approx(summary["stuck_at_bow_x_m"], abs=1e-9)
     assert len(rows) == result.simulation.n_steps + 1 and float(rows[-1]["speed_m_s"]) == 0.0
     assert "the force the hull passed to the ice" in text
+
+
+def _lone_floe_run(failure_force: str):
+    """A 6 m floe 8 m to port of the stem: the bow's flank carries it along at the hull's normal speed."""
+    polygon = circle_polygons(np.array([[5.0, 8.0]]), np.array([3.0]), 64)
+    field = FloeField(polygon, np.ones(1), np.array([6.0]), np.zeros(1, int), tuple(polygon[0].bounds))
+    settings = IceMotionSettings(failure_force=failure_force)
+    params = SimulationParams(x_end_m=60.0, ice_motion="dynamic", ice_motion_settings=settings)
+    return simulate(field, agulhas_ii(ice_thickness_m=1.0), build_model("default"), params)
+
+
+def test_with_the_lagged_transmitted_force_a_floe_carried_freely_is_pushed_aside_not_broken():
+    """The floe moves with the hull and passes on little of the crushing force: judged on the whole force it
+    fails in bending at the shoulder; judged on the share its contact passed on over the interval before,
+    it is pushed aside whole."""
+    crushing, lagged = _lone_floe_run("crushing"), _lone_floe_run("lagged_transmitted")
+    assert crushing.n_breaks > 0 and crushing.fate[0] == "broken"
+    assert lagged.n_breaks == 0 and list(lagged.fate) == ["remaining"] and lagged.n_contacts > 0
+
+
+def test_the_failure_force_is_the_crushing_force_times_the_share_passed_on_before():
+    field = _one_floe(shapely.box(2.0, -3.0, 8.0, 3.0))
+    bow, model = agulhas_ii(ice_thickness_m=1.0), build_model("default")
+    contact = evaluate_contact(
+        shapely.box(-1.0, -3.0, 5.0, 3.0), 1.0, BowContactGeometry.from_bow(bow), model.contact
+    )
+    assert contact.in_contact
+    for failure_force, share, expected in (
+        ("crushing", 0.25, 1.0),
+        ("lagged_transmitted", 0.25, 0.25),
+        ("lagged_transmitted", 1.5, 1.0),  # never more than the crushing force
+        ("lagged_transmitted", None, 1.0),  # not held over the interval before: the whole force
+    ):
+        settings = IceMotionSettings(failure_force=failure_force)
+        params = SimulationParams(x_end_m=20.0, ice_motion="dynamic", ice_motion_settings=settings)
+        motion = _Run(field, bow, model, params, ()).motion
+        motion.load_share = {} if share is None else {0: share}
+        seen = motion.failure_contact(0, contact)
+        for zone, original in zip(seen.zones, contact.zones, strict=True):
+            for name in ("f_c_n", "f_v_n", "f_h_n", "force_on_ice_xy_n"):
+                assert np.array_equal(getattr(zone, name), getattr(original, name) * expected)
+
+
+def test_an_unknown_failure_force_is_refused_naming_the_key():
+    with pytest.raises(InputError) as error:
+        Scenario.reference([*SHORT, "ice_motion.failure_force='transmitted'"])
+    assert error.value.field == "ice_motion.failure_force"
