@@ -15,7 +15,9 @@ concentration set):
 - holds not made: zones of a piece the engine had not awake (frozen outside its window), given no joint;
 - the mean longitudinal ice force on the bow over the transit (kN): recorded (the trapezoid of
   `benchmarks/ice_motion_sweep.py`, from the contact records' f_h_n), the joints' |F| along x (F_x, what they
-  were given), what they transmitted along x (transmitted · F̂_x), and the recorded one under `static`;
+  were given), what they transmitted along x (transmitted · F̂_x), the same as the run records it
+  (`SimulationResult.hull_force_on_ice_xy_n`, the ship's ice force under `dynamic`), and the recorded one
+  under `static`;
 - failures: each evaluation that broke a piece or took it out whole, by the hold of the interval that ended at
   that search (the piece's contact at the search before): at the limit, below it (the floe was moving
   freely, yet failed on the full crushing force), or no hold (a piece born at that search, or one not in
@@ -38,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.app.run import run
-from floebreak.app.surge import ice_force_series_n
+from floebreak.app.surge import recorded_ice_force_series_n
 from floebreak.dynamics import IceMotionEngine
 from floebreak.mechanics import compile_kernels
 
@@ -142,7 +144,7 @@ def measure(concentration: float, seed: int, size: tuple[float, float]) -> dict:
     # the hold made at search k acts over (k, k+1]: per interval, summed over the holds
     given_x = np.bincount((step - 1).astype(int), weights=fx, minlength=n)[: n - 1]
     passed_x = np.bincount((step - 1).astype(int), weights=passed * fx / force, minlength=n)[: n - 1]
-    arrival, after = ice_force_series_n(result)
+    arrival, after = recorded_ice_force_series_n(result)
     return {
         "ratio": ratio,
         "force": force,
@@ -152,6 +154,8 @@ def measure(concentration: float, seed: int, size: tuple[float, float]) -> dict:
         "recorded_kn": trapezoid_mean(after, arrival) / 1e3,
         "given_kn": float(given_x.sum()) / intervals / 1e3,
         "passed_kn": float(passed_x.sum()) / intervals / 1e3,
+        # what the run itself records as the ship's ice force (SimulationResult.hull_force_on_ice_xy_n)
+        "run_kn": float(np.mean(result.simulation.hull_force_on_ice_xy_n[1:, 0])) / 1e3,
         "failures": failures(
             result.contacts,
             np.asarray(result.simulation.parent_piece_id, dtype=np.int64),
@@ -168,7 +172,7 @@ def measure(concentration: float, seed: int, size: tuple[float, float]) -> dict:
 def static_resistance_n(overrides: list[str]) -> float:
     """The recorded mean ice resistance of the same scenario under `static` (the sweep's baseline)."""
     result = run(REFERENCE, overrides=[*overrides, "simulation.ice_motion=static"])
-    arrival, after = ice_force_series_n(result)
+    arrival, after = recorded_ice_force_series_n(result)
     return trapezoid_mean(after, arrival)
 
 
@@ -233,6 +237,7 @@ def report(concentration: float, runs: list[dict]) -> str:
         ("recorded_kn", "recorded (f_h_n)"),
         ("given_kn", "joints' F_x"),
         ("passed_kn", "transmitted"),
+        ("run_kn", "transmitted as the run records it"),
         ("static_kn", "recorded under static"),
     ):
         values = [r[key] for r in runs]

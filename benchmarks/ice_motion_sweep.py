@@ -12,13 +12,19 @@ alone changes. Per run:
 - cusps per km of transit;
 - cusps reaching a propeller per km: the kinematic transport model (`floebreak.propeller.transport`,
   docs/model.md §13) with its defaults, on the run's cusps;
-- mean ice resistance: the longitudinal ice force on the bow averaged over the transit at the prescribed
-  speed (trapezoid of the force after the breaks at one search and on arrival at the next, as
-  `floebreak.ship.surge` integrates it), in kN.
+- mean ice resistance: the longitudinal ice force on the ship averaged over the transit at the prescribed
+  speed, in kN, as `floebreak.ship.surge` integrates it (`floebreak.app.surge.ice_force_series_n`): under
+  `static` the contact records' crushing force (trapezoid of the force after the breaks at one search and on
+  arrival at the next), under `dynamic` the force the hull passed to the ice over each search interval
+  (`SimulationResult.hull_force_on_ice_xy_n`, docs/model.md "The force the hull passes on");
+- recorded crushing force: the same average of the contact records' crushing force under either motion (under
+  `static` the resistance itself; under `dynamic` what the sweep reported as its resistance before the
+  transmitted force was recorded).
 
 Each cell: mean ± sample standard deviation over the seeds. Run (the table goes to stdout and, with
 ``--out``, to a file): ``PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion_sweep.py
-[--seeds 5] [--length 385] [--width 100] [--out table.md]``.
+[--seeds 5] [--length 385] [--width 100] [--concentrations 0.2 0.7] [--motions dynamic]
+[--set KEY=VALUE ...] [--out table.md]``.
 """
 
 from __future__ import annotations
@@ -30,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.app.run import run
-from floebreak.app.surge import ice_force_series_n
+from floebreak.app.surge import ice_force_series_n, recorded_ice_force_series_n
 from floebreak.mechanics import compile_kernels
 from floebreak.propeller.transport import transport_cusp_table
 
@@ -44,20 +50,24 @@ QUANTITIES = {
     "cusps_per_km": ("cusps/km", "{:.0f}"),
     "reaching_per_km": ("cusps reaching a propeller /km", "{:.0f}"),
     "resistance_kn": ("mean ice resistance kN", "{:.0f}"),
+    "recorded_kn": ("recorded crushing force kN", "{:.0f}"),
     "cpu_s": ("CPU s", "{:.1f}"),
 }
 
 
-def mean_ice_resistance_n(result) -> float:
+def mean_ice_resistance_n(result, series=ice_force_series_n) -> float:
     """The longitudinal ice force averaged over the transit at constant speed (module docstring)."""
-    arrival, after = ice_force_series_n(result)
+    arrival, after = series(result)
     if len(arrival) < 2:
         return 0.0
     return float(np.mean(0.5 * (after[:-1] + arrival[1:])))
 
 
-def measure(concentration: float, generator: str, motion: str, seed: int, size: tuple[float, float]) -> dict:
+def measure(
+    concentration: float, generator: str, motion: str, seed: int, size: tuple[float, float], extra=()
+) -> dict:
     overrides = [
+        *extra,
         f"field.concentration={concentration}",
         f"field.generator={generator}",
         f"field.length_m={size[0]}",
@@ -82,6 +92,7 @@ def measure(concentration: float, generator: str, motion: str, seed: int, size: 
         "cusps_per_km": int(sim.mask("cusp").sum()) / transit_km,
         "reaching_per_km": int(np.count_nonzero(transport.propeller_index >= 0)) / transit_km,
         "resistance_kn": mean_ice_resistance_n(result) / 1000.0,
+        "recorded_kn": mean_ice_resistance_n(result, recorded_ice_force_series_n) / 1000.0,
         "cpu_s": cpu_s,
     }
 
@@ -108,15 +119,23 @@ def main() -> None:
     parser.add_argument("--length", type=float, default=385.0, help="field length [m]")
     parser.add_argument("--width", type=float, default=100.0, help="field width [m]")
     parser.add_argument("--out", type=Path, default=None, help="also write the table to this file")
+    parser.add_argument(
+        "--concentrations", type=float, nargs="+", default=None, help="only these cells' concentrations"
+    )
+    parser.add_argument("--motions", nargs="+", default=list(MOTIONS), choices=MOTIONS)
+    parser.add_argument(
+        "--set", dest="overrides", action="append", default=[], help="a scenario override for every run"
+    )
     args = parser.parse_args()
     compile_kernels()
     size = (args.length, args.width)
     rows: dict[tuple[float, str, str], list[dict]] = {}
-    for concentration, generator in CELLS:
-        for motion in MOTIONS:
+    cells = [cell for cell in CELLS if args.concentrations is None or cell[0] in args.concentrations]
+    for concentration, generator in cells:
+        for motion in args.motions:
             runs = []
             for seed in range(1, args.seeds + 1):
-                runs.append(measure(concentration, generator, motion, seed, size))
+                runs.append(measure(concentration, generator, motion, seed, size, args.overrides))
                 print(f"c = {concentration}, {generator}, {motion}, seed {seed}: {runs[-1]}", flush=True)
             rows[(concentration, generator, motion)] = runs
     text = (

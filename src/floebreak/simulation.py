@@ -128,6 +128,9 @@ class SimulationParams:
     ice_motion: Literal["static", "dynamic"] = "static"
     ice_motion_settings: Any = None
     speed_m_s: float = c.SHIP_SPEED_IN_ICE_M_S
+    # under "dynamic": a `floebreak.ship.propulsion.Propulsion`, whose surge sets the hull's speed per search
+    # interval (`simulation_motion`; docs/model.md "Ship surge"); None: the constant `speed_m_s`
+    propulsion: Any = None
 
     def __post_init__(self) -> None:
         if self.max_wall_s is not None:
@@ -256,6 +259,11 @@ class SimulationResult:
     n_contacts: int
     n_breaks: int
     breaks_by_mode: Mapping[str, int]
+    # under "dynamic" (`simulation_motion`): per step, the mean force the hull passed to the ice over the
+    # interval ending there, (n_steps, 2) [N], field frame (x: the ice resistance); None for static ice
+    hull_force_on_ice_xy_n: np.ndarray | None = None
+    # under "dynamic" with `params.propulsion`: the `floebreak.ship.surge.SurgeResult` of the loop
+    surge: Any = None
 
     def mask(self, fate: str) -> np.ndarray:
         return self.fate == fate
@@ -552,6 +560,8 @@ def simulate(
     run.emit(RunStarted(run.n_steps, params.x_start_m, run.x_end, params.step_m, floe_field.n_floes, shift))
     for step in range(run.n_steps):
         run.advance(step)
+        if run.motion is not None and run.motion.stuck:
+            break
     result = run.result()
     if result.area_balance_rel_error > AREA_BALANCE_TOLERANCE:
         raise AreaBalanceError(
@@ -660,6 +670,9 @@ class _Run:
         self.check_time(bow_x)
         if self.motion is not None:
             self.motion.advance_to(bow_x)
+            if self.motion.stuck:  # the ship stopped before reaching this search: the transit ends
+                self.n_steps = step
+                return
         x0, y0, x1, y1 = self.hull_box
         d = self.params.dist_bow_max_m
         candidates = self.pieces.candidates((bow_x + x0 - d, y0 - d, bow_x + x1 + d, y1 + d))
@@ -727,6 +740,8 @@ class _Run:
     def _judge(self, pid: int, polygon_bf, contact: Contact) -> tuple[Classification, Outcome]:
         """Classification and failure outcome of a piece in contact (pure: nothing is applied)."""
         thickness = self.pieces.thickness[pid]
+        if self.motion is not None:  # the force the piece can take (`ice_motion.failure_force`)
+            contact = self.motion.failure_contact(pid, contact)
         zone = contact.dominant
         classification = classify(
             polygon_bf,
@@ -822,4 +837,5 @@ class _Run:
             n_contacts=self.counters["contacts"],
             n_breaks=self.counters["breaks"],
             breaks_by_mode=dict(self.breaks_by_mode),
+            **({} if self.motion is None else self.motion.outputs(self.n_steps)),
         )

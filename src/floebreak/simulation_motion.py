@@ -15,6 +15,12 @@ searches the rigid-body engine (`floebreak.dynamics.IceMotionEngine`) advances n
   parent's rigid-body velocity at their centroids and its angular velocity;
 - `IceMotion.leave(pid)`: a piece that left the field whole (cusp, flipped).
 
+Over each interval the force the hull passed to the ice is recorded (`force_on_ice_xy_n`: the holds'
+impulses along their F̂, the whole F of pieces held still, Chipmunk's own hull contacts), the force the
+ship feels (docs/model.md, "The force the hull passes on"). With `params.propulsion` the ship's speed follows
+from it (`floebreak.ship.surge.SurgeIntegrator`, per interval): the hull sails each interval at the speed the
+ship had at its start, and a ship that stops ends the run (`stuck`).
+
 A piece the engine has not moved keeps its stored polygon bit for bit, so a run with every piece pinned
 (`IceMotionSettings.pin_all`) gives the static results exactly. The engine's window decides which pieces
 are awake; pieces wholly behind it are retired. Nothing here draws random numbers. This module imports
@@ -23,12 +29,15 @@ nothing from `floebreak.simulation`; it drives a `_Run` through its `pieces` tab
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import shapely
 
 from floebreak.dynamics import IceMotionEngine, IceMotionSettings
+from floebreak.ship.propulsion import balance_speed_m_s
+from floebreak.ship.surge import SurgeIntegrator
 
 
 class IceMotion:
@@ -56,21 +65,58 @@ class IceMotion:
         self._next = 0
         self.origin: dict[int, tuple[float, float]] = {}  # centroid when added: unmoved pieces keep polygons
         self.forces: dict[int, list[tuple[float, float, float, float]]] = {}
+        # per search: the mean force the hull passed to the ice over the interval ending there [N], field
+        # frame (the ship receives the opposite; the x part is the ice resistance); none before the first
+        self.force_on_ice_xy_n: list[tuple[float, float]] = [(0.0, 0.0)]
+        # per piece held over the last interval: Σ transmitted / Σ |F|·time of its holds (`failure_contact`)
+        self.load_share: dict[int, float] = {}
+        # with `params.propulsion` the ship's speed follows from its net thrust and that force
+        self.surge = None
+        if params.propulsion is not None:
+            self.surge = SurgeIntegrator(params.propulsion, self.speed_m_s, params.x_start_m)
+            # the fastest the ship can sail: its entry speed, or the open-water speed it accelerates to
+            self.settings.check_time_step(max(self.speed_m_s, balance_speed_m_s(params.propulsion)))
+
+    @property
+    def stuck(self) -> bool:
+        """The ship stopped before the last search (ship surge under `params.propulsion`)."""
+        return self.surge is not None and self.surge.stuck_at_bow_x_m is not None
+
+    def outputs(self, n_steps: int) -> dict:
+        """The run's transmitted forces per search and, with propulsion, its surge (`SimulationResult`)."""
+        forces = np.array(self.force_on_ice_xy_n[:n_steps], dtype=float).reshape(-1, 2)
+        return {
+            "hull_force_on_ice_xy_n": forces,
+            "surge": None if self.surge is None else self.surge.result(0.0),
+        }
 
     # --- between searches ---------------------------------------------------------------------------
     def advance_to(self, bow_x: float) -> None:
         """Step the engine from the last search to `bow_x`, write the moved outlines back, add new floes."""
         dx = bow_x - self.bow_x
         if dx > 0.0:
-            n = max(1, math.ceil(dx / (self.speed_m_s * self.settings.time_step_s) - 1e-9))
-            dt = dx / (n * self.speed_m_s)
-            self._push()
+            speed = self.speed_m_s
+            n = max(1, math.ceil(dx / (speed * self.settings.time_step_s) - 1e-9))
+            dt = dx / (n * speed)
+            resisted = self._push()
+            contact_x = contact_y = 0.0  # Chipmunk's own hull contacts (``hull_contact = "engine"``)
             for _ in range(n):
                 self.engine.step(dt)
+                for ix, iy in self.engine.hull_impulses().values():
+                    contact_x, contact_y = contact_x + ix, contact_y + iy
+            duration = dx / speed
+            held_x, held_y = self._held_impulse_n_s(duration)
+            force = (
+                (held_x + contact_x) / duration + resisted[0],
+                (held_y + contact_y) / duration + resisted[1],
+            )
+            self.force_on_ice_xy_n.append(force)
             self.engine.release_holds()
             self.forces.clear()
             self.bow_x = bow_x
             self._write_back()
+            if self.surge is not None:
+                self._sail(bow_x, force[0])
         front = bow_x + self.front_offset_m
         while self._next < len(self._waiting) and self._min_x[self._waiting[self._next]] <= front:
             pid = self._waiting[self._next]
@@ -78,14 +124,69 @@ class IceMotion:
             if self.pieces.fate[pid] == "remaining":
                 self._add(pid, (0.0, 0.0), 0.0)
 
-    def _push(self) -> None:
+    def _push(self) -> tuple[float, float]:
         """The crushing forces of the last search, each as a plastic hull contact over the interval
         (`IceMotionEngine.hold_against_hull`): at most |F|, and never pushing the piece's point faster than
         the hull closes in along F̂. Held as a plain force, a light piece would leave at up to
-        V + |F|Δt/m, faster the larger the engine step (docs/model.md, "Coupling", 2)."""
+        V + |F|Δt/m, faster the larger the engine step (docs/model.md, "Coupling", 2). Returns the force of
+        the pieces held still (`_resisted_force_n`)."""
         for pid, loads in self.forces.items():
             for fx, fy, px, py in loads:
                 self.engine.hold_against_hull(pid, (fx, fy), (px, py))
+        return self._resisted_force_n()
+
+    def _resisted_force_n(self) -> tuple[float, float]:
+        """Σ F of the pieces in contact the engine holds still (pinned: static bodies, given no hold): such
+        a piece resists the whole crushing force over the interval."""
+        held = self.engine.hold_impulses()
+        fx = fy = 0.0
+        for pid, loads in self.forces.items():
+            if pid not in held:
+                for load in loads:
+                    fx, fy = fx + load[0], fy + load[1]
+        return fx, fy
+
+    def _held_impulse_n_s(self, duration_s: float) -> tuple[float, float]:
+        """Σ of the impulses the holds made by `_push` transmitted over the interval of `duration_s` (N·s,
+        field frame), each along its F̂ (the hull anchor is `_HOLD_REACH_M` away along −F̂: the direction
+        turns by less than 1e-4 rad as the piece slides by metres); the holds of a piece follow its non-zero
+        loads in order. Sets `load_share`, each held piece's Σ impulse / (Σ |F|·duration)."""
+        jx = jy = 0.0
+        self.load_share = {}
+        for pid, holds in self.engine.hold_impulses().items():
+            loads = [(fx, fy) for fx, fy, _, _ in self.forces[pid] if fx != 0.0 or fy != 0.0]
+            for (size, impulse), (fx, fy) in zip(holds, loads, strict=True):
+                jx, jy = jx + impulse * fx / size, jy + impulse * fy / size
+            given = sum(size for size, _ in holds) * duration_s
+            self.load_share[pid] = sum(impulse for _, impulse in holds) / given
+        return jx, jy
+
+    def failure_contact(self, pid: int, contact):
+        """The contact the failure criteria see (``ice_motion.failure_force``): as found, or, under
+        "lagged_transmitted", every zone's forces times the share of the crushing force the piece's holds
+        passed on over the interval before (capped at 1; the whole force for a piece not held then)."""
+        share = self.load_share.get(pid, 1.0)
+        if self.settings.failure_force == "crushing" or share >= 1.0:
+            return contact
+        zones = tuple(
+            dataclasses.replace(
+                z,
+                f_c_n=z.f_c_n * share,
+                f_v_n=z.f_v_n * share,
+                f_h_n=z.f_h_n * share,
+                force_on_ice_xy_n=z.force_on_ice_xy_n * share,
+            )
+            for z in contact.zones
+        )
+        return dataclasses.replace(contact, zones=zones)
+
+    def _sail(self, bow_x: float, force_x_n: float) -> None:
+        """The ship's speed over the next interval: the energy equation of `floebreak.ship.surge` from the
+        last search to `bow_x` under the force the hull passed on over the interval (constant in it), the
+        hull's speed in the engine over the interval being the ship's speed at its start."""
+        if self.surge.advance(bow_x, force_x_n, force_x_n):
+            self.speed_m_s = self.surge.speed_m_s
+            self.engine.set_hull_velocity((self.speed_m_s, 0.0))
 
     def _write_back(self) -> None:
         outlines = self.engine.drain_retired_outlines()

@@ -65,7 +65,13 @@ def ice_motion_params(scenario: Scenario) -> dict[str, Any]:
     if motion == "static":
         return {}
     settings = scenario.ice_motion_settings()
-    return {"ice_motion": motion, "ice_motion_settings": settings, "speed_m_s": scenario.ship.speed_m_s}
+    propulsion = scenario.ship.propulsion  # under dynamic ice the surge runs in the loop (app/surge.py)
+    return {
+        "ice_motion": motion,
+        "ice_motion_settings": settings,
+        "speed_m_s": scenario.ship.speed_m_s,
+        "propulsion": None if propulsion is None else propulsion.to_propulsion(),
+    }
 
 
 def _bow_thickness_m(scenario: Scenario, floe_field: FloeField | None = None) -> float:

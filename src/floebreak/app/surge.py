@@ -2,7 +2,10 @@
 
 Without ``ship.propulsion`` the ship sails at the prescribed ``ship.speed_m_s`` and nothing here runs. With
 it, the ship enters the field at ``ship.speed_m_s`` and its speed follows from the run's longitudinal ice
-force (`floebreak.ship.surge`): the breaking is quasi-static, so the stepping loop is the same either way.
+force (`floebreak.ship.surge`). Under ``simulation.ice_motion = "static"`` the breaking is quasi-static, so
+the stepping loop is the same either way and the surge is integrated afterwards from the contact records'
+force; under ``"dynamic"`` the hull's speed drives the ice, so the loop integrates it (`simulation_motion`)
+from the force the hull passed to the ice, and this module reads it (docs/model.md, "Ship surge").
 """
 
 from __future__ import annotations
@@ -24,8 +27,29 @@ SURGE_FILE = "surge.csv"
 
 
 def ice_force_series_n(result: Result) -> tuple[np.ndarray, np.ndarray]:
-    """The run's longitudinal ice force on the bow at each step, on arrival and after the step's breaks
-    (`floebreak.ship.surge.longitudinal_ice_force_n`) [N]."""
+    """The run's longitudinal ice force on the bow at each step [N], on arrival and after the step's breaks:
+    under static ice from the contact records (`recorded_ice_force_series_n`), under dynamic ice the force
+    the hull passed on (`transmitted_ice_force_series_n`)."""
+    forces = result.simulation.hull_force_on_ice_xy_n
+    if forces is None:
+        return recorded_ice_force_series_n(result)
+    return transmitted_ice_force_series_n(forces[:, 0])
+
+
+def transmitted_ice_force_series_n(force_x_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(on arrival, after the breaks) per step from the mean force over each interval (`force_x_n[k]`: over
+    the interval ending at step k; [0] unused): constant in each interval, so on arrival at step k it is the
+    force of the interval ending there and after the breaks that of the interval starting there (0 after
+    the last step), and the trapezoid of `floebreak.ship.surge` integrates it exactly."""
+    force = np.asarray(force_x_n, dtype=float)
+    arrival = force.copy()
+    arrival[:1] = 0.0
+    return arrival, np.append(force[1:], 0.0)
+
+
+def recorded_ice_force_series_n(result: Result) -> tuple[np.ndarray, np.ndarray]:
+    """The run's longitudinal ice force on the bow at each step from the contact records' crushing force
+    f_h_n, on arrival and after the step's breaks (`floebreak.ship.surge.longitudinal_ice_force_n`) [N]."""
     sim = result.simulation
     contacts = result.contacts
     return longitudinal_ice_force_n(
@@ -45,8 +69,10 @@ def surge_of(result: Result) -> SurgeResult | None:
     section = result.scenario.ship.propulsion
     if section is None:
         return None
-    propulsion = section.to_propulsion()
     sim = result.simulation
+    if sim.surge is not None:  # dynamic ice: integrated in the loop
+        return sim.surge
+    propulsion = section.to_propulsion()
     arrival, after = ice_force_series_n(result)
     x = sim.params.x_start_m + sim.params.step_m * np.arange(sim.n_steps)
     return integrate_surge(x, arrival, after, propulsion, result.scenario.ship.speed_m_s)
@@ -70,6 +96,11 @@ def write_surge_series(run_dir: str | os.PathLike[str], result: Result) -> None:
         "ice_force_x_n: longitudinal ice force on the bow on arrival at bow_x_m (before the breaks there)",
         "ice_force_x_after_breaks_n: the same after the breaks at bow_x_m",
     ]
+    if result.simulation.hull_force_on_ice_xy_n is not None:
+        comments.append(
+            "dynamic ice: the force the hull passed to the ice, the mean over each search interval "
+            "(on arrival: the interval ending at bow_x_m; after the breaks: the one starting there)"
+        )
     if surge.stuck:
         comments.append(f"stuck at bow_x_m = {surge.stuck_at_bow_x_m!r} (the last row)")
     columns = {

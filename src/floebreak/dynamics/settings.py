@@ -82,6 +82,11 @@ class IceMotionSettings:
     it pushes aside floes that must break (docs/model.md, Ice motion, coupling)"""
     pin_all: bool = False
     """pin every piece (no motion): the check that the coupled loop then gives the static results"""
+    failure_force: Literal["crushing", "lagged_transmitted"] = "crushing"
+    """the force the failure criteria see on a piece in contact: floebreak's crushing force ("crushing"), or
+    that force times the share of it the piece's hull contacts passed on over the interval before
+    ("lagged_transmitted", at most 1; a piece not held then, new or pinned, sees the whole force): a floe
+    cannot be loaded by more than it resists (docs/model.md, "The force the hull passes on")"""
 
     def __post_init__(self) -> None:
         check_bounds(self, self.PREFIX)

@@ -110,6 +110,108 @@ def _energy_step(
     return energy_j + h_m * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0
 
 
+class SurgeIntegrator:
+    """The ship's speed and time advanced one step of the transit at a time (`integrate_surge`, and the
+    stepping loop under ``simulation.ice_motion = "dynamic"``, whose engine needs the speed of each interval
+    before it runs it: docs/model.md, "Ship surge").
+
+    Per step, `substeps` Runge–Kutta steps of the energy equation; a stop inside a step is located by
+    Brent's method on the energy. Time per substep: Δt = 2·Δx/(V_a + V_b), exact under constant
+    deceleration (V² linear in x), which keeps it finite at a stop.
+    """
+
+    def __init__(
+        self,
+        propulsion: Propulsion,
+        initial_speed_m_s: float,
+        bow_x0_m: float,
+        force_arrival0_n: float = 0.0,
+        substeps: int = 4,
+    ):
+        self.propulsion, self.substeps = propulsion, substeps
+        self.mass_kg = propulsion.effective_mass_kg
+        self.energy_j = 0.5 * self.mass_kg * initial_speed_m_s**2
+        self._x, self._speeds, self._times = [bow_x0_m], [initial_speed_m_s], [0.0]
+        self._arrival, self._after = [force_arrival0_n], []
+        self.impulse_n_s = 0.0  # ∫ F dt
+        self.stuck_at_bow_x_m: float | None = None
+
+    @property
+    def speed_m_s(self) -> float:
+        """The speed at the last position reached (0 once stuck)."""
+        return self._speeds[-1]
+
+    def advance(self, bow_x_m: float, force_after_n: float, force_arrival_n: float) -> bool:
+        """Sail from the last position reached to `bow_x_m` under a force rising linearly from
+        `force_after_n` (after the breaks there) to `force_arrival_n` (on arrival at `bow_x_m`); False (and
+        the stop recorded) if the ship stops on the way."""
+        propulsion, mass, x_prev = self.propulsion, self.mass_kg, self._x[-1]
+        dx = bow_x_m - x_prev
+        slope = (force_arrival_n - force_after_n) / dx
+        f0, h = force_after_n, dx / self.substeps
+        t, v, energy = self._times[-1], self._speeds[-1], self.energy_j
+        self._after.append(force_after_n)
+        for j in range(self.substeps):
+            s0 = j * h
+            f_a = f0 + slope * s0
+            new = _energy_step(propulsion, mass, energy, h, f_a, slope)
+            if new <= 0.0:
+                self._stop(energy, v, t, f_a, slope, s0, h, (x_prev, bow_x_m, force_arrival_n))
+                return False
+            v_new = float(np.sqrt(2.0 * new / mass))
+            dt = 2.0 * h / (v + v_new)
+            self.impulse_n_s += 0.5 * (2.0 * f_a + slope * h) * dt
+            t, v, energy = t + dt, v_new, new
+        self.energy_j = energy
+        self._x.append(bow_x_m)
+        self._speeds.append(v)
+        self._times.append(t)
+        self._arrival.append(force_arrival_n)
+        return True
+
+    def _stop(self, energy, v, t, f_a, slope, s0, h, step) -> None:
+        """Locate the stop inside the substep starting at `s0` and record it as the last point."""
+        from scipy.optimize import brentq
+
+        x_prev, x_next, force_arrival_n = step
+        length = brentq(
+            lambda s: _energy_step(self.propulsion, self.mass_kg, energy, s, f_a, slope), 0.0, h, xtol=1e-9
+        )
+        dt = 2.0 * length / v
+        self.impulse_n_s += 0.5 * (2.0 * f_a + slope * length) * dt
+        stuck_at = float(x_prev + s0 + length)
+        # the force where the ship stops: the linear rise towards the next position
+        fraction = (stuck_at - x_prev) / (x_next - x_prev)
+        after = self._after[-1]
+        at_stop = after + fraction * (force_arrival_n - after)
+        self.stuck_at_bow_x_m, self.energy_j = stuck_at, 0.0
+        self._x.append(stuck_at)
+        self._speeds.append(0.0)
+        self._times.append(t + dt)
+        self._arrival.append(at_stop)
+        self._after.append(at_stop)
+
+    def result(self, force_after_last_n: float = 0.0) -> SurgeResult:
+        """The surge so far; `force_after_last_n`: the force after the breaks at the last position reached
+        (not used once stuck, where the series ends at the stop)."""
+        after = self._after if self.stuck_at_bow_x_m is not None else [*self._after, force_after_last_n]
+        positions = np.array(self._x, dtype=float)
+        arrival, after = np.array(self._arrival, dtype=float), np.array(after, dtype=float)
+        work = float(np.sum(0.5 * (after[:-1] + arrival[1:]) * np.diff(positions)))
+        distance, duration = positions[-1] - positions[0], self._times[-1]
+        return SurgeResult(
+            bow_x_m=positions,
+            time_s=np.array(self._times),
+            speed_m_s=np.array(self._speeds),
+            ice_force_x_n=arrival,
+            ice_force_x_after_breaks_n=after,
+            stuck=self.stuck_at_bow_x_m is not None,
+            stuck_at_bow_x_m=self.stuck_at_bow_x_m,
+            mean_ice_resistance_n=self.impulse_n_s / duration if duration > 0.0 else 0.0,
+            ice_work_per_metre_n=work / distance if distance > 0.0 else 0.0,
+        )
+
+
 def integrate_surge(
     bow_x_m: np.ndarray,
     force_arrival_n: np.ndarray,
@@ -118,68 +220,11 @@ def integrate_surge(
     initial_speed_m_s: float,
     substeps: int = 4,
 ) -> SurgeResult:
-    """Speed and time along the transit x_0 < x_1 < … under the ice force series (module docstring).
-
-    Per step, `substeps` Runge–Kutta steps of the energy equation; a stop inside a step is located by
-    Brent's method on the energy. Time per substep: Δt = 2·Δx/(V_a + V_b), exact under constant
-    deceleration (V² linear in x), which keeps it finite at a stop.
-    """
-    from scipy.optimize import brentq
-
+    """Speed and time along the transit x_0 < x_1 < … under the ice force series (module docstring;
+    numerics: `SurgeIntegrator`)."""
     x = np.asarray(bow_x_m, dtype=float)
-    mass = propulsion.effective_mass_kg
-    energy = 0.5 * mass * initial_speed_m_s**2
-    speeds, times, reached = [initial_speed_m_s], [0.0], 1
-    stuck_at = None
-    impulse = 0.0  # ∫ F dt
+    surge = SurgeIntegrator(propulsion, initial_speed_m_s, x[0], force_arrival_n[0], substeps)
     for k in range(1, len(x)):
-        dx = x[k] - x[k - 1]
-        slope = (force_arrival_n[k] - force_after_n[k - 1]) / dx
-        f0, h = force_after_n[k - 1], dx / substeps
-        t, v = times[-1], speeds[-1]
-        for j in range(substeps):
-            s0 = j * h
-            f_a = f0 + slope * s0
-            new = _energy_step(propulsion, mass, energy, h, f_a, slope)
-            if new <= 0.0:
-                length = brentq(
-                    lambda s, e=energy, fa=f_a, b=slope: _energy_step(propulsion, mass, e, s, fa, b),
-                    0.0,
-                    h,
-                    xtol=1e-9,
-                )
-                dt = 2.0 * length / v
-                impulse += 0.5 * (2.0 * f_a + slope * length) * dt
-                stuck_at = float(x[k - 1] + s0 + length)
-                speeds.append(0.0)
-                times.append(t + dt)
-                break
-            v_new = float(np.sqrt(2.0 * new / mass))
-            dt = 2.0 * h / (v + v_new)
-            impulse += 0.5 * (2.0 * f_a + slope * h) * dt
-            t, v, energy = t + dt, v_new, new
-        if stuck_at is not None:
+        if not surge.advance(x[k], force_after_n[k - 1], force_arrival_n[k]):
             break
-        speeds.append(v)
-        times.append(t)
-        reached = k + 1
-    positions = x[:reached] if stuck_at is None else np.append(x[:reached], stuck_at)
-    arrival = np.asarray(force_arrival_n[:reached], dtype=float)
-    after = np.asarray(force_after_n[:reached], dtype=float)
-    if stuck_at is not None:  # the force where the ship stops: the linear rise towards x_reached
-        fraction = (stuck_at - x[reached - 1]) / (x[reached] - x[reached - 1])
-        at_stop = after[-1] + fraction * (force_arrival_n[reached] - after[-1])
-        arrival, after = np.append(arrival, at_stop), np.append(after, at_stop)
-    work = float(np.sum(0.5 * (after[:-1] + arrival[1:]) * np.diff(positions)))
-    distance, duration = positions[-1] - positions[0], times[-1]
-    return SurgeResult(
-        bow_x_m=positions,
-        time_s=np.array(times),
-        speed_m_s=np.array(speeds),
-        ice_force_x_n=arrival,
-        ice_force_x_after_breaks_n=after,
-        stuck=stuck_at is not None,
-        stuck_at_bow_x_m=stuck_at,
-        mean_ice_resistance_n=impulse / duration if duration > 0.0 else 0.0,
-        ice_work_per_metre_n=work / distance if distance > 0.0 else 0.0,
-    )
+    return surge.result(force_after_n[len(x) - 1])
