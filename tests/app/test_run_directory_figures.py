@@ -43,7 +43,8 @@ def _write(result, out, monkeypatch, fork: bool, early: bool = False, ahead=None
     with run_directory.figure_worker() as worker:
         assert worker is not None
         if ahead is not None:
-            worker.draw_ahead("field", ahead, result.provenance("figure"))
+            assert worker.waiting.wait(timeout=60)  # it has imported matplotlib
+            assert worker.draw_ahead("field", ahead, result.provenance("figure"))
         return result.write(out, directory_name="run", figure_worker=worker)
 
 
@@ -312,6 +313,7 @@ def test_a_run_sends_its_field_ahead_and_the_write_only_saves_it(tmp_path, monke
 
     monkeypatch.setattr(run_directory.FigureWorker, "_send", recording)
     with run_directory.figure_worker() as worker:
+        assert worker.waiting.wait(timeout=60)  # else the field is sent at the first event it waits at
         ran = floebreak.run(overrides=SMALL, figure_worker=worker)
         assert ran.summary["field_shift_m"] == 0.0
         assert list(worker.ahead) == ["field"]
@@ -323,3 +325,17 @@ def test_a_run_sends_its_field_ahead_and_the_write_only_saves_it(tmp_path, monke
     )
     serial = _files(_write(ran, tmp_path / "serial", monkeypatch, fork=False))
     assert _files(out) == serial
+
+
+def test_nothing_is_sent_ahead_while_the_worker_is_busy(result, monkeypatch):
+    """A figure's data fill the pipe: sent to a worker still importing matplotlib, the send would block
+    the engine until the import ends; it is not sent (the write draws that figure)."""
+    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: True)
+    monkeypatch.setattr(run_directory, "_figure_worker", lambda *args: time.sleep(60))
+    with run_directory.figure_worker() as worker:
+        started = time.perf_counter()
+        callback = worker.ahead_callback("field", result.figure_call("field"), result.provenance("figure"))
+        callback(object())
+        assert not worker.draw_ahead("field", result.figure_call("field"), result.provenance("figure"))
+        assert worker.ahead == {}
+        assert time.perf_counter() - started < 5.0

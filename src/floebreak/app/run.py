@@ -237,8 +237,8 @@ def run(
     the contact records stream (``contacts.parquet``, in row groups) instead of staying in memory (a long
     transit makes ≈ 20 000 rows per km); the Result reads them back from there when asked for, and
     `Result.write` copies the file, so the directory must outlive the Result's use of its records.
-    `figure_worker` (`floebreak.app.run_directory.figure_worker`): it is sent the field's figure as soon as
-    the field is generated, to draw while the engine runs; give it to `Result.write` too.
+    `figure_worker` (`floebreak.app.run_directory.figure_worker`): it is sent the field's figure once it
+    has imported matplotlib, to draw while the engine runs; give it to `Result.write` too.
     """
     started = time.perf_counter()
     if spool is not None and not Path(spool).is_dir():
@@ -246,9 +246,6 @@ def run(
     scenario = as_scenario(scenario, overrides).resolved()
     if floe_field is None:
         floe_field = build_field(scenario, np.random.default_rng(scenario.seed))
-    if figure_worker is not None:  # the figure of the field as simulated, unless the engine shifts it
-        meta = _provenance(scenario, "figure")
-        figure_worker.draw_ahead("field", _run_field_figure_call(scenario, floe_field), meta)
     bow = build_bow(scenario, floe_field)
     model = build_model_for(scenario)
     params = _simulation_params(scenario)
@@ -262,6 +259,9 @@ def run(
     check_pose_interval(interval, params.ice_motion)
     poses = None if interval is None else PoseRecorder(interval)
     extra = [] if poses is None else [poses]
+    if figure_worker is not None:  # the figure of the field as simulated, unless the engine shifts it
+        call = _run_field_figure_call(scenario, floe_field)
+        extra.append(figure_worker.ahead_callback("field", call, _provenance(scenario, "figure")))
     try:
         simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *extra, *callbacks])
         records = recorder.records()  # the last chunk of records too

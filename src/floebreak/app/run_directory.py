@@ -220,20 +220,41 @@ def _fork_for_figures() -> bool:
 
 
 class FigureWorker:
-    """A forked process that draws a run's figures (`_figure_worker`), this end of its pipe, and the
-    figures it was sent ahead of the write (`draw_ahead`: key → the pickled call and metadata)."""
+    """A forked process that draws a run's figures (`_figure_worker`), this end of its pipe, the event it
+    sets while it waits for a message, and the figures it was sent ahead of the write (`draw_ahead`: key
+    → the pickled call and metadata).
 
-    def __init__(self, process: multiprocessing.Process, connection) -> None:
+    A message is sent only while the worker waits for one where that can be chosen: a figure's data
+    (≈ 0.3 MB for a 250 m field) do not fit in the pipe's buffer, so a send blocks until the worker reads
+    it, and the worker reads nothing while it imports matplotlib or draws.
+    """
+
+    def __init__(self, process: multiprocessing.Process, connection, waiting) -> None:
         self.process = process
         self.connection = connection
+        self.waiting = waiting
         self.ahead: dict[str, bytes] = {}
 
-    def draw_ahead(self, key: str, call: FigureCall, meta: Mapping[str, Any]) -> None:
-        """Have the worker draw the figure `key` now, into memory: the write saves it if the run's figure
-        has the same call and metadata (`_figures_alongside`), and draws it anew otherwise."""
+    def draw_ahead(self, key: str, call: FigureCall, meta: Mapping[str, Any]) -> bool:
+        """If the worker waits, have it draw the figure `key` now, into memory (the write saves it if the
+        run's figure has the same call and metadata, `_figures_alongside`, and draws it anew otherwise);
+        whether it was sent."""
+        if not self.waiting.is_set():
+            return False
         data = _dumps((call, dict(meta)))
         if self._send(("ahead", key, data)):
             self.ahead[key] = data
+        return True
+
+    def ahead_callback(self, key: str, call: FigureCall, meta: Mapping[str, Any]):
+        """An engine callback (`floebreak.simulation.simulate`) that sends the figure `key` ahead
+        (`draw_ahead`) at the first event at which the worker waits (it imports matplotlib first)."""
+
+        def send_when_waiting(event: object) -> None:
+            if key not in self.ahead:
+                self.draw_ahead(key, call, meta)
+
+        return send_when_waiting
 
     def _send(self, message: tuple) -> bool:
         """Send `message` pickled; False if the worker has died (`_answer` says so at the write)."""
@@ -270,7 +291,8 @@ def _start_figure_worker() -> FigureWorker | None:
     """A forked figure worker, or None where no process can be had (EAGAIN, ENOMEM)."""
     context = multiprocessing.get_context("fork")
     here, there = context.Pipe()
-    process = context.Process(target=_figure_worker, args=(there, os.getpid()), daemon=True)
+    waiting = context.Event()
+    process = context.Process(target=_figure_worker, args=(there, os.getpid(), waiting), daemon=True)
     try:
         process.start()
     except OSError:
@@ -278,24 +300,25 @@ def _start_figure_worker() -> FigureWorker | None:
         return None
     finally:
         there.close()
-    return FigureWorker(process, here)
+    return FigureWorker(process, here, waiting)
 
 
-def _figure_worker(connection, parent: int) -> None:
+def _figure_worker(connection, parent: int, waiting) -> None:
     """The figure worker of the process `parent`: import the plotting modules, draw the figures sent
     ahead into memory, then, at the write (a message with the jobs, pickled `(FigureCall, path,
     metadata)`, and the paths of the figures drawn ahead), save those and draw the jobs, half of them in
-    a child forked now (`_draw_halves`), and send None, or the exception (its traceback as a note)."""
+    a child forked now (`_draw_halves`), and send None, or the exception (its traceback as a note).
+    `waiting` (an Event) is set while it waits for a message."""
     _die_with(parent)
     drawn: dict[str, bytes | BaseException] = {}
     try:
         from floebreak.plotting import field, pattern, spectra  # noqa: F401  (before the jobs come)
 
-        message = pickle.loads(connection.recv_bytes())
+        message = _next_message(connection, waiting)
         while message[0] == "ahead":
             _, key, data = message
             drawn[key] = _drawn_png(*pickle.loads(data))
-            message = pickle.loads(connection.recv_bytes())
+            message = _next_message(connection, waiting)
     except (EOFError, KeyboardInterrupt):  # not used, or the run was interrupted: the parent ends it
         return
     _, jobs, saved = message
@@ -312,6 +335,14 @@ def _figure_worker(connection, parent: int) -> None:
         connection.send(None)
     finally:
         connection.close()
+
+
+def _next_message(connection, waiting) -> tuple:
+    waiting.set()
+    try:
+        return pickle.loads(connection.recv_bytes())
+    finally:
+        waiting.clear()
 
 
 def _drawn_png(call: FigureCall, meta: Mapping[str, Any]) -> bytes | BaseException:
@@ -418,10 +449,10 @@ def _figures_alongside(result: Result, folder: Path, worker: FigureWorker | None
     """Draw the run's figures into `folder`, around the body that writes the other files.
 
     With a figure `worker` (`figure_worker`), or where `_fork_for_figures` with one forked now (it imports
-    matplotlib while the body runs): it is sent the figures as plain data before the body (those it drew
-    ahead with the same call and metadata are only saved), and answers after it; its exception is raised
-    here, an exception of the body kills it (the caller's temporary directory is discarded either way).
-    Else all of them here after the body.
+    matplotlib while the body runs): it is sent the figures as plain data, before the body if it waits for
+    them, else after it (those it drew ahead with the same call and metadata are only saved), and answers
+    after the body; its exception is raised here, an exception of the body kills it (the caller's
+    temporary directory is discarded either way). Else all of them here after the body.
     """
     folder.mkdir()
     if worker is None and _fork_for_figures():
@@ -439,8 +470,10 @@ def _figures_alongside(result: Result, folder: Path, worker: FigureWorker | None
                 saved[key] = folder / name
             else:
                 jobs.append((call, folder / name, meta))
-        worker._send(("write", jobs, saved))
-        yield
+        sent = worker.waiting.is_set() and worker._send(("write", jobs, saved))
+        yield  # a worker still importing or drawing is sent its jobs after the body (a send would block)
+        if not sent:
+            worker._send(("write", jobs, saved))
         error = _answer(worker.process, worker.connection)
     finally:
         worker.end()
