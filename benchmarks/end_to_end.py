@@ -238,7 +238,7 @@ def main() -> None:
         rows.append(
             f"| {name} | {s['n_floes_initial']} | {s['n_steps']} | {s['n_cusps']} | {best['wall_s']:.1f} | "
             f"{' / '.join(f'{w:.1f}' for w in walls)} | {best['cpu_s']:.1f} | {s['wall_time_s']:.1f} | "
-            f"{outside_s:.1f} | {outside_s / s['wall_time_s']:.1f} | "
+            f"{outside_s:.2f} | {outside_s / s['wall_time_s']:.1f} | "
             f"{peak:.0f} | {goal} |"
         )
         print(rows[-1], flush=True)
