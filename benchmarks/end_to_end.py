@@ -8,8 +8,9 @@ on a 250 m × 200 m field (246 floes) spends ≤ 1.5 s outside the engine ("outs
 from one run, so the machine's phase cancels; "outside/engine" is their ratio).
 
 Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1;
-``--cores 2``: two CPUs, as on the issue's quiet 2-core machine, where the command line forks figure workers
-before the run, which import matplotlib during it and draw the figures, `floebreak.app.run_directory`). Wall
+``--cores 2``: two CPUs, as on the issue's quiet 2-core machine, where the command line forks a figure worker
+before the run, which imports matplotlib and draws the field during it, and the other figures with a child
+of its own at the write, `floebreak.app.run_directory`). Wall
 time: ``time.perf_counter`` around the child. Peak memory: the child's ``ru_maxrss`` (``os.wait4`` returns
 the rusage of that one child; ``resource.getrusage(RUSAGE_CHILDREN)`` would give the maximum over all
 children so far, which hides a smaller later case). CPU time (user + system) is printed too: on a shared
@@ -21,9 +22,9 @@ An editable install's src/ is compiled to bytecode first, as an installed copy i
 ``--phases`` times the 250 m × 200 m run's phases in one process instead (pinned to one core): it imports
 the modules the command line loads in the order it loads them, wraps the functions the run goes through
 with timers and calls the command line's `main` (`PHASES` below). ``--cpu``: process time instead of wall
-time (a shared machine's load barely moves it); with ``--cores 2`` the figure workers' CPU time is listed
-(forked before the run, they import matplotlib while the engine runs and draw every figure: the "draw" and
-"render" phases of this process are then empty).
+time (a shared machine's load barely moves it); with ``--cores 2`` the figure worker's CPU time is listed
+(with its child's: forked before the run, it imports matplotlib while the engine runs and draws every figure:
+the "draw" and "render" phases of this process are then empty).
 
 Run: ``.venv/bin/python benchmarks/end_to_end.py [--repeat N] [--phases [--cpu]] [--case 250] [--cores 2]``
 (the CLI next to the running Python is used; ``--case`` keeps the cases whose name contains the text).
@@ -166,14 +167,14 @@ except SystemExit:
     pass
 phases["total (in process)"] = clock() - t0
 phases["engine (wall_time_s)"] = json.load(open(out + "/summary.json"))["wall_time_s"]
-phases["figure workers (CPU, their matplotlib import included)"] = children_cpu()
+phases["figure worker and its child (CPU, the matplotlib import included)"] = children_cpu()
 print(json.dumps(phases))
 """
 
 
 def phases(cores: int = 1, cpu: bool = False) -> None:
     """The 250 m × 200 m run's phases, in one process pinned to `cores` CPUs (`PHASES`); `cpu`: process
-    time instead of wall time (less sensitive to a shared machine's load; the figure workers' CPU
+    time instead of wall time (less sensitive to a shared machine's load; the figure worker's CPU
     time is reported on its own line)."""
     with tempfile.TemporaryDirectory(prefix="floebreak-e2e-") as tmp:
         env = {
@@ -237,7 +238,7 @@ def main() -> None:
         rows.append(
             f"| {name} | {s['n_floes_initial']} | {s['n_steps']} | {s['n_cusps']} | {best['wall_s']:.1f} | "
             f"{' / '.join(f'{w:.1f}' for w in walls)} | {best['cpu_s']:.1f} | {s['wall_time_s']:.1f} | "
-            f"{outside_s:.1f} | {outside_s / s['wall_time_s']:.1f} | "
+            f"{outside_s:.2f} | {outside_s / s['wall_time_s']:.1f} | "
             f"{peak:.0f} | {goal} |"
         )
         print(rows[-1], flush=True)

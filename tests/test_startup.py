@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -33,3 +34,17 @@ def test_a_run_loads_no_figure_netcdf_or_dask_library_before_it_draws():
     # figures import it when they are drawn) nor scipy.integrate (only the Nevel table's generation)
     loaded = loaded_after("import floebreak.app.run, floebreak.scenario")
     assert not {"matplotlib", "xarray", "dask", "scipy.integrate"} & loaded
+
+
+def test_a_run_and_its_run_directory_load_no_arrow_compute_kernels(tmp_path):
+    # pyarrow.compute (≈ 0.1 s) is what `Table.cast` imports; the Parquet writers attach the units and
+    # append row groups without a cast where the types already agree (`floebreak.io.geoparquet.as_schema`)
+    out = tmp_path / "out"
+    scenario = Path(__file__).resolve().parents[1] / "examples" / "reference.toml"
+    argv = ["floebreak", "run", str(scenario), "--quiet", "--out", str(out)]
+    argv += ["--set", "field.length_m=40"]
+    statement = f"import sys\nfrom floebreak import cli\nsys.argv = {argv!r}\n"
+    statement += "try:\n    cli.main()\nexcept SystemExit:\n    pass"
+    loaded = loaded_after(statement)
+    assert (out / "contacts.parquet").is_file() and (out / "pieces.parquet").is_file()
+    assert "pyarrow.parquet" in loaded and "pyarrow.compute" not in loaded

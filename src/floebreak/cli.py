@@ -377,18 +377,18 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     engine is imported (`main`).
     """
     from floebreak.api import check_output_directory
-    from floebreak.app.run_directory import figure_workers
+    from floebreak.app.run_directory import figure_worker
 
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
-    with figure_workers() as workers:  # forked now, they import matplotlib while the engine runs
-        return _run_and_write(resolved, out, overwrite, quiet, label, then, engine_loaded, workers)
+    with figure_worker() as worker:  # forked now, it imports matplotlib while the engine runs
+        return _run_and_write(resolved, out, overwrite, quiet, label, then, engine_loaded, worker)
 
 
 def _run_and_write(
-    resolved, out: Path, overwrite: bool, quiet: bool, label: str, then, engine_loaded, workers
+    resolved, out: Path, overwrite: bool, quiet: bool, label: str, then, engine_loaded, worker
 ):
-    """`_execute`'s run and write, with the figure workers forked before it (or None)."""
+    """`_execute`'s run and write, with the figure worker forked before it (or None)."""
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from floebreak.api import run as run_scenario
@@ -412,14 +412,16 @@ def _run_and_write(
         # memory), and are copied into the run directory: a failure leaves neither behind
         with scratch_directory(out) as spool:
             with progress:
-                result = run_scenario(resolved, callbacks=[_Progress(progress)], spool=spool)
+                result = run_scenario(
+                    resolved, callbacks=[_Progress(progress)], spool=spool, figure_worker=worker
+                )
             if then is None:
-                result.write(out, overwrite=overwrite, figure_workers=workers)
+                result.write(out, overwrite=overwrite, figure_worker=worker)
                 added = None
             else:
                 with atomic_directory(out, overwrite=overwrite, field="out") as temp:
                     # replaces the empty temporary directory; the report names the final directory
-                    result.write(temp, overwrite=True, directory_name=out.name, figure_workers=workers)
+                    result.write(temp, overwrite=True, directory_name=out.name, figure_worker=worker)
                     added = then(temp, out.name)
     except InputError:
         raise

@@ -1,6 +1,7 @@
-"""The run directory's figures drawn by forked workers (issue 34 §6), forked at the write or before the run
-(`figure_workers`): the same files as the serial path, a failure on either side fails the write with
-nothing left behind, and no worker outlives the run."""
+"""The run directory's figures drawn by a forked worker and its own forked child (issue 34 §6), the worker
+forked at the write or before the run (`figure_worker`, which may draw the field ahead): the same files as
+the serial path, a failure in any of the processes fails the write with nothing left behind, and no
+process outlives the run."""
 
 from __future__ import annotations
 
@@ -33,27 +34,31 @@ def result():
     return floebreak.run(overrides=SMALL)
 
 
-def _write(result, out, monkeypatch, fork: bool, early: bool = False):
-    """Write `result` to `out`: serially, or (`fork`) with workers forked at the write or (`early`) before."""
+def _write(result, out, monkeypatch, fork: bool, early: bool = False, ahead=None):
+    """Write `result` to `out`: serially, or (`fork`) with a worker forked at the write or (`early`)
+    before, sent the field figure's call `ahead` (a FigureCall) before the write if given."""
     monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: fork)
     if not early:
         return result.write(out, directory_name="run")
-    with run_directory.figure_workers() as workers:
-        assert len(workers) == run_directory.FIGURE_WORKERS
-        return result.write(out, directory_name="run", figure_workers=workers)
+    with run_directory.figure_worker() as worker:
+        assert worker is not None
+        if ahead is not None:
+            assert worker.waiting.wait(timeout=60)  # it has imported matplotlib
+            assert worker.draw_ahead("field", ahead, result.provenance("figure"))
+        return result.write(out, directory_name="run", figure_worker=worker)
 
 
 def _started_workers(monkeypatch) -> list:
-    """The figure workers the code under test starts (filled as they start)."""
+    """The figure workers' processes the code under test starts (filled as they start)."""
     started = []
-    start = run_directory._start_figure_workers
+    start = run_directory._start_figure_worker
 
     def recording():
-        workers = start()
-        started.extend(process for process, _ in workers)
-        return workers
+        worker = start()
+        started.append(worker.process)
+        return worker
 
-    monkeypatch.setattr(run_directory, "_start_figure_workers", recording)
+    monkeypatch.setattr(run_directory, "_start_figure_worker", recording)
     return started
 
 
@@ -71,10 +76,24 @@ def _files(folder):
     return {p.relative_to(folder).as_posix(): p.read_bytes() for p in files}
 
 
-@pytest.mark.parametrize("early", [False, True], ids=["forked at the write", "forked before the run"])
-def test_figure_workers_write_the_same_files_as_the_serial_path(result, tmp_path, monkeypatch, early):
+WAYS = {
+    "forked at the write": {"early": False},
+    "forked before the run": {"early": True},
+    "field drawn ahead": {"early": True, "ahead": "same"},
+    "another field drawn ahead": {"early": True, "ahead": "another"},
+}
+
+
+@pytest.mark.parametrize("way", WAYS)
+def test_figure_workers_write_the_same_files_as_the_serial_path(result, tmp_path, monkeypatch, way):
+    """A field figure drawn ahead is saved only if its call is the run's; another one is drawn anew."""
+    options = dict(WAYS[way])
+    if "ahead" in options:
+        module, function, args, kwargs = result.figure_call("field")
+        title = kwargs["title"] if options["ahead"] == "same" else "not this run's field"
+        options["ahead"] = (module, function, args, {**kwargs, "title": title})
     serial = _files(_write(result, tmp_path / "serial", monkeypatch, fork=False))
-    forked = _files(_write(result, tmp_path / "forked", monkeypatch, fork=True, early=early))
+    forked = _files(_write(result, tmp_path / "forked", monkeypatch, fork=True, **options))
     assert {name for name in forked if name.startswith("figures/")} == {
         f"figures/{name}" for name in run_directory.FIGURES.values()
     }
@@ -135,6 +154,24 @@ def test_a_child_that_dies_fails_the_write_and_leaves_nothing(result, tmp_path, 
     assert list(tmp_path.iterdir()) == []
 
 
+def test_the_worker_s_own_child_that_dies_fails_the_write_and_leaves_nothing(result, tmp_path, monkeypatch):
+    """The breaking pattern is drawn by the child the worker forks at the write (`_draw_halves`)."""
+    save = run_directory._save_png
+    parent = os.getpid()
+
+    def dying(figure, path, meta):
+        if path.name == run_directory.FIGURES["breaking_pattern"] and os.getppid() != parent:
+            os._exit(3)  # the worker's child, not the worker
+        save(figure, path, meta)
+
+    monkeypatch.setattr(run_directory, "_save_png", dying)
+    started = _started_workers(monkeypatch)
+    with pytest.raises(RuntimeError, match="a figure process ended without an answer"):
+        _write(result, tmp_path / "out", monkeypatch, fork=True)
+    assert list(tmp_path.iterdir()) == []
+    _assert_ended(started)
+
+
 @pytest.mark.parametrize("early", [False, True], ids=["forked at the write", "forked before the run"])
 def test_a_failure_in_the_parent_stops_the_child_and_leaves_nothing(result, tmp_path, monkeypatch, early):
     def slow_child(*args):
@@ -167,18 +204,17 @@ def test_workers_of_a_run_that_fails_are_ended(tmp_path, monkeypatch):
     workers = _started_workers(monkeypatch)
     with pytest.raises(InputError):
         cli._execute(Scenario.from_dict({}), tmp_path / "out", False, True, "test")
-    assert len(workers) == run_directory.FIGURE_WORKERS
+    assert len(workers) == 1
     _assert_ended(workers)
     assert not (tmp_path / "out").exists()
 
 
 def test_workers_not_used_are_ended():
-    """`figure_workers` without a write (`--no-report`-like paths, a refused output, Ctrl-C)."""
-    with run_directory.figure_workers() as workers:
-        if workers is None:
+    """`figure_worker` without a write (`--no-report`-like paths, a refused output, Ctrl-C)."""
+    with run_directory.figure_worker() as worker:
+        if worker is None:
             pytest.skip("this machine gives no second core to fork onto")
-        processes = [process for process, _ in workers]
-    _assert_ended(processes)
+    _assert_ended([worker.process])
     assert multiprocessing.active_children() == []
 
 
@@ -246,8 +282,8 @@ def test_workers_of_a_killed_run_end_with_it():
     code = (
         "import sys, time; from floebreak.app import run_directory\n"
         "run_directory._fork_for_figures = lambda: True\n"
-        "with run_directory.figure_workers() as workers:\n"
-        "    print(*[process.pid for process, _ in workers], flush=True)\n"
+        "with run_directory.figure_worker() as worker:\n"
+        "    print(worker.process.pid, flush=True)\n"
         "    time.sleep(600)\n"
     )
     victim = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
@@ -257,8 +293,49 @@ def test_workers_of_a_killed_run_end_with_it():
         victim.kill()
         victim.wait()
         victim.stdout.close()
-    assert len(pids) == run_directory.FIGURE_WORKERS
+    assert len(pids) == 1
     deadline = time.monotonic() + 30
     while not all(_gone(pid) for pid in pids) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert all(_gone(pid) for pid in pids)
+
+
+def test_a_run_sends_its_field_ahead_and_the_write_only_saves_it(tmp_path, monkeypatch):
+    """`run(..., figure_worker=)`: the field's figure is drawn while the engine runs, and the write sends
+    no job for it (the field was not shifted for initial contact, so the call is the same)."""
+    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: True)
+    sent = []
+    send = run_directory.FigureWorker._send
+
+    def recording(self, message):
+        sent.append(message)
+        return send(self, message)
+
+    monkeypatch.setattr(run_directory.FigureWorker, "_send", recording)
+    with run_directory.figure_worker() as worker:
+        assert worker.waiting.wait(timeout=60)  # else the field is sent at the first event it waits at
+        ran = floebreak.run(overrides=SMALL, figure_worker=worker)
+        assert ran.summary["field_shift_m"] == 0.0
+        assert list(worker.ahead) == ["field"]
+        out = ran.write(tmp_path / "out", directory_name="run", figure_worker=worker)
+    [(_, jobs, saved)] = [message for message in sent if message[0] == "write"]
+    assert list(saved) == ["field"]
+    assert sorted(path.name for _, path, _ in jobs) == sorted(
+        name for key, name in run_directory.FIGURES.items() if key != "field"
+    )
+    serial = _files(_write(ran, tmp_path / "serial", monkeypatch, fork=False))
+    assert _files(out) == serial
+
+
+def test_nothing_is_sent_ahead_while_the_worker_is_busy(result, monkeypatch):
+    """A figure's data fill the pipe: sent to a worker still importing matplotlib, the send would block
+    the engine until the import ends; it is not sent (the write draws that figure)."""
+    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: True)
+    monkeypatch.setattr(run_directory, "_figure_worker", lambda *args: time.sleep(60))
+    with run_directory.figure_worker() as worker:
+        started = time.perf_counter()
+        callback = worker.ahead_callback("field", result.figure_call("field"), result.provenance("figure"))
+        callback(object())
+        assert not worker.draw_ahead("field", result.figure_call("field"), result.provenance("figure"))
+        assert worker.ahead == {}
+        assert time.perf_counter() - started < 5.0

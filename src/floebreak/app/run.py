@@ -185,11 +185,10 @@ class Result:
         return draw_figure(self._field_call())
 
     def _field_call(self) -> FigureCall:
-        return field_figure_call(self.field, title=self._title("initial floe field"))
+        return _run_field_figure_call(self.scenario, self.field)
 
     def _title(self, what: str) -> str:
-        name = self.scenario.name or (self.scenario.field.observation or self.scenario.field.source)
-        return f"{what}: {name}, profile {self.scenario.profile}, seed {self.scenario.seed}"
+        return _title(self.scenario, what)
 
     # --- writing ----------------------------------------------------------------------------------
     def write(
@@ -199,13 +198,14 @@ class Result:
         report: bool = True,
         figures: bool = True,
         directory_name: str | None = None,
-        figure_workers: list[FigureWorker] | None = None,
+        figure_worker: FigureWorker | None = None,
     ) -> Path:
         """Write the run directory `out` atomically; refuses an existing `out` unless `overwrite`.
 
         `directory_name`: the name the report shows (default `out`'s), for a caller that writes into a
-        temporary directory of its own and renames it afterwards. `figure_workers`: processes forked before
-        the run to draw the figures (`floebreak.app.run_directory.figure_workers`).
+        temporary directory of its own and renames it afterwards. `figure_worker`: the process forked
+        before the run to draw the figures (`floebreak.app.run_directory.figure_worker`; the one given to
+        `run`, if any).
         """
         return write_run_directory(
             self,
@@ -214,7 +214,7 @@ class Result:
             report=report,
             figures=figures,
             directory_name=directory_name,
-            figure_workers=figure_workers,
+            figure_worker=figure_worker,
         )
 
 
@@ -225,6 +225,7 @@ def run(
     callbacks: Iterable[Callback] = (),
     floe_field: FloeField | None = None,
     spool: str | os.PathLike[str] | None = None,
+    figure_worker: FigureWorker | None = None,
 ) -> Result:
     """Run a scenario (a `Scenario`, a dict, a TOML path; None = the reference scenario) and return a Result.
 
@@ -236,6 +237,8 @@ def run(
     the contact records stream (``contacts.parquet``, in row groups) instead of staying in memory (a long
     transit makes ≈ 20 000 rows per km); the Result reads them back from there when asked for, and
     `Result.write` copies the file, so the directory must outlive the Result's use of its records.
+    `figure_worker` (`floebreak.app.run_directory.figure_worker`): it is sent the field's figure once it
+    has imported matplotlib, to draw while the engine runs; give it to `Result.write` too.
     """
     started = time.perf_counter()
     if spool is not None and not Path(spool).is_dir():
@@ -245,18 +248,7 @@ def run(
         floe_field = build_field(scenario, np.random.default_rng(scenario.seed))
     bow = build_bow(scenario, floe_field)
     model = build_model_for(scenario)
-    ship = scenario.ship
-    params = SimulationParams(
-        step_m=ship.step_m,
-        x_start_m=ship.x_start_m,
-        x_end_m=ship.x_end_m,
-        initial_contact=ship.initial_contact,
-        max_pieces=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
-        max_wall_s=scenario.simulation.max_wall_s,
-        event_location=event_location(scenario),
-        event_tolerance_m=scenario.simulation.event_tolerance_m or EVENT_TOLERANCE_M,
-        **ice_motion_params(scenario),
-    )
+    params = _simulation_params(scenario)
     contacts_file = (
         None
         if spool is None
@@ -267,6 +259,9 @@ def run(
     check_pose_interval(interval, params.ice_motion)
     poses = None if interval is None else PoseRecorder(interval)
     extra = [] if poses is None else [poses]
+    if figure_worker is not None:  # the figure of the field as simulated, unless the engine shifts it
+        call = _run_field_figure_call(scenario, floe_field)
+        extra.append(figure_worker.ahead_callback("field", call, _provenance(scenario, "figure")))
     try:
         simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *extra, *callbacks])
         records = recorder.records()  # the last chunk of records too
@@ -298,6 +293,32 @@ def run(
     result = Result(scenario, simulation, records, {**head, **stats, **tail}, contacts_file=path, poses=poses)
     result.summary.update(surge_summary(result))  # only with ship.propulsion (app/surge.py)
     return result
+
+
+def _simulation_params(scenario: Scenario) -> SimulationParams:
+    """The engine's parameters of the resolved `scenario`."""
+    ship = scenario.ship
+    return SimulationParams(
+        step_m=ship.step_m,
+        x_start_m=ship.x_start_m,
+        x_end_m=ship.x_end_m,
+        initial_contact=ship.initial_contact,
+        max_pieces=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
+        max_wall_s=scenario.simulation.max_wall_s,
+        event_location=event_location(scenario),
+        event_tolerance_m=scenario.simulation.event_tolerance_m or EVENT_TOLERANCE_M,
+        **ice_motion_params(scenario),
+    )
+
+
+def _title(scenario: Scenario, what: str) -> str:
+    name = scenario.name or (scenario.field.observation or scenario.field.source)
+    return f"{what}: {name}, profile {scenario.profile}, seed {scenario.seed}"
+
+
+def _run_field_figure_call(scenario: Scenario, floe_field: FloeField) -> FigureCall:
+    """The plotting call of the run directory's field figure (`field_figure_call`, titled)."""
+    return field_figure_call(floe_field, title=_title(scenario, "initial floe field"))
 
 
 def _total_bounds(bounds: np.ndarray) -> np.ndarray:

@@ -22,11 +22,13 @@ run leaves no half directory):
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).
 
 The figures take most of the writing (importing matplotlib, drawing, encoding the PNGs). On Linux, when
-the process has ≥ 2 cores, no other thread and no pool parent (`_fork_for_figures`), `FIGURE_WORKERS`
-forked workers draw them, each its share, sent as plain data (`Result.figure_call`), while this process
-writes the tables. The command line forks them before the run (`figure_workers`), so that they import
-matplotlib while the engine runs; a `Result.write` without them forks them at the write. The files are
-the same as drawn serially (benchmarks/README.md, "Issue 34 §6").
+the process has ≥ 2 cores, no other thread and no pool parent (`_fork_for_figures`), a forked figure worker
+draws them, from plain data (`Result.figure_call`), while this process writes the tables; at the write it
+forks a child of its own (which inherits matplotlib) and draws half of them there. The command line forks
+the worker before the run (`figure_worker`), so that it imports matplotlib while the engine runs, and sends
+it the field's figure as soon as the field is generated (`floebreak.app.run.run`); a `Result.write`
+without a worker forks one at the write. The files are the same as drawn serially (benchmarks/README.md,
+"Issue 34 §6").
 """
 
 from __future__ import annotations
@@ -80,9 +82,7 @@ FIGURES = {
     "crushing_force_spectrum": "crushing_force_spectrum.png",
     "field": "field.png",
 }
-FIGURE_WORKERS = 2  # forked processes drawing the figures, each its share (benchmarks/README.md, issue 34 §6)
 PR_SET_PDEATHSIG = 1  # prctl(2)
-FigureWorker = tuple[multiprocessing.Process, Any]  # a process and this end of its pipe
 # the run directory's figures of a longer field or transit show its first this many metres: its whole length
 
 
@@ -207,7 +207,7 @@ def _save_figures(result: Result, folder: Path, keys: Iterable[str]) -> None:
 
 
 def _fork_for_figures() -> bool:
-    """Whether figure workers may be forked: on Linux (macOS has fork, but its system libraries are not
+    """Whether a figure worker may be forked: on Linux (macOS has fork, but its system libraries are not
     safe in a forked child, which is why Python spawns there), with ≥ 2 cores this process's, in the only
     thread of a process no pool started (a study's worker draws serially, as its pool already uses the
     cores; a child forked from a threaded process could inherit a held lock)."""
@@ -219,98 +219,220 @@ def _fork_for_figures() -> bool:
     return cores >= 2
 
 
-@contextmanager
-def figure_workers() -> Iterator[list[FigureWorker] | None]:
-    """Fork the processes that will draw a run's figures now, before the engine, where `_fork_for_figures`
-    (else None): each imports matplotlib on another core while this process imports and runs the engine,
-    then waits for its figures (`write_run_directory(..., figure_workers=)`). At exit every worker still
-    alive (never used: the run failed, was interrupted or wrote no figures) is killed and reaped."""
-    workers = _start_figure_workers() if _fork_for_figures() else None
-    try:
-        yield workers
-    finally:
-        _end_figure_workers(workers or [])
+class FigureWorker:
+    """A forked process that draws a run's figures (`_figure_worker`), this end of its pipe, the event it
+    sets while it waits for a message, and the figures it was sent ahead of the write (`draw_ahead`: key
+    → the pickled call and metadata).
 
+    A message is sent only while the worker waits for one where that can be chosen: a figure's data
+    (≈ 0.3 MB for a 250 m field) do not fit in the pipe's buffer, so a send blocks until the worker reads
+    it, and the worker reads nothing while it imports matplotlib or draws.
+    """
 
-def _start_figure_workers() -> list[FigureWorker]:
-    """`FIGURE_WORKERS` forked figure workers, fewer where no process can be had (EAGAIN, ENOMEM)."""
-    context = multiprocessing.get_context("fork")
-    workers = []
-    previous = None
-    for _ in range(FIGURE_WORKERS):
-        here, there = context.Pipe()
-        imported = context.Event()
-        args = (there, os.getpid(), previous, imported)
-        process = context.Process(target=_figure_worker, args=args, daemon=True)
-        previous = imported
+    def __init__(self, process: multiprocessing.Process, connection, waiting) -> None:
+        self.process = process
+        self.connection = connection
+        self.waiting = waiting
+        self.ahead: dict[str, bytes] = {}
+
+    def draw_ahead(self, key: str, call: FigureCall, meta: Mapping[str, Any]) -> bool:
+        """If the worker waits, have it draw the figure `key` now, into memory (the write saves it if the
+        run's figure has the same call and metadata, `_figures_alongside`, and draws it anew otherwise);
+        whether it was sent."""
+        if not self.waiting.is_set():
+            return False
+        data = _dumps((call, dict(meta)))
+        if self._send(("ahead", key, data)):
+            self.ahead[key] = data
+        return True
+
+    def ahead_callback(self, key: str, call: FigureCall, meta: Mapping[str, Any]):
+        """An engine callback (`floebreak.simulation.simulate`) that sends the figure `key` ahead
+        (`draw_ahead`) at the first event at which the worker waits (it imports matplotlib first)."""
+
+        def send_when_waiting(event: object) -> None:
+            if key not in self.ahead:
+                self.draw_ahead(key, call, meta)
+
+        return send_when_waiting
+
+    def _send(self, message: tuple) -> bool:
+        """Send `message` pickled; False if the worker has died (`_answer` says so at the write)."""
         try:
-            process.start()
-        except OSError:
-            here.close()
-            break
-        finally:
-            there.close()
-        workers.append((process, here))
-    return workers
+            self.connection.send_bytes(_dumps(message))
+        except (BrokenPipeError, ConnectionResetError):
+            return False
+        return True
+
+    def end(self) -> None:
+        """Kill the worker if it is still alive, reap it and close the pipe."""
+        if self.process.is_alive():
+            self.process.kill()
+        self.process.join()
+        self.connection.close()
 
 
-def _end_figure_workers(workers: list[FigureWorker]) -> None:
-    for process, connection in workers:
-        if process.is_alive():
-            process.kill()
-        process.join()
-        connection.close()
-
-
-def _figure_worker(connection, parent: int, after, imported) -> None:
-    """A figure worker of the process `parent`: import the plotting modules once the worker before it has
-    (`after`, an Event; one
-    import at a time leaves the engine a core of its own) and say so (`imported`), wait for its figures
-    (pickled `(FigureCall, path, metadata)` jobs), draw and save them, then send None, or the exception
-    (its traceback as a note)."""
-    _die_with(parent)
+@contextmanager
+def figure_worker() -> Iterator[FigureWorker | None]:
+    """Fork the process that will draw a run's figures now, before the engine, where `_fork_for_figures`
+    (else None): it imports matplotlib on another core while this process imports and runs the engine,
+    draws what it is sent ahead (`FigureWorker.draw_ahead`: the field, `floebreak.app.run.run`), then the
+    rest at the write (`write_run_directory(..., figure_worker=)`). At exit a worker still alive (never
+    used: the run failed, was interrupted or wrote no figures) is killed and reaped."""
+    worker = _start_figure_worker() if _fork_for_figures() else None
     try:
-        if after is not None:
-            after.wait()
+        yield worker
+    finally:
+        if worker is not None:
+            worker.end()
+
+
+def _start_figure_worker() -> FigureWorker | None:
+    """A forked figure worker, or None where no process can be had (EAGAIN, ENOMEM)."""
+    context = multiprocessing.get_context("fork")
+    here, there = context.Pipe()
+    waiting = context.Event()
+    process = context.Process(target=_figure_worker, args=(there, os.getpid(), waiting), daemon=True)
+    try:
+        process.start()
+    except OSError:
+        here.close()
+        return None
+    finally:
+        there.close()
+    return FigureWorker(process, here, waiting)
+
+
+def _figure_worker(connection, parent: int, waiting) -> None:
+    """The figure worker of the process `parent`: import the plotting modules, draw the figures sent
+    ahead into memory, then, at the write (a message with the jobs, pickled `(FigureCall, path,
+    metadata)`, and the paths of the figures drawn ahead), save those and draw the jobs, half of them in
+    a child forked now (`_draw_halves`), and send None, or the exception (its traceback as a note).
+    `waiting` (an Event) is set while it waits for a message."""
+    _die_with(parent)
+    drawn: dict[str, bytes | BaseException] = {}
+    try:
         from floebreak.plotting import field, pattern, spectra  # noqa: F401  (before the jobs come)
 
-        imported.set()
-        jobs = pickle.loads(connection.recv_bytes())
+        message = _next_message(connection, waiting)
+        while message[0] == "ahead":
+            _, key, data = message
+            drawn[key] = _drawn_png(*pickle.loads(data))
+            message = _next_message(connection, waiting)
     except (EOFError, KeyboardInterrupt):  # not used, or the run was interrupted: the parent ends it
         return
+    _, jobs, saved = message
     try:
-        for call, path, meta in jobs:
-            _save_png(draw_figure(call), path, meta)
+        for key, path in saved.items():
+            png = drawn[key]
+            if isinstance(png, BaseException):
+                raise png
+            path.write_bytes(png)
+        _draw_halves(jobs)
     except BaseException as error:  # the parent raises it
-        error.add_note("".join(traceback.format_exception(error)).rstrip())
-        try:
-            connection.send(error)
-        except Exception:  # an exception that does not pickle
-            connection.send(RuntimeError(f"drawing the figures failed: {type(error).__name__}: {error}"))
+        _send_error(connection, error)
     else:
         connection.send(None)
     finally:
         connection.close()
 
 
+def _next_message(connection, waiting) -> tuple:
+    waiting.set()
+    try:
+        return pickle.loads(connection.recv_bytes())
+    finally:
+        waiting.clear()
+
+
+def _drawn_png(call: FigureCall, meta: Mapping[str, Any]) -> bytes | BaseException:
+    """The PNG file of `call`, or the exception drawing it raised (its traceback as a note)."""
+    try:
+        buffer = io.BytesIO()
+        _save_png(draw_figure(call), buffer, meta)
+        return buffer.getvalue()
+    except Exception as error:
+        return _noted(error)
+
+
+def _draw_halves(jobs: list[tuple[FigureCall, Path, dict[str, Any]]]) -> None:
+    """Draw and save `jobs`, the first half in a child forked now (it inherits matplotlib and the jobs:
+    nothing is imported or sent twice), the rest here; the child's exception is raised here."""
+    half = len(jobs) // 2
+    reader, writer = multiprocessing.Pipe(duplex=False)
+    try:
+        pid = os.fork() if half else None
+    except OSError:  # no process to be had: all of them here
+        pid = None
+    if pid == 0:  # the child
+        reader.close()
+        try:
+            _die_with(os.getppid())
+            _save_jobs(jobs[:half])
+        except BaseException as error:
+            _send_error(writer, error)
+        else:
+            writer.send(None)
+        finally:
+            writer.close()
+            os._exit(0)
+    writer.close()
+    try:
+        _save_jobs(jobs if pid is None else jobs[half:])
+    finally:
+        error = None if pid is None else _answer_of_child(pid, reader)
+        reader.close()
+    if error is not None:
+        raise error
+
+
+def _answer_of_child(pid: int, reader) -> BaseException | None:
+    """What the child `pid` of `_draw_halves` sent (None: its figures are saved), or why it sent nothing;
+    it is reaped."""
+    try:
+        return reader.recv()
+    except EOFError:
+        return RuntimeError("a figure process ended without an answer")
+    finally:
+        os.waitpid(pid, 0)
+
+
+def _save_jobs(jobs: Iterable[tuple[FigureCall, Path, Mapping[str, Any]]]) -> None:
+    for call, path, meta in jobs:
+        _save_png(draw_figure(call), path, meta)
+
+
+def _noted(error: BaseException) -> BaseException:
+    error.add_note("".join(traceback.format_exception(error)).rstrip())
+    return error
+
+
+def _send_error(connection, error: BaseException) -> None:
+    """Send `error` with its traceback as a note, or a RuntimeError naming it if it does not pickle."""
+    try:
+        connection.send(_noted(error))
+    except Exception:
+        connection.send(RuntimeError(f"drawing the figures failed: {type(error).__name__}: {error}"))
+
+
 def _die_with(parent: int) -> None:
     """Have Linux kill this process when `parent` ends, however it ends (SIGKILL too: it would otherwise
-    wait for figures forever, as it inherited the other ends of the pipes)."""
+    wait for figures forever, as it inherited the other end of the pipe)."""
     try:
         libc = ctypes.CDLL(None, use_errno=True)
         libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
-    except (OSError, AttributeError):  # no prctl: the parent's `_end_figure_workers` alone ends it
+    except (OSError, AttributeError):  # no prctl: the parent's `FigureWorker.end` alone ends it
         pass
     if os.getppid() != parent:  # it ended before prctl
         os._exit(0)
 
 
-def _dumps(jobs: list[tuple[FigureCall, Path, dict[str, Any]]]) -> bytes:
-    """`jobs` pickled; the read-only mappings of the field and bow metadata as themselves."""
+def _dumps(value: Any) -> bytes:
+    """`value` pickled; the read-only mappings of the field and bow metadata as themselves."""
     buffer = io.BytesIO()
     pickler = pickle.Pickler(buffer, protocol=pickle.HIGHEST_PROTOCOL)
     pickler.dispatch_table = {**copyreg.dispatch_table, MappingProxyType: _reduce_mapping_proxy}
-    pickler.dump(jobs)
+    pickler.dump(value)
     return buffer.getvalue()
 
 
@@ -323,38 +445,40 @@ def _mapping_proxy(items: dict[str, Any]) -> MappingProxyType:
 
 
 @contextmanager
-def _figures_alongside(result: Result, folder: Path, workers: list[FigureWorker] | None) -> Iterator[None]:
+def _figures_alongside(result: Result, folder: Path, worker: FigureWorker | None) -> Iterator[None]:
     """Draw the run's figures into `folder`, around the body that writes the other files.
 
-    With figure `workers` (`figure_workers`), or where `_fork_for_figures` with workers forked now (they
-    import matplotlib while the body runs): each is sent its share of the figures as plain data before the
-    body, and answers after it; a worker's exception is raised here, an exception of the body kills the
-    workers (the caller's temporary directory is discarded either way). Else all of them here after the body.
+    With a figure `worker` (`figure_worker`), or where `_fork_for_figures` with one forked now (it imports
+    matplotlib while the body runs): it is sent the figures as plain data, before the body if it waits for
+    them, else after it (those it drew ahead with the same call and metadata are only saved), and answers
+    after the body; its exception is raised here, an exception of the body kills it (the caller's
+    temporary directory is discarded either way). Else all of them here after the body.
     """
     folder.mkdir()
-    keys = list(FIGURES)
-    if workers is None and _fork_for_figures():
-        workers = _start_figure_workers()
-    if not workers:
+    if worker is None and _fork_for_figures():
+        worker = _start_figure_worker()
+    if worker is None:
         yield
-        _save_figures(result, folder, keys)
+        _save_figures(result, folder, FIGURES)
         return
     meta = result.provenance("figure")
     try:
-        for index, (_, connection) in enumerate(workers):
-            share = keys[index :: len(workers)]
-            jobs = [(result.figure_call(key), folder / FIGURES[key], meta) for key in share]
-            try:
-                connection.send_bytes(_dumps(jobs))
-            except (BrokenPipeError, ConnectionResetError):  # it died: `_answer` says so
-                pass
-        yield
-        errors = [_answer(process, connection) for process, connection in workers]
+        jobs, saved = [], {}
+        for key, name in FIGURES.items():
+            call = result.figure_call(key)
+            if key in worker.ahead and worker.ahead[key] == _dumps((call, meta)):
+                saved[key] = folder / name
+            else:
+                jobs.append((call, folder / name, meta))
+        sent = worker.waiting.is_set() and worker._send(("write", jobs, saved))
+        yield  # a worker still importing or drawing is sent its jobs after the body (a send would block)
+        if not sent:
+            worker._send(("write", jobs, saved))
+        error = _answer(worker.process, worker.connection)
     finally:
-        _end_figure_workers(workers)
-    for error in errors:
-        if error is not None:
-            raise error
+        worker.end()
+    if error is not None:
+        raise error
 
 
 def _answer(process, connection) -> BaseException | None:
@@ -388,16 +512,16 @@ def write_run_directory(
     report: bool = True,
     figures: bool = True,
     directory_name: str | None = None,
-    figure_workers: list[FigureWorker] | None = None,
+    figure_worker: FigureWorker | None = None,
 ) -> Path:
     """Write the run directory (see the module docstring) atomically and return its path.
 
     `figures=False` skips ``figures/`` (and the report then has none): for large studies and tests.
-    `figure_workers`: the processes `figure_workers` forked before the run, to draw the figures.
+    `figure_worker`: the process `figure_worker` forked before the run, to draw the figures (ended here).
     """
     out = check_output_directory(out, overwrite)
     try:
-        _write_run_files(result, out, overwrite, report, figures, directory_name, figure_workers)
+        _write_run_files(result, out, overwrite, report, figures, directory_name, figure_worker)
     except OSError as error:
         storage = as_storage_error(error, out)
         if storage is None:
@@ -413,10 +537,10 @@ def _write_run_files(
     report: bool,
     figures: bool,
     directory_name: str | None,
-    workers: list[FigureWorker] | None,
+    worker: FigureWorker | None,
 ) -> None:
     with atomic_directory(out, overwrite=overwrite, field="out") as temp:
-        drawn = _figures_alongside(result, temp / "figures", workers) if figures else nullcontext()
+        drawn = _figures_alongside(result, temp / "figures", worker) if figures else nullcontext()
         with drawn:
             summary_doc = _write_tables(result, temp)
         if report:

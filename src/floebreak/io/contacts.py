@@ -19,6 +19,7 @@ import pyarrow.parquet as pq
 from floebreak.io.geoparquet import (
     FLOEBREAK_METADATA_KEY,
     arrow_array,
+    as_schema,
     row_groups,
     with_units,
     write_row_groups,
@@ -64,7 +65,7 @@ class ContactFile:
         table = contacts_table(columns, self._metadata)
         if self._writer is None:
             self._writer = pq.ParquetWriter(self.path, table.schema)
-        self._writer.write_table(table.cast(self._writer.schema))
+        self._writer.write_table(as_schema(table, self._writer.schema))
 
     def close(self) -> None:
         """Finish the file (a run without contact: an empty table)."""
