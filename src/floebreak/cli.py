@@ -1062,61 +1062,68 @@ def propeller(
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
     from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
+    from floebreak.app.run_directory import figure_workers
 
     models = _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters)
     profile = operating_profile(hours_per_year, years)
     curve = None if sn_curve is None else _sn_curve(sn_curve)
     tables = _fem_tables(fem_table)
-    with _stage_progress("shaft", quiet) as progress:
-        shaft = _shaft_analysis(
-            run_or_study_dir,
-            shaft_line,
-            station,
-            rpm,
-            speed,
-            mean_torque_knm,
-            cases,
-            tables,
-            torque_csv,
-            interpolation,
-            beyond,
-            shaft_model,
-            torque_limit_knm,
-            sn_curve=curve,
-            transport_settings=transport_option(transport_parameters),
-            progress=progress,
-        )
-    overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
-    inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
-    with _stage_progress("propeller analysis", quiet) as progress:
-        result = analyse_runs(
-            inputs,
-            **models(inputs.profile),
-            fem_table=tables,
-            torque_csv=torque_csv,
-            polar_class=polar_class,
-            interpolation=interpolation,
-            beyond=beyond,
-            operating_profile=profile,
-            sn_curve=curve,
-            progress=progress,
-        )
-    record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
-    with _stage_progress("writing", quiet) as progress:
-        written = write_propeller(result, out, overwrite=overwrite, record=record, progress=progress)
-    _print_pooling(inputs)
-    _print_propeller_summary(_written_summary(written), written, quiet)
-    if shaft is not None:
-        _write_shaft(shaft, Path(written) / "shaft", overwrite, quiet)
+    with figure_workers() as workers:  # forked now, they import matplotlib while the drive runs
+        with _stage_progress("shaft", quiet) as progress:
+            shaft = _shaft_analysis(
+                run_or_study_dir,
+                shaft_line,
+                station,
+                rpm,
+                speed,
+                mean_torque_knm,
+                cases,
+                tables,
+                torque_csv,
+                interpolation,
+                beyond,
+                shaft_model,
+                torque_limit_knm,
+                sn_curve=curve,
+                transport_settings=transport_option(transport_parameters),
+                progress=progress,
+            )
+        overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
+        inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
+        with _stage_progress("propeller analysis", quiet) as progress:
+            result = analyse_runs(
+                inputs,
+                **models(inputs.profile),
+                fem_table=tables,
+                torque_csv=torque_csv,
+                polar_class=polar_class,
+                interpolation=interpolation,
+                beyond=beyond,
+                operating_profile=profile,
+                sn_curve=curve,
+                progress=progress,
+            )
+        record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
+        # the first worker draws the propeller's figures, the second the shaft's
+        mine, theirs = (workers[:1], workers[1:]) if shaft is not None and workers else (workers, None)
+        with _stage_progress("writing", quiet) as progress:
+            written = write_propeller(
+                result, out, overwrite=overwrite, record=record, progress=progress, figure_workers=mine
+            )
+        _print_pooling(inputs)
+        _print_propeller_summary(_written_summary(written), written, quiet)
+        if shaft is not None:
+            _write_shaft(shaft, Path(written) / "shaft", overwrite, quiet, theirs)
 
 
-def _write_shaft(shaft, out: Path, overwrite: bool, quiet: bool = False) -> None:
-    """Write the prepared shaft analysis (with a progress bar); print the design tables (`_shaft_tables`),
-    the model's lines and warnings, and where it was written."""
+def _write_shaft(shaft, out: Path, overwrite: bool, quiet: bool = False, figure_workers=None) -> None:
+    """Write the prepared shaft analysis (with a progress bar; its figures drawn by `figure_workers` if
+    given); print the design tables (`_shaft_tables`), the model's lines and warnings, and where it was
+    written."""
     import json
 
     with _stage_progress("writing the shaft analysis", quiet) as progress:
-        shaft_dir = shaft.write(out, overwrite=overwrite, progress=progress)
+        shaft_dir = shaft.write(out, overwrite=overwrite, progress=progress, figure_workers=figure_workers)
     summary = json.loads((Path(shaft_dir) / "summary.json").read_text(encoding="utf-8"))
     for table in _shaft_tables(summary):
         console.print(table)

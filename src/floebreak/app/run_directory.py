@@ -182,8 +182,12 @@ def _write_piece_file(path: Path, sim: SimulationResult, fate: str, metadata: Ma
     write_geoparquet_groups(path, groups, sim.polygons, table_of, metadata)
 
 
-def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
-    text = {"Software": f"floebreak {meta['floebreak_version']}", "Description": to_json(dict(meta))}
+def _save_png(figure, path: Path, meta: Mapping[str, Any] | None) -> None:
+    """`figure` as PNG at 150 dpi; the text chunks name floebreak and hold `meta`, or (None) are
+    matplotlib's, as `floebreak.io.figures.save_figure` saves a figure."""
+    text = None
+    if meta is not None:
+        text = {"Software": f"floebreak {meta['floebreak_version']}", "Description": to_json(dict(meta))}
     figure.savefig(path, format="png", dpi=150, metadata=text)
 
 
@@ -346,6 +350,36 @@ def _figures_alongside(result: Result, folder: Path, workers: list[FigureWorker]
             jobs = [(result.figure_call(key), folder / FIGURES[key], meta) for key in share]
             try:
                 connection.send_bytes(_dumps(jobs))
+            except (BrokenPipeError, ConnectionResetError):  # it died: `_answer` says so
+                pass
+        yield
+        errors = [_answer(process, connection) for process, connection in workers]
+    finally:
+        _end_figure_workers(workers)
+    for error in errors:
+        if error is not None:
+            raise error
+
+
+@contextmanager
+def figures_drawn_alongside(
+    calls: Mapping[str, FigureCall], folder: Path, workers: list[FigureWorker] | None
+) -> Iterator[None]:
+    """Draw `calls` (PNG file name → `FigureCall`) into the new directory `folder` around the body, saved
+    as `floebreak.io.figures.save_figure` saves them (for the other commands' figures: the propeller and
+    shaft analyses). With figure `workers` (`figure_workers`): each is sent its share before the body and
+    answers after it, errors as the run directory's; else drawn here after the body."""
+    folder.mkdir()
+    jobs = [(call, folder / name, None) for name, call in calls.items()]
+    if not workers:
+        yield
+        for call, path, meta in jobs:
+            _save_png(draw_figure(call), path, meta)
+        return
+    try:
+        for index, (_, connection) in enumerate(workers):
+            try:
+                connection.send_bytes(_dumps(jobs[index :: len(workers)]))
             except (BrokenPipeError, ConnectionResetError):  # it died: `_answer` says so
                 pass
         yield

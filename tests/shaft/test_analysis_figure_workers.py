@@ -1,0 +1,81 @@
+"""The propeller and shaft analyses' figures drawn by forked figure workers while the tables are written
+(`floebreak.app.run_directory.figures_drawn_alongside`, as `floebreak propeller` does it): the same files,
+byte for byte, as drawn serially; a worker's failure fails the write with nothing left behind."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from floebreak.app import run_directory
+from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
+from floebreak.app.shaft import shaft_analysis_of_run
+
+from .test_cli_shaft import make_run
+
+pytestmark = pytest.mark.skipif(
+    "fork" not in __import__("multiprocessing").get_all_start_methods(), reason="no fork on this platform"
+)
+
+
+@pytest.fixture(scope="module")
+def analyses(tmp_path_factory):
+    """A small run's propeller analysis (PC5, so every figure is drawn) and its drive-model shaft analysis."""
+    run = make_run(tmp_path_factory.mktemp("figures") / "run", speed_m_s=3.0, profile="default")
+    shaft = shaft_analysis_of_run(run, "agulhas_ii", cases=(1, 2))
+    return analyse_runs(read_runs(run), polar_class="PC5"), shaft
+
+
+def _files(folder):
+    files = sorted(p for p in folder.rglob("*") if p.is_file())
+    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in files}
+
+
+def _started_workers(monkeypatch) -> list:
+    started = []
+    start = run_directory._start_figure_workers
+
+    def recording():
+        workers = start()
+        started.extend(process for process, _ in workers)
+        return workers
+
+    monkeypatch.setattr(run_directory, "_start_figure_workers", recording)
+    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: True)
+    return started
+
+
+def test_figure_workers_write_the_same_files_as_the_serial_path(analyses, tmp_path, monkeypatch):
+    result, shaft = analyses
+    write_propeller(result, tmp_path / "serial")
+    shaft.write(tmp_path / "serial" / "shaft")
+    started = _started_workers(monkeypatch)
+    sent = []  # the figures sent to each worker
+    dumps = run_directory._dumps
+    monkeypatch.setattr(run_directory, "_dumps", lambda jobs: sent.append(len(jobs)) or dumps(jobs))
+    with run_directory.figure_workers() as workers:
+        write_propeller(result, tmp_path / "forked", figure_workers=workers[:1])
+        shaft.write(tmp_path / "forked" / "shaft", figure_workers=workers[1:])
+    serial, forked = _files(tmp_path / "serial"), _files(tmp_path / "forked")
+    figures = {name for name in forked if name.endswith(".png")}
+    assert {"figures/ice_class_exceedance.png", "shaft/figures/campbell.png"} <= figures
+    assert len(figures) == 13
+    assert forked.keys() == serial.keys()
+    assert [name for name in serial if forked[name] != serial[name]] == []
+    assert len(started) == 2 and sent == [6, 7]  # the propeller's figures to one, the shaft's to the other
+    for process in started:  # each ended and reaped
+        assert not process.is_alive()
+        with pytest.raises(ProcessLookupError):
+            os.kill(process.pid, 0)
+
+
+def test_a_failing_figure_fails_the_write_and_leaves_nothing(analyses, tmp_path, monkeypatch):
+    result, _ = analyses
+    _started_workers(monkeypatch)
+    calls = {"broken.png": ("propeller", "no_such_plot", (), {})}
+    monkeypatch.setattr("floebreak.app.propeller.propeller_figure_calls", lambda _: calls)
+    with run_directory.figure_workers() as workers, pytest.raises(AttributeError, match="no_such_plot"):
+        write_propeller(result, tmp_path / "out", figure_workers=workers)
+    assert not (tmp_path / "out").exists()
+    assert os.listdir(tmp_path) == []  # no temporary directory left either
