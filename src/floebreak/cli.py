@@ -1068,26 +1068,27 @@ def propeller(
     profile = operating_profile(hours_per_year, years)
     curve = None if sn_curve is None else _sn_curve(sn_curve)
     tables = _fem_tables(fem_table)
-    with figure_workers() as workers:  # forked now, they import matplotlib while the drive runs
-        with _stage_progress("shaft", quiet) as progress:
-            shaft = _shaft_analysis(
-                run_or_study_dir,
-                shaft_line,
-                station,
-                rpm,
-                speed,
-                mean_torque_knm,
-                cases,
-                tables,
-                torque_csv,
-                interpolation,
-                beyond,
-                shaft_model,
-                torque_limit_knm,
-                sn_curve=curve,
-                transport_settings=transport_option(transport_parameters),
-                progress=progress,
-            )
+    with _stage_progress("shaft", quiet) as progress:
+        shaft = _shaft_analysis(
+            run_or_study_dir,
+            shaft_line,
+            station,
+            rpm,
+            speed,
+            mean_torque_knm,
+            cases,
+            tables,
+            torque_csv,
+            interpolation,
+            beyond,
+            shaft_model,
+            torque_limit_knm,
+            sn_curve=curve,
+            transport_settings=transport_option(transport_parameters),
+            progress=progress,
+        )
+    # forked after the shaft analysis, whose openTorsion imports matplotlib: the workers inherit it
+    with figure_workers() as workers:
         overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
         inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
         with _stage_progress("propeller analysis", quiet) as progress:
