@@ -97,8 +97,8 @@ def _numeric_rows(arrays: list[np.ndarray]) -> bytes:
     return buffer.getvalue()
 
 
-def csv_bytes(columns: Mapping[str, Any], comments: Iterable[str] = ()) -> bytes:
-    """The UTF-8 text `write_csv` writes."""
+def _csv_parts(columns: Mapping[str, Any], comments: Iterable[str]) -> list[bytes]:
+    """The UTF-8 text `write_csv` writes, in parts (the rows of a long numeric table are not copied)."""
     names = list(columns)
     lengths = {name: len(columns[name]) for name in names}
     if len(set(lengths.values())) > 1:
@@ -111,14 +111,14 @@ def csv_bytes(columns: Mapping[str, Any], comments: Iterable[str] = ()) -> bytes
     arrays = [_numeric_array(columns[name]) for name in names]
     if len(names) > 1 and all(a is not None for a in arrays):
         # no cell to quote (and no lone empty field, which the csv module quotes): Arrow writes the rows
-        return buffer.getvalue().encode("utf-8") + _numeric_rows(arrays)
+        return [buffer.getvalue().encode("utf-8"), _numeric_rows(arrays)]
     writer.writerows(zip(*(_column_text(columns[name]) for name in names), strict=True))
-    return buffer.getvalue().encode("utf-8")
+    return [buffer.getvalue().encode("utf-8")]
 
 
 def csv_text(columns: Mapping[str, Any], comments: Iterable[str] = ()) -> str:
     """The text `write_csv` writes (for a caller that needs it in memory)."""
-    return csv_bytes(columns, comments).decode("utf-8")
+    return b"".join(_csv_parts(columns, comments)).decode("utf-8")
 
 
 def rows_to_columns(rows: list[Mapping[str, Any]]) -> dict[str, list]:
@@ -129,9 +129,9 @@ def rows_to_columns(rows: list[Mapping[str, Any]]) -> dict[str, list]:
 
 def write_csv(path: str | os.PathLike[str], columns: Mapping[str, Any], comments: Iterable[str] = ()) -> Path:
     """Write `columns` (name → equally long sequence) as a CSV with `comments` first; returns `path`."""
-    data = csv_bytes(columns, comments)
-    with atomic_path(path) as temp:
-        temp.write_bytes(data)
+    parts = _csv_parts(columns, comments)
+    with atomic_path(path) as temp, temp.open("wb") as file:
+        file.writelines(parts)
     return Path(path)
 
 
