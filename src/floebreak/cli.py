@@ -1061,7 +1061,7 @@ def propeller(
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
-    from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
+    from floebreak.app.propeller import analyse_runs, read_runs
     from floebreak.app.run_directory import figure_workers
 
     models = _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters)
@@ -1104,17 +1104,24 @@ def propeller(
                 sn_curve=curve,
                 progress=progress,
             )
-        record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
-        # the first worker draws the propeller's figures, the second the shaft's
-        mine, theirs = (workers[:1], workers[1:]) if shaft is not None and workers else (workers, None)
-        with _stage_progress("writing", quiet) as progress:
-            written = write_propeller(
-                result, out, overwrite=overwrite, record=record, progress=progress, figure_workers=mine
-            )
-        _print_pooling(inputs)
-        _print_propeller_summary(_written_summary(written), written, quiet)
-        if shaft is not None:
-            _write_shaft(shaft, Path(written) / "shaft", overwrite, quiet, theirs)
+        _write_propeller_outputs(result, inputs, shaft, out, overwrite, quiet, workers)
+
+
+def _write_propeller_outputs(result, inputs, shaft, out: Path, overwrite: bool, quiet: bool, workers) -> None:
+    """Write the propeller analysis `result` of `inputs` and the prepared `shaft` analysis (if any) and
+    print their summaries; the first figure worker draws the propeller's figures, the second the shaft's."""
+    from floebreak.app.propeller import write_propeller
+
+    record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
+    mine, theirs = (workers[:1], workers[1:]) if shaft is not None and workers else (workers, None)
+    with _stage_progress("writing", quiet) as progress:
+        written = write_propeller(
+            result, out, overwrite=overwrite, record=record, progress=progress, figure_workers=mine
+        )
+    _print_pooling(inputs)
+    _print_propeller_summary(_written_summary(written), written, quiet)
+    if shaft is not None:
+        _write_shaft(shaft, Path(written) / "shaft", overwrite, quiet, theirs)
 
 
 def _write_shaft(shaft, out: Path, overwrite: bool, quiet: bool = False, figure_workers=None) -> None:
