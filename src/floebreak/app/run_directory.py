@@ -344,21 +344,8 @@ def _figures_alongside(result: Result, folder: Path, workers: list[FigureWorker]
         _save_figures(result, folder, keys)
         return
     meta = result.provenance("figure")
-    try:
-        for index, (_, connection) in enumerate(workers):
-            share = keys[index :: len(workers)]
-            jobs = [(result.figure_call(key), folder / FIGURES[key], meta) for key in share]
-            try:
-                connection.send_bytes(_dumps(jobs))
-            except (BrokenPipeError, ConnectionResetError):  # it died: `_answer` says so
-                pass
+    with _jobs_alongside([(result.figure_call(key), folder / FIGURES[key], meta) for key in keys], workers):
         yield
-        errors = [_answer(process, connection) for process, connection in workers]
-    finally:
-        _end_figure_workers(workers)
-    for error in errors:
-        if error is not None:
-            raise error
 
 
 @contextmanager
@@ -376,6 +363,14 @@ def figures_drawn_alongside(
         for call, path, meta in jobs:
             _save_png(draw_figure(call), path, meta)
         return
+    with _jobs_alongside(jobs, workers):
+        yield
+
+
+@contextmanager
+def _jobs_alongside(jobs: list[tuple[FigureCall, Path, Any]], workers: list[FigureWorker]) -> Iterator[None]:
+    """Send each of `workers` its share of `jobs` (`_figure_worker`) before the body and take the answers
+    after it: a worker's exception is raised here, an exception of the body kills the workers."""
     try:
         for index, (_, connection) in enumerate(workers):
             try:
