@@ -1063,7 +1063,8 @@ def propeller(
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
-    from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
+    from floebreak.app.propeller import analyse_runs, read_runs
+    from floebreak.app.run_directory import figure_worker
 
     models = _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters)
     profile = operating_profile(hours_per_year, years)
@@ -1088,37 +1089,53 @@ def propeller(
             transport_settings=transport_option(transport_parameters),
             progress=progress,
         )
-    overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
-    inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
-    with _stage_progress("propeller analysis", quiet) as progress:
-        result = analyse_runs(
-            inputs,
-            **models(inputs.profile),
-            fem_table=tables,
-            torque_csv=torque_csv,
-            polar_class=polar_class,
-            interpolation=interpolation,
-            beyond=beyond,
-            operating_profile=profile,
-            sn_curve=curve,
-            progress=progress,
-        )
+    # forked after the shaft analysis, whose openTorsion imports matplotlib: the workers inherit it; one
+    # for the propeller's figures, one for the shaft's
+    with figure_worker() as first, (figure_worker() if shaft is not None else nullcontext()) as second:
+        overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
+        inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
+        with _stage_progress("propeller analysis", quiet) as progress:
+            result = analyse_runs(
+                inputs,
+                **models(inputs.profile),
+                fem_table=tables,
+                torque_csv=torque_csv,
+                polar_class=polar_class,
+                interpolation=interpolation,
+                beyond=beyond,
+                operating_profile=profile,
+                sn_curve=curve,
+                progress=progress,
+            )
+        _write_propeller_outputs(result, inputs, shaft, out, overwrite, quiet, (first, second))
+
+
+def _write_propeller_outputs(result, inputs, shaft, out: Path, overwrite: bool, quiet: bool, workers) -> None:
+    """Write the propeller analysis `result` of `inputs` and the prepared `shaft` analysis (if any) and
+    print their summaries; of the two figure `workers` (or None) the first draws the propeller's figures,
+    the second the shaft's."""
+    from floebreak.app.propeller import write_propeller
+
     record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
+    mine, theirs = workers
     with _stage_progress("writing", quiet) as progress:
-        written = write_propeller(result, out, overwrite=overwrite, record=record, progress=progress)
+        written = write_propeller(
+            result, out, overwrite=overwrite, record=record, progress=progress, figure_worker=mine
+        )
     _print_pooling(inputs)
     _print_propeller_summary(_written_summary(written), written, quiet)
     if shaft is not None:
-        _write_shaft(shaft, Path(written) / "shaft", overwrite, quiet)
+        _write_shaft(shaft, Path(written) / "shaft", overwrite, quiet, theirs)
 
 
-def _write_shaft(shaft, out: Path, overwrite: bool, quiet: bool = False) -> None:
-    """Write the prepared shaft analysis (with a progress bar); print the design tables (`_shaft_tables`),
-    the model's lines and warnings, and where it was written."""
+def _write_shaft(shaft, out: Path, overwrite: bool, quiet: bool = False, figure_worker=None) -> None:
+    """Write the prepared shaft analysis (with a progress bar; its figures drawn by `figure_worker` if
+    given); print the design tables (`_shaft_tables`), the model's lines and warnings, and where it was
+    written."""
     import json
 
     with _stage_progress("writing the shaft analysis", quiet) as progress:
-        shaft_dir = shaft.write(out, overwrite=overwrite, progress=progress)
+        shaft_dir = shaft.write(out, overwrite=overwrite, progress=progress, figure_worker=figure_worker)
     summary = json.loads((Path(shaft_dir) / "summary.json").read_text(encoding="utf-8"))
     for table in _shaft_tables(summary):
         console.print(table)

@@ -50,7 +50,7 @@ def test_every_write_uses_its_own_temporary_name(tmp_path, monkeypatch):
     write_csv(tmp_path / "t.csv", {"a": [2.0]})
     write_json(tmp_path / "s.json", {"b": np.float64(np.nan), "a": np.arange(2)})
     assert len(set(seen)) == 3 and all(".tmp-" in name for name in seen)
-    assert (tmp_path / "t.csv").read_text() == "a\n2.0\n"
+    assert (tmp_path / "t.csv").read_text() == "a\n2\n"
     assert json.loads((tmp_path / "s.json").read_text()) == {"a": [0, 1], "b": None}
     assert (tmp_path / "s.json").read_text().startswith('{\n  "a"')  # keys sorted, indented by 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.json", "t.csv"]  # no temporary left
@@ -75,22 +75,57 @@ def test_netcdf_cf_coordinates_without_fill_value(tmp_path):
     assert "Conventions" not in ds.attrs  # the caller's dataset is not changed
 
 
-def test_csv_numeric_table_as_the_csv_module_writes_it():
-    # long numeric tables are joined without the csv module (issue 33): the same text, cell by cell as
-    # Python's repr / str and the csv module's dialect would give it
-    rng = np.random.default_rng(7)
-    bits = rng.integers(0, 2**62, 3000, dtype=np.int64).view(np.float64)  # any exponent, denormals included
-    x = np.concatenate([bits, [0.0, -0.0, 1.0, 1e-5, 1e16, 1e15, np.nan, np.inf, -np.inf, 105.0]])
-    n = np.arange(x.size) - 5
-    ok = rng.uniform(size=x.size) < 0.5
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(["x", "n", "ok", "y"])
-    for a, b, c, d in zip(x.tolist(), n.tolist(), ok.tolist(), x[::-1].tolist(), strict=True):
-        text = [repr(v) if math.isfinite(v) else "" for v in (a, d)]
-        writer.writerow([text[0], str(b), "true" if c else "false", text[1]])
-    expected = "# c\n" + buffer.getvalue()
-    assert csv_text({"x": x, "n": n, "ok": ok, "y": x[::-1]}, ["c"]) == expected
-    assert "1e-05" in expected and "1e+16" in expected and "\n1.0," in expected  # the forms kept
-    # one column: a lone empty cell is quoted by the csv module, and still is
-    assert csv_text({"x": np.array([1.0, np.nan])}) == 'x\n1.0\n""\n'
+def _any_floats(rng: np.random.Generator) -> np.ndarray:
+    """Random bit patterns (any exponent, subnormals included) and the edge cases of the format."""
+    bits = rng.integers(0, 2**63, 3000, dtype=np.int64).view(np.float64)
+    signs = np.where(rng.uniform(size=bits.size) < 0.5, -1.0, 1.0)
+    edges = [0.0, -0.0, 1.0, 1e-5, 1e-7, 1e15, 1e16, 2.0**53, 2.0**53 + 2, 5e-324, 2.2250738585072014e-308]
+    edges += [1.7976931348623157e308, 105.0, 0.1, 1 / 3, -123456789.0, 12345678901234567890.0]
+    return np.concatenate([bits * signs, edges, [np.nan, np.inf, -np.inf]])
+
+
+def _same_bits(parsed, expected) -> bool:
+    parsed, expected = np.asarray(parsed, dtype=np.float64), np.asarray(expected, dtype=np.float64)
+    finite = np.isfinite(expected)
+    return bool(np.all(parsed[finite].view(np.int64) == expected[finite].view(np.int64)))
+
+
+def test_csv_floats_read_back_bit_for_bit(tmp_path):
+    # issue 34 item 3: one float format for every CSV, read back exactly by the usual readers
+    x = _any_floats(np.random.default_rng(7))
+    path = write_csv(tmp_path / "t.csv", {"x": x, "n": np.arange(x.size) - 5, "y": x[::-1]}, ["c"])
+    finite = np.isfinite(x)
+    # numpy: empty (non-finite) cells as nan
+    back = np.genfromtxt(path, delimiter=",", skip_header=2, dtype=np.float64)
+    assert _same_bits(back[:, 0], x) and np.isnan(back[~finite, 0]).all()
+    assert _same_bits(back[:, 2], x[::-1])
+    # the csv module and float()
+    with path.open() as handle:
+        rows = list(csv.DictReader(line for line in handle if not line.startswith("#")))
+    assert _same_bits([float(r["x"]) if r["x"] else math.nan for r in rows], x)
+    assert [r["x"] for r in rows if not r["x"]] == [""] * 3
+    assert [int(r["n"]) for r in rows] == list(range(-5, x.size - 5))
+    # pandas, told the column is float (a guessing reader takes whole numbers for integers)
+    pd = pytest.importorskip("pandas")
+    frame = pd.read_csv(path, comment="#", dtype={"x": "float64", "y": "float64"})
+    assert _same_bits(frame["x"].to_numpy(), x)
+    assert frame["x"].isna().to_numpy().tolist() == (~finite).tolist()
+
+
+def test_csv_float_text_forms():
+    # Arrow's shortest round-trip text (the documented examples), in a table of numbers (written by
+    # pyarrow.csv) and in a column alone or beside text (written cell by cell): the same text
+    x = np.array([1.0, -0.0, 1e-5, 1e-7, 1e15, 0.1, 105.5, np.nan])
+    expected = ["1", "-0", "0.00001", "1e-7", "1e+15", "0.1", "105.5", ""]
+    numeric = csv_text({"x": x, "ok": x > 1}).splitlines()[1:]
+    assert [line.split(",")[0] for line in numeric] == expected
+    assert [line.split(",")[1] for line in numeric] == ["false"] * 4 + ["true", "false", "true", "false"]
+    assert csv_text({"x": x, "s": list("abcdefgh")}).splitlines()[1:] == [
+        f"{e},{s}" for e, s in zip(expected, "abcdefgh", strict=True)
+    ]
+    # a list mixing floats with None and text formats its floats the same way
+    assert csv_text({"v": [1e-7, None, "a,b", np.float32(0.5)]}) == 'v\n1e-7\n""\n"a,b"\n0.5\n'
+    # one column: a lone empty cell is quoted by the csv module
+    assert csv_text({"x": np.array([1.0, np.nan])}) == 'x\n1\n""\n'
+    # float32 is written as its float64 value (which reads back as that float64)
+    assert csv_text({"x": np.array([0.1], dtype=np.float32)}) == f"x\n{float(np.float32(0.1))!r}\n"

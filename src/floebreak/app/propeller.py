@@ -9,6 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from floebreak.app.figure_calls import drawn, figures_in_worker
 from floebreak.app.inputs import measured_series, resolve_fem_tables
 from floebreak.errors import InputError
 from floebreak.io.jsonable import jsonable
@@ -98,19 +99,20 @@ def write_propeller(
     overwrite: bool = False,
     record: dict | None = None,
     progress: Callable[[str, int, int], None] | None = None,
+    figure_worker: Any = None,
 ) -> Path:
     """Draw `result`'s figures, compute its design-load tables and write both with it to the new directory
     `out_dir` atomically; return it. `record` adds to the provenance (e.g. the input files); `progress`
-    as `floebreak.io.propeller.write_propeller_files`'."""
-    return write_propeller_files(
-        result,
-        out_dir,
-        propeller_figures(result),
-        overwrite=overwrite,
-        record=record,
-        extra_summary={"design_loads": design_load_summary(result)},
-        progress=progress,
-    )
+    as `floebreak.io.propeller.write_propeller_files`'. `figure_worker`
+    (`floebreak.app.run_directory.figure_worker`): a process that draws the figures while the tables are
+    written (the same files)."""
+    calls = propeller_figure_calls(result)
+    options = {"overwrite": overwrite, "record": record, "progress": progress}
+    options["extra_summary"] = {"design_loads": design_load_summary(result)}
+    if figure_worker is not None:
+        alongside = figures_in_worker(calls, figure_worker)
+        return write_propeller_files(result, out_dir, {}, figures_alongside=alongside, **options)
+    return write_propeller_files(result, out_dir, drawn(calls), **options)
 
 
 def design_load_summary(result: PropellerResult) -> list[dict] | None:
@@ -122,29 +124,41 @@ def design_load_summary(result: PropellerResult) -> list[dict] | None:
 
 def propeller_figures(result: PropellerResult) -> dict[str, Any]:
     """The analysis' figures (file name → matplotlib Figure), drawn by `floebreak.plotting.propeller`."""
-    from floebreak.plotting import propeller as figs
+    return drawn(propeller_figure_calls(result))
+
+
+def propeller_figure_calls(result: PropellerResult) -> dict[str, Any]:
+    """The analysis' figures as plain data (file name → `floebreak.app.run_directory.FigureCall` of
+    `floebreak.plotting.propeller`), to draw here or in a figure worker."""
+
+    def call(function: str, *args) -> tuple:
+        return ("propeller", function, args, {})
 
     out = {}
     o = result.options
     if result.tables:  # the FEM tables' curves; the milling model has none
-        out["volume_loads.png"] = figs.plot_volume_loads(result.tables, o["interpolation"], o["beyond"])
+        out["volume_loads.png"] = call("plot_volume_loads", result.tables, o["interpolation"], o["beyond"])
     for quantity, name in (("force", "load"), ("torque", "torque")):
         for log in (False, True):
             scale = "log" if log else "linear"
-            out[f"{name}_spectrum_{scale}.png"] = figs.plot_spectrum(result.spectra, quantity, log)
+            out[f"{name}_spectrum_{scale}.png"] = call("plot_spectrum", result.spectra, quantity, log)
     torque = {p: result.amplitudes(p).torque_nm for p in result.pitches}
-    out["rule_form.png"] = figs.plot_rule_form(torque, result.exceedance, WEIBULL_SHAPE[o["weibull"]])
+    out["rule_form.png"] = call("plot_rule_form", torque, result.exceedance, WEIBULL_SHAPE[o["weibull"]])
     if result.measured is not None:
         m = result.measured
         for log in (False, True):
-            out[f"torque_comparison_{'log' if log else 'linear'}.png"] = figs.plot_measured_comparison(
-                m.edges_knm, m.density_per_knm, result.spectra, log, DENSITY_THRESHOLD_PER_KNM
+            out[f"torque_comparison_{'log' if log else 'linear'}.png"] = call(
+                "plot_measured_comparison",
+                *(m.edges_knm, m.density_per_knm, result.spectra, log, DENSITY_THRESHOLD_PER_KNM),
             )
     if result.rule is not None:
         force = {p: result.amplitudes(p).force_n for p in result.pitches}
         n_ice = rule_n_ice(result.rule.polar_class, result.propeller.revolutions_per_s, o["rule_factor"])
-        out["ice_class_exceedance.png"] = figs.plot_rule_exceedance(
-            force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]], n_ice=n_ice
+        out["ice_class_exceedance.png"] = (
+            "propeller",
+            "plot_rule_exceedance",
+            (force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]]),
+            {"n_ice": n_ice},
         )
     return out
 

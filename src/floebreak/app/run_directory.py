@@ -182,8 +182,12 @@ def _write_piece_file(path: Path, sim: SimulationResult, fate: str, metadata: Ma
     write_geoparquet_groups(path, groups, sim.polygons, table_of, metadata)
 
 
-def _save_png(figure, path: Path, meta: Mapping[str, Any]) -> None:
-    text = {"Software": f"floebreak {meta['floebreak_version']}", "Description": to_json(dict(meta))}
+def _save_png(figure, path: Path, meta: Mapping[str, Any] | None) -> None:
+    """`figure` as PNG at 150 dpi; the text chunks name floebreak and hold `meta`, or (None) are
+    matplotlib's, as `floebreak.io.figures.save_figure` saves a figure."""
+    text = None
+    if meta is not None:
+        text = {"Software": f"floebreak {meta['floebreak_version']}", "Description": to_json(dict(meta))}
     figure.savefig(path, format="png", dpi=150, metadata=text)
 
 
@@ -462,14 +466,43 @@ def _figures_alongside(result: Result, folder: Path, worker: FigureWorker | None
         _save_figures(result, folder, FIGURES)
         return
     meta = result.provenance("figure")
+    jobs, saved = [], {}
+    for key, name in FIGURES.items():
+        call = result.figure_call(key)
+        if key in worker.ahead and worker.ahead[key] == _dumps((call, meta)):
+            saved[key] = folder / name
+        else:
+            jobs.append((call, folder / name, meta))
+    with _jobs_alongside(worker, jobs, saved):
+        yield
+
+
+@contextmanager
+def figures_drawn_alongside(
+    calls: Mapping[str, FigureCall], folder: Path, worker: FigureWorker | None
+) -> Iterator[None]:
+    """Draw `calls` (PNG file name → `FigureCall`) into the new directory `folder` around the body, saved
+    as `floebreak.io.figures.save_figure` saves them (for the other commands' figures: the propeller and
+    shaft analyses). With a figure `worker` (`figure_worker`): it is sent the jobs and answers after the
+    body, errors as the run directory's; else drawn here after the body."""
+    folder.mkdir()
+    jobs = [(call, folder / name, None) for name, call in calls.items()]
+    if worker is None:
+        yield
+        _save_jobs(jobs)
+        return
+    with _jobs_alongside(worker, jobs, {}):
+        yield
+
+
+@contextmanager
+def _jobs_alongside(
+    worker: FigureWorker, jobs: list[tuple[FigureCall, Path, Any]], saved: Mapping[str, Path]
+) -> Iterator[None]:
+    """Send `worker` the `jobs` and the paths of the figures it drew ahead to save (`_figure_worker`)
+    around the body and take its answer after it: its exception is raised here, an exception of the
+    body kills it."""
     try:
-        jobs, saved = [], {}
-        for key, name in FIGURES.items():
-            call = result.figure_call(key)
-            if key in worker.ahead and worker.ahead[key] == _dumps((call, meta)):
-                saved[key] = folder / name
-            else:
-                jobs.append((call, folder / name, meta))
         sent = worker.waiting.is_set() and worker._send(("write", jobs, saved))
         yield  # a worker still importing or drawing is sent its jobs after the body (a send would block)
         if not sent:

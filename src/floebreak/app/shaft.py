@@ -8,7 +8,9 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
+from floebreak.app.figure_calls import drawn, figures_in_worker
 from floebreak.app.inputs import measured_series, resolve_fem_tables
 from floebreak.errors import InputError, require_range
 from floebreak.io.run_files import read_resolved_scenario, read_run_cusps
@@ -99,65 +101,61 @@ def write_shaft_analysis(
     extra_summary: dict | None = None,
     sn_curve: BasquinCurve | None = None,
     progress: Callable[[str, int, int], None] | None = None,
+    figure_worker: Any = None,
 ) -> Path:
     """Write `result` (and the comparison with `measured`) with its spectra, rainflow histogram (Miner's
     damage against `sn_curve` if given), summary and figures to `out_dir` atomically; return it. `progress`
-    as `floebreak.io.shaft_files.write_shaft_files`'."""
+    as `floebreak.io.shaft_files.write_shaft_files`'. `figure_worker`
+    (`floebreak.app.run_directory.figure_worker`): a process that draws the figures while the tables are
+    written (the same files)."""
     series = torque_series_knm(result, None if measured is None else measured.torque_nm)
     edges, densities = torque_densities(series, bin_knm)
     histogram, fatigue = shaft_fatigue(result, sn_curve)
-    figures = shaft_figures(result, series, edges, densities, measured)
-    figures |= design_figures(result, histogram, fatigue)
-    return write_shaft_files(
-        result,
-        out_dir,
-        series=series,
-        edges=edges,
-        densities=densities,
-        summary=shaft_summary(result, densities, extra_summary) | {"fatigue": fatigue},
-        figures=figures,
-        rainflow=histogram,
-        overwrite=overwrite,
-        progress=progress,
-    )
+    calls = shaft_figure_calls(result, series, edges, densities, measured)
+    calls |= design_figure_calls(result, histogram, fatigue)
+    tables = {"series": series, "edges": edges, "densities": densities, "rainflow": histogram}
+    summary = shaft_summary(result, densities, extra_summary) | {"fatigue": fatigue}
+    options = {"summary": summary, "overwrite": overwrite, "progress": progress, **tables}
+    if figure_worker is not None:
+        alongside = figures_in_worker(calls, figure_worker)
+        return write_shaft_files(result, out_dir, figures={}, figures_alongside=alongside, **options)
+    return write_shaft_files(result, out_dir, figures=drawn(calls), **options)
 
 
-def design_figures(result: ShaftResult, histogram, fatigue: dict) -> dict:
-    """The Campbell diagram (`floebreak.shaft.resonance.campbell`) and the rainflow histogram."""
-    from floebreak.plotting import shaft as figs
-
+def design_figure_calls(result: ShaftResult, histogram, fatigue: dict) -> dict:
+    """The Campbell diagram (`floebreak.shaft.resonance.campbell`) and the rainflow histogram, as figure
+    calls (`shaft_figure_calls`)."""
     data = campbell(result.line, blades=result.blades)
+    harmonics = tuple(int(k) for k in data.harmonics)
+    campbell_args = (data.rpm, data.natural_frequency_hz, result.blades, data.operating_rpm)
+    title = f"shaft torque at {result.station}, case {fatigue['case']}"
     return {
-        "campbell.png": figs.plot_campbell(
-            data.rpm,
-            data.natural_frequency_hz,
-            result.blades,
-            data.operating_rpm,
-            data.required_margin,
-            tuple(int(k) for k in data.harmonics),
-        ),
-        "rainflow_histogram.png": figs.plot_rainflow_histogram(
-            histogram.range_edges_n_m,
-            histogram.counts,
-            f"shaft torque at {result.station}, case {fatigue['case']}",
-            fatigue["damage"],
+        "campbell.png": _call("plot_campbell", *campbell_args, data.required_margin, harmonics),
+        "rainflow_histogram.png": _call(
+            "plot_rainflow_histogram", histogram.range_edges_n_m, histogram.counts, title, fatigue["damage"]
         ),
     }
 
 
-def shaft_figures(result: ShaftResult, series, edges, densities, measured: TorqueSeries | None) -> dict:
-    """The shaft analysis' figures (file name → matplotlib Figure), drawn by `floebreak.plotting.shaft`."""
-    from floebreak.plotting import shaft as figs
+def _call(function: str, *args) -> tuple:
+    """A `floebreak.app.run_directory.FigureCall` of `floebreak.plotting.shaft`."""
+    return ("shaft", function, args, {})
 
+
+def shaft_figure_calls(result: ShaftResult, series, edges, densities, measured: TorqueSeries | None) -> dict:
+    """The shaft analysis' figures as plain data (file name → `floebreak.app.run_directory.FigureCall` of
+    `floebreak.plotting.shaft`), to draw here or in a figure worker."""
     out = {}
     primary = result.cases[0]
     t = result.time_s
-    out["excitation_series.png"] = figs.plot_series(
+    out["excitation_series.png"] = _call(
+        "plot_series",
         t,
         {f"propeller load, case {primary}": series[f"load_case{primary}"]},
         f"propeller load torque Q(t) = Q_mean + Q_ice(t), case {primary}",
     )
-    out["shaft_series.png"] = figs.plot_series(
+    out["shaft_series.png"] = _call(
+        "plot_series",
         t,
         {
             "propeller load": series[f"load_case{primary}"],
@@ -165,8 +163,8 @@ def shaft_figures(result: ShaftResult, series, edges, densities, measured: Torqu
         },
         f"propeller load and shaft torque, case {primary}",
     )
-    out["mode_shapes.png"] = figs.plot_modes(
-        [e.name for e in result.line.elements], result.modes.frequency_hz, result.modes.shapes
+    out["mode_shapes.png"] = _call(
+        "plot_modes", [e.name for e in result.line.elements], result.modes.frequency_hz, result.modes.shapes
     )
     for log in (False, True):
         scale = "log" if log else "linear"
@@ -174,20 +172,18 @@ def shaft_figures(result: ShaftResult, series, edges, densities, measured: Torqu
             "propeller load": densities[f"load_case{primary}"]["density"],
             f"shaft ({result.station})": densities[f"shaft_case{primary}"]["density"],
         }
-        out[f"shaft_spectrum_{scale}.png"] = figs.plot_densities(
-            edges, shown, log, DENSITY_THRESHOLD_PER_KNM, f"torque spectra, case {primary}"
+        title = f"torque spectra, case {primary}"
+        out[f"shaft_spectrum_{scale}.png"] = _call(
+            "plot_densities", edges, shown, log, DENSITY_THRESHOLD_PER_KNM, title
         )
         if measured is not None:
             compared = {
                 f"simulated shaft ({result.station}), case {primary}": shown[f"shaft ({result.station})"],
                 "measured shaft": densities["measured"]["density"],
             }
-            out[f"shaft_comparison_{scale}.png"] = figs.plot_densities(
-                edges,
-                compared,
-                log,
-                DENSITY_THRESHOLD_PER_KNM,
-                f"shaft torque: simulated vs measured ({Path(measured.source).name})",
+            title = f"shaft torque: simulated vs measured ({Path(measured.source).name})"
+            out[f"shaft_comparison_{scale}.png"] = _call(
+                "plot_densities", edges, compared, log, DENSITY_THRESHOLD_PER_KNM, title
             )
     return out
 
@@ -232,6 +228,7 @@ class PreparedShaftAnalysis:
         out_dir: str | os.PathLike[str],
         overwrite: bool = False,
         progress: Callable[[str, int, int], None] | None = None,
+        figure_worker: Any = None,
     ) -> Path:
         return write_shaft_analysis(
             self.result,
@@ -241,6 +238,7 @@ class PreparedShaftAnalysis:
             extra_summary=self.extra_summary,
             sn_curve=self.sn_curve,
             progress=progress,
+            figure_worker=figure_worker,
         )
 
 

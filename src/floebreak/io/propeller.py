@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable, Mapping
+from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -133,11 +134,14 @@ def write_propeller_files(
     record: dict | None = None,
     extra_summary: Mapping | None = None,
     progress: Callable[[str, int, int], None] | None = None,
+    figures_alongside: Callable[[Path], AbstractContextManager] | None = None,
 ) -> Path:
     """Write `result` and its `figures` (file name → Figure, saved in ``figures/``) to the new directory
     `out_dir` atomically and return it. `record` adds to the provenance (e.g. the input files),
     `extra_summary` to summary.json (e.g. the design-load tables the application layer computed).
-    `progress(stage, done, total)`, if given, is told after the tables and after each figure."""
+    `progress(stage, done, total)`, if given, is told after the tables and after each figure.
+    `figures_alongside(folder)` instead of `figures`: a context that draws the figures into the new
+    directory ``figures/`` while the tables are written (e.g. in other processes), done when it exits."""
     prov = provenance(command="propeller_analysis", **jsonable(result.options), **(record or {}))
     ds = result.spectra.copy()
     ds.attrs.update(
@@ -155,11 +159,13 @@ def write_propeller_files(
     summary = {"provenance": prov, **result.summary, **(extra_summary or {})}
     with atomic_directory(out_dir, overwrite=overwrite) as tmp:
         tmp = Path(tmp)
-        _write_tables(result, tmp)
-        summary["netcdf_engine"] = write_netcdf(ds, tmp / "spectra.nc")
-        if progress is not None:
-            progress("tables", 1, 1 + len(figures))
-        save_figures(figures, tmp / "figures", progress, done=1)
+        with nullcontext() if figures_alongside is None else figures_alongside(tmp / "figures"):
+            _write_tables(result, tmp)
+            summary["netcdf_engine"] = write_netcdf(ds, tmp / "spectra.nc")
+            if progress is not None:
+                progress("tables", 1, 1 + len(figures))
+        if figures_alongside is None:
+            save_figures(figures, tmp / "figures", progress, done=1)
         written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
         summary["files"] = [*written, "summary.json"]
         write_json(tmp / "summary.json", summary)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable, Mapping
+from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -227,11 +228,14 @@ def write_shaft_files(
     rainflow: RainflowHistogram | None = None,
     overwrite: bool = False,
     progress: Callable[[str, int, int], None] | None = None,
+    figures_alongside: Callable[[Path], AbstractContextManager] | None = None,
 ) -> Path:
     """Write `result`, its torque `series` [kN m] (``load_case<n>``, ``shaft_case<n>``, ``measured``), their
     densities on the common bin `edges`, the `rainflow` histogram, `summary` (with the provenance added)
     and `figures` (file name → Figure, in ``figures/``) to `out_dir` atomically; return it. `progress(stage,
-    done, total)`, if given, is told after the NetCDF files, the CSV tables and each figure."""
+    done, total)`, if given, is told after the NetCDF files, the CSV tables and each figure.
+    `figures_alongside(folder)` instead of `figures`: a context that draws the figures into the new
+    directory ``figures/`` while the tables are written (e.g. in other processes), done when it exits."""
     total = 2 + len(figures)
     summary = dict(summary)
     with atomic_directory(out_dir, overwrite=overwrite) as tmp:
@@ -239,18 +243,20 @@ def write_shaft_files(
         prov = shaft_provenance(result, summary)
         prov_text = json.dumps(jsonable(prov), sort_keys=True)
         engine = ""
-        for ds, name in (
-            (series_dataset(result), "shaft_series.nc"),
-            (spectra_dataset(edges, densities), "shaft_spectra.nc"),
-        ):
-            ds.attrs["provenance"] = prov_text
-            engine = write_netcdf(ds, tmp / name)
-        if progress is not None:
-            progress("NetCDF files", 1, total)
-        _write_tables(tmp, result, series, edges, densities, rainflow, f"provenance: {prov_text}")
-        if progress is not None:
-            progress("CSV tables", 2, total)
-        save_figures(figures, tmp / "figures", progress, done=2)
+        with nullcontext() if figures_alongside is None else figures_alongside(tmp / "figures"):
+            for ds, name in (
+                (series_dataset(result), "shaft_series.nc"),
+                (spectra_dataset(edges, densities), "shaft_spectra.nc"),
+            ):
+                ds.attrs["provenance"] = prov_text
+                engine = write_netcdf(ds, tmp / name)
+            if progress is not None:
+                progress("NetCDF files", 1, total)
+            _write_tables(tmp, result, series, edges, densities, rainflow, f"provenance: {prov_text}")
+            if progress is not None:
+                progress("CSV tables", 2, total)
+        if figures_alongside is None:
+            save_figures(figures, tmp / "figures", progress, done=2)
         summary["netcdf_engine"] = engine
         summary["provenance"] = prov
         written = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())

@@ -15,7 +15,7 @@ sets the angle the blade turns through inside it. Pure functions on numpy arrays
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -390,6 +390,64 @@ def _strips_under_block(blade: BladeGeometry, thickness_m, strips: int):
     return extent, overlap, mid
 
 
+@dataclass(frozen=True)
+class BlockStrips:
+    """What `impact_loads` computes from the blocks alone (`block_strips`): each block's length along the
+    axis, the radial extent e it covers, and per blade strip its overlap with the block, the overlap's
+    mid radius and the chord there."""
+
+    length_m: np.ndarray
+    radial_extent_m: np.ndarray
+    overlap_m: np.ndarray
+    mid_radius_m: np.ndarray
+    chord_m: np.ndarray
+
+
+def block_strips(blade: BladeGeometry, thickness_m, length_m, strips: int = DEFAULT_STRIPS) -> BlockStrips:
+    """The blocks' strips on `blade` (`_strips_under_block`), for `impact_loads` or, computed once per block,
+    for `impact_torque_n_m` at many rpm."""
+    if isinstance(strips, bool) or int(strips) != strips or not 1 <= strips <= 10_000:
+        raise InputError("strips", f"{strips!r} is not an integer in [1, 10000]", value=strips)
+    extent, overlap, mid = _strips_under_block(blade, thickness_m, int(strips))
+    return BlockStrips(np.asarray(length_m, dtype=float), extent, overlap, mid, blade.chord_m(mid))
+
+
+def _strip_loads(strip: BlockStrips, blade: BladeGeometry, rpm, speed, ice: IceStrength):
+    """Cut depth, (w_n, w_f, s, A, p, axial force per strip) and torque Q of one impact (`impact_loads`)."""
+    cut = cut_depth_m(speed, rpm, blade.blades)
+    length, overlap, mid = strip.length_m, strip.overlap_m, strip.mid_radius_m
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fraction = np.where(cut > length, length / np.where(cut > 0.0, cut, 1.0), 1.0)
+    nose, flank, flank_length, alpha, beta, phi, layer = section_contact(
+        mid,
+        strip.chord_m,
+        blade.thickness_07_m,
+        blade.pitch_m,
+        rpm[..., None],
+        speed[..., None],
+        blade.blades,
+        fraction[..., None],
+        flank_chord_fraction=ice.flank_contact_chord_fraction,
+    )
+    nose_area, flank_area = nose * overlap, flank_length * overlap
+    area = np.sum(nose_area + flank_area, axis=-1)
+    pressure = ice.pressure_pa(area)
+    resisting, aft = strip_forces(pressure[..., None], nose_area, flank_area, alpha, beta, phi, ice.friction)
+    torque = np.sum(resisting * mid, axis=-1)
+    return cut, (nose, flank, layer, area, pressure, aft), torque
+
+
+def impact_torque_n_m(
+    strip: BlockStrips, blade: BladeGeometry, rpm, advance_speed_m_s, ice: IceStrength | None = None
+) -> np.ndarray:
+    """`impact_loads(...).torque_n_m` of the blocks of `strip` (`block_strips`, computed once), to the bit:
+    the same checks of rpm and speed and the same arithmetic, without the block's other quantities."""
+    ice = IceStrength() if ice is None else ice
+    rpm, speed = _check_operation(rpm, advance_speed_m_s)
+    length, rpm, speed = np.broadcast_arrays(strip.length_m, rpm, speed)
+    return _strip_loads(replace(strip, length_m=length), blade, rpm, speed, ice)[2]
+
+
 def impact_loads(
     block: IceBlock,
     blade: BladeGeometry,
@@ -411,33 +469,16 @@ def impact_loads(
     `impacts_before_thrown` impacts (None: held, every block milled through). rpm and advance_speed_m_s
     broadcast against the blocks, so a drive model can pass its changing rpm.
     """
-    if isinstance(strips, bool) or int(strips) != strips or not 1 <= strips <= 10_000:
-        raise InputError("strips", f"{strips!r} is not an integer in [1, 10000]", value=strips)
     ice = IceStrength() if ice is None else ice
     rpm, speed = _check_operation(rpm, advance_speed_m_s)
     thickness, length, width, rpm, speed = np.broadcast_arrays(
         block.thickness_m, block.length_m, block.width_m, rpm, speed
     )
     radius = blade.radius_m
-    extent, overlap, mid = _strips_under_block(blade, thickness, int(strips))
-    cut = cut_depth_m(speed, rpm, blade.blades)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        fraction = np.where(cut > length, length / np.where(cut > 0.0, cut, 1.0), 1.0)
-    nose, flank, flank_length, alpha, beta, phi, layer = section_contact(
-        mid,
-        blade.chord_m(mid),
-        blade.thickness_07_m,
-        blade.pitch_m,
-        rpm[..., None],
-        speed[..., None],
-        blade.blades,
-        fraction[..., None],
-        flank_chord_fraction=ice.flank_contact_chord_fraction,
-    )
-    nose_area, flank_area = nose * overlap, flank_length * overlap
-    area = np.sum(nose_area + flank_area, axis=-1)
-    pressure = ice.pressure_pa(area)
-    resisting, aft = strip_forces(pressure[..., None], nose_area, flank_area, alpha, beta, phi, ice.friction)
+    strip = block_strips(blade, thickness, length, strips)
+    extent, overlap = strip.radial_extent_m, strip.overlap_m
+    cut, contact, torque = _strip_loads(strip, blade, rpm, speed, ice)
+    nose, flank, layer, area, pressure, aft = contact
     axial = np.sum(aft, axis=-1)
     layer_area = np.sum(layer * overlap, axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -446,7 +487,6 @@ def impact_loads(
     milled = np.where(finite, np.ceil(length / np.where(finite, cut, 1.0) - 1e-12), 0).astype(np.int64)
     centre = radius - 0.5 * extent
     angle = np.minimum(width / centre, math.pi)
-    torque = np.sum(resisting * mid, axis=-1)
     thrown = np.full(milled.shape, HELD_IMPACTS, dtype=np.int64)
     if block_motion is not None:
         exit_m = np.sqrt(np.maximum(radius**2 - (radius - extent) ** 2, 0.0))

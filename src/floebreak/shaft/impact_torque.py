@@ -2,10 +2,10 @@
 
 The drive (`floebreak.shaft.drive`) asks for the torque of the cusp being milled at the rpm of each blade
 passage, one passage at a time: the rpm there follows from the impacts before it, so the impacts cannot be
-batched. `CuspTorques` keeps one checked `IceBlock` per cusp and calls
-`floebreak.propeller.milling.impact_loads` without the block's motion (`block_motion=None`: the torque does
-not depend on it, only the impact count does), so the torque is `impact_loads`' own, to the bit
-(tests/shaft/test_impact_torque.py), without the per-call block checks and throw-out counts.
+batched. `CuspTorques` computes each cusp's blade strips once (`floebreak.propeller.milling.block_strips`:
+what depends on the block alone) and calls `floebreak.propeller.milling.impact_torque_n_m`, the torque part
+of `impact_loads` (the same function computes it there), so the torque is `impact_loads`' own, to the bit
+(tests/shaft/test_impact_torque.py), without the block's motion, impact count and other quantities.
 """
 
 from __future__ import annotations
@@ -28,12 +28,15 @@ class CuspTorques:
     strips: int = milling.DEFAULT_STRIPS
 
     def __post_init__(self) -> None:
-        sides = (self.block.thickness_m, self.block.length_m, self.block.width_m)
-        blocks = tuple(IceBlock(*(a[i : i + 1] for a in sides)) for i in range(self.block.thickness_m.size))
-        object.__setattr__(self, "_blocks", blocks)
+        thickness, length = self.block.thickness_m, self.block.length_m
+        strips = tuple(
+            milling.block_strips(self.blade, thickness[i : i + 1], length[i : i + 1], self.strips)
+            for i in range(thickness.size)
+        )
+        object.__setattr__(self, "_strips", strips)
+        object.__setattr__(self, "_ice", IceStrength() if self.ice is None else self.ice)
 
     def torque_n_m(self, cusp: int, rpm: float) -> float:
         """Ice torque of one blade impact on cusp `cusp` (index into `block`) at `rpm` [N·m]."""
-        block, speed = self._blocks[cusp], self.advance_speed_m_s
-        loads = milling.impact_loads(block, self.blade, rpm, speed, self.ice, self.strips, block_motion=None)
-        return float(loads.torque_n_m[0])
+        strip, speed = self._strips[cusp], self.advance_speed_m_s
+        return float(milling.impact_torque_n_m(strip, self.blade, rpm, speed, self._ice)[0])
