@@ -8,10 +8,12 @@ search, the position where it was made, or where it could first touch the hull) 
 position x₁ breaks at the bow position x* ∈ (x₀, x₁] where its failure is first met, found to within
 `event_tolerance_m` by narrowing a bracket on the outcome of the whole dispatch (failed / not failed). The
 outcome alone moves the bracket; the deciding criterion's margin (`Outcome.margin`), where it has one of the
-outcome's sign, places the trials (`locate_event`): its zero is estimated by a secant and straddled. The
-margin at x₀ comes from the piece's evaluation there (kept from the previous search, `_Run.search_margins`,
-or from the position where the piece was made), so a margin that behaves as the model expects is located in
-two trials. The located evaluation is the failed one at the bracket's upper end. Its children are evaluated
+outcome's sign, places the trials (`locate_event`): its zero is estimated by a secant, the trial placed just
+above it, and a failed trial whose own secant agrees with that estimate locates the failure (`_confirms`).
+The margin at x₀ comes from the piece's evaluation there (kept from the previous search,
+`_Run.search_margins`, or from the position where the piece was made), so a margin that behaves as the model
+expects is located with one trial. The located evaluation is that failed trial, or the failed one at the
+upper end of a bracket narrowed to the tolerance. Its children are evaluated
 at x*, and those that survive there again at x₁, with the same location between x* and x₁; so `step_m` only
 sets how often contacts are searched.
 
@@ -85,9 +87,8 @@ def _confirms(zero: float | None, intact: tuple, failed: tuple, tolerance_m: flo
     """Whether a failed trial at `failed` = (x, usable margin), placed by the estimate `zero`, locates the
     failure: the secant through it and the last position found intact (`intact`, with its usable margin)
     meets zero within `tolerance_m` below x and within τ/2 of `zero`. Two estimates of the crossing then
-    agree and one exact evaluation stands above both; on the reference run's 461 located failures the
-    position accepted so lies at most τ past the first failure (bisected to 0.1 mm) in 456, at most 2.5 τ
-    in all (benchmarks/README.md)."""
+    agree and one exact evaluation stands above both: the tolerance holds empirically, not by construction
+    (how far accepted positions lie from the bisected first failure: benchmarks/README.md)."""
     if zero is None or intact[1] is None or failed[1] is None:
         return False
     crossing = _line_zero(intact, failed)
