@@ -17,11 +17,11 @@ module exists, else `floebreak.cli:main`); both sides' sources are compiled to b
 installed copy is.
 
 Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]
-[--end-to-end [--propeller]] [--against REV2] [--new-params JSON] [--profile thesis]` (REV: any git
-revision, e.g. a commit or `HEAD~3`; `--against` compares with REV2 instead of the working tree;
+[--end-to-end [--propeller]] [--against REV2] [--new-params JSON] [--old-params JSON] [--profile thesis]`
+(REV: any git revision, e.g. a commit or `HEAD~3`; `--against` compares with REV2 instead of the working tree;
 `--new-params` gives the compared side's `SimulationParams`, e.g. a coarser step with located events, issue
-32; `--profile`: the engine's profile on both sides). Both sides' kernels are compiled first (≈ 10 s, not
-timed).
+32, `--old-params` REV's; `--profile`: the engine's profile on both sides). Both sides' kernels are
+compiled first (≈ 10 s, not timed).
 """
 
 from __future__ import annotations
@@ -151,6 +151,7 @@ def main() -> None:
         help='SimulationParams of the compared side (not REV) as JSON, e.g. \'{"step_m": 0.5, '
         '"event_location": "root"}\' (engine only; default step_m 0.25)',
     )
+    parser.add_argument("--old-params", default="{}", help="as --new-params, for REV's side")
     parser.add_argument("--profile", default="default", help="the engine's profile (default: default)")
     parser.add_argument(
         "--propeller", action="store_true", help="with --end-to-end: time `floebreak propeller` on the run"
@@ -188,7 +189,7 @@ def _compare(sides: dict[str, Path], run, args: argparse.Namespace) -> None:
     old, new = sides
     for round_ in range(1, args.rounds + 1):
         for name, src in sides.items():
-            seconds, breaks = run(src, args, "{}" if name == old else args.new_params)
+            seconds, breaks = run(src, args, args.old_params if name == old else args.new_params)
             best[name].append(seconds)
             print(f"round {round_}: {name:>14}  {seconds:.3f} {unit}  ({breaks} breaks)", flush=True)
     medians = {name: statistics.median(values) for name, values in best.items()}
