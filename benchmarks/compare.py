@@ -17,10 +17,11 @@ module exists, else `floebreak.cli:main`); both sides' sources are compiled to b
 installed copy is.
 
 Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]
-[--end-to-end [--propeller]] [--against REV2] [--new-params JSON]` (REV: any git revision, e.g. a commit or
-`HEAD~3`; `--against` compares with REV2 instead of the working tree; `--new-params` gives the compared side's
-`SimulationParams`, e.g. a coarser step with located events, issue 32). Both sides' kernels are compiled
-first (≈ 10 s, not timed).
+[--end-to-end [--propeller]] [--against REV2] [--new-params JSON] [--old-params JSON] [--profile thesis]`
+(REV: any git revision, e.g. a commit or `HEAD~3`; `--against` compares with REV2 instead of the working tree;
+`--new-params` gives the compared side's `SimulationParams`, e.g. a coarser step with located events, issue
+32, `--old-params` REV's; `--profile`: the engine's profile on both sides). Both sides' kernels are
+compiled first (≈ 10 s, not timed).
 """
 
 from __future__ import annotations
@@ -48,12 +49,12 @@ from floebreak.ship.hulls import agulhas_ii
 from floebreak.simulation import SimulationParams, simulate
 compile_kernels()
 gc.freeze()  # as the CLI does after loading the engine
-length_m, width_m, runs = float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
+length_m, width_m, runs, profile = float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3]), sys.argv[5]
 params = SimulationParams(**{"step_m": 0.25, **json.loads(sys.argv[4])})
 field = generate_field(
     get_observation("2019-12-18T20:20"), length_m, width_m, np.random.default_rng(1), thickness_m=1.0
 )
-model, bow = build_model("default"), agulhas_ii(ice_thickness_m=1.0)
+model, bow = build_model(profile), agulhas_ii(ice_thickness_m=1.0)
 best = float("inf")
 for _ in range(runs):
     start = time.process_time()
@@ -122,9 +123,10 @@ def _run_end_to_end(src: Path, args: argparse.Namespace, params: str = "{}") -> 
 
 
 def _run(src: Path, args: argparse.Namespace, params: str = "{}") -> tuple[float, int]:
+    sizes = (str(args.length_m), str(args.width_m), str(args.runs))
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
     out = subprocess.run(
-        [sys.executable, "-c", CHILD, str(args.length_m), str(args.width_m), str(args.runs), params],
+        [sys.executable, "-c", CHILD, *sizes, params, args.profile],
         env=env,
         cwd=src.parent,
         check=True,
@@ -149,6 +151,8 @@ def main() -> None:
         help='SimulationParams of the compared side (not REV) as JSON, e.g. \'{"step_m": 0.5, '
         '"event_location": "root"}\' (engine only; default step_m 0.25)',
     )
+    parser.add_argument("--old-params", default="{}", help="as --new-params, for REV's side")
+    parser.add_argument("--profile", default="default", help="the engine's profile (default: default)")
     parser.add_argument(
         "--propeller", action="store_true", help="with --end-to-end: time `floebreak propeller` on the run"
     )
@@ -185,7 +189,7 @@ def _compare(sides: dict[str, Path], run, args: argparse.Namespace) -> None:
     old, new = sides
     for round_ in range(1, args.rounds + 1):
         for name, src in sides.items():
-            seconds, breaks = run(src, args, "{}" if name == old else args.new_params)
+            seconds, breaks = run(src, args, args.old_params if name == old else args.new_params)
             best[name].append(seconds)
             print(f"round {round_}: {name:>14}  {seconds:.3f} {unit}  ({breaks} breaks)", flush=True)
     medians = {name: statistics.median(values) for name, values in best.items()}

@@ -53,9 +53,10 @@ def _square_law_margin(threshold, contact_start):
     return lambda x: 2.0 * math.log((x - contact_start) / (threshold - contact_start))
 
 
-def test_a_load_growing_as_the_square_of_the_indentation_is_located_in_two_trials():
+def test_a_load_growing_as_the_square_of_the_indentation_is_located_in_one_trial():
     """√(driving/resistance) is then straight in the bow position: with the margins of both ends the first
-    estimate is exact and two trials straddling it close the bracket (bisection: seven)."""
+    estimate is exact, the trial τ·0.3 above it fails, and the secant through it and the lower end meets
+    zero at the same place: the failure is located with one evaluation (bisection: seven)."""
     threshold, trials = 0.3141, []
     margin = _square_law_margin(threshold, -0.2)
 
@@ -66,7 +67,7 @@ def test_a_load_growing_as_the_square_of_the_indentation_is_located_in_two_trial
     x, value = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), 0.01, *ends)
     assert threshold < x <= threshold + 0.01
     assert value == ("failed at", x)
-    assert len(trials) == 2
+    assert trials == [pytest.approx(threshold + 0.003)]
     without_lower = []  # no margin at the lower end: a midpoint first
     locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, without_lower), 0.01, margin(1.0))
     assert len(without_lower) <= 4
@@ -88,6 +89,47 @@ def test_a_linear_margin_is_located_in_fewer_trials_than_bisection():
         assert value == ("failed at", x)
         assert len(trials) <= 5
         assert all(0.0 < t < 1.0 for t in trials)
+
+
+@pytest.mark.parametrize("power", [1.0, 1.5, 2.0, 3.0])
+@pytest.mark.parametrize("contact_start", [-0.5, -0.05])
+def test_a_confirmed_trial_lies_within_the_tolerance_of_the_first_failure(power, contact_start):
+    """A load growing as indentation^power (contact since `contact_start`) against a constant resistance:
+    √(driving/resistance) is curved unless power = 2, and the more so the closer the contact started.
+    Wherever a failed trial is accepted on the secant's confirmation, the position lies within τ above
+    the exact threshold, as a bracket closed to τ would."""
+    threshold, tolerance = 0.3141, 0.01
+
+    def margin(x):
+        return power * math.log((x - contact_start) / (threshold - contact_start))
+
+    def outcome(x):
+        return ("failed at", x) if margin(x) > 0.0 else None, margin(x)
+
+    trials = []
+    ends = margin(1.0), margin(0.0)
+    x, value = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), tolerance, *ends)
+    assert threshold < x <= threshold + tolerance
+    assert value == ("failed at", x)
+    assert len(trials) <= 5
+
+
+def test_a_failed_trial_that_the_secant_does_not_confirm_is_not_accepted():
+    """A margin straight below the threshold and ten times steeper above it: the estimate from the ends
+    lies far below the threshold and the trial there is intact; the estimates that follow disagree until
+    the bracket is closed, and the position lies within τ above the threshold."""
+    threshold, tolerance, trials = 0.6, 0.01, []
+
+    def margin(x):
+        return (x - threshold) * (10.0 if x > threshold else 1.0)
+
+    def outcome(x):
+        return ("failed at", x) if margin(x) > 0.0 else None, margin(x)
+
+    ends = margin(1.0), margin(0.0)
+    x, _ = locate_event(0.0, 1.0, ("failed at", 1.0), _counting(outcome, trials), tolerance, *ends)
+    assert threshold < x <= threshold + tolerance
+    assert len(trials) >= 2
 
 
 def test_a_margin_that_disagrees_with_the_outcome_does_not_move_the_bracket_wrongly():

@@ -8,10 +8,12 @@ search, the position where it was made, or where it could first touch the hull) 
 position x₁ breaks at the bow position x* ∈ (x₀, x₁] where its failure is first met, found to within
 `event_tolerance_m` by narrowing a bracket on the outcome of the whole dispatch (failed / not failed). The
 outcome alone moves the bracket; the deciding criterion's margin (`Outcome.margin`), where it has one of the
-outcome's sign, places the trials (`locate_event`): its zero is estimated by a secant and straddled. The
-margin at x₀ comes from the piece's evaluation there (kept from the previous search, `_Run.search_margins`,
-or from the position where the piece was made), so a margin that behaves as the model expects is located in
-two trials. The located evaluation is the failed one at the bracket's upper end. Its children are evaluated
+outcome's sign, places the trials (`locate_event`): its zero is estimated by a secant, the trial placed just
+above it, and a failed trial whose own secant agrees with that estimate locates the failure (`_confirms`).
+The margin at x₀ comes from the piece's evaluation there (kept from the previous search,
+`_Run.search_margins`, or from the position where the piece was made), so a margin that behaves as the model
+expects is located with one trial. The located evaluation is that failed trial, or the failed one at the
+upper end of a bracket narrowed to the tolerance. Its children are evaluated
 at x*, and those that survive there again at x₁, with the same location between x* and x₁; so `step_m` only
 sets how often contacts are searched.
 
@@ -53,29 +55,44 @@ class _Item(NamedTuple):
 def locate_event(lo, hi, at_hi, trial, tolerance_m, margin_hi=None, margin_lo=None):
     """The first failure in (lo, hi] to within `tolerance_m`: the outcome does not fail at `lo` (its margin
     there `margin_lo`, if known), fails at `hi` with `at_hi` (margin `margin_hi`); `trial(x)` gives (the
-    failed evaluation at x or None, its margin or None). Returns (x, evaluation at x), x the upper end of the
-    final bracket (a failed position, never more than `tolerance_m` past the last position found intact).
+    failed evaluation at x or None, its margin or None). Returns (x, evaluation at x), x a failed position:
+    the upper end of a bracket narrowed to `tolerance_m`, or a failed trial that confirms the estimate which
+    placed it (`_confirms`).
 
     The bracket is narrowed on the outcome alone; the margins (`Outcome.margin`, ln(driving/resistance) of
-    the deciding criterion) only place the next trial (`_next_trial`). The trial positions are a function of
-    the bracket and the margins found alone: runs stay deterministic."""
+    the deciding criterion) place the next trial (`_next_trial`) and confirm a failed one. The trial
+    positions are a function of the bracket and the margins found alone: runs stay deterministic."""
     ends = {"lo": _usable(margin_lo, False), "hi": _usable(margin_hi, True)}
     last: list = []  # the last two (position, usable margin)
     widths = [hi - lo]  # the bracket's width before each trial
     while hi - lo > tolerance_m:
         if len(widths) >= 4 and hi - lo > 0.5 * widths[-4]:
-            x = 0.5 * (lo + hi)  # three trials did not halve the bracket: the margin is far from straight
+            x, zero = 0.5 * (lo + hi), None  # three trials did not halve the bracket: far from straight
         else:
-            x = _next_trial(lo, hi, ends, last, tolerance_m, len(widths) == 1)
+            x, zero = _next_trial(lo, hi, ends, last, tolerance_m, len(widths) == 1)
         found, margin = trial(x)
         usable = _usable(margin, found is not None)
         if found is None:
             lo, ends["lo"] = x, usable
         else:
+            if _confirms(zero, (lo, ends["lo"]), (x, usable), tolerance_m):
+                return x, found
             hi, at_hi, ends["hi"] = x, found, usable
         last = [] if usable is None else [*last[-1:], (x, usable)]
         widths.append(hi - lo)
     return hi, at_hi
+
+
+def _confirms(zero: float | None, intact: tuple, failed: tuple, tolerance_m: float) -> bool:
+    """Whether a failed trial at `failed` = (x, usable margin), placed by the estimate `zero`, locates the
+    failure: the secant through it and the last position found intact (`intact`, with its usable margin)
+    meets zero within `tolerance_m` below x and within τ/2 of `zero`. Two estimates of the crossing then
+    agree and one exact evaluation stands above both: the tolerance holds empirically, not by construction
+    (how far accepted positions lie from the bisected first failure: benchmarks/README.md)."""
+    if zero is None or intact[1] is None or failed[1] is None:
+        return False
+    crossing = _line_zero(intact, failed)
+    return failed[0] - tolerance_m <= crossing and abs(crossing - zero) <= 0.5 * tolerance_m
 
 
 def _usable(margin: float | None, failed: bool) -> float | None:
@@ -89,14 +106,15 @@ def _usable(margin: float | None, failed: bool) -> float | None:
     return math.expm1(0.5 * margin)
 
 
-def _next_trial(lo: float, hi: float, ends: dict, last: list, tolerance_m: float, first: bool) -> float:
-    """Where the zero of the usable margin lies — regula falsi between the bracket's ends where both have
-    one, else the secant through the last two trials with one — the next trial straddles it: τ/2 to the
-    side of the larger part of the bracket, or, once the estimate is within τ of an end, at τ from that end,
-    so that a straight margin closes the bracket in two trials. With no estimate: the midpoint, or, at the
-    first trial with no margin at either end, just above `lo` (a mode without a criterion, rotation of an
-    unbreakable piece, acts when the piece first touches the hull, at the bracket's lower end). Always at
-    least τ/20 inside the bracket (wider than τ)."""
+def _next_trial(lo: float, hi: float, ends: dict, last: list, tolerance_m: float, first: bool):
+    """(the next trial, the estimate that placed it or None). The estimate is where the zero of the usable
+    margin lies — regula falsi between the bracket's ends where both have one, else the secant through the
+    last two trials with one; the trial is τ·0.3 above it, so that a failed trial there confirms it
+    (`_confirms`) and an intact one leaves a bracket that a second trial closes; once the estimate is within
+    τ of an end, at τ from that end. With no estimate: the midpoint, or, at the first trial with no margin
+    at either end, just above `lo` (a mode without a criterion, rotation of an unbreakable piece, acts when
+    the piece first touches the hull, at the bracket's lower end). Always at least τ/20 inside the bracket
+    (wider than τ)."""
     zero = _secant_zero(lo, hi, ends, last)
     if zero is None:
         nothing_known = first and ends["lo"] is None and ends["hi"] is None
@@ -106,8 +124,8 @@ def _next_trial(lo: float, hi: float, ends: dict, last: list, tolerance_m: float
     elif zero - lo <= 0.9 * tolerance_m:
         x = lo + 0.95 * tolerance_m  # a failed trial here closes the bracket
     else:
-        x = zero - 0.45 * tolerance_m if hi - zero > zero - lo else zero + 0.45 * tolerance_m
-    return min(max(x, lo + 0.05 * tolerance_m), hi - 0.05 * tolerance_m)
+        x = zero + 0.3 * tolerance_m
+    return min(max(x, lo + 0.05 * tolerance_m), hi - 0.05 * tolerance_m), zero
 
 
 def _secant_zero(lo: float, hi: float, ends: dict, last: list) -> float | None:
