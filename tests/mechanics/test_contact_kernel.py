@@ -234,8 +234,8 @@ def test_zones_found_by_geos_get_the_same_rows_and_centres_compiled(geometry, x,
         assert compiled is None
         return
     assert compiled.row_overlap_m.size == compiled.row_zone.size
-    for k, ((a_u, centre, panel, rows), (ref_a_u, ref_centre, ref_panel, ref_rows)) in enumerate(
-        zip(_zones(compiled), _zones(reference), strict=True)
+    for (a_u, centre, panel, rows), (ref_a_u, ref_centre, ref_panel, ref_rows) in zip(
+        _zones(compiled), _zones(reference), strict=True
     ):
         assert a_u == ref_a_u  # the same GEOS zones, in the same order
         # ties too (a mirror-symmetric floe: the middle of the tied parts' span): one rule on both paths

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import shapely
 
-from floebreak.mechanics import contact_kernel
+from floebreak.mechanics import contact, contact_kernel
 from floebreak.mechanics.contact import BowContactGeometry, ContactParams, evaluate_contact
 from floebreak.ship.hulls import agulhas_ii
 
@@ -79,9 +79,11 @@ def test_a_floe_whose_far_corner_the_stem_reaches_is_loaded_on_the_stem(depth_m)
     # on both sides; by symmetry the load centre is the stem, and the normal the centreline
     corner = shapely.Polygon([(-depth_m, 0.0), (-9.0, 9.0), (-14.0, 9.0), (-14.0, -9.0), (-9.0, -9.0)])
     for outline in _orders(corner):
-        zone = evaluate_contact(outline, 1.0, GEOMETRY, PARAMS).dominant
+        zone = evaluate_contact(outline, 1.0, GEOMETRY, PARAMS).dominant  # the compiled kernel's path
         np.testing.assert_allclose(zone.centre_xy_m, [0.0, 0.0], atol=1e-12)
         np.testing.assert_allclose(zone.centre_normal, [1.0, 0.0], atol=1e-12)
+        by_geos = contact._zone_table_shapely(np.array([outline], dtype=object), np.arange(1), GEOMETRY)
+        np.testing.assert_allclose(by_geos.centre_xy_m[0], [0.0, 0.0], atol=1e-12)
 
 
 def test_equal_shoulder_zones_go_to_the_port_zone_whatever_the_ring_order():
@@ -91,8 +93,8 @@ def test_equal_shoulder_zones_go_to_the_port_zone_whatever_the_ring_order():
         [(-30, 12), (5, 12), (5, -12), (-30, -12), (-30, -9.5), (2, -9.5), (2, 9.5), (-30, 9.5)]
     )
     for outline in _orders(u_shape):
-        contact = evaluate_contact(outline, 1.0, GEOMETRY, PARAMS)
-        assert len(contact.zones) == 2
-        port, starboard = sorted(contact.zones, key=lambda z: -z.centre_xy_m[1])
+        both = evaluate_contact(outline, 1.0, GEOMETRY, PARAMS)
+        assert len(both.zones) == 2
+        port, starboard = sorted(both.zones, key=lambda z: -z.centre_xy_m[1])
         assert port.crushing_force_n == pytest.approx(starboard.crushing_force_n, rel=1e-12)
-        assert contact.dominant is port
+        assert both.dominant is port
