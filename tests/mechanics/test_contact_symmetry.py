@@ -47,6 +47,9 @@ def test_a_floe_centred_ahead_of_the_stem_is_loaded_on_the_stem_along_the_centre
         np.testing.assert_allclose(zone.centre_xy_m, [0.0, 0.0], atol=1e-12)
         # thesis Eq. 20 at the stem node: (y_(i−1) − y_(i+1), x_(i+1) − x_(i−1)) of two mirror nodes is +x
         np.testing.assert_allclose(zone.centre_normal, [1.0, 0.0], atol=1e-12)
+        for params in (PARAMS, ContactParams(area_model="single_psi")):  # per panel; one ψ (thesis Eq. 6)
+            force_x, force_y = evaluate_contact(outline, 1.0, GEOMETRY, params).dominant.force_on_ice_xy_n
+            assert force_x > 0.0 and abs(force_y) <= 1e-9 * force_x  # pushed ahead, not aside
 
 
 def test_an_off_node_centre_keeps_its_panels_normal():

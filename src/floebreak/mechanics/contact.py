@@ -274,6 +274,8 @@ def _add_contacts(contacts, table: _ZoneTable, floes, thickness, geometry, param
         geometry.waterline_xy_m,
         geometry.panel_normals,
     )
+    if single_psi:  # the zone's one row acts along the centre's normal (on the stem: the centreline)
+        zone_force_xy = row_f_h[:, None] * normals
     floe_areas, extents = table.floe_area_m2.tolist(), table.floe_extent_m.tolist()
     zones_of_floe: dict[int, list[ContactZone]] = {}
     for k, floe_index in enumerate(table.owner.tolist()):
