@@ -402,3 +402,18 @@ def test_a_self_locking_wedge_is_refused_when_the_scenario_is_read(spelling):
     Scenario.from_dict({"failure": {"cracking": {**cracking, "criterion": "tensile_stress"}}})
     with pytest.raises(InputError, match="wedge_friction"):
         CrackingSettings(criterion="line_load", wedge_friction=2.0)
+
+
+def test_a_tie_between_the_two_later_cracks_turns_counter_clockwise(make_input):
+    """A symmetric piece loaded on the stem (its centroid on the normal, the centreline): the ±30° lines pass
+    equally close to the centroid, a genuine tie that no single crack can keep symmetric. The documented
+    rule (docs/model.md, Breaking sequence) takes +α_nextcrack, counter-clockwise: (cos 30°, sin 30°), for
+    the piece and for its mirror image alike (whose ring runs the other way), not by rounding."""
+    t = np.linspace(-0.5 * np.pi, 0.5 * np.pi, 33)
+    half_disc = shapely.Polygon(np.c_[-0.3 + 6.0 * np.cos(t), 6.0 * np.sin(t)])  # 0.3 m into the stem
+    for piece in (half_disc, shapely.transform(half_disc, lambda xy: xy * np.array([1.0, -1.0]))):
+        inp = make_input(piece, crack_count=1)
+        np.testing.assert_allclose(inp.zone.centre_xy_m, [0.0, 0.0], atol=1e-12)
+        np.testing.assert_allclose(inp.zone.centre_normal, [1.0, 0.0], atol=1e-12)
+        direction = crack_direction(inp, math.radians(30.0))
+        np.testing.assert_allclose(direction, [math.cos(math.radians(30.0)), 0.5], atol=1e-12)

@@ -10,6 +10,7 @@ separated piece lies on the stern side of the crack line, and the area is conser
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -20,6 +21,7 @@ from floebreak.failure import Fate, LocalCracking, Status
 from floebreak.failure.bending import BendingSettings, bending_check
 from floebreak.failure.local_cracking import frontmost_contact_point, local_crack_line
 from floebreak.ice.field import circle_polygons
+from floebreak.mechanics.classify import ClassificationParams, classify
 
 PHI_RAD = math.radians(5.0)
 CASES = [(5, 10.0, 0.3), (10, 10.0, 0.6), (10, 20.0, 0.5), (50, 10.0, 0.6), (15, 4.0, 0.3)]
@@ -110,3 +112,30 @@ def test_no_local_cracking_below_the_bending_capacity(context, make_input, kit):
     outcome = LocalCracking().evaluate(inp, context)
     assert outcome.status is Status.INTACT  # the floe holds: the policy tries no other mode
     assert outcome.pieces == ()
+
+
+def test_a_symmetric_floe_cracks_locally_at_either_shoulder_as_the_mirror_of_the_other(
+    bow, context, make_input
+):
+    """A floe wrapping the bow, mirror-symmetric, touching both shoulders (two zones): the piece cut at the
+    starboard shoulder is the mirror image of the one cut at port. x_int (Eq. 21) is the frontmost point
+    where the waterline meets the outline *at that zone*: the frontmost of the whole outline lies at one
+    shoulder, and started the other shoulder's crack from across the hull (17.25 m² against 17.33 m²)."""
+    inner, outer = 9.6, 11.6
+    u_shape = shapely.difference(
+        shapely.box(-40.0, -outer, 3.0, outer), shapely.box(-40.0, -inner, 1.0, inner)
+    )
+    inp = make_input(u_shape, crack_count=1)
+    assert len(inp.contact.zones) == 2
+    outcomes = {}
+    for zone in inp.contact.zones:
+        classification = classify(u_shape, 1.0, zone.centre_normal, ClassificationParams())
+        at_zone = dataclasses.replace(inp, zone=zone, classification=classification)
+        outcomes[np.sign(zone.centre_xy_m[1])] = LocalCracking().evaluate(at_zone, context)
+    port, starboard = outcomes[1.0], outcomes[-1.0]
+    assert port.status == starboard.status == Status.FAILED
+    mirror = np.array([1.0, -1.0])
+    for piece in port.pieces:
+        image = shapely.transform(piece.polygon, lambda xy: xy * mirror)
+        gaps = [shapely.hausdorff_distance(image, other.polygon) for other in starboard.pieces]
+        assert min(gaps) < 1e-9

@@ -118,27 +118,26 @@ class CrackingSettings:
 
 
 def crack_direction(inp: FailureInput, next_crack_angle_rad: float) -> np.ndarray:
-    """Unit direction of the crack: the bow normal, rotated by ±α_nextcrack after an earlier crack."""
+    """Unit direction of the crack: the bow normal, rotated by ±α_nextcrack after an earlier crack, to the
+    side whose line passes closer to the piece's centroid. A tie (the two distances within
+    `TIE_DISTANCE_M`: the centroid on the normal, as for a symmetric piece on the stem) is a genuine one —
+    no single crack keeps the symmetry — and goes to +α_nextcrack (counter-clockwise: to port for a crack
+    pointing ahead), by this rule and not by the rounding of the two distances."""
     normal = np.asarray(inp.zone.centre_normal, dtype=float)
     if inp.crack_count == 0 or next_crack_angle_rad == 0.0:
         return normal
     centroid = np.array(shapely.get_coordinates(shapely.centroid(inp.polygon))[0])
     to_centroid = centroid - inp.zone.centre_xy_m
-    best, best_offset = normal, np.inf
+    rotated = {}
     for sign in (1.0, -1.0):
-        angle = sign * next_crack_angle_rad
-        rotated = np.array(
-            [
-                np.cos(angle) * normal[0] - np.sin(angle) * normal[1],
-                np.sin(angle) * normal[0] + np.cos(angle) * normal[1],
-            ]
-        )
-        offset = abs(
-            rotated[0] * to_centroid[1] - rotated[1] * to_centroid[0]
-        )  # distance of centroid to line
-        if offset < best_offset:
-            best, best_offset = rotated, offset
-    return best
+        c, s = np.cos(sign * next_crack_angle_rad), np.sin(sign * next_crack_angle_rad)
+        direction = np.array([c * normal[0] - s * normal[1], s * normal[0] + c * normal[1]])
+        rotated[sign] = (abs(direction[0] * to_centroid[1] - direction[1] * to_centroid[0]), direction)
+    (ccw_offset, ccw), (cw_offset, cw) = rotated[1.0], rotated[-1.0]
+    return cw if cw_offset < ccw_offset - TIE_DISTANCE_M else ccw
+
+
+TIE_DISTANCE_M = 1e-9  # two crack lines this close [m] to the centroid are equally close (rounding)
 
 
 def split_by_line(

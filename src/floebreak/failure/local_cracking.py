@@ -112,12 +112,20 @@ def local_crack_line(
     return LocalCrackLine(crack_part, bezier, bend, cutter)
 
 
-def frontmost_contact_point(floe, waterline) -> np.ndarray | None:
-    """x_int of Eq. 21: the frontmost intersection point of the upper waterline with the floe outline."""
+def frontmost_contact_point(floe, waterline, zone=None) -> np.ndarray | None:
+    """x_int of Eq. 21: the frontmost intersection point of the upper waterline with the floe outline; given
+    the `zone` (`ContactZone.overlap_upper`) of a floe in contact at several places, only the points on that
+    zone count: a floe touching both shoulders must not start one shoulder's crack from a point on the other
+    side of the hull (that made a symmetric floe crack at one shoulder only, the first in zone order)."""
     points = shapely.get_coordinates(shapely.intersection(waterline, shapely.boundary(floe)))
+    if zone is not None and len(points):
+        points = points[shapely.dwithin(shapely.points(points), zone, ON_ZONE_M)]
     if len(points) == 0:
         return None
     return points[int(np.argmax(points[:, 0]))]
+
+
+ON_ZONE_M = 1e-6  # an intersection point lies on its zone's boundary up to rounding
 
 
 @dataclass(frozen=True)
@@ -130,7 +138,10 @@ class LocalCracking:
         if (held := bending_gate(self.name, check)) is not None:
             return held
         zone = inp.zone
-        x_int = frontmost_contact_point(inp.polygon, ctx.bow_geometry.waterline)
+        several = len(inp.contact.zones) > 1
+        x_int = frontmost_contact_point(
+            inp.polygon, ctx.bow_geometry.waterline, zone.overlap_upper if several else None
+        )
         if x_int is None:
             x_int = zone.centre_xy_m
         line = local_crack_line(

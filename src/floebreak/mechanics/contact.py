@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import shapely
@@ -101,6 +101,10 @@ def _code(key: str, value: str, choices: tuple[str, ...]) -> int:
     return choices.index(value)
 
 
+# crushing forces of two zones this close (relative) are equal: a mirror pair differs by ≈ 1e-14
+DOMINANT_TIE_RELATIVE = 1e-9
+
+
 @dataclass(frozen=True, eq=False)
 class ContactZone:
     """One contact zone of a floe with the bow (bow frame), with per-panel results.
@@ -113,7 +117,9 @@ class ContactZone:
     overlap: shapely.Geometry | _LazyOverlap  # Z = F ∩ H_u for this zone (see `overlap_upper`)
     centre_xy_m: np.ndarray  # "midBow": middle of the upper waterline inside the floe (thesis Alg. 5)
     centre_panel: int
-    centre_normal: np.ndarray  # outward unit normal of the centre panel (thesis Eq. 20)
+    # outward unit normal of the centre panel (thesis Eq. 20); on a node between two panels (the stem of a
+    # floe centred on it) the bisector of both (`contact_kernel.centre_normal`)
+    centre_normal: np.ndarray
     a_u_m2: float
     a_l_m2: float
     panels: np.ndarray
@@ -163,10 +169,17 @@ class Contact:
 
     @property
     def dominant(self) -> ContactZone:
-        """The zone with the largest crushing force; failure is evaluated there."""
+        """The zone with the largest crushing force; failure is evaluated there. Forces within
+        `DOMINANT_TIE_RELATIVE` of the largest tie (a symmetric floe touching both shoulders: equal up to
+        rounding), and the tie goes to the port zone (largest centre y): a documented rule, not the
+        rounding of the forces nor the order in which GEOS returned the zones (which follows the ring's
+        vertex order). The other zone is judged next, at the same bow position, on the piece the first
+        break left (docs/model.md, "Breaking sequence")."""
         if len(self.zones) == 1:
             return self.zones[0]
-        return max(self.zones, key=lambda z: z.crushing_force_n)
+        top = max(z.crushing_force_n for z in self.zones)
+        tied = [z for z in self.zones if z.crushing_force_n >= top * (1.0 - DOMINANT_TIE_RELATIVE)]
+        return max(tied, key=lambda z: float(z.centre_xy_m[1]))
 
     @property
     def force_on_ice_xyz_n(self) -> np.ndarray:
@@ -255,6 +268,14 @@ def _add_contacts(contacts, table: _ZoneTable, floes, thickness, geometry, param
     parts, hull, lazy = table.zones, geometry.hull_upper, table.overlap_is_floe_and_hull
     start, a_u, a_l = start.tolist(), table.a_u_m2.tolist(), a_l.tolist()
     centres, centre_panels = table.centre_xy_m, table.centre_panel.tolist()
+    normals = contact_kernel.centre_normals(
+        np.asarray(centres, dtype=float),
+        np.asarray(table.centre_panel, dtype=np.int64),
+        geometry.waterline_xy_m,
+        geometry.panel_normals,
+    )
+    if single_psi:  # the zone's one row acts along the centre's normal (on the stem: the centreline)
+        zone_force_xy = row_f_h[:, None] * normals
     floe_areas, extents = table.floe_area_m2.tolist(), table.floe_extent_m.tolist()
     zones_of_floe: dict[int, list[ContactZone]] = {}
     for k, floe_index in enumerate(table.owner.tolist()):
@@ -267,7 +288,7 @@ def _add_contacts(contacts, table: _ZoneTable, floes, thickness, geometry, param
                 overlap=_LazyOverlap(parts[k], hull) if lazy else parts[k],
                 centre_xy_m=centres[k],
                 centre_panel=centre_panels[k],
-                centre_normal=geometry.panel_normals[centre_panels[k]],
+                centre_normal=normals[k],
                 a_u_m2=a_u[k],
                 a_l_m2=a_l[k],
                 panels=row_panel[rows],
@@ -293,6 +314,7 @@ class BowContactGeometry:
 
     hull_upper: shapely.Polygon
     waterline: shapely.LineString  # the upper ice waterline polyline (without the aft closure)
+    waterline_xy_m: np.ndarray  # its nodes (n_panels + 1, 2)
     node_distance_m: np.ndarray  # cumulative length along the waterline at each node
     footprints: np.ndarray
     footprint_tree: shapely.STRtree
@@ -316,6 +338,7 @@ class BowContactGeometry:
         return cls(
             hull_upper=hull_upper,
             waterline=shapely.LineString(upper),
+            waterline_xy_m=np.array(upper),  # a writable copy: one compiled signature
             node_distance_m=node_distance,
             footprints=footprints,
             footprint_tree=shapely.STRtree(footprints),
@@ -572,17 +595,18 @@ def _zone_centres(
     The waterline is intersected with the *floe* (whose outline crosses it transversally), not with the zone
     Z = F ∩ H_u, whose edge is the waterline itself: that overlay of collinear segments is numerically fragile
     and made mirrored floes differ port/starboard. Of the parts of waterline ∩ F, those on the zone's boundary
-    count; the middle of the longest is the centre. A zone that does not reach the waterline (a piece already
+    count; the middle of the longest is the centre (of tied longest parts, the middle of their span:
+    `_middles_of_longest`). A zone that does not reach the waterline (a piece already
     inside the hull) takes the nearest waterline point.
     """
     zones_of_floe: dict[int, list[int]] = {}
     for k, floe_index in enumerate(zone_owner.tolist()):
         zones_of_floe.setdefault(floe_index, []).append(k)
     owners = list(zones_of_floe)
-    inside = shapely.intersection(geometry.waterline, floes[owners])
+    # parts meeting at a vertex of F on the waterline are one line (`contact_kernel._merge_touching`)
+    inside = shapely.line_merge(shapely.intersection(geometry.waterline, floes[owners]))
     lines, line_floe = shapely.get_parts(inside, return_index=True)
-    longest = np.full(len(zones), None, dtype=object)
-    best = np.full(len(zones), -1.0)
+    found: list[list[tuple[float, Any]]] = [[] for _ in range(len(zones))]
     if lines.size:
         lengths = shapely.length(lines)
         usable = (shapely.get_type_id(lines) == 1) & (lengths > 0.0)
@@ -593,16 +617,38 @@ def _zone_centres(
             if len(candidates) > 1:  # a floe with several zones: the line belongs to the zones it bounds
                 candidates = [k for k in candidates if shapely.dwithin(line, zones[k], _ON_BOUNDARY_M)]
             for k in candidates:
-                if length > best[k]:  # first longest, as max() over the parts
-                    best[k], longest[k] = length, line
-    centres = np.empty(len(zones), dtype=object)
-    has_line = longest != None  # noqa: E711 (element-wise on an object array)
-    if has_line.any():
-        centres[has_line] = shapely.line_interpolate_point(longest[has_line], 0.5, normalized=True)
+                found[k].append((length, line))
+    centres = _middles_of_longest(found, geometry)
+    has_line = centres != None  # noqa: E711 (element-wise on an object array)
     if (~has_line).any():
         nearest = shapely.shortest_line(zones[~has_line], geometry.waterline)
         centres[~has_line] = shapely.get_point(nearest, 1)
     return shapely.get_coordinates(centres), _panel_at(centres, geometry)
+
+
+def _middles_of_longest(found: list[list[tuple[float, Any]]], geometry: BowContactGeometry) -> np.ndarray:
+    """Per zone, from its waterline parts [(length, line)]: the middle of the longest part, or, where parts
+    tie as the longest (within `contact_kernel.ON_NODE_M`: a symmetric floe straddling the stem), the
+    waterline point halfway between the first tied part's start and the last one's end — mirror-equivariant,
+    where taking the first (port) part was not (as `contact_kernel._longest_span`); None for a zone
+    without parts."""
+    tolerance = contact_kernel.ON_NODE_M
+    longest = np.full(len(found), None, dtype=object)
+    centres = np.full(len(found), None, dtype=object)
+    for k, parts in enumerate(found):
+        if parts:
+            top = max(length for length, _ in parts)
+            tied = [line for length, line in parts if length >= top - tolerance]
+            if len(tied) == 1:
+                longest[k] = tied[0]
+            else:
+                ends = shapely.points(shapely.get_coordinates(tied))
+                at = shapely.line_locate_point(geometry.waterline, ends)
+                centres[k] = shapely.line_interpolate_point(geometry.waterline, 0.5 * (at.min() + at.max()))
+    single = longest != None  # noqa: E711
+    if single.any():
+        centres[single] = shapely.line_interpolate_point(longest[single], 0.5, normalized=True)
+    return centres
 
 
 def _nearest_waterline_points(zones, geometry: BowContactGeometry) -> tuple[np.ndarray, np.ndarray]:

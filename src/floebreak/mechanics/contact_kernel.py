@@ -12,8 +12,9 @@ faster:
 - Zones: F ∩ H_u is one zone if F is convex (two convex sets meet in a connected set), or if ∂F and ∂H_u
   cross at most twice (one arc of ∂F inside H_u closes with one arc of ∂H_u inside F).
 - Each upper-waterline segment is cut where it meets ∂F, and the pieces inside F (even–odd test) form the
-  parts of waterline ∩ F, split at ∂F as GEOS splits them: the middle of the longest part is the zone centre
-  ("midBow", thesis Alg. 5), and the length inside F per panel is the overlap of the near-vertical guard.
+  parts of waterline ∩ F, split at ∂F as GEOS splits them (parts that only touch there joined): the middle
+  of the longest part (of the span of tied ones) is the zone centre ("midBow", thesis Alg. 5), and the
+  length inside F per panel is the overlap of the near-vertical guard.
 - A convex zone that does not reach the waterline (a piece already inside the hull) takes the waterline
   point nearest to it.
 
@@ -36,6 +37,9 @@ from floebreak.mechanics.classify import box_extents
 NO_CONTACT, CONTACT, FALLBACK = 0, 1, 2
 
 _CONVEX_TOLERANCE = 1e-9  # relative turn (cross product over edge lengths) still counted as straight
+# a zone centre this close [m] to a waterline node lies on the node: a mirror-symmetric floe on the centreline
+# has its centre on the stem up to the rounding of the arc lengths (≈ 1e-14 m)
+ON_NODE_M = 1e-9
 
 
 @numba.njit(cache=True, nogil=True)
@@ -273,10 +277,11 @@ def _ring_layout(floe_index, n_floes):
 
 @numba.njit(cache=True, nogil=True)
 def _waterline_parts(px, py, n, waterline_xy, node_distance, hits, seg_overlap, part_from, part_to):
-    """The upper waterline inside polygon (px, py)[:n], split where it meets the polygon's boundary (as GEOS
-    splits waterline ∩ F): the parts as arc-length intervals in waterline order (`part_from`, `part_to`), and
-    per waterline segment the length inside (`seg_overlap`). Returns the number of parts, or −1 if the
-    waterline runs along the boundary somewhere."""
+    """The upper waterline inside polygon (px, py)[:n], split where it crosses the polygon's boundary (as GEOS
+    splits waterline ∩ F, with the parts that only touch there joined, `_merge_touching`): the parts as
+    arc-length intervals in waterline order (`part_from`, `part_to`), and per waterline segment the length
+    inside (`seg_overlap`). Returns the number of parts, or −1 if the waterline runs along the boundary
+    somewhere."""
     n_panels = waterline_xy.shape[0] - 1
     n_parts = 0
     start, end, open_part = 0.0, 0.0, False
@@ -323,7 +328,25 @@ def _waterline_parts(px, py, n, waterline_xy, node_distance, hits, seg_overlap, 
     if open_part:
         part_from[n_parts], part_to[n_parts] = start, end
         n_parts += 1
-    return n_parts
+    return _merge_touching(part_from, part_to, n_parts)
+
+
+@numba.njit(cache=True, nogil=True)
+def _merge_touching(part_from, part_to, n_parts):
+    """Join the parts (in waterline order) that meet at a point of ∂F, within `ON_NODE_M`: a vertex of F on
+    the waterline with ice on both sides (the stem reaching a floe's far corner) splits waterline ∩ F but
+    not the line of contact. Kept apart, the two halves tie and the first (port) one became the centre, so
+    a symmetric floe was loaded off the centreline. Returns the number of parts."""
+    if n_parts == 0:
+        return 0
+    m = 0
+    for q in range(1, n_parts):
+        if part_from[q] - part_to[m] <= ON_NODE_M:
+            part_to[m] = part_to[q]
+        else:
+            m += 1
+            part_from[m], part_to[m] = part_from[q], part_to[q]
+    return m + 1
 
 
 @numba.njit(cache=True, nogil=True)
@@ -338,6 +361,41 @@ def _waterline_point(distance, waterline_xy, node_distance):
     x = waterline_xy[panel, 0] + t * (waterline_xy[panel + 1, 0] - waterline_xy[panel, 0])
     y = waterline_xy[panel, 1] + t * (waterline_xy[panel + 1, 1] - waterline_xy[panel, 1])
     return x, y, panel
+
+
+@numba.njit(cache=True, nogil=True)
+def centre_normal(x, y, panel, waterline_xy, panel_normals):
+    """Outward normal of the waterline at its point (x, y) on `panel`: the panel's normal as given, or, at a
+    node i between two panels (within `ON_NODE_M`), the node normal of thesis Eq. 20, (y_(i−1) − y_(i+1),
+    x_(i+1) − x_(i−1)) normalised, pointing outwards. Which panel a node's arc length falls on is decided by
+    rounding; the node normal takes neither side's panel — at the stem of a symmetric bow it is the
+    centreline, so a floe centred on it is classified and cracked mirror-symmetrically."""
+    n_panels = panel_normals.shape[0]
+    node = -1
+    for i in (panel + 1, panel):
+        if node < 0 and 0 < i < n_panels:  # an interior node: both neighbours exist
+            dx, dy = waterline_xy[i, 0] - x, waterline_xy[i, 1] - y
+            if dx * dx + dy * dy <= ON_NODE_M * ON_NODE_M:
+                node = i
+    if node < 0:
+        return panel_normals[panel, 0], panel_normals[panel, 1]
+    ux = waterline_xy[node - 1, 1] - waterline_xy[node + 1, 1]
+    uy = waterline_xy[node + 1, 0] - waterline_xy[node - 1, 0]
+    norm = np.hypot(ux, uy)
+    if ux * panel_normals[panel, 0] + uy * panel_normals[panel, 1] < 0.0:
+        norm = -norm
+    return ux / norm, uy / norm
+
+
+@numba.njit(cache=True, nogil=True)
+def centre_normals(centre_xy, centre_panel, waterline_xy, panel_normals):
+    """`centre_normal` of every zone centre: an (n, 2) array."""
+    out = np.empty((centre_panel.shape[0], 2))
+    for z in range(centre_panel.shape[0]):
+        out[z, 0], out[z, 1] = centre_normal(
+            centre_xy[z, 0], centre_xy[z, 1], centre_panel[z], waterline_xy, panel_normals
+        )
+    return out
 
 
 @numba.njit(cache=True, nogil=True)
@@ -392,10 +450,9 @@ def contact_batch(
     normals. Zones and rows of at most `min_overlap` area are not contacts.
 
     Returns the status of every floe; per zone (one per floe with status CONTACT, in floe order): the floe,
-    A_u, centre xy, centre panel, floe area, floe extent along the centre panel's normal and along the
-    panel (the classification box of thesis Alg. 2); per row (zone, panel, A_h,i, length of the panel's
-    waterline segment inside the floe), rows ordered by zone then panel.
-    """
+    A_u, centre xy, centre panel, floe area, floe extent along the centre's normal (`centre_normal`) and along
+    the panel (the classification box of thesis Alg. 2); per row (zone, panel, A_h,i, length of the panel's
+    waterline segment inside the floe), rows ordered by zone then panel."""
     floe_start, floe_count, max_n = _ring_layout(floe_index, n_floes)
     n_panels = quad_x.shape[0]
     status = np.zeros(n_floes, dtype=np.int8)
@@ -428,8 +485,9 @@ def contact_batch(
         centre[i, 0], centre[i, 1], panel = _waterline_point(middle, waterline_xy, node_distance)
         centre_panel[i] = panel
         floe_area[i] = abs(signed_area)
-        norm = np.hypot(panel_normals[panel, 0], panel_normals[panel, 1])
-        normal_x, normal_y = panel_normals[panel, 0] / norm, panel_normals[panel, 1] / norm
+        normal_x, normal_y = centre_normal(centre[i, 0], centre[i, 1], panel, waterline_xy, panel_normals)
+        norm = np.hypot(normal_x, normal_y)
+        normal_x, normal_y = normal_x / norm, normal_y / norm
         extent[i, 0], extent[i, 1] = box_extents(px, py, n, normal_x, normal_y)
         first_row = n_rows
         n_rows = _panel_rows(
@@ -486,15 +544,12 @@ def _floe_zone(px, py, n, hx, hy, hull_box, waterline_xy, node_distance, min_ove
     area = abs(_signed_area(zx, zy, k)) if k >= 3 else 0.0
     if not area > min_overlap:
         return NO_CONTACT, k, area, 0.0, signed_area
-    # the waterline inside F, split where it meets F's boundary (as GEOS does): the longest part (first
-    # on a tie, in waterline order) and, per segment, the length inside F
+    # the waterline inside F, split where it meets F's boundary (as GEOS does): the longest part (the span
+    # of the tied ones, `_longest_span`) and, per segment, the length inside F
     n_parts = _waterline_parts(px, py, n, waterline_xy, node_distance, hits, seg_overlap, part_from, part_to)
     if n_parts < 0:
         return FALLBACK, k, area, 0.0, signed_area
-    best_length, best_from, best_to = -1.0, 0.0, 0.0
-    for q in range(n_parts):
-        if part_to[q] - part_from[q] > best_length:
-            best_length, best_from, best_to = part_to[q] - part_from[q], part_from[q], part_to[q]
+    best_length, best_from, best_to = _longest_span(part_from, part_to, np.ones(n_parts, dtype=np.bool_))
     if best_length > 0.0:
         return CONTACT, k, area, 0.5 * (best_from + best_to), signed_area
     if convex:  # a zone clear of the waterline (a piece already inside the hull): the nearest point
@@ -515,29 +570,41 @@ def _zone_of_rows(status, owner, row_floe, n_rows):
 
 
 @numba.njit(cache=True, nogil=True)
+def _longest_span(part_from, part_to, usable):
+    """(length, from, to) of the longest of the `usable` parts (arc-length intervals in waterline order);
+    where several tie as the longest within `ON_NODE_M` (a symmetric floe straddling the stem: one part
+    each side), the span from the first tied part's start to the last one's end, whose middle is then the
+    zone centre — mirror-equivariant, where the first (port) part was not. Length −1 when none is usable."""
+    best = -1.0
+    for q in range(usable.shape[0]):
+        if usable[q] and part_to[q] - part_from[q] > best:
+            best = part_to[q] - part_from[q]
+    span_from, span_to, first = 0.0, 0.0, True
+    for q in range(usable.shape[0]):
+        if usable[q] and part_to[q] - part_from[q] >= best - ON_NODE_M:
+            if first:
+                span_from, first = part_from[q], False
+            span_to = part_to[q]
+    return best, span_from, span_to
+
+
+@numba.njit(cache=True, nogil=True)
 def _longest_part_of_zone(
     zx, zy, k, several, part_from, part_to, n_parts, waterline_xy, node_distance, limit
 ):
-    """(length, from, to) of the longest of the floe's `n_parts` waterline parts (first on a tie); with
-    `several` zones in the floe, only parts whose middle lies within √limit of the zone ring (zx, zy)[:k]
-    count. Length −1 when none does."""
-    best_length, best_from, best_to = -1.0, 0.0, 0.0
-    for q in range(n_parts):
-        length = part_to[q] - part_from[q]
-        if not length > best_length:
-            continue
-        if several:  # several zones: the part must lie on this zone's boundary
-            middle = 0.5 * (part_from[q] + part_to[q])
-            mx, my, _ = _waterline_point(middle, waterline_xy, node_distance)
-            nearest = np.inf
-            for v in range(k):
-                w = v + 1 if v + 1 < k else 0
-                d2, _ = _project(mx, my, zx[v], zy[v], zx[w], zy[w])
-                nearest = min(nearest, d2)
-            if nearest > limit:
-                continue
-        best_length, best_from, best_to = length, part_from[q], part_to[q]
-    return best_length, best_from, best_to
+    """`_longest_span` of the floe's `n_parts` waterline parts; with `several` zones in the floe, only parts
+    whose middle lies within √limit of the zone ring (zx, zy)[:k] count. Length −1 when none does."""
+    usable = np.ones(n_parts, dtype=np.bool_)
+    for q in range(n_parts if several else 0):  # several zones: the part must lie on this zone's boundary
+        middle = 0.5 * (part_from[q] + part_to[q])
+        mx, my, _ = _waterline_point(middle, waterline_xy, node_distance)
+        nearest = np.inf
+        for v in range(k):
+            w = v + 1 if v + 1 < k else 0
+            d2, _ = _project(mx, my, zx[v], zy[v], zx[w], zy[w])
+            nearest = min(nearest, d2)
+        usable[q] = nearest <= limit
+    return _longest_span(part_from[:n_parts], part_to[:n_parts], usable)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -550,12 +617,12 @@ def zone_rows(
     zone_coords, zone_index: the zones' closed exterior rings and the zone of each vertex (polygons without
     holes); zone_floe: each zone's floe; floe_coords, floe_index: the floes' closed exterior rings. Rows:
     (zone, panel, A_h,i = area(Z ∩ Q_i) > min_overlap, length of the panel's waterline segment inside the
-    floe), ordered by zone then panel. Centre ("midBow", thesis Alg. 5): the middle of the longest part of
-    waterline ∩ F on the zone's boundary (its middle within `on_boundary` of the boundary; every part if the
-    floe has one zone); `centre_found` False where no part bounds the zone (the caller finds the nearest
-    waterline point). Returns (ok, rows…, centre, centre_panel, centre_found); ok False: a degenerate case
-    (the waterline along a floe edge, scratch space exhausted) — GEOS evaluates everything.
-    """
+    floe), ordered by zone then panel. Centre ("midBow", thesis Alg. 5): the middle of the longest part (the
+    span of tied ones, `_longest_span`) of waterline ∩ F on the zone's boundary (its middle within
+    `on_boundary` of the boundary; every part if the floe has one zone); `centre_found` False where no part
+    bounds the zone (the caller finds the nearest waterline point). Returns (ok, rows…, centre, centre_panel,
+    centre_found); ok False: a degenerate case (the waterline along a floe edge, scratch space exhausted) —
+    GEOS evaluates everything."""
     n_panels = quad_x.shape[0]
     floe_start, floe_count, max_floe_n = _ring_layout(floe_index, n_floes)
     zone_start, zone_count, max_zone_n = _ring_layout(zone_index, n_zones)
