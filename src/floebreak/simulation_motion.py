@@ -56,6 +56,11 @@ class IceMotion:
         self._next = 0
         self.origin: dict[int, tuple[float, float]] = {}  # centroid when added: unmoved pieces keep polygons
         self.forces: dict[int, list[tuple[float, float, float, float]]] = {}
+        # moved pieces whose stored outline is older than their pose (`_write_back`); the sweep flushes a
+        # floe as it takes it in
+        self._stale: set[int] = set()
+        self.held: set[int] = set()  # the pieces the hull held over the last interval
+        run.pieces.on_enter = self._flush_one
 
     # --- between searches ---------------------------------------------------------------------------
     def advance_to(self, bow_x: float) -> None:
@@ -83,11 +88,15 @@ class IceMotion:
         (`IceMotionEngine.hold_against_hull`): at most |F|, and never pushing the piece's point faster than
         the hull closes in along F̂. Held as a plain force, a light piece would leave at up to
         V + |F|Δt/m, faster the larger the engine step (docs/model.md, "Coupling", 2)."""
+        self.held = set(self.forces)
         for pid, loads in self.forces.items():
             for fx, fy, px, py in loads:
                 self.engine.hold_against_hull(pid, (fx, fy), (px, py))
 
     def _write_back(self) -> None:
+        """Retired pieces get their final outlines; of the pieces the engine moved, those the contact sweep
+        holds (`pieces.active`) their current ones now, the others when the sweep takes them in or the run
+        ends (`flush`): nothing reads them before, and most moved pieces are beside or ahead of the sweep."""
         outlines = self.engine.drain_retired_outlines()
         retired = self.engine.drain_retired()
         moved = [s.piece_id for s in retired if self._has_moved(s.piece_id, (s.x_m, s.y_m, s.angle_rad))]
@@ -95,8 +104,17 @@ class IceMotion:
         for state in retired:
             self._forget(state.piece_id)
         ids, _ = self.engine.changed_poses()
-        changed = sorted(ids)
+        active = self.pieces.active
+        changed = sorted(pid for pid in ids if pid in active)
+        self._stale.update(pid for pid in ids if pid not in active)
         self._store(changed, self.engine.polygons(changed))
+
+    def flush(self, pids=None) -> None:
+        """Store the current outlines of the moved pieces among `pids` (all if None) not stored yet."""
+        stale = sorted(self._stale if pids is None else self._stale.intersection(pids))
+        if stale:
+            self._stale.difference_update(stale)
+            self._store(stale, self.engine.polygons(stale))
 
     def _has_moved(self, pid: int, pose: tuple[float, float, float]) -> bool:
         return (pose[0], pose[1]) != self.origin[pid] or pose[2] != 0.0
@@ -154,9 +172,15 @@ class IceMotion:
     def leave(self, pid: int) -> None:
         """A piece leaves the engine (broken, cusp, flipped); its stored polygon is its current outline."""
         if pid in self.origin:
+            self._flush_one(pid)
             self._forget(pid)
             self.engine.remove_piece(pid)
 
+    def _flush_one(self, pid: int) -> None:
+        if pid in self._stale:
+            self.flush((pid,))
+
     def _forget(self, pid: int) -> None:
+        self._stale.discard(pid)
         del self.origin[pid]
         self.forces.pop(pid, None)
