@@ -9,13 +9,16 @@ the field, the rest being pushed aside (dynamic) or left where they lie untouche
 With `--time-steps`, the engine-step convergence instead: dynamic motion on the 385 m field for
 `ice_motion.time_step_s` 0.02 / 0.01 / 0.005 (and 0.0025 with `--fine`) and seeds 1–3 (1–N with
 `--seeds N`), with the seeds' means and their change from one step to the next (measured, nothing tuned).
-Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [--long | --time-steps [--fine]
-[--seeds N]]`.
+The motions alternate, each run `--repeat` times (3): the medians and their ratios, with the load average;
+`--two` leaves out the coarse motion (one engine step per search).
+Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [[--long] [--repeat N] [--two] |
+--time-steps [--fine] [--seeds N]]`.
 """
 
 from __future__ import annotations
 
 import gc
+import os
 import sys
 import time
 
@@ -71,21 +74,36 @@ def _measure(size: list[str], motion: list[str]) -> dict[str, float]:
     }
 
 
-def compare(length_m: float, width_m: float) -> None:
+def compare(length_m: float, width_m: float, repeats: int) -> None:
+    """Each motion `repeats` times, the motions alternating (static, dynamic, …, static, dynamic, …) so
+    that a change in the machine's load reaches all of them; the median CPU time of each and the ratios
+    of the medians. The counts are those of the last round (the runs are deterministic)."""
     size = [f"field.length_m={length_m}", f"field.width_m={width_m}"]
-    rows = {name: _measure(size, motion) for name, motion in MOTIONS.items()}
+    motions = list(MOTIONS)[:2] if "--two" in sys.argv else list(MOTIONS)
+    times: dict[str, list[float]] = {name: [] for name in motions}
+    rows: dict[str, dict[str, float]] = {}
+    for _ in range(repeats):
+        for name, motion in ((name, MOTIONS[name]) for name in motions):
+            rows[name] = _measure(size, motion)
+            times[name].append(rows[name]["cpu_s"])
     for motion, row in rows.items():
         print(
             f"{length_m:.0f} m × {width_m:.0f} m, {motion:>22}: {row['floes']} floes, "
-            f"CPU {row['cpu_s']:.1f} s, "
+            f"CPU {float(np.median(times[motion])):.2f} s (runs: "
+            f"{', '.join(f'{t:.2f}' for t in times[motion])}), "
             f"{row['cusps_per_km']:.0f} cusps/km, cusp area {row['cusp_area_m2']:.0f} m², "
             f"{row['touched']} floes "
             f"touched: {100 * row['broke_share']:.0f} % broke or left, "
             f"{100 * (1 - row['broke_share']):.0f} % "
             "did not"
         )
-    for name in list(MOTIONS)[1:]:
-        print(f"  cost ratio {name} / static: {rows[name]['cpu_s'] / rows['static']['cpu_s']:.2f}")
+    static = float(np.median(times["static"]))
+    for name in motions[1:]:
+        print(f"  cost ratio {name} / static (medians): {float(np.median(times[name])) / static:.2f}")
+
+
+def _load_average() -> str:
+    return " ".join(f"{v:.1f}" for v in os.getloadavg())
 
 
 def time_step_table(time_steps_s: tuple[float, ...], seeds: tuple[int, ...]) -> None:
@@ -132,6 +150,11 @@ if __name__ == "__main__":
         )
         time_step_table((*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S, seeds)
         sys.exit(0)
-    compare(385.0, 100.0)
+    repeats = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
+    # the first run in a process pays one-time costs (imports, caches): not measured
+    _measure(["field.length_m=60.0", "field.width_m=100.0"], MOTIONS["dynamic"])
+    print(f"load average {_load_average()} (1, 5, 15 min)")
+    compare(385.0, 100.0, repeats)
     if "--long" in sys.argv:
-        compare(1000.0, 200.0)
+        compare(1000.0, 200.0, repeats)
+    print(f"load average {_load_average()} (1, 5, 15 min)")
