@@ -8,7 +8,8 @@ and of the initial floes the hull touched (evaluated in contact at least once) t
 the field, the rest being pushed aside (dynamic) or left where they lie untouched by failure (static).
 With `--time-steps`, the engine-step convergence instead: dynamic motion on the 385 m field for
 `ice_motion.time_step_s` 0.02 / 0.01 / 0.005 (and 0.0025 with `--fine`) and seeds 1–3 (1–N with
-`--seeds N`), with the seeds' means and their change from one step to the next (measured, nothing tuned).
+`--seeds N`; `--steps 0.04,0.02` other steps), with the seeds' means and their change from one step to the
+next (measured, nothing tuned).
 The motions alternate, each run `--repeat` times (3): the medians and their ratios, with the load average;
 `--two` leaves out the coarse motion (one engine step per search).
 Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [[--long] [--repeat N] [--two] |
@@ -148,7 +149,10 @@ if __name__ == "__main__":
             if "--seeds" in sys.argv
             else SEEDS
         )
-        time_step_table((*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S, seeds)
+        steps = (*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S
+        if "--steps" in sys.argv:  # e.g. --steps 0.04,0.02: coarser steps than the default
+            steps = tuple(float(v) for v in sys.argv[sys.argv.index("--steps") + 1].split(","))
+        time_step_table(steps, seeds)
         sys.exit(0)
     repeats = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
     # the first run in a process pays one-time costs (imports, caches): not measured
