@@ -195,10 +195,6 @@ class IceMotionEngine:
         self._force_buffer = pymunk.batch.Buffer()
         # the body ids in the order of the last batch read, where the pieces' rows sit among them, which rows
         self._read_order: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.zeros(0, np.uintp),) * 3
-        # per read order: where the hull sits among the bodies read, and the forces' buffer (hull rows 0)
-        self._hull_at, self._force_values = -1, np.zeros((0, 3))
-        self._hull_xy_m = (0.0, 0.0)  # the hull's offset at the last read
-        self._held: np.ndarray | None = None  # rows the hull holds; None once a hold was made or ended
         self.space.on_collision(
             HULL_COLLISION_TYPE,
             ICE_COLLISION_TYPE,
@@ -219,10 +215,8 @@ class IceMotionEngine:
 
     def window(self) -> tuple[float, float, float, float]:
         """The awake window (x_min, y_min, x_max, y_max) around the hull now."""
-        return self._window_at(*self.hull_offset_m)
-
-    def _window_at(self, dx: float, dy: float) -> tuple[float, float, float, float]:
         x0, y0, x1, y1 = self._hull_bounds0
+        dx, dy = self.hull_offset_m
         s = self.settings
         return (
             x0 + dx - s.window_behind_m,
@@ -306,7 +300,6 @@ class IceMotionEngine:
         self.space.add(joint)
         self._holds.setdefault(piece_id, []).append(joint)
         self._hold_impulses.setdefault(piece_id, []).append(0.0)
-        self._held = None
 
     def hold_impulses(self) -> dict[int, list[tuple[float, float]]]:
         """Each hull contact of `hold_against_hull` in place now, by piece, in the order made: (|F| it was
@@ -327,7 +320,6 @@ class IceMotionEngine:
         self._hold_impulses.pop(piece_id, None)
         if joints:
             self.space.remove(*joints)
-            self._held = None
 
     def piece_ids(self) -> list[int]:
         return list(self._pieces)
@@ -431,7 +423,7 @@ class IceMotionEngine:
     def _current(self) -> tuple[_Rows, np.ndarray]:
         """The rows and every body's state now, read in one batch call if stale."""
         if self._rows is None:
-            self._rows, self._state, self._held = _Rows.of(self._pieces), None, None
+            self._rows, self._state = _Rows.of(self._pieces), None
             self._read_order = (np.zeros(0, np.uintp),) * 3
         if self._state is None:
             rows = self._rows
@@ -443,12 +435,9 @@ class IceMotionEngine:
                 k = np.minimum(np.searchsorted(rows.body_ids, body_ids), max(len(rows.ids) - 1, 0))
                 ours = rows.body_ids[k] == body_ids if len(rows.ids) else np.zeros(len(body_ids), bool)
                 self._read_order = (body_ids.copy(), np.flatnonzero(ours), rows.row_of_body[k[ours]])
-                self._hull_at = int(np.flatnonzero(body_ids == self.hull.id)[0])
-                self._force_values = np.zeros((len(body_ids), 3))
             _, read_at, row = self._read_order
             state = np.empty((len(rows.ids), 6))
             state[row] = values[read_at]  # the hull is not a row
-            self._hull_xy_m = (float(values[self._hull_at, 0]), float(values[self._hull_at, 1]))
             self._state = state
         return self._rows, self._state
 
@@ -457,14 +446,13 @@ class IceMotionEngine:
         (not for pieces the hull holds). Pieces at rest (static ones among them) take no water force."""
         if not rows.ids:
             return
-        if self._held is None:
-            self._held = np.zeros(len(rows.ids), dtype=bool)
-            self._held[[rows.row_of_id[pid] for pid in self._holds]] = True
+        held = np.zeros(len(rows.ids), dtype=bool)
+        held[[rows.row_of_id[pid] for pid in self._holds]] = True
         loads, status = water_loads(
             rows.drag,
             state,
             rows.radius_m,
-            self._held,
+            held,
             rows.last_speed_m_s,
             self.settings.rest_speed_m_s,
             dt,
@@ -480,8 +468,8 @@ class IceMotionEngine:
         """Every body's force and torque from `loads` (rows, 3) in one batch call, in the order the bodies
         were last read (no body entered or left since); the hull's are zero. Chipmunk zeroes a body's force
         after each step, so a zero here is no force."""
-        _, read_at, row = self._read_order
-        values = self._force_values
+        body_ids, read_at, row = self._read_order
+        values = np.zeros((len(body_ids), 3))
         values[read_at] = loads[row]
         self._force_buffer.set_float_buf(values.ravel())
         pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, self._force_buffer)
@@ -490,8 +478,7 @@ class IceMotionEngine:
         """Wake, freeze or retire the pieces whose box (centroid ± largest radius, all rows at once) crossed
         the window's edges; the others are not touched."""
         rows, state = self._current()
-        window = self._window_at(*self._hull_xy_m)  # the hull's offset as read with the pieces
-        changes = _window_changes(state, rows.radius_m, rows.awake, rows.pinned, *window)
+        changes = _window_changes(state, rows.radius_m, rows.awake, rows.pinned, *self.window())
         for i, change in changes.tolist():
             pid, piece = rows.ids[i], rows.pieces[i]
             if change == _RETIRE:
