@@ -682,12 +682,13 @@ class _Run:
         self.emit(StepDone(step, bow_x, len(candidates), counters["cusps"], counters["flipped"], self.motion))
 
     def _apart_after_moving(self, pids: list[int], bow_x: float) -> list[int]:
-        """Moving ice: of `pids`, the pieces whose skip moving reset (`quiet_until` −∞) and that the hull did
-        not hold over the last interval get it again now, as an out-of-contact evaluation would set it
-        (`_quiet` on the same bow-frame polygon; a hull that stays apart makes no contact zone); those it
-        puts beyond `bow_x` are not evaluated. Most moved pieces near the hull drift beside it."""
-        quiet, held = self.pieces.quiet_until, self.motion.held
-        moved = [pid for pid in pids if quiet[pid] == -np.inf and pid not in held]
+        """Moving ice: of `pids`, the pieces whose skip moving reset (`quiet_until` −∞) and that were not in
+        contact at the last search get it again now, as an out-of-contact evaluation would set it (`_quiet`
+        on the same bow-frame polygon; a hull that stays apart makes no contact zone); those it puts beyond
+        `bow_x` are not evaluated. Most moved pieces near the hull drift beside it."""
+        quiet, last_contact = self.pieces.quiet_until, self.motion.last_contact_x_m
+        recent = bow_x - 1.5 * self.params.step_m  # pieces in contact since are likely in contact still
+        moved = [pid for pid in pids if quiet[pid] == -np.inf and last_contact.get(pid, -np.inf) < recent]
         if not moved or self.geometry.hull_rings is None:
             return pids
         for pid, polygon_bf in zip(moved, self.bow_frame(moved, bow_x), strict=True):

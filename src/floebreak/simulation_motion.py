@@ -43,6 +43,11 @@ class IceMotion:
         hull = shapely.transform(run.bow.hull_upper, lambda xy: xy + np.array([params.x_start_m, 0.0]))
         self.engine = IceMotionEngine(hull, (self.speed_m_s, 0.0), self.settings)
         self.bow_x = params.x_start_m
+        # moved pieces whose stored outline is older than their pose (`_write_back`); the sweep flushes a
+        # floe as it takes it in
+        self._stale: set[int] = set()
+        run.pieces.on_enter = self._flush_one
+        self.last_contact_x_m: dict[int, float] = {}  # bow x of each piece's last contact
         # floes enter when the window's front reaches their minimum x (sorted, then by id); at least the
         # contact search's reach, so that every piece floebreak evaluates is in the engine
         s, d = self.settings, params.dist_bow_max_m
@@ -56,11 +61,6 @@ class IceMotion:
         self._next = 0
         self.origin: dict[int, tuple[float, float]] = {}  # centroid when added: unmoved pieces keep polygons
         self.forces: dict[int, list[tuple[float, float, float, float]]] = {}
-        # moved pieces whose stored outline is older than their pose (`_write_back`); the sweep flushes a
-        # floe as it takes it in
-        self._stale: set[int] = set()
-        self.held: set[int] = set()  # the pieces the hull held over the last interval
-        run.pieces.on_enter = self._flush_one
 
     # --- between searches ---------------------------------------------------------------------------
     def advance_to(self, bow_x: float) -> None:
@@ -88,7 +88,6 @@ class IceMotion:
         (`IceMotionEngine.hold_against_hull`): at most |F|, and never pushing the piece's point faster than
         the hull closes in along F̂. Held as a plain force, a light piece would leave at up to
         V + |F|Δt/m, faster the larger the engine step (docs/model.md, "Coupling", 2)."""
-        self.held = set(self.forces)
         for pid, loads in self.forces.items():
             for fx, fy, px, py in loads:
                 self.engine.hold_against_hull(pid, (fx, fy), (px, py))
@@ -156,6 +155,7 @@ class IceMotion:
             (*map(float, z.force_on_ice_xy_n), float(z.centre_xy_m[0]) + bow_x, float(z.centre_xy_m[1]))
             for z in contact.zones
         ]
+        self.last_contact_x_m[pid] = bow_x
 
     def broken(self, pid: int, floe_children: list[int]) -> None:
         """The parent leaves the engine; each child that stays a floe enters with the parent's rigid-body
@@ -182,5 +182,6 @@ class IceMotion:
 
     def _forget(self, pid: int) -> None:
         self._stale.discard(pid)
+        self.last_contact_x_m.pop(pid, None)
         del self.origin[pid]
         self.forces.pop(pid, None)
