@@ -375,6 +375,7 @@ class _Pieces:
         self._waiting = [(tuple(bounds[i].tolist()), int(i)) for i in order.tolist()]  # by minimum x
         self._next_waiting = 0
         self.active: dict[int, tuple[float, float, float, float]] = {}
+        self.on_enter = None  # called with a floe's id as the sweep takes it in (moving ice: its outline)
 
     def add(self, polygon, thickness, parent: int, crack_count: int, step: int, bow_x: float) -> int:
         pid = len(self.polygon)
@@ -412,6 +413,8 @@ class _Pieces:
         waiting = self._waiting
         while self._next_waiting < len(waiting) and waiting[self._next_waiting][0][0] <= x1:
             pid = waiting[self._next_waiting][1]
+            if self.on_enter is not None:
+                self.on_enter(pid)
             self.active[pid] = tuple(self.bounds[4 * pid : 4 * pid + 4])  # moving ice: its current box
             self._next_waiting += 1
         return sorted(
@@ -680,6 +683,8 @@ class _Run:
         # contact cannot touch the hull before the bow reaches its `quiet_until`: the others have no contact
         # (neither path counts an overlap of zero area), so they are neither translated nor evaluated
         touching = self.pieces.due(candidates, (bow_x + x0, y0, bow_x + x1, y1), bow_x)
+        if touching and self.motion is not None:
+            touching = self._apart_after_moving(touching, bow_x)
         if touching and self.params.event_location == "root":
             x_before = max(bow_x - self.params.step_m, self.params.x_start_m)
             locate_step(self, step, x_before, bow_x, touching, len(candidates) - len(touching))
@@ -688,6 +693,20 @@ class _Run:
         self.pieces.prune_behind(bow_x + x0 - d)
         counters = self.counters
         self.emit(StepDone(step, bow_x, len(candidates), counters["cusps"], counters["flipped"], self.motion))
+
+    def _apart_after_moving(self, pids: list[int], bow_x: float) -> list[int]:
+        """Moving ice: of `pids`, the pieces whose skip moving reset (`quiet_until` −∞) and that were not in
+        contact at the last search get it again now, as an out-of-contact evaluation would set it (`_quiet`
+        on the same bow-frame polygon; a hull that stays apart makes no contact zone); those it puts beyond
+        `bow_x` are not evaluated. Most moved pieces near the hull drift beside it."""
+        quiet, last_contact = self.pieces.quiet_until, self.motion.last_contact_x_m
+        recent = bow_x - 1.5 * self.params.step_m  # pieces in contact since are likely in contact still
+        moved = [pid for pid in pids if quiet[pid] == -np.inf and last_contact.get(pid, -np.inf) < recent]
+        if not moved or self.geometry.hull_rings is None:
+            return pids
+        for pid, polygon_bf in zip(moved, self.bow_frame(moved, bow_x), strict=True):
+            self._quiet(pid, polygon_bf, bow_x)
+        return [pid for pid in pids if quiet[pid] <= bow_x]
 
     def _evaluate_queue(self, step: int, bow_x: float, touching: list[int], evaluations: int) -> None:
         """Evaluate the pieces in contact, then the new pieces of their breaks, until nothing more fails.
@@ -815,6 +834,8 @@ class _Run:
         return stay
 
     def result(self) -> SimulationResult:
+        if self.motion is not None:
+            self.motion.flush()
         pieces = self.pieces
         return SimulationResult(
             field=self.field,

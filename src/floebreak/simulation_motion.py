@@ -52,6 +52,11 @@ class IceMotion:
         hull = shapely.transform(run.bow.hull_upper, lambda xy: xy + np.array([params.x_start_m, 0.0]))
         self.engine = IceMotionEngine(hull, (self.speed_m_s, 0.0), self.settings)
         self.bow_x = params.x_start_m
+        # moved pieces whose stored outline is older than their pose (`_write_back`); the sweep flushes a
+        # floe as it takes it in
+        self._stale: set[int] = set()
+        run.pieces.on_enter = self._flush_one
+        self.last_contact_x_m: dict[int, float] = {}  # bow x of each piece's last contact
         # floes enter when the window's front reaches their minimum x (sorted, then by id); at least the
         # contact search's reach, so that every piece floebreak evaluates is in the engine
         s, d = self.settings, params.dist_bow_max_m
@@ -189,6 +194,9 @@ class IceMotion:
             self.engine.set_hull_velocity((self.speed_m_s, 0.0))
 
     def _write_back(self) -> None:
+        """Retired pieces get their final outlines; of the pieces the engine moved, those the contact sweep
+        holds (`pieces.active`) their current ones now, the others when the sweep takes them in or the run
+        ends (`flush`): nothing reads them before, and most moved pieces are beside or ahead of the sweep."""
         outlines = self.engine.drain_retired_outlines()
         retired = self.engine.drain_retired()
         moved = [s.piece_id for s in retired if self._has_moved(s.piece_id, (s.x_m, s.y_m, s.angle_rad))]
@@ -196,8 +204,17 @@ class IceMotion:
         for state in retired:
             self._forget(state.piece_id)
         ids, _ = self.engine.changed_poses()
-        changed = sorted(ids)
+        active = self.pieces.active
+        changed = sorted(pid for pid in ids if pid in active)
+        self._stale.update(pid for pid in ids if pid not in active)
         self._store(changed, self.engine.polygons(changed))
+
+    def flush(self, pids=None) -> None:
+        """Store the current outlines of the moved pieces among `pids` (all if None) not stored yet."""
+        stale = sorted(self._stale if pids is None else self._stale.intersection(pids))
+        if stale:
+            self._stale.difference_update(stale)
+            self._store(stale, self.engine.polygons(stale))
 
     def _has_moved(self, pid: int, pose: tuple[float, float, float]) -> bool:
         return (pose[0], pose[1]) != self.origin[pid] or pose[2] != 0.0
@@ -239,6 +256,7 @@ class IceMotion:
             (*map(float, z.force_on_ice_xy_n), float(z.centre_xy_m[0]) + bow_x, float(z.centre_xy_m[1]))
             for z in contact.zones
         ]
+        self.last_contact_x_m[pid] = bow_x
 
     def broken(self, pid: int, floe_children: list[int]) -> None:
         """The parent leaves the engine; each child that stays a floe enters with the parent's rigid-body
@@ -255,9 +273,16 @@ class IceMotion:
     def leave(self, pid: int) -> None:
         """A piece leaves the engine (broken, cusp, flipped); its stored polygon is its current outline."""
         if pid in self.origin:
+            self._flush_one(pid)
             self._forget(pid)
             self.engine.remove_piece(pid)
 
+    def _flush_one(self, pid: int) -> None:
+        if pid in self._stale:
+            self.flush((pid,))
+
     def _forget(self, pid: int) -> None:
+        self._stale.discard(pid)
+        self.last_contact_x_m.pop(pid, None)
         del self.origin[pid]
         self.forces.pop(pid, None)

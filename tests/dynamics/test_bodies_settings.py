@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 import shapely
 from shapely import affinity
 
 from floebreak.dynamics import IceMotionSettings, body_geometry
-from floebreak.dynamics.bodies import projected_width_m
+from floebreak.dynamics.bodies import _RULE_WEIGHTS, _SUB_POINTS, _fsum, _yaw_skin_integral, projected_width_m
 from floebreak.errors import InputError
 
 
@@ -83,3 +84,37 @@ def test_zero_ice_ice_restitution_with_a_hull_restitution_is_refused():
     IceMotionSettings(ice_ice_restitution=0.0, ice_hull_restitution=0.0)
     with pytest.raises(InputError, match=r"ice_motion\.ice_ice_restitution"):
         IceMotionSettings(ice_ice_restitution=0.0, ice_hull_restitution=0.1)
+
+
+def test_compiled_exact_sum_rounds_as_math_fsum():
+    """The yaw skin integral's compiled sum against Python's `math.fsum` on sums that a plain running sum
+    gets wrong: cancellation of huge terms, and the half-even ties across partials."""
+    rng = np.random.default_rng(7)
+    cases = [
+        [],
+        [1e100, 1.0, -1e100, 1e-100],
+        [1.0, 1e-16, 1e-16],  # a plain sum gives 1.0, the exact sum rounds up
+        [1.0, 2.0**-53, 2.0**-106],  # above the tie: rounds up
+        [1.0, 2.0**-53, -(2.0**-106)],  # below the tie: rounds down
+        *(rng.standard_normal(200) * 10.0 ** rng.integers(-20, 20, 200) for _ in range(20)),
+    ]
+    for terms in cases:
+        assert _fsum(np.array(terms, dtype=float)) == math.fsum(list(terms))
+
+
+def test_yaw_skin_integral_is_the_numpy_fan_sum_to_the_bit():
+    """The compiled fan quadrature gives exactly the terms of the same quadrature written as one numpy
+    broadcast (summed by `math.fsum`), for concave and random rings."""
+    rng = np.random.default_rng(3)
+    rings = [
+        np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 1.0], [1.0, 1.0], [1.0, 3.0], [0.0, 3.0]]) - [1.5, 1.2],
+        *(rng.standard_normal((int(rng.integers(3, 40)), 2)) * 7.0 for _ in range(30)),
+    ]
+    for ring in rings:
+        a, b = ring, np.roll(ring, -1, axis=0)
+        area = (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) / 2.0
+        uv = _SUB_POINTS
+        pts = uv[:, None, :, 0, None] * a[None, :, None, :] + uv[:, None, :, 1, None] * b[None, :, None, :]
+        radius_cubed = np.hypot(pts[..., 0], pts[..., 1]) ** 3
+        terms = area[None, :, None] / 16 * _RULE_WEIGHTS[None, None, :] * radius_cubed
+        assert _yaw_skin_integral(ring) == abs(math.fsum(terms.ravel().tolist()))

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import shapely
 
@@ -172,15 +173,86 @@ _SUB_POINTS = _sub_triangle_points()
 
 def _yaw_skin_integral(ring: np.ndarray) -> float:
     """∫ |r|³ dA over the polygon about its centroid: the signed fan of triangles (centroid, a_i, a_i+1),
-    each split into 16 sub-triangles integrated by Dunavant's degree-5 rule (all points at once, summed
-    exactly: the same value for the mirrored, reversed ring)."""
-    a, b = ring, np.roll(ring, -1, axis=0)
-    signed_area = (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) / 2.0
-    uv = _SUB_POINTS  # point = u·a + v·b
-    pts = uv[:, None, :, 0, None] * a[None, :, None, :] + uv[:, None, :, 1, None] * b[None, :, None, :]
-    r3 = np.hypot(pts[..., 0], pts[..., 1]) ** 3  # (_SPLIT², n, 7)
-    terms = signed_area[None, :, None] / _SPLIT**2 * _RULE_WEIGHTS[None, None, :] * r3
-    return abs(_exact_sum(terms.ravel()))
+    each split into 16 sub-triangles integrated by Dunavant's degree-5 rule (all points summed exactly: the
+    same value for the mirrored, reversed ring)."""
+    return abs(_yaw_skin_kernel(np.ascontiguousarray(ring, dtype=np.float64), _SUB_POINTS, _RULE_WEIGHTS))
+
+
+@numba.njit(cache=True, nogil=True)
+def _yaw_skin_kernel(ring, uv, weights):
+    """The fan's terms (signed area a_i × b_i / 2 / _SPLIT² × weight × |point|³, the point u·a_i + v·b_i)
+    and their correctly rounded sum, in one compiled pass (the same arithmetic as numpy's broadcast, and
+    the same sum as `math.fsum`)."""
+    n, m, q = len(ring), uv.shape[0], uv.shape[1]
+    terms = np.empty(n * m * q)
+    split2 = float(_SPLIT * _SPLIT)
+    t = 0
+    for i in range(n):
+        j = i + 1 if i + 1 < n else 0
+        ax, ay, bx, by = ring[i, 0], ring[i, 1], ring[j, 0], ring[j, 1]
+        area = (ax * by - ay * bx) / 2.0
+        for k in range(m):
+            for p in range(q):
+                u, v = uv[k, p, 0], uv[k, p, 1]
+                radius = math.hypot(u * ax + v * bx, u * ay + v * by)
+                terms[t] = area / split2 * weights[p] * math.pow(radius, 3.0)
+                t += 1
+    return _fsum(terms)
+
+
+@numba.njit(cache=True, nogil=True)
+def _fsum(terms):
+    """The correctly rounded sum of finite `terms`: CPython's `math.fsum` (Shewchuk's partials, then the
+    round-half-even correction of the last partials), for compiled callers."""
+    partials = np.empty(len(terms) + 1)
+    n = 0
+    for k in range(len(terms)):
+        x = terms[k]
+        i = 0
+        for j in range(n):
+            y = partials[j]
+            if abs(x) < abs(y):
+                x, y = y, x
+            hi = x + y
+            lo = y - (hi - x)
+            if lo != 0.0:
+                partials[i] = lo
+                i += 1
+            x = hi
+        n = i
+        if x != 0.0:
+            partials[n] = x
+            n += 1
+    return _round_partials(partials, n)
+
+
+@numba.njit(cache=True, nogil=True)
+def _round_partials(partials, n):
+    """The sum of the non-overlapping `partials[:n]` (increasing magnitude), correctly rounded."""
+    hi, lo = 0.0, 0.0
+    if n == 0:
+        return hi
+    n -= 1
+    hi = partials[n]
+    while n > 0:
+        x = hi
+        n -= 1
+        y = partials[n]
+        hi = x + y
+        lo = y - (hi - x)
+        if lo != 0.0:
+            break
+    if n > 0 and ((lo < 0.0 and partials[n - 1] < 0.0) or (lo > 0.0 and partials[n - 1] > 0.0)):
+        y = lo * 2.0
+        x = hi + y
+        if y == x - hi:
+            hi = x
+    return hi
+
+
+def compile_now() -> None:
+    """Compile the body kernels (or load them from numba's cache) ahead of a run."""
+    _yaw_skin_integral(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
 
 
 def body_geometry(polygon: shapely.Polygon) -> BodyGeometry:

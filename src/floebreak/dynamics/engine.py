@@ -21,6 +21,7 @@ import pymunk.batch
 import shapely
 
 from floebreak.dynamics.bodies import BodyGeometry, body_geometry
+from floebreak.dynamics.bodies import compile_now as _compile_bodies
 from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_loads
 from floebreak.dynamics.forces import compile_now as _compile_water
 from floebreak.dynamics.settings import IceMotionSettings
@@ -556,6 +557,7 @@ def _window_changes(state, radius, awake, pinned, x0, y0, x1, y1):
 def compile_now() -> None:
     """Compile the engine's kernels (or load them from numba's cache) ahead of a run."""
     _compile_water()
+    _compile_bodies()
     _window_changes(np.zeros((1, 6)), np.ones(1), np.ones(1, bool), np.zeros(1, bool), -1.0, -1.0, 1.0, 1.0)
 
 
