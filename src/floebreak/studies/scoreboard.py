@@ -9,8 +9,6 @@ scores every statement for every configuration; `write_scoreboard` writes ``scor
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
 from pathlib import Path
@@ -250,9 +248,12 @@ CSV_CONFIG_COLUMNS = ("ours", "se", "n_fields", "verdict", "must_hold", "status"
 
 
 def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(list(CSV_STATEMENT_COLUMNS) + [f"{c}_{k}" for c in configs for k in CSV_CONFIG_COLUMNS])
+    """One line per statement, its columns and each configuration's (`CSV_CONFIG_COLUMNS`), in the one CSV
+    format (`floebreak.io.writers`)."""
+    from floebreak.io.writers import csv_text
+
+    names = list(CSV_STATEMENT_COLUMNS) + [f"{c}_{k}" for c in configs for k in CSV_CONFIG_COLUMNS]
+    lines = []
     for row in rows:
         st: Statement = row["statement"]
         cells = [st.id, st.source, st.quote, st.quantity, st.unit, st.point, st.against or "", st.statistic,
@@ -261,17 +262,10 @@ def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
             r = row[c]
             flag = r.get("inert")
             must = "yes" if r["must_hold"] else "no"
-            cells += [
-                r["value"],
-                r["se"],
-                r["n"],
-                r["verdict"],
-                must,
-                r["status"],
-                flag.reason if flag else "",
-            ]
-        writer.writerow(cells)
-    return buffer.getvalue()
+            reason = flag.reason if flag else ""
+            cells += [r["value"], r["se"], r["n"], r["verdict"], must, r["status"], reason]
+        lines.append(cells)
+    return csv_text({name: [cells[i] for cells in lines] for i, name in enumerate(names)})
 
 
 def _verdict_mark(result: dict[str, Any]) -> str:

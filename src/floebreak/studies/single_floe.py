@@ -15,7 +15,6 @@ flipped pieces near the shoulders.
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -101,6 +100,7 @@ def write_single_floe_matrix(out_dir: Path, overwrite: bool = False, profile: st
 
     from floebreak.io.atomic import atomic_directory
     from floebreak.io.figures import save_figure
+    from floebreak.io.writers import rows_to_columns, write_csv
     from floebreak.plotting.common import CUSP_COLOUR, FLIPPED_COLOUR, UNTOUCHED_COLOUR
     from floebreak.plotting.pattern import plot_breaking_pattern
     from floebreak.profiles import build_model
@@ -143,10 +143,7 @@ def write_single_floe_matrix(out_dir: Path, overwrite: bool = False, profile: st
                 "pieces drawn where they were made"
             )
             save_figure(figure, temp / f"pattern_d{int(diameter)}m.png")
-        with (temp / "cases.csv").open("w", newline="") as handle:
-            writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
-            writer.writeheader()
-            writer.writerows(rows)
+        write_csv(temp / "cases.csv", rows_to_columns(rows))
         lines = ["| position | d [m] | h [m] | cusps | flipped | remaining |", "|---|---|---|---|---|---|"]
         lines += [
             f"| {r['position']}) {r['position_name']} | {r['diameter_m']:g} | {r['thickness_m']:g} | "

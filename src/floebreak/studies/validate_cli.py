@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import shlex
 from pathlib import Path
@@ -184,11 +182,10 @@ def _one_config(profile: str, length_m: float | None, sets: list[str] | None):
 
 
 def _csv_text(rows: list[dict], columns: list[str]) -> str:
-    buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    return buffer.getvalue()
+    """`columns` of `rows` (a missing key: an empty cell) in the one CSV format (`floebreak.io.writers`)."""
+    from floebreak.io.writers import csv_text
+
+    return csv_text({name: [row.get(name) for row in rows] for name in columns})
 
 
 def _cell(value, se, percent: bool = False) -> str:
