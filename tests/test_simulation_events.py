@@ -266,3 +266,20 @@ def test_a_located_run_gives_the_same_result_in_a_worker_process():
     assert here[2] > 10  # the ice breaks
     with ProcessPoolExecutor(1) as pool:
         assert pool.submit(_summary, LOCATED).result() == here
+
+
+def test_a_failed_trial_confirms_only_an_estimate_it_agrees_with():
+    """`_confirms`' agreement check: a failed trial whose secant with the last intact position meets zero
+    within τ below it, but more than τ/2 from the estimate that placed the trial, does not locate the
+    failure (the two estimates of the crossing disagree). Worked by hand: the line through (9.9 m, −0.5)
+    and (10.003 m, +0.01) meets zero at 9.9 + 0.103 · 0.5 / 0.51 = 10.00098 m, within τ = 0.01 m below
+    10.003 m; an estimate of 10.000 m lies 0.001 m from it (agrees), one of 9.990 m 0.011 m (does not).
+    Other: a crossing more than τ below the failed trial does not locate it either."""
+    from floebreak.simulation_events import _confirms
+
+    intact, failed, tolerance_m = (9.9, -0.5), (10.003, 0.01), 0.01
+    assert _confirms(10.0, intact, failed, tolerance_m)
+    assert not _confirms(9.99, intact, failed, tolerance_m)
+    # the line through (9.9, −0.5) and (10.05, +0.3) meets zero at 10.05 − 0.3 · 0.15 / 0.8 = 9.99375 m,
+    # more than τ below 10.05 m: not located there, though the estimate agrees
+    assert not _confirms(9.99375, intact, (10.05, 0.3), tolerance_m)
