@@ -22,7 +22,7 @@ from floebreak.propeller.load_models import LOAD_MODELS, check_choice, profile_d
 from floebreak.propeller.pipeline import PropellerResult
 from floebreak.propeller.ruleform import rule_n_ice
 from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
-from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
+from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, spectrum_curves
 
 
 def run_transit_distance_m(run_dir: str | os.PathLike[str]) -> float | None:
@@ -138,10 +138,12 @@ def propeller_figure_calls(result: PropellerResult) -> dict[str, Any]:
     o = result.options
     if result.tables:  # the FEM tables' curves; the milling model has none
         out["volume_loads.png"] = call("plot_volume_loads", result.tables, o["interpolation"], o["beyond"])
+    # the spectra as plain arrays: a figure process then imports no xarray (nor dask, where installed)
+    curves = {quantity: spectrum_curves(result.spectra, quantity) for quantity in ("force", "torque")}
     for quantity, name in (("force", "load"), ("torque", "torque")):
         for log in (False, True):
             scale = "log" if log else "linear"
-            out[f"{name}_spectrum_{scale}.png"] = call("plot_spectrum", result.spectra, quantity, log)
+            out[f"{name}_spectrum_{scale}.png"] = call("plot_spectrum", curves[quantity], log)
     torque = {p: result.amplitudes(p).torque_nm for p in result.pitches}
     out["rule_form.png"] = call("plot_rule_form", torque, result.exceedance, WEIBULL_SHAPE[o["weibull"]])
     if result.measured is not None:
@@ -149,7 +151,7 @@ def propeller_figure_calls(result: PropellerResult) -> dict[str, Any]:
         for log in (False, True):
             out[f"torque_comparison_{'log' if log else 'linear'}.png"] = call(
                 "plot_measured_comparison",
-                *(m.edges_knm, m.density_per_knm, result.spectra, log, DENSITY_THRESHOLD_PER_KNM),
+                *(m.edges_knm, m.density_per_knm, curves["torque"], log, DENSITY_THRESHOLD_PER_KNM),
             )
     if result.rule is not None:
         force = {p: result.amplitudes(p).force_n for p in result.pitches}

@@ -19,7 +19,7 @@ from floebreak.propeller.iceclass import empirical_exceedance, weibull_exceedanc
 from floebreak.propeller.interpolation import VolumeInterpolant
 from floebreak.propeller.rates import weighted_exceedance
 from floebreak.propeller.ruleform import fit_rule_form
-from floebreak.propeller.spectra import pitch_label, spectrum_edges
+from floebreak.propeller.spectra import SpectrumCurves, pitch_label
 
 PITCH_COLOURS = ("#4c72b0", "#d62728", "#2ca02c", "#9467bd", "#8c564b")
 
@@ -70,18 +70,20 @@ def _draw_volume_loads(tables, method: str, beyond: str, v_max_m3: float | None)
     return figure
 
 
-def plot_spectrum(ds, quantity: str = "force", log: bool = False) -> Figure:
-    """Probability density of |F| (quantity "force") or |Q| ("torque") per pitch, run-averaged."""
+def plot_spectrum(curves: SpectrumCurves, log: bool = False) -> Figure:
+    """Probability density of |F| (`curves` of "force") or |Q| ("torque") per pitch, run-averaged
+    (`floebreak.propeller.spectra.spectrum_curves`)."""
     figure, ax = new_figure(7.5, 4.0, SPECTRUM_MARGINS_IN)
-    var, unit = f"{quantity}_density", "kN" if quantity == "force" else "kN m"
-    edges = spectrum_edges(ds, quantity)
+    quantity = curves.quantity
+    unit = "kN" if quantity == "force" else "kN m"
     any_data = False
-    for i, pitch in enumerate(ds["pitch"].values):
-        dens = ds[var].sel(pitch=pitch).values
+    for i, (pitch, dens) in enumerate(zip(curves.pitch_percent, curves.density, strict=True)):
         if np.all(~np.isfinite(dens)):
             continue
         any_data = True
-        ax.stairs(np.nan_to_num(dens), edges, color=_colour(i), label=f"P = {pitch:g} %", fill=False, lw=1.2)
+        ax.stairs(
+            np.nan_to_num(dens), curves.edges, color=_colour(i), label=f"P = {pitch:g} %", fill=False, lw=1.2
+        )
     if not any_data:
         ax.text(0.5, 0.5, "no loads", transform=ax.transAxes, ha="center")
     if log and any_data:
@@ -89,24 +91,28 @@ def plot_spectrum(ds, quantity: str = "force", log: bool = False) -> Figure:
     name = "force |F|" if quantity == "force" else "torque |Q|"
     ax.set_xlabel(f"{name} [{unit}]")
     ax.set_ylabel(f"probability density [1/{unit}]")
-    n_runs = ds.sizes.get("run", 1)
-    ax.set_title(f"{'Load' if quantity == 'force' else 'Torque'} spectrum (mean over {n_runs} run(s))")
+    what = "Load" if quantity == "force" else "Torque"
+    ax.set_title(f"{what} spectrum (mean over {curves.n_runs} run(s))")
     if any_data:
         ax.legend()
     return figure
 
 
 def plot_measured_comparison(
-    measured_edges_knm, measured_density, ds, log: bool = True, threshold_per_knm: float = 1e-3
+    measured_edges_knm,
+    measured_density,
+    torque: SpectrumCurves,
+    log: bool = True,
+    threshold_per_knm: float = 1e-3,
 ) -> Figure:
-    """Measured shaft-torque density vs simulated |Q| densities (thesis Fig. 35 log, Fig. 37 linear)."""
+    """Measured shaft-torque density vs simulated |Q| densities (`torque`: the "torque" `SpectrumCurves`;
+    thesis Fig. 35 log, Fig. 37 linear)."""
     figure, ax = new_figure(8.0, 4.0)
     ax.stairs(measured_density, measured_edges_knm, color="k", lw=1.4, label="measured (shaft)")
-    edges = spectrum_edges(ds, "torque")
-    for i, pitch in enumerate(ds["pitch"].values):
-        dens = ds["torque_density"].sel(pitch=pitch).values
+    for i, (pitch, dens) in enumerate(zip(torque.pitch_percent, torque.density, strict=True)):
         if np.any(np.isfinite(dens)):
-            ax.stairs(np.nan_to_num(dens), edges, color=_colour(i), label=f"simulated P = {pitch:g} % (|Q|)")
+            label = f"simulated P = {pitch:g} % (|Q|)"
+            ax.stairs(np.nan_to_num(dens), torque.edges, color=_colour(i), label=label)
     ax.axhline(threshold_per_knm, color="0.5", ls=":", lw=0.8, label=f"{threshold_per_knm:g} per kN m")
     if log:
         ax.set_yscale("log")

@@ -11,6 +11,7 @@ to compare with the shaft torque (Fig. 35).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -116,6 +117,30 @@ def spectrum_edges(ds, quantity: str) -> np.ndarray:
     """Bin edges [kN or kN·m] of the "force" or "torque" spectrum of a `spectra_dataset`."""
     bounds = ds[f"{_BIN[quantity]}_bounds"].values
     return np.r_[bounds[:, 0], bounds[-1:, 1]] if bounds.size else np.zeros(1)
+
+
+@dataclass(frozen=True)
+class SpectrumCurves:
+    """The run-averaged density of one quantity ("force" or "torque") per pitch, as plain arrays: what the
+    spectrum figures draw (`floebreak.plotting.propeller`), so that a figure process needs no xarray (and,
+    where dask is installed, no dask, which xarray imports to index a Dataset)."""
+
+    quantity: str
+    edges: np.ndarray  # bin edges [kN or kN·m] (`spectrum_edges`)
+    pitch_percent: np.ndarray
+    density: np.ndarray  # (pitch, bin) [1/kN or 1/(kN·m)]; NaN where no run has a load
+    n_runs: int  # runs in the Dataset (its "run" dimension)
+
+
+def spectrum_curves(ds, quantity: str) -> SpectrumCurves:
+    """The `SpectrumCurves` of the "force" or "torque" spectrum of a `spectra_dataset`."""
+    return SpectrumCurves(
+        quantity,
+        spectrum_edges(ds, quantity),
+        ds["pitch"].values,
+        ds[f"{quantity}_density"].values,
+        int(ds.sizes.get("run", 1)),
+    )
 
 
 _BIN = {"force": "force_kn", "torque": "torque_knm"}
