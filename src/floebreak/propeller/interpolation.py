@@ -22,7 +22,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
 
 from floebreak.errors import InputError
 
@@ -94,6 +93,8 @@ class VolumeInterpolant:
     def _raw(self, v: np.ndarray) -> np.ndarray:
         if self.method == "newton":
             return newton_evaluate(self.x_m3, divided_differences(self.x_m3, self.y), v)
+        from scipy.interpolate import PchipInterpolator  # here: the Newton default needs no scipy
+
         return PchipInterpolator(self.x_m3, self.y, extrapolate=True)(v)
 
     def __call__(self, volume_m3) -> np.ndarray:
