@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import copyreg
 import ctypes
+import gc
 import hashlib
 import importlib
 import io
@@ -314,6 +315,9 @@ def _figure_worker(connection, parent: int, waiting) -> None:
     a child forked now (`_draw_halves`), and send None, or the exception (its traceback as a note).
     `waiting` (an Event) is set while it waits for a message."""
     _die_with(parent)
+    # what it inherited lives until it exits: out of the collector's walks, which would otherwise copy
+    # every page of the parent's heap (copy-on-write; ≈ 0.1 s CPU per full collection, benchmarks/README.md)
+    gc.freeze()
     drawn: dict[str, bytes | BaseException] = {}
     try:
         from floebreak.plotting import field, pattern, spectra  # noqa: F401  (before the jobs come)
@@ -364,6 +368,7 @@ def _draw_halves(jobs: list[tuple[FigureCall, Path, dict[str, Any]]]) -> None:
     nothing is imported or sent twice), the rest here; the child's exception is raised here."""
     half = len(jobs) // 2
     reader, writer = multiprocessing.Pipe(duplex=False)
+    gc.freeze()  # matplotlib and the jobs too, in both processes (as in `_figure_worker`)
     try:
         pid = os.fork() if half else None
     except OSError:  # no process to be had: all of them here
