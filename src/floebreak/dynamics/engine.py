@@ -20,7 +20,7 @@ import pymunk
 import pymunk.batch
 import shapely
 
-from floebreak.dynamics.bodies import BodyGeometry, body_geometry
+from floebreak.dynamics.bodies import BodyGeometry, body_geometry, centroid_and_radius
 from floebreak.dynamics.bodies import compile_now as _compile_bodies
 from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_loads
 from floebreak.dynamics.forces import compile_now as _compile_water
@@ -46,6 +46,19 @@ class PieceState:
     angular_velocity_rad_s: float
     awake: bool
     pinned: bool
+
+
+@dataclass(frozen=True)
+class _Entering:
+    """A piece added since the engine last stepped, not yet a body (`IceMotionEngine._materialize`)."""
+
+    polygon: shapely.Polygon
+    thickness_m: float
+    velocity_m_s: tuple[float, float]
+    angular_velocity_rad_s: float
+    pinned: bool
+    centroid_xy_m: tuple[float, float]
+    radius_m: float
 
 
 class _Piece:
@@ -183,6 +196,7 @@ class IceMotionEngine:
         self._hull_bounds0 = hull_polygon.bounds
         self.set_hull_velocity(hull_velocity_m_s)
         self._pieces: dict[int, _Piece] = {}
+        self._entering: dict[int, _Entering] = {}  # added, not yet bodies (`add_piece`)
         self._by_body: dict[pymunk.Body, int] = {}
         self._holds: dict[int, list[pymunk.SlideJoint]] = {}
         self._hold_impulses: dict[int, list[float]] = {}  # per hold of `_holds`, since it was made [N·s]
@@ -237,19 +251,34 @@ class IceMotionEngine:
         pinned: bool = False,
     ) -> None:
         """Add a piece (a valid polygon without holes, field frame) moving at the given rigid-body velocity
-        (of its centroid). A pinned piece never moves."""
-        if piece_id in self._pieces:
+        (of its centroid). A pinned piece never moves. Its body is built when the engine next needs it
+        (`_materialize`): about half the pieces a break adds break again at the same contact search, and
+        their state until then is this one."""
+        if piece_id in self._pieces or piece_id in self._entering:
             raise ValueError(f"piece {piece_id} is in the engine already")
-        geometry = body_geometry(polygon)
-        piece = _Piece(geometry, float(thickness_m), self.settings)
+        centroid, radius = centroid_and_radius(polygon)
+        velocity = (float(velocity_m_s[0]), float(velocity_m_s[1]))
+        self._entering[piece_id] = _Entering(
+            polygon, float(thickness_m), velocity, float(angular_velocity_rad_s), pinned, centroid, radius
+        )
+
+    def _materialize(self) -> None:
+        """The bodies of the pieces added since the last call, in the order they were added."""
+        entering, self._entering = self._entering, {}
+        for piece_id, entry in entering.items():
+            self._enter(piece_id, entry)
+
+    def _enter(self, piece_id: int, entry: _Entering) -> None:
+        geometry = body_geometry(entry.polygon)
+        piece = _Piece(geometry, entry.thickness_m, self.settings)
         piece.body.position = geometry.centroid_xy_m
-        piece.body.velocity = (float(velocity_m_s[0]), float(velocity_m_s[1]))
-        piece.body.angular_velocity = float(angular_velocity_rad_s)
+        piece.body.velocity = entry.velocity_m_s
+        piece.body.angular_velocity = entry.angular_velocity_rad_s
         self.space.add(piece.body, *piece.shapes)
         self._pieces[piece_id] = piece
         self._by_body[piece.body] = piece_id
         self._rows = self._state = None
-        if pinned:
+        if entry.pinned:
             self.set_pinned(piece_id, True)
         else:
             self._set_awake(piece, self._in_window(piece, self.window()))
@@ -257,6 +286,8 @@ class IceMotionEngine:
     def remove_piece(self, piece_id: int) -> PieceState:
         """Remove a piece (broken, or leaving); returns its last state."""
         state = self.state(piece_id)
+        if self._entering.pop(piece_id, None) is not None:
+            return state
         piece = self._pieces.pop(piece_id)
         del self._by_body[piece.body]
         self._release(piece_id)
@@ -266,6 +297,7 @@ class IceMotionEngine:
 
     def set_pinned(self, piece_id: int, pinned: bool) -> None:
         """Pin a piece (static: no motion, zero velocity) or release it."""
+        self._materialize()
         piece = self._pieces[piece_id]
         piece.pinned = pinned
         self._rows = None
@@ -282,6 +314,7 @@ class IceMotionEngine:
         (`max_bias` 0: the overlap is crushed ice, not an error). Solved with the ice–ice contacts, so a
         piece jammed against others takes the whole force and a free one exactly the hull's speed,
         whatever the step. Nothing for a piece that is not awake."""
+        self._materialize()
         piece = self._pieces[piece_id]
         force = math.hypot(force_n[0], force_n[1])
         if not piece.awake or force == 0.0:
@@ -322,20 +355,31 @@ class IceMotionEngine:
             self.space.remove(*joints)
 
     def piece_ids(self) -> list[int]:
+        self._materialize()
         return list(self._pieces)
 
     def awake_ids(self) -> list[int]:
+        self._materialize()
         return [pid for pid, piece in self._pieces.items() if piece.awake]
 
     def mass_kg(self, piece_id: int) -> float:
         """The effective (with added mass) mass of a piece."""
+        self._materialize()
         return self._pieces[piece_id].mass_kg
 
     def moment_kg_m2(self, piece_id: int) -> float:
         """The effective (with added inertia) moment of inertia of a piece about its centroid."""
+        self._materialize()
         return self._pieces[piece_id].moment_kg_m2
 
     def state(self, piece_id: int) -> PieceState:
+        entry = self._entering.get(piece_id)
+        if entry is not None:  # as its body will start
+            (x, y), (vx, vy), r = entry.centroid_xy_m, entry.velocity_m_s, entry.radius_m
+            window = self.window()
+            awake = not entry.pinned and x + r >= window[0] and x - r <= window[2]
+            awake = awake and y + r >= window[1] and y - r <= window[3]
+            return PieceState(piece_id, x, y, 0.0, vx, vy, entry.angular_velocity_rad_s, awake, entry.pinned)
         piece = self._pieces[piece_id]
         body = piece.body
         return PieceState(
@@ -353,10 +397,10 @@ class IceMotionEngine:
     def velocity_at(self, piece_id: int, point_xy_m: tuple[float, float]) -> tuple[float, float]:
         """The rigid-body velocity of a piece at a field-frame point, v + ω ẑ × (p − c) (a child's velocity
         at its centroid when the piece breaks)."""
-        body = self._pieces[piece_id].body
-        rx, ry = point_xy_m[0] - body.position.x, point_xy_m[1] - body.position.y
-        w = body.angular_velocity
-        return float(body.velocity.x - w * ry), float(body.velocity.y + w * rx)
+        s = self.state(piece_id)
+        rx, ry = point_xy_m[0] - s.x_m, point_xy_m[1] - s.y_m
+        w = s.angular_velocity_rad_s
+        return float(s.vx_m_s - w * ry), float(s.vy_m_s + w * rx)
 
     def pose(self, piece_id: int) -> tuple[float, float, float]:
         """(x, y, angle) of a piece's centroid and rotation now."""
@@ -422,6 +466,8 @@ class IceMotionEngine:
 
     def _current(self) -> tuple[_Rows, np.ndarray]:
         """The rows and every body's state now, read in one batch call if stale."""
+        if self._entering:
+            self._materialize()
         if self._rows is None:
             self._rows, self._state = _Rows.of(self._pieces), None
             self._read_order = (np.zeros(0, np.uintp),) * 3
