@@ -22,7 +22,7 @@ import shapely
 
 from floebreak.dynamics.bodies import BodyGeometry, body_geometry, centroid_and_radius
 from floebreak.dynamics.bodies import compile_now as _compile_bodies
-from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_loads
+from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_loads_into
 from floebreak.dynamics.forces import compile_now as _compile_water
 from floebreak.dynamics.settings import IceMotionSettings
 
@@ -204,7 +204,12 @@ class IceMotionEngine:
         self._retired: list[PieceState] = []
         self._retired_outlines: dict[int, shapely.Polygon] = {}
         self._rows: _Rows | None = None  # the pieces held as rows; None once one entered or left
-        self._state: np.ndarray | None = None  # (rows, 6) x, y, angle, vx, vy, ω; None once stale
+        # every body's (x, y, angle, vx, vy, ω) in Chipmunk's order, and by row; None once stale (`_read`)
+        self._values: np.ndarray | None = None
+        self._state: np.ndarray | None = None
+        self._body_of_row = np.zeros(0, dtype=np.int64)
+        self._force_values = np.zeros((0, 3))  # the force buffer's array, Chipmunk's order (`_map`)
+        self._held_rows: np.ndarray | None = None  # by row, held by the hull (`_held`)
         self._buffer = pymunk.batch.Buffer()
         self._force_buffer = pymunk.batch.Buffer()
         # the body ids in the order of the last batch read, where the pieces' rows sit among them, which rows
@@ -221,6 +226,8 @@ class IceMotionEngine:
         """Set the hull's velocity; InputError if the time step cannot resolve its speed."""
         self.settings.check_time_step(math.hypot(*velocity_m_s))
         self.hull.velocity = (float(velocity_m_s[0]), float(velocity_m_s[1]))
+        self._hull_speed_m_s = self.hull.velocity.length
+        self._checked = (math.nan, math.nan)  # the (speed, step) `step` last checked
 
     @property
     def hull_offset_m(self) -> tuple[float, float]:
@@ -277,7 +284,7 @@ class IceMotionEngine:
         self.space.add(piece.body, *piece.shapes)
         self._pieces[piece_id] = piece
         self._by_body[piece.body] = piece_id
-        self._rows = self._state = None
+        self._rows = self._values = self._state = None
         if entry.pinned:
             self.set_pinned(piece_id, True)
         else:
@@ -292,7 +299,7 @@ class IceMotionEngine:
         del self._by_body[piece.body]
         self._release(piece_id)
         self.space.remove(piece.body, *piece.shapes)
-        self._rows = self._state = None
+        self._rows = self._values = self._state = None
         return state
 
     def set_pinned(self, piece_id: int, pinned: bool) -> None:
@@ -332,6 +339,7 @@ class IceMotionEngine:
         joint.max_force, joint.max_bias = force, 0.0
         self.space.add(joint)
         self._holds.setdefault(piece_id, []).append(joint)
+        self._held_rows = None
         self._hold_impulses.setdefault(piece_id, []).append(0.0)
 
     def hold_impulses(self) -> dict[int, list[tuple[float, float]]]:
@@ -353,6 +361,7 @@ class IceMotionEngine:
         self._hold_impulses.pop(piece_id, None)
         if joints:
             self.space.remove(*joints)
+            self._held_rows = None
 
     def piece_ids(self) -> list[int]:
         self._materialize()
@@ -451,84 +460,101 @@ class IceMotionEngine:
     def step(self, dt_s: float | None = None) -> None:
         """Advance by `dt_s` (default `settings.time_step_s`): water and applied forces, contacts, window."""
         dt = self.settings.time_step_s if dt_s is None else float(dt_s)
-        self.settings.check_time_step(self.hull.velocity.length, dt)
+        if (self._hull_speed_m_s, dt) != self._checked:  # the hull's speed changes only by a setter
+            self.settings.check_time_step(self._hull_speed_m_s, dt)
+            self._checked = (self._hull_speed_m_s, dt)
         self._impulses = {}
-        rows, state = self._current()
-        self._load(rows, state, dt)
+        rows, values = self._read()
+        self._load(rows, values, dt)
         self.space.step(dt)
         for pid, joints in self._holds.items():
             passed = self._hold_impulses[pid]
             for k, joint in enumerate(joints):
                 passed[k] += joint.impulse
-        self._state = None
+        self._values = self._state = None
         self.time_s += dt
         self._update_window()
 
-    def _current(self) -> tuple[_Rows, np.ndarray]:
-        """The rows and every body's state now, read in one batch call if stale."""
+    def _read(self) -> tuple[_Rows, np.ndarray]:
+        """The rows and every body's (x, y, angle, vx, vy, ω) in Chipmunk's order (the hull among them),
+        read in one batch call if stale; `_body_of_row` maps the rows to it."""
         if self._entering:
             self._materialize()
         if self._rows is None:
-            self._rows, self._state = _Rows.of(self._pieces), None
+            self._rows, self._values, self._held_rows = _Rows.of(self._pieces), None, None
             self._read_order = (np.zeros(0, np.uintp),) * 3
-        if self._state is None:
+        if self._values is None:
             rows = self._rows
             self._buffer.clear()
             pymunk.batch.get_space_bodies(self.space, _READ_FIELDS, self._buffer)
             body_ids = np.frombuffer(self._buffer.int_buf(), dtype=np.uintp)
-            values = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 6)
             if not np.array_equal(body_ids, self._read_order[0]):  # bodies in another order: map again
-                k = np.minimum(np.searchsorted(rows.body_ids, body_ids), max(len(rows.ids) - 1, 0))
-                ours = rows.body_ids[k] == body_ids if len(rows.ids) else np.zeros(len(body_ids), bool)
-                self._read_order = (body_ids.copy(), np.flatnonzero(ours), rows.row_of_body[k[ours]])
-            _, read_at, row = self._read_order
-            state = np.empty((len(rows.ids), 6))
-            state[row] = values[read_at]  # the hull is not a row
-            self._state = state
-        return self._rows, self._state
+                self._map(rows, body_ids)
+            self._values = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 6).copy()
+            self._state = None
+        return self._rows, self._values
 
-    def _load(self, rows: _Rows, state: np.ndarray, dt: float) -> None:
-        """The water forces on the moving pieces (all rows in one compiled pass) and the rest speed's stop
-        (not for pieces the hull holds). Pieces at rest (static ones among them) take no water force."""
+    def _map(self, rows: _Rows, body_ids: np.ndarray) -> None:
+        """Where the rows sit among the bodies read (`body_ids`, in Chipmunk's order), and a force buffer
+        in that order whose entries other than the rows' (the hull's) stay zero."""
+        k = np.minimum(np.searchsorted(rows.body_ids, body_ids), max(len(rows.ids) - 1, 0))
+        ours = rows.body_ids[k] == body_ids if len(rows.ids) else np.zeros(len(body_ids), bool)
+        self._read_order = (body_ids.copy(), np.flatnonzero(ours), rows.row_of_body[k[ours]])
+        self._body_of_row = np.empty(len(rows.ids), dtype=np.int64)
+        self._body_of_row[self._read_order[2]] = self._read_order[1]
+        self._force_values = np.zeros((len(body_ids), 3))
+        self._force_buffer.set_float_buf(self._force_values.reshape(-1))
+
+    def _current(self) -> tuple[_Rows, np.ndarray]:
+        """The rows and every body's state now, by row (`_read`)."""
+        rows, values = self._read()
+        if self._state is None:
+            self._state = values[self._body_of_row]
+        return rows, self._state
+
+    def _held(self, rows: _Rows) -> np.ndarray:
+        """By row, whether the hull holds the piece (`hold_against_hull`); kept until a hold or row
+        changes."""
+        if self._held_rows is None:
+            self._held_rows = np.zeros(len(rows.ids), dtype=bool)
+            self._held_rows[[rows.row_of_id[pid] for pid in self._holds]] = True
+        return self._held_rows
+
+    def _load(self, rows: _Rows, values: np.ndarray, dt: float) -> None:
+        """The water forces on the moving pieces (all rows in one compiled pass, written into the force
+        buffer in Chipmunk's order and set in one batch call) and the rest speed's stop (not for pieces the
+        hull holds). Pieces at rest (static ones among them) take no water force."""
         if not rows.ids:
             return
-        held = np.zeros(len(rows.ids), dtype=bool)
-        held[[rows.row_of_id[pid] for pid in self._holds]] = True
-        loads, status = water_loads(
+        status, stopped, moving = water_loads_into(
+            self._force_values,
+            self._body_of_row,
             rows.drag,
-            state,
+            values,
             rows.radius_m,
-            held,
+            self._held(rows),
             rows.last_speed_m_s,
             self.settings.rest_speed_m_s,
             dt,
             self.settings.water_density_kg_m3,
         )
-        for i in np.flatnonzero(status == 1).tolist():
-            body = rows.pieces[i].body
-            body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
-        if self.water and (status == 2).any():  # water pulls nothing at rest
-            self._set_forces(loads)
-
-    def _set_forces(self, loads: np.ndarray) -> None:
-        """Every body's force and torque from `loads` (rows, 3) in one batch call, in the order the bodies
-        were last read (no body entered or left since); the hull's are zero. Chipmunk zeroes a body's force
-        after each step, so a zero here is no force."""
-        body_ids, read_at, row = self._read_order
-        values = np.zeros((len(body_ids), 3))
-        values[read_at] = loads[row]
-        self._force_buffer.set_float_buf(values.ravel())
-        pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, self._force_buffer)
+        if stopped:
+            for i in np.flatnonzero(status == 1).tolist():
+                body = rows.pieces[i].body
+                body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
+        if self.water and moving:  # water pulls nothing at rest; Chipmunk zeroes forces after each step
+            pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, self._force_buffer)
 
     def _update_window(self) -> None:
         """Wake, freeze or retire the pieces whose box (centroid ± largest radius, all rows at once) crossed
         the window's edges; the others are not touched."""
-        rows, state = self._current()
-        changes = _window_changes(state, rows.radius_m, rows.awake, rows.pinned, *self.window())
+        rows, values = self._read()
+        at = self._body_of_row
+        changes = _window_changes(values, at, rows.radius_m, rows.awake, rows.pinned, *self.window())
         for i, change in changes.tolist():
             pid, piece = rows.ids[i], rows.pieces[i]
             if change == _RETIRE:
-                self._retired_outlines[pid] = _outlines([piece], state[i : i + 1, :3])[0]
+                self._retired_outlines[pid] = _outlines([piece], values[at[i] : at[i] + 1, :3])[0]
                 self._retired.append(self.remove_piece(pid))
             else:
                 self._set_awake(piece, change == _WAKE)
@@ -555,7 +581,7 @@ class IceMotionEngine:
         if awake:  # Chipmunk recomputes the mass from the shapes (massless here): set ours again
             body.mass = piece.mass_kg
             body.moment = piece.moment_kg_m2
-        self._state = None
+        self._values = self._state = None
         self.space.reindex_shapes_for_body(body)
 
     # --- contact callbacks ---------------------------------------------------------------------------
@@ -582,12 +608,13 @@ _RETIRE, _WAKE, _FREEZE = 0, 1, 2
 
 
 @numba.njit(cache=True, nogil=True)
-def _window_changes(state, radius, awake, pinned, x0, y0, x1, y1):
+def _window_changes(values, at, radius, awake, pinned, x0, y0, x1, y1):
     """(row, change) of the pieces whose box (centroid ± largest radius) is wholly behind the window
-    (retire), or crossed its front or sides (wake, freeze: not for pinned pieces), in row order."""
+    (retire), or crossed its front or sides (wake, freeze: not for pinned pieces), in row order; row i's
+    state is values[at[i]]."""
     out = []
     for i in range(len(radius)):
-        x, y, r = state[i, 0], state[i, 1], radius[i]
+        x, y, r = values[at[i], 0], values[at[i], 1], radius[i]
         if x + r < x0:
             out.append((i, _RETIRE))
         elif not pinned[i]:
@@ -604,7 +631,8 @@ def compile_now() -> None:
     """Compile the engine's kernels (or load them from numba's cache) ahead of a run."""
     _compile_water()
     _compile_bodies()
-    _window_changes(np.zeros((1, 6)), np.ones(1), np.ones(1, bool), np.zeros(1, bool), -1.0, -1.0, 1.0, 1.0)
+    one = np.ones(1)
+    _window_changes(np.zeros((1, 6)), np.zeros(1, np.int64), one, one > 0, one < 0, -1.0, -1.0, 1.0, 1.0)
 
 
 def _outlines(pieces: list[_Piece], poses: np.ndarray) -> list[shapely.Polygon]:

@@ -121,6 +121,39 @@ def water_loads(
     (by the hull, `held`, or through others) gains speed slowly if heavy and is not stopped. One compiled
     pass over the rows (called every engine step: numpy's per-call overhead cost more than the
     arithmetic)."""
+    n = len(table.starts)
+    out = np.zeros((n, 3))
+    status, _, _ = water_loads_into(
+        out,
+        np.arange(n, dtype=np.int64),
+        table,
+        np.ascontiguousarray(state, dtype=np.float64),
+        np.ascontiguousarray(radius_m, dtype=np.float64),
+        np.ascontiguousarray(held, dtype=np.bool_),
+        last_speed_m_s,
+        rest_speed_m_s,
+        dt_s,
+        water_density_kg_m3,
+    )
+    return out, status
+
+
+def water_loads_into(
+    out: np.ndarray,
+    at: np.ndarray,
+    table: DragTable,
+    values: np.ndarray,
+    radius_m: np.ndarray,
+    held: np.ndarray,
+    last_speed_m_s: np.ndarray,
+    rest_speed_m_s: float,
+    dt_s: float,
+    water_density_kg_m3: float,
+) -> tuple[np.ndarray, int, int]:
+    """`water_loads` with row i's state read from, and its load written to, row `at[i]` of `values` and
+    `out` (the engine's bodies in Chipmunk's order: no gathering or scattering per step; the other rows of
+    `out` are not touched). Returns the status and the numbers of pieces set at rest and moving. Arrays
+    as the kernel takes them: C-contiguous float64 (`at` int64, `held` bool)."""
     return _water_kernel(
         table.ring_xy_m,
         table.starts,
@@ -129,34 +162,42 @@ def water_loads(
         table.yaw_kg_m2,
         table.mass_kg,
         table.moment_kg_m2,
-        np.ascontiguousarray(state, dtype=np.float64),
-        np.ascontiguousarray(radius_m, dtype=np.float64),
-        np.ascontiguousarray(held, dtype=np.bool_),
+        values,
+        at,
+        radius_m,
+        held,
         last_speed_m_s,
         float(rest_speed_m_s),
         float(dt_s),
         float(water_density_kg_m3),
+        out,
     )
 
 
 @numba.njit(cache=True, nogil=True)
-def _water_kernel(ring, starts, form, skin, yaw, mass, moment, state, radius, held, last, rest, dt, rho):
+def _water_kernel(
+    ring, starts, form, skin, yaw, mass, moment, values, at, radius, held, last, rest, dt, rho, out
+):
     n = len(starts)
-    out = np.zeros((n, 3))
     status = np.zeros(n, dtype=np.int8)
+    stopped = moving = 0
     for i in range(n):
-        vx, vy, w = state[i, 3], state[i, 4], state[i, 5]
+        b = at[i]
+        out[b, 0] = out[b, 1] = out[b, 2] = 0.0
+        vx, vy, w = values[b, 3], values[b, 4], values[b, 5]
         speed = math.hypot(vx, vy)
         slow, last[i] = last[i], max(speed, abs(w) * radius[i])
         if vx == 0.0 and vy == 0.0 and w == 0.0:
             continue
         if last[i] < rest and last[i] <= slow and not held[i]:
             status[i] = 1
+            stopped += 1
             continue
         status[i] = 2
+        moving += 1
         if speed > 0.0:  # at rest: û = 0, and the drag is 0
             ux, uy = vx / speed, vy / speed
-            c, s = math.cos(state[i, 2]), math.sin(state[i, 2])
+            c, s = math.cos(values[b, 2]), math.sin(values[b, 2])
             dx, dy = c * ux + s * uy, -s * ux + c * uy  # û in the body frame
             end = starts[i + 1] if i + 1 < n else len(ring)
             low, high = np.inf, -np.inf
@@ -165,11 +206,11 @@ def _water_kernel(ring, starts, form, skin, yaw, mass, moment, state, radius, he
                 low, high = min(low, across), max(high, across)
             k = 0.5 * rho * (form[i] * (high - low) + skin[i])
             magnitude = step_drag(speed, k, mass[i], dt)
-            out[i, 0], out[i, 1] = -magnitude * ux, -magnitude * uy
+            out[b, 0], out[b, 1] = -magnitude * ux, -magnitude * uy
         if w != 0.0:
             c_yaw = yaw[i, 0] if w > 0.0 else yaw[i, 1]
-            out[i, 2] = -math.copysign(step_drag(abs(w), c_yaw, moment[i], dt), w)
-    return out, status
+            out[b, 2] = -math.copysign(step_drag(abs(w), c_yaw, moment[i], dt), w)
+    return status, stopped, moving
 
 
 def compile_now() -> None:
