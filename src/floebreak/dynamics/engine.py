@@ -441,6 +441,19 @@ class IceMotionEngine:
             [self._pieces[pid] for pid in piece_ids], state[[rows.row_of_id[pid] for pid in piece_ids], :3]
         )
 
+    def boxes(self, piece_ids: list[int]) -> np.ndarray:
+        """The bounding boxes (n, 4: x0, y0, x1, y1) of the outlines `polygons` would build, without
+        building them: the same vertices, so the same numbers as their `shapely.bounds`."""
+        if not piece_ids:
+            return np.zeros((0, 4))
+        rows, state = self._current()
+        pieces = [self._pieces[pid] for pid in piece_ids]
+        x, y, sizes = _outline_vertices(pieces, state[[rows.row_of_id[pid] for pid in piece_ids], :3])
+        starts = np.cumsum([0, *sizes[:-1]])
+        lows = np.column_stack([np.minimum.reduceat(x, starts), np.minimum.reduceat(y, starts)])
+        highs = np.column_stack([np.maximum.reduceat(x, starts), np.maximum.reduceat(y, starts)])
+        return np.hstack([lows, highs])
+
     def hull_impulses(self) -> dict[int, tuple[float, float]]:
         """Impulse of the hull on each piece during the last step [N·s], field frame; the ship receives the
         opposite. Divided by the step: the mean contact force."""
@@ -635,17 +648,22 @@ def compile_now() -> None:
     _window_changes(np.zeros((1, 6)), np.zeros(1, np.int64), one, one > 0, one < 0, -1.0, -1.0, 1.0, 1.0)
 
 
-def _outlines(pieces: list[_Piece], poses: np.ndarray) -> list[shapely.Polygon]:
-    """The pieces' outlines at `poses` (n, 3: x, y, angle), field frame, built in one pass: each body-frame
-    ring rotated by its angle and moved to its centroid."""
+def _outline_vertices(pieces: list[_Piece], poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    """The vertices (x, y) of the pieces' outlines at `poses` (n, 3: x, y, angle), field frame, one piece
+    after the other, and each piece's count: each body-frame ring rotated by its angle and moved to its
+    centroid."""
     rings = [p.geometry.ring_xy_m for p in pieces]
     sizes = [len(r) for r in rings]
     ring = np.concatenate(rings)
     cos_sin = np.array([(math.cos(a), math.sin(a)) for a in poses[:, 2].tolist()]).reshape(-1, 2)
     per_vertex = np.repeat(np.column_stack([poses[:, :2], cos_sin]), sizes, axis=0)
     px, py, c, s = per_vertex.T
-    x = px + c * ring[:, 0] - s * ring[:, 1]
-    y = py + s * ring[:, 0] + c * ring[:, 1]
+    return px + c * ring[:, 0] - s * ring[:, 1], py + s * ring[:, 0] + c * ring[:, 1], sizes
+
+
+def _outlines(pieces: list[_Piece], poses: np.ndarray) -> list[shapely.Polygon]:
+    """The pieces' outlines at `poses` (`_outline_vertices`) as polygons, built in one pass."""
+    x, y, sizes = _outline_vertices(pieces, poses)
     owner = np.repeat(np.arange(len(pieces)), sizes)
     return list(shapely.polygons(shapely.linearrings(np.column_stack([x, y]), indices=owner)))
 
