@@ -684,6 +684,7 @@ class _Run:
         # (neither path counts an overlap of zero area), so they are neither translated nor evaluated
         touching = self.pieces.due(candidates, (bow_x + x0, y0, bow_x + x1, y1), bow_x)
         if touching and self.motion is not None:
+            self.motion.flush(touching)  # moved pieces' outlines, kept as boxes until they may touch
             touching = self._apart_after_moving(touching, bow_x)
         if touching and self.params.event_location == "root":
             x_before = max(bow_x - self.params.step_m, self.params.x_start_m)

@@ -194,9 +194,11 @@ class IceMotion:
             self.engine.set_hull_velocity((self.speed_m_s, 0.0))
 
     def _write_back(self) -> None:
-        """Retired pieces get their final outlines; of the pieces the engine moved, those the contact sweep
-        holds (`pieces.active`) their current ones now, the others when the sweep takes them in or the run
-        ends (`flush`): nothing reads them before, and most moved pieces are beside or ahead of the sweep."""
+        """Retired pieces get their final outlines. Of the pieces the engine moved, those the contact sweep
+        holds (`pieces.active`) get their outlines' boxes now (the sweep's search reads them), the outlines
+        themselves when the search finds them touching the hull's box (`flush`, called by the loop), the
+        sweep takes them in, they leave or the run ends: nothing reads them before, and most moved pieces
+        are beside, behind or ahead of the hull."""
         outlines = self.engine.drain_retired_outlines()
         retired = self.engine.drain_retired()
         moved = [s.piece_id for s in retired if self._has_moved(s.piece_id, (s.x_m, s.y_m, s.angle_rad))]
@@ -204,10 +206,10 @@ class IceMotion:
         for state in retired:
             self._forget(state.piece_id)
         ids, _ = self.engine.changed_poses()
+        self._stale.update(ids)
         active = self.pieces.active
         changed = sorted(pid for pid in ids if pid in active)
-        self._stale.update(pid for pid in ids if pid not in active)
-        self._store(changed, self.engine.polygons(changed))
+        self._store_boxes(changed, self.engine.boxes(changed).tolist())
 
     def flush(self, pids=None) -> None:
         """Store the current outlines of the moved pieces among `pids` (all if None) not stored yet."""
@@ -218,6 +220,15 @@ class IceMotion:
 
     def _has_moved(self, pid: int, pose: tuple[float, float, float]) -> bool:
         return (pose[0], pose[1]) != self.origin[pid] or pose[2] != 0.0
+
+    def _store_boxes(self, pids: list[int], boxes: list[list[float]]) -> None:
+        """The boxes of moved pieces the sweep holds, as `_store` would set them from their outlines."""
+        pieces = self.pieces
+        for pid, bounds in zip(pids, boxes, strict=True):
+            bounds = tuple(bounds)
+            pieces.bounds[4 * pid : 4 * pid + 4] = type(pieces.bounds)("d", bounds)
+            pieces.active[pid] = bounds
+            pieces.quiet_until[pid] = -np.inf
 
     def _store(self, pids: list[int], outlines: list[shapely.Polygon]) -> None:
         """Each outline becomes its piece's polygon and box (the contact sweep's box too, where it holds

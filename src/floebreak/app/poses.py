@@ -4,8 +4,11 @@ and writing them (``poses.parquet``, `floebreak.io.poses`).
 `PoseRecorder` is a callback of the stepping loop: after every K-th step (0, K, 2K, …) and after the last,
 it reads the rigid-body engine of the run (`StepDone.ice_motion`; nothing is changed there) and keeps, for
 each piece in the engine that has moved from where it entered, its pose (centroid, rotation) when that
-differs from the pose last kept; the first time a piece is kept, also its outline where it entered. The
-physics never sees the recorder: a run with it gives the same results as one without.
+differs from the pose last kept; the first time a piece is kept, also its outline where it entered. A run
+that stops stuck ends before its planned last step, after one more interval of ice motion (the one in which
+the ship stopped): `finish` keeps the poses the ice ended in, as those of the run's last step (the outlines
+of ``pieces.parquet``). The physics never sees the recorder: a run with it gives the same results as one
+without.
 """
 
 from __future__ import annotations
@@ -34,13 +37,26 @@ class PoseRecorder:
         self._last: dict[int, tuple[float, float, float]] = {}
         self._entry: dict[int, tuple[shapely.Polygon, float, float]] = {}
         self._rows: list[tuple[int, int, float, float, float]] = []  # piece, step, x, y, angle
+        self._motion = None  # the run's `IceMotion`, as the last step reported it
 
     def __call__(self, event) -> None:
         if isinstance(event, RunStarted):
             self.n_steps = event.n_steps
         elif isinstance(event, StepDone) and event.ice_motion is not None:
+            self._motion = event.ice_motion
             if event.step % self.interval_steps == 0 or event.step == self.n_steps - 1:
                 self._record(event.step, event.ice_motion)
+
+    def finish(self, n_steps: int) -> None:
+        """After the run (`n_steps`: the steps it made): if it stopped stuck, the poses the ice ended in
+        replace those kept at its last step, n_steps − 1 (the steps after it were never reached)."""
+        motion = self._motion
+        if motion is None or not motion.stuck or n_steps < 1:
+            return
+        last = n_steps - 1
+        self._rows = [row for row in self._rows if row[1] != last]
+        self._last = {row[0]: tuple(row[2:]) for row in self._rows}  # rows are in step order
+        self._record(last, motion)
 
     def _record(self, step: int, motion) -> None:
         engine = motion.engine

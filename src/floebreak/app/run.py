@@ -265,6 +265,8 @@ def run(
     try:
         simulation = simulate(floe_field, bow, model, params, callbacks=[recorder, *extra, *callbacks])
         records = recorder.records()  # the last chunk of records too
+        if poses is not None:
+            poses.finish(simulation.n_steps)
     except BaseException:
         if contacts_file is not None:
             contacts_file.discard()

@@ -255,6 +255,15 @@ def compile_now() -> None:
     _yaw_skin_integral(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
 
 
+def centroid_and_radius(polygon: shapely.Polygon) -> tuple[tuple[float, float], float]:
+    """The centroid of `polygon` (field frame) and its largest vertex distance from it, as `body_geometry`
+    and the engine compute them (the same arithmetic, without the convex parts and drag integrals)."""
+    ring = _ccw_ring(polygon)
+    _, centroid, _ = polygon_area_moment(ring)
+    local = ring - centroid
+    return (float(centroid[0]), float(centroid[1])), float(np.hypot(local[:, 0], local[:, 1]).max())
+
+
 def body_geometry(polygon: shapely.Polygon) -> BodyGeometry:
     """The body-frame geometry of `polygon` (a valid polygon without holes; field frame)."""
     ring_field = _ccw_ring(polygon)

@@ -20,9 +20,9 @@ import pymunk
 import pymunk.batch
 import shapely
 
-from floebreak.dynamics.bodies import BodyGeometry, body_geometry
+from floebreak.dynamics.bodies import BodyGeometry, body_geometry, centroid_and_radius
 from floebreak.dynamics.bodies import compile_now as _compile_bodies
-from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_loads
+from floebreak.dynamics.forces import DragTable, drag_constants, drag_table, water_loads_into
 from floebreak.dynamics.forces import compile_now as _compile_water
 from floebreak.dynamics.settings import IceMotionSettings
 
@@ -46,6 +46,19 @@ class PieceState:
     angular_velocity_rad_s: float
     awake: bool
     pinned: bool
+
+
+@dataclass(frozen=True)
+class _Entering:
+    """A piece added since the engine last stepped, not yet a body (`IceMotionEngine._materialize`)."""
+
+    polygon: shapely.Polygon
+    thickness_m: float
+    velocity_m_s: tuple[float, float]
+    angular_velocity_rad_s: float
+    pinned: bool
+    centroid_xy_m: tuple[float, float]
+    radius_m: float
 
 
 class _Piece:
@@ -183,6 +196,7 @@ class IceMotionEngine:
         self._hull_bounds0 = hull_polygon.bounds
         self.set_hull_velocity(hull_velocity_m_s)
         self._pieces: dict[int, _Piece] = {}
+        self._entering: dict[int, _Entering] = {}  # added, not yet bodies (`add_piece`)
         self._by_body: dict[pymunk.Body, int] = {}
         self._holds: dict[int, list[pymunk.SlideJoint]] = {}
         self._hold_impulses: dict[int, list[float]] = {}  # per hold of `_holds`, since it was made [N·s]
@@ -190,7 +204,12 @@ class IceMotionEngine:
         self._retired: list[PieceState] = []
         self._retired_outlines: dict[int, shapely.Polygon] = {}
         self._rows: _Rows | None = None  # the pieces held as rows; None once one entered or left
-        self._state: np.ndarray | None = None  # (rows, 6) x, y, angle, vx, vy, ω; None once stale
+        # every body's (x, y, angle, vx, vy, ω) in Chipmunk's order, and by row; None once stale (`_read`)
+        self._values: np.ndarray | None = None
+        self._state: np.ndarray | None = None
+        self._body_of_row = np.zeros(0, dtype=np.int64)
+        self._force_values = np.zeros((0, 3))  # the force buffer's array, Chipmunk's order (`_map`)
+        self._held_rows: np.ndarray | None = None  # by row, held by the hull (`_held`)
         self._buffer = pymunk.batch.Buffer()
         self._force_buffer = pymunk.batch.Buffer()
         # the body ids in the order of the last batch read, where the pieces' rows sit among them, which rows
@@ -207,6 +226,8 @@ class IceMotionEngine:
         """Set the hull's velocity; InputError if the time step cannot resolve its speed."""
         self.settings.check_time_step(math.hypot(*velocity_m_s))
         self.hull.velocity = (float(velocity_m_s[0]), float(velocity_m_s[1]))
+        self._hull_speed_m_s = self.hull.velocity.length
+        self._checked = (math.nan, math.nan)  # the (speed, step) `step` last checked
 
     @property
     def hull_offset_m(self) -> tuple[float, float]:
@@ -237,19 +258,34 @@ class IceMotionEngine:
         pinned: bool = False,
     ) -> None:
         """Add a piece (a valid polygon without holes, field frame) moving at the given rigid-body velocity
-        (of its centroid). A pinned piece never moves."""
-        if piece_id in self._pieces:
+        (of its centroid). A pinned piece never moves. Its body is built when the engine next needs it
+        (`_materialize`): about half the pieces a break adds break again at the same contact search, and
+        their state until then is this one."""
+        if piece_id in self._pieces or piece_id in self._entering:
             raise ValueError(f"piece {piece_id} is in the engine already")
-        geometry = body_geometry(polygon)
-        piece = _Piece(geometry, float(thickness_m), self.settings)
+        centroid, radius = centroid_and_radius(polygon)
+        velocity = (float(velocity_m_s[0]), float(velocity_m_s[1]))
+        self._entering[piece_id] = _Entering(
+            polygon, float(thickness_m), velocity, float(angular_velocity_rad_s), pinned, centroid, radius
+        )
+
+    def _materialize(self) -> None:
+        """The bodies of the pieces added since the last call, in the order they were added."""
+        entering, self._entering = self._entering, {}
+        for piece_id, entry in entering.items():
+            self._enter(piece_id, entry)
+
+    def _enter(self, piece_id: int, entry: _Entering) -> None:
+        geometry = body_geometry(entry.polygon)
+        piece = _Piece(geometry, entry.thickness_m, self.settings)
         piece.body.position = geometry.centroid_xy_m
-        piece.body.velocity = (float(velocity_m_s[0]), float(velocity_m_s[1]))
-        piece.body.angular_velocity = float(angular_velocity_rad_s)
+        piece.body.velocity = entry.velocity_m_s
+        piece.body.angular_velocity = entry.angular_velocity_rad_s
         self.space.add(piece.body, *piece.shapes)
         self._pieces[piece_id] = piece
         self._by_body[piece.body] = piece_id
-        self._rows = self._state = None
-        if pinned:
+        self._rows = self._values = self._state = None
+        if entry.pinned:
             self.set_pinned(piece_id, True)
         else:
             self._set_awake(piece, self._in_window(piece, self.window()))
@@ -257,15 +293,18 @@ class IceMotionEngine:
     def remove_piece(self, piece_id: int) -> PieceState:
         """Remove a piece (broken, or leaving); returns its last state."""
         state = self.state(piece_id)
+        if self._entering.pop(piece_id, None) is not None:
+            return state
         piece = self._pieces.pop(piece_id)
         del self._by_body[piece.body]
         self._release(piece_id)
         self.space.remove(piece.body, *piece.shapes)
-        self._rows = self._state = None
+        self._rows = self._values = self._state = None
         return state
 
     def set_pinned(self, piece_id: int, pinned: bool) -> None:
         """Pin a piece (static: no motion, zero velocity) or release it."""
+        self._materialize()
         piece = self._pieces[piece_id]
         piece.pinned = pinned
         self._rows = None
@@ -282,6 +321,7 @@ class IceMotionEngine:
         (`max_bias` 0: the overlap is crushed ice, not an error). Solved with the ice–ice contacts, so a
         piece jammed against others takes the whole force and a free one exactly the hull's speed,
         whatever the step. Nothing for a piece that is not awake."""
+        self._materialize()
         piece = self._pieces[piece_id]
         force = math.hypot(force_n[0], force_n[1])
         if not piece.awake or force == 0.0:
@@ -299,6 +339,7 @@ class IceMotionEngine:
         joint.max_force, joint.max_bias = force, 0.0
         self.space.add(joint)
         self._holds.setdefault(piece_id, []).append(joint)
+        self._held_rows = None
         self._hold_impulses.setdefault(piece_id, []).append(0.0)
 
     def hold_impulses(self) -> dict[int, list[tuple[float, float]]]:
@@ -320,22 +361,34 @@ class IceMotionEngine:
         self._hold_impulses.pop(piece_id, None)
         if joints:
             self.space.remove(*joints)
+            self._held_rows = None
 
     def piece_ids(self) -> list[int]:
+        self._materialize()
         return list(self._pieces)
 
     def awake_ids(self) -> list[int]:
+        self._materialize()
         return [pid for pid, piece in self._pieces.items() if piece.awake]
 
     def mass_kg(self, piece_id: int) -> float:
         """The effective (with added mass) mass of a piece."""
+        self._materialize()
         return self._pieces[piece_id].mass_kg
 
     def moment_kg_m2(self, piece_id: int) -> float:
         """The effective (with added inertia) moment of inertia of a piece about its centroid."""
+        self._materialize()
         return self._pieces[piece_id].moment_kg_m2
 
     def state(self, piece_id: int) -> PieceState:
+        entry = self._entering.get(piece_id)
+        if entry is not None:  # as its body will start
+            (x, y), (vx, vy), r = entry.centroid_xy_m, entry.velocity_m_s, entry.radius_m
+            window = self.window()
+            awake = not entry.pinned and x + r >= window[0] and x - r <= window[2]
+            awake = awake and y + r >= window[1] and y - r <= window[3]
+            return PieceState(piece_id, x, y, 0.0, vx, vy, entry.angular_velocity_rad_s, awake, entry.pinned)
         piece = self._pieces[piece_id]
         body = piece.body
         return PieceState(
@@ -353,10 +406,10 @@ class IceMotionEngine:
     def velocity_at(self, piece_id: int, point_xy_m: tuple[float, float]) -> tuple[float, float]:
         """The rigid-body velocity of a piece at a field-frame point, v + ω ẑ × (p − c) (a child's velocity
         at its centroid when the piece breaks)."""
-        body = self._pieces[piece_id].body
-        rx, ry = point_xy_m[0] - body.position.x, point_xy_m[1] - body.position.y
-        w = body.angular_velocity
-        return float(body.velocity.x - w * ry), float(body.velocity.y + w * rx)
+        s = self.state(piece_id)
+        rx, ry = point_xy_m[0] - s.x_m, point_xy_m[1] - s.y_m
+        w = s.angular_velocity_rad_s
+        return float(s.vx_m_s - w * ry), float(s.vy_m_s + w * rx)
 
     def pose(self, piece_id: int) -> tuple[float, float, float]:
         """(x, y, angle) of a piece's centroid and rotation now."""
@@ -388,6 +441,19 @@ class IceMotionEngine:
             [self._pieces[pid] for pid in piece_ids], state[[rows.row_of_id[pid] for pid in piece_ids], :3]
         )
 
+    def boxes(self, piece_ids: list[int]) -> np.ndarray:
+        """The bounding boxes (n, 4: x0, y0, x1, y1) of the outlines `polygons` would build, without
+        building them: the same vertices, so the same numbers as their `shapely.bounds`."""
+        if not piece_ids:
+            return np.zeros((0, 4))
+        rows, state = self._current()
+        pieces = [self._pieces[pid] for pid in piece_ids]
+        x, y, sizes = _outline_vertices(pieces, state[[rows.row_of_id[pid] for pid in piece_ids], :3])
+        starts = np.cumsum([0, *sizes[:-1]])
+        lows = np.column_stack([np.minimum.reduceat(x, starts), np.minimum.reduceat(y, starts)])
+        highs = np.column_stack([np.maximum.reduceat(x, starts), np.maximum.reduceat(y, starts)])
+        return np.hstack([lows, highs])
+
     def hull_impulses(self) -> dict[int, tuple[float, float]]:
         """Impulse of the hull on each piece during the last step [N·s], field frame; the ship receives the
         opposite. Divided by the step: the mean contact force."""
@@ -407,82 +473,101 @@ class IceMotionEngine:
     def step(self, dt_s: float | None = None) -> None:
         """Advance by `dt_s` (default `settings.time_step_s`): water and applied forces, contacts, window."""
         dt = self.settings.time_step_s if dt_s is None else float(dt_s)
-        self.settings.check_time_step(self.hull.velocity.length, dt)
+        if (self._hull_speed_m_s, dt) != self._checked:  # the hull's speed changes only by a setter
+            self.settings.check_time_step(self._hull_speed_m_s, dt)
+            self._checked = (self._hull_speed_m_s, dt)
         self._impulses = {}
-        rows, state = self._current()
-        self._load(rows, state, dt)
+        rows, values = self._read()
+        self._load(rows, values, dt)
         self.space.step(dt)
         for pid, joints in self._holds.items():
             passed = self._hold_impulses[pid]
             for k, joint in enumerate(joints):
                 passed[k] += joint.impulse
-        self._state = None
+        self._values = self._state = None
         self.time_s += dt
         self._update_window()
 
-    def _current(self) -> tuple[_Rows, np.ndarray]:
-        """The rows and every body's state now, read in one batch call if stale."""
+    def _read(self) -> tuple[_Rows, np.ndarray]:
+        """The rows and every body's (x, y, angle, vx, vy, ω) in Chipmunk's order (the hull among them),
+        read in one batch call if stale; `_body_of_row` maps the rows to it."""
+        if self._entering:
+            self._materialize()
         if self._rows is None:
-            self._rows, self._state = _Rows.of(self._pieces), None
+            self._rows, self._values, self._held_rows = _Rows.of(self._pieces), None, None
             self._read_order = (np.zeros(0, np.uintp),) * 3
-        if self._state is None:
+        if self._values is None:
             rows = self._rows
             self._buffer.clear()
             pymunk.batch.get_space_bodies(self.space, _READ_FIELDS, self._buffer)
             body_ids = np.frombuffer(self._buffer.int_buf(), dtype=np.uintp)
-            values = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 6)
             if not np.array_equal(body_ids, self._read_order[0]):  # bodies in another order: map again
-                k = np.minimum(np.searchsorted(rows.body_ids, body_ids), max(len(rows.ids) - 1, 0))
-                ours = rows.body_ids[k] == body_ids if len(rows.ids) else np.zeros(len(body_ids), bool)
-                self._read_order = (body_ids.copy(), np.flatnonzero(ours), rows.row_of_body[k[ours]])
-            _, read_at, row = self._read_order
-            state = np.empty((len(rows.ids), 6))
-            state[row] = values[read_at]  # the hull is not a row
-            self._state = state
-        return self._rows, self._state
+                self._map(rows, body_ids)
+            self._values = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 6).copy()
+            self._state = None
+        return self._rows, self._values
 
-    def _load(self, rows: _Rows, state: np.ndarray, dt: float) -> None:
-        """The water forces on the moving pieces (all rows in one compiled pass) and the rest speed's stop
-        (not for pieces the hull holds). Pieces at rest (static ones among them) take no water force."""
+    def _map(self, rows: _Rows, body_ids: np.ndarray) -> None:
+        """Where the rows sit among the bodies read (`body_ids`, in Chipmunk's order), and a force buffer
+        in that order whose entries other than the rows' (the hull's) stay zero."""
+        k = np.minimum(np.searchsorted(rows.body_ids, body_ids), max(len(rows.ids) - 1, 0))
+        ours = rows.body_ids[k] == body_ids if len(rows.ids) else np.zeros(len(body_ids), bool)
+        self._read_order = (body_ids.copy(), np.flatnonzero(ours), rows.row_of_body[k[ours]])
+        self._body_of_row = np.empty(len(rows.ids), dtype=np.int64)
+        self._body_of_row[self._read_order[2]] = self._read_order[1]
+        self._force_values = np.zeros((len(body_ids), 3))
+        self._force_buffer.set_float_buf(self._force_values.reshape(-1))
+
+    def _current(self) -> tuple[_Rows, np.ndarray]:
+        """The rows and every body's state now, by row (`_read`)."""
+        rows, values = self._read()
+        if self._state is None:
+            self._state = values[self._body_of_row]
+        return rows, self._state
+
+    def _held(self, rows: _Rows) -> np.ndarray:
+        """By row, whether the hull holds the piece (`hold_against_hull`); kept until a hold or row
+        changes."""
+        if self._held_rows is None:
+            self._held_rows = np.zeros(len(rows.ids), dtype=bool)
+            self._held_rows[[rows.row_of_id[pid] for pid in self._holds]] = True
+        return self._held_rows
+
+    def _load(self, rows: _Rows, values: np.ndarray, dt: float) -> None:
+        """The water forces on the moving pieces (all rows in one compiled pass, written into the force
+        buffer in Chipmunk's order and set in one batch call) and the rest speed's stop (not for pieces the
+        hull holds). Pieces at rest (static ones among them) take no water force."""
         if not rows.ids:
             return
-        held = np.zeros(len(rows.ids), dtype=bool)
-        held[[rows.row_of_id[pid] for pid in self._holds]] = True
-        loads, status = water_loads(
+        status, stopped, moving = water_loads_into(
+            self._force_values,
+            self._body_of_row,
             rows.drag,
-            state,
+            values,
             rows.radius_m,
-            held,
+            self._held(rows),
             rows.last_speed_m_s,
             self.settings.rest_speed_m_s,
             dt,
             self.settings.water_density_kg_m3,
         )
-        for i in np.flatnonzero(status == 1).tolist():
-            body = rows.pieces[i].body
-            body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
-        if self.water and (status == 2).any():  # water pulls nothing at rest
-            self._set_forces(loads)
-
-    def _set_forces(self, loads: np.ndarray) -> None:
-        """Every body's force and torque from `loads` (rows, 3) in one batch call, in the order the bodies
-        were last read (no body entered or left since); the hull's are zero. Chipmunk zeroes a body's force
-        after each step, so a zero here is no force."""
-        body_ids, read_at, row = self._read_order
-        values = np.zeros((len(body_ids), 3))
-        values[read_at] = loads[row]
-        self._force_buffer.set_float_buf(values.ravel())
-        pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, self._force_buffer)
+        if stopped:
+            for i in np.flatnonzero(status == 1).tolist():
+                body = rows.pieces[i].body
+                body.velocity, body.angular_velocity = (0.0, 0.0), 0.0
+        if self.water and moving:  # water pulls nothing at rest; Chipmunk zeroes forces after each step
+            pymunk.batch.set_space_bodies(self.space, _FORCE_FIELDS, self._force_buffer)
 
     def _update_window(self) -> None:
         """Wake, freeze or retire the pieces whose box (centroid ± largest radius, all rows at once) crossed
         the window's edges; the others are not touched."""
-        rows, state = self._current()
-        changes = _window_changes(state, rows.radius_m, rows.awake, rows.pinned, *self.window())
+        rows, values = self._read()
+        at = self._body_of_row
+        changes = _window_changes(values, at, rows.radius_m, rows.awake, rows.pinned, *self.window())
         for i, change in changes.tolist():
             pid, piece = rows.ids[i], rows.pieces[i]
             if change == _RETIRE:
-                self._retired_outlines[pid] = _outlines([piece], state[i : i + 1, :3])[0]
+                self._retired_outlines[pid] = _outlines([piece], values[at[i] : at[i] + 1, :3])[0]
                 self._retired.append(self.remove_piece(pid))
             else:
                 self._set_awake(piece, change == _WAKE)
@@ -509,7 +594,7 @@ class IceMotionEngine:
         if awake:  # Chipmunk recomputes the mass from the shapes (massless here): set ours again
             body.mass = piece.mass_kg
             body.moment = piece.moment_kg_m2
-        self._state = None
+        self._values = self._state = None
         self.space.reindex_shapes_for_body(body)
 
     # --- contact callbacks ---------------------------------------------------------------------------
@@ -536,12 +621,13 @@ _RETIRE, _WAKE, _FREEZE = 0, 1, 2
 
 
 @numba.njit(cache=True, nogil=True)
-def _window_changes(state, radius, awake, pinned, x0, y0, x1, y1):
+def _window_changes(values, at, radius, awake, pinned, x0, y0, x1, y1):
     """(row, change) of the pieces whose box (centroid ± largest radius) is wholly behind the window
-    (retire), or crossed its front or sides (wake, freeze: not for pinned pieces), in row order."""
+    (retire), or crossed its front or sides (wake, freeze: not for pinned pieces), in row order; row i's
+    state is values[at[i]]."""
     out = []
     for i in range(len(radius)):
-        x, y, r = state[i, 0], state[i, 1], radius[i]
+        x, y, r = values[at[i], 0], values[at[i], 1], radius[i]
         if x + r < x0:
             out.append((i, _RETIRE))
         elif not pinned[i]:
@@ -558,20 +644,26 @@ def compile_now() -> None:
     """Compile the engine's kernels (or load them from numba's cache) ahead of a run."""
     _compile_water()
     _compile_bodies()
-    _window_changes(np.zeros((1, 6)), np.ones(1), np.ones(1, bool), np.zeros(1, bool), -1.0, -1.0, 1.0, 1.0)
+    one = np.ones(1)
+    _window_changes(np.zeros((1, 6)), np.zeros(1, np.int64), one, one > 0, one < 0, -1.0, -1.0, 1.0, 1.0)
 
 
-def _outlines(pieces: list[_Piece], poses: np.ndarray) -> list[shapely.Polygon]:
-    """The pieces' outlines at `poses` (n, 3: x, y, angle), field frame, built in one pass: each body-frame
-    ring rotated by its angle and moved to its centroid."""
+def _outline_vertices(pieces: list[_Piece], poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    """The vertices (x, y) of the pieces' outlines at `poses` (n, 3: x, y, angle), field frame, one piece
+    after the other, and each piece's count: each body-frame ring rotated by its angle and moved to its
+    centroid."""
     rings = [p.geometry.ring_xy_m for p in pieces]
     sizes = [len(r) for r in rings]
     ring = np.concatenate(rings)
     cos_sin = np.array([(math.cos(a), math.sin(a)) for a in poses[:, 2].tolist()]).reshape(-1, 2)
     per_vertex = np.repeat(np.column_stack([poses[:, :2], cos_sin]), sizes, axis=0)
     px, py, c, s = per_vertex.T
-    x = px + c * ring[:, 0] - s * ring[:, 1]
-    y = py + s * ring[:, 0] + c * ring[:, 1]
+    return px + c * ring[:, 0] - s * ring[:, 1], py + s * ring[:, 0] + c * ring[:, 1], sizes
+
+
+def _outlines(pieces: list[_Piece], poses: np.ndarray) -> list[shapely.Polygon]:
+    """The pieces' outlines at `poses` (`_outline_vertices`) as polygons, built in one pass."""
+    x, y, sizes = _outline_vertices(pieces, poses)
     owner = np.repeat(np.arange(len(pieces)), sizes)
     return list(shapely.polygons(shapely.linearrings(np.column_stack([x, y]), indices=owner)))
 

@@ -7,7 +7,7 @@ The force over a step Δt is the one that gives the exact solution of m_eff du/d
 with k frozen: u' = u / (1 + k |u| Δt / m_eff), so F = m_eff (u' − u)/Δt. This never reverses the velocity,
 whatever Δt (an explicit −k|u|u does for k|u|Δt > m_eff: small fast pieces), and equals −k|u|u as Δt → 0.
 What does not change with a piece's motion (C_d T, C_s A, c±) is computed once, when it enters
-(`DragConstants`); each step evaluates all pieces in one compiled pass (`water_loads`).
+(`DragConstants`); each step evaluates all pieces in one compiled pass (`water_loads_into`).
 Sources of the coefficients: `IceMotionSettings` and docs/model.md ("Ice motion").
 """
 
@@ -98,29 +98,34 @@ def water_forces_and_moments(
     state = np.zeros((len(table.starts), 6))
     state[:, 2], state[:, 3:5], state[:, 5] = angle_rad, velocity, angular_velocity_rad_s
     n = len(table.starts)
-    loads, _ = water_loads(
-        table, state, np.zeros(n), np.zeros(n, bool), np.full(n, np.inf), -1.0, dt_s, water_density_kg_m3
-    )
+    loads = np.zeros((n, 3))
+    at, zeros = np.arange(n, dtype=np.int64), np.zeros(n)
+    last = np.full(n, np.inf)
+    water_loads_into(loads, at, table, state, zeros, zeros > 0, last, -1.0, dt_s, water_density_kg_m3)
     return loads[:, 0], loads[:, 1], loads[:, 2]
 
 
-def water_loads(
+def water_loads_into(
+    out: np.ndarray,
+    at: np.ndarray,
     table: DragTable,
-    state: np.ndarray,
+    values: np.ndarray,
     radius_m: np.ndarray,
     held: np.ndarray,
     last_speed_m_s: np.ndarray,
     rest_speed_m_s: float,
     dt_s: float,
     water_density_kg_m3: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The water's (F_x, F_y, M_z) on each piece over a step, (n, 3), from its `state` row (x, y, angle,
-    vx, vy, ω), and each piece's status: 0 at rest, 1 to be set at rest, 2 moving. A piece is set at rest
-    when its speed u = max(|v|, |ω|·its largest radius) is below `rest_speed_m_s` and not above its value
-    at the last step (`last_speed_m_s`, updated here): it creeps under drag. A piece pushed from rest
-    (by the hull, `held`, or through others) gains speed slowly if heavy and is not stopped. One compiled
-    pass over the rows (called every engine step: numpy's per-call overhead cost more than the
-    arithmetic)."""
+) -> tuple[np.ndarray, int, int]:
+    """The water's (F_x, F_y, M_z) on each piece (row i of `table`) over a step, from its state (x, y,
+    angle, vx, vy, ω) in row `at[i]` of `values`, written to row `at[i]` of `out` (the engine's bodies in
+    Chipmunk's order: nothing gathered or scattered per step; the other rows of `out` are not touched);
+    returns each piece's status (0 at rest, 1 to be set at rest, 2 moving) and the numbers set at rest
+    and moving. A piece is set at rest when its speed u = max(|v|, |ω|·its largest radius) is below
+    `rest_speed_m_s` and not above its value at the last step (`last_speed_m_s`, updated here): it creeps
+    under drag. A piece pushed from rest (by the hull, `held`, or through others) gains speed slowly if
+    heavy and is not stopped. One compiled pass over the rows (called every engine step: numpy's per-call
+    overhead cost more than the arithmetic); arrays C-contiguous, float64 (`at` int64, `held` bool)."""
     return _water_kernel(
         table.ring_xy_m,
         table.starts,
@@ -129,34 +134,42 @@ def water_loads(
         table.yaw_kg_m2,
         table.mass_kg,
         table.moment_kg_m2,
-        np.ascontiguousarray(state, dtype=np.float64),
-        np.ascontiguousarray(radius_m, dtype=np.float64),
-        np.ascontiguousarray(held, dtype=np.bool_),
+        values,
+        at,
+        radius_m,
+        held,
         last_speed_m_s,
         float(rest_speed_m_s),
         float(dt_s),
         float(water_density_kg_m3),
+        out,
     )
 
 
 @numba.njit(cache=True, nogil=True)
-def _water_kernel(ring, starts, form, skin, yaw, mass, moment, state, radius, held, last, rest, dt, rho):
+def _water_kernel(
+    ring, starts, form, skin, yaw, mass, moment, values, at, radius, held, last, rest, dt, rho, out
+):
     n = len(starts)
-    out = np.zeros((n, 3))
     status = np.zeros(n, dtype=np.int8)
+    stopped = moving = 0
     for i in range(n):
-        vx, vy, w = state[i, 3], state[i, 4], state[i, 5]
+        b = at[i]
+        out[b, 0] = out[b, 1] = out[b, 2] = 0.0
+        vx, vy, w = values[b, 3], values[b, 4], values[b, 5]
         speed = math.hypot(vx, vy)
         slow, last[i] = last[i], max(speed, abs(w) * radius[i])
         if vx == 0.0 and vy == 0.0 and w == 0.0:
             continue
         if last[i] < rest and last[i] <= slow and not held[i]:
             status[i] = 1
+            stopped += 1
             continue
         status[i] = 2
+        moving += 1
         if speed > 0.0:  # at rest: û = 0, and the drag is 0
             ux, uy = vx / speed, vy / speed
-            c, s = math.cos(state[i, 2]), math.sin(state[i, 2])
+            c, s = math.cos(values[b, 2]), math.sin(values[b, 2])
             dx, dy = c * ux + s * uy, -s * ux + c * uy  # û in the body frame
             end = starts[i + 1] if i + 1 < n else len(ring)
             low, high = np.inf, -np.inf
@@ -165,11 +178,11 @@ def _water_kernel(ring, starts, form, skin, yaw, mass, moment, state, radius, he
                 low, high = min(low, across), max(high, across)
             k = 0.5 * rho * (form[i] * (high - low) + skin[i])
             magnitude = step_drag(speed, k, mass[i], dt)
-            out[i, 0], out[i, 1] = -magnitude * ux, -magnitude * uy
+            out[b, 0], out[b, 1] = -magnitude * ux, -magnitude * uy
         if w != 0.0:
             c_yaw = yaw[i, 0] if w > 0.0 else yaw[i, 1]
-            out[i, 2] = -math.copysign(step_drag(abs(w), c_yaw, moment[i], dt), w)
-    return out, status
+            out[b, 2] = -math.copysign(step_drag(abs(w), c_yaw, moment[i], dt), w)
+    return status, stopped, moving
 
 
 def compile_now() -> None:
@@ -178,4 +191,5 @@ def compile_now() -> None:
     table = DragTable(
         np.zeros((3, 2)), np.zeros(1, np.int64), np.zeros(3, np.int64), one, one, np.ones((1, 2)), one, one
     )
-    water_loads(table, np.ones((1, 6)), one, np.zeros(1, bool), np.zeros(1), 1e-3, 0.01, 1025.0)
+    at = np.zeros(1, np.int64)
+    water_loads_into(np.zeros((1, 3)), at, table, np.ones((1, 6)), one, one < 0, one * 0, 1e-3, 0.01, 1025.0)
