@@ -11,6 +11,7 @@ policy; rotation — flipped whole — in the thesis profile's, docs/model.md §
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Annotated, ClassVar, Literal
 
@@ -25,7 +26,9 @@ from floebreak.failure.base import (
     Fate,
     NewPiece,
     Outcome,
+    Pending,
     failed,
+    finish,
     intact,
     log_margin,
     pass_on,
@@ -161,12 +164,30 @@ def split_by_radius(polygon, check: BendingCheck, thickness_m: float = 0.0) -> t
     """(parts within the bending line, parts beyond it): F ∩ disk(O, R) and F − disk(O, R)."""
     fan = check.fan
     start = fan.centre_angle_rad - fan.opening_rad / 2.0 + fan.wedge_angle_rad / 2.0  # a vertex at B_0
-    vertices = round(2.0 * np.pi / fan.wedge_angle_rad)
+    vertices = _disk_vertices(fan)
     disk = disk_polygon(fan.origin_xy_m, check.breaking_radius_m, start, vertices)
     near, far = split_parts(
         shapely.intersection(polygon, disk), shapely.difference(polygon, disk), thickness_m=thickness_m
     )
     return near, far
+
+
+def _disk_vertices(fan: WedgeFan) -> int:
+    """Corners of the bending line's polygon (`split_by_radius`): one per wedge angle φ."""
+    return round(2.0 * np.pi / fan.wedge_angle_rad)
+
+
+def within_bending_line(polygon, check: BendingCheck) -> bool:
+    """Whether every vertex of `polygon` lies strictly inside the bending line's regular polygon (closer to O
+    than its inradius R cos(π/n)): then the polygon lies inside it (a convex polygon holding every vertex
+    holds the polygon), F − disk(O, R) is empty and no bending line crosses the floe — what
+    `split_by_radius` would find, without its two overlays."""
+    inradius = check.breaking_radius_m * np.cos(np.pi / _disk_vertices(check.fan))
+    offsets = shapely.get_coordinates(polygon) - check.fan.origin_xy_m
+    return bool(np.einsum("ij,ij->i", offsets, offsets).max() < (inradius * (1.0 - WITHIN_RELATIVE)) ** 2)
+
+
+WITHIN_RELATIVE = 1e-9  # `within_bending_line`: a vertex this close (relative) to the inradius is not inside
 
 
 def bending_gate(mode: str, check: BendingCheck) -> Outcome | None:
@@ -180,15 +201,24 @@ class Bending:
     settings: BendingSettings = BendingSettings()
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
+        return finish(self.screen(inp, ctx))
+
+    def screen(self, inp: FailureInput, ctx: FailureContext) -> Outcome | Pending:
+        """The criterion F_v > P_f alone (`FailureMode.screen`); the split by the bending line pending."""
         check = bending_check(inp, ctx, self.settings)
         if (held := bending_gate(self.name, check)) is not None:
             return held
+        if within_bending_line(inp.polygon, check):
+            # no bending line crosses the floe (it lies within the breaking radius): it cannot fail in
+            # bending here, and the policy's next mode (cracking) is tried
+            return pass_on(self.name, check.margin)
+        return Pending(self.name, check.margin, functools.partial(self._split, inp, check))
+
+    def _split(self, inp: FailureInput, check: BendingCheck) -> Outcome:
         near, far = split_by_radius(inp.polygon, check, inp.thickness_m)
         if not near:  # the bending line misses the floe
             return intact(self.name, check.margin)
-        if not far:
-            # no bending line crosses the floe (it lies within the breaking radius): it cannot fail in
-            # bending here, and the policy's next mode (cracking) is tried
+        if not far:  # no bending line crosses the floe, nearly within the radius (`within_bending_line`)
             return pass_on(self.name, check.margin)
         pieces = (NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far])
         return failed(self.name, pieces, check.margin)
