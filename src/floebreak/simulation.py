@@ -38,7 +38,6 @@ from floebreak.failure import (
     resolve_failure,
 )
 from floebreak.failure.base import polygon_parts
-from floebreak.failure.dispatch import screen_failure
 from floebreak.ice.field import FloeField
 from floebreak.ice.generation import GENERATORS
 from floebreak.mechanics.classify import Classification, ClassificationParams, classify
@@ -757,12 +756,8 @@ class _Run:
         judged = self._judge(pid, polygon_bf, contact)
         return self._apply(step, bow_x, pid, contact, judged)
 
-    def _judge(
-        self, pid: int, polygon_bf, contact: Contact, screen: bool = False
-    ) -> tuple[Classification, Any]:
-        """Classification and failure outcome of a piece in contact (pure: nothing is applied); with `screen`
-        the outcome may be a `failure.base.Pending` (`screen_failure`: a criterion met, its split not made;
-        located events)."""
+    def _judge(self, pid: int, polygon_bf, contact: Contact) -> tuple[Classification, Outcome]:
+        """Classification and failure outcome of a piece in contact (pure: nothing is applied)."""
         thickness = self.pieces.thickness[pid]
         if self.motion is not None:  # the force the piece can take (`ice_motion.failure_force`)
             contact = self.motion.failure_contact(pid, contact)
@@ -781,8 +776,7 @@ class _Run:
         inp = FailureInput(
             polygon_bf, thickness, self.pieces.crack_count[pid], classification, contact, zone, region
         )
-        resolve = screen_failure if screen else resolve_failure
-        return classification, resolve(self.model.failure, inp, self.context)
+        return classification, resolve_failure(self.model.failure, inp, self.context)
 
     def _apply(self, step: int, bow_x: float, pid: int, contact: Contact, judged) -> list:
         """Report a judged evaluation and apply its outcome at `bow_x`; the new floe pieces (see

@@ -33,8 +33,6 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
-from floebreak.failure.base import finish
-
 Trial = Callable[[float], tuple[Any, float | None]]
 
 EVENT_LOCATIONS = ("step_end", "root")
@@ -179,9 +177,12 @@ def _settle(run, step: int, x1: float, item: _Item, contact) -> list[_Item]:
     if not contact.in_contact:
         run._quiet(pid, polygon_bf, x)
         return _again(run, pid, x, x1, None)
-    x, contact, judged = _located(
-        run, pid, (lo, margin_lo), x, (contact, run._judge(pid, polygon_bf, contact, True))
-    )
+    judged = run._judge(pid, polygon_bf, contact)
+    tolerance_m = run.params.event_tolerance_m
+    if judged[1].failed and x - lo > tolerance_m:
+        trial = lambda trial_x: _failed_at(run, pid, trial_x)  # noqa: E731
+        located = locate_event(lo, x, (contact, judged), trial, tolerance_m, judged[1].margin, margin_lo)
+        x, (contact, judged) = located
     children = run._apply(step, x, pid, contact, judged)
     if judged[1].failed:
         return [_Item(child, child_bf, x, x) for child, child_bf in children]
@@ -190,45 +191,15 @@ def _settle(run, step: int, x1: float, item: _Item, contact) -> list[_Item]:
     return _again(run, pid, x, x1, judged[1].margin)
 
 
-def _located(run, pid: int, lower: tuple, x: float, at_x: tuple):
-    """(x*, contact, (classification, outcome)) of piece `pid`, screened at `x` as `at_x` = (contact,
-    (classification, outcome or `Pending`)) and known intact at `lower` = (lo, its margin): where it first
-    fails in (lo, x], its outcome there made whole; if it does not fail, `x` and its whole outcome there.
-
-    The bracket is narrowed on screened trials (`screen_failure`: the criteria alone, a met one counted as a
-    failure), so the splits are made once, at the located position. Where that split separates nothing (the
-    criterion is met, yet the floe stays whole or is passed on), the search's own outcome at `x`, made
-    whole, decides, and a failure there is located in (x*, x] on whole evaluations."""
-    lo, margin_lo = lower
-    tolerance_m = run.params.event_tolerance_m
-    contact, (classification, screened) = at_x
-    whole = finish(screened)
-    if not whole.failed or x - lo <= tolerance_m:
-        return x, contact, (classification, whole)
-    at_x = (contact, (classification, whole))
-    trial = lambda trial_x: _failed_at(run, pid, trial_x, True)  # noqa: E731
-    x_star, (contact_star, (classification_star, pending)) = locate_event(
-        lo, x, at_x, trial, tolerance_m, whole.margin, margin_lo
-    )
-    outcome = finish(pending)
-    if outcome.failed:
-        return x_star, contact_star, (classification_star, outcome)
-    trial = lambda trial_x: _failed_at(run, pid, trial_x, False)  # noqa: E731
-    x, (contact, judged) = locate_event(x_star, x, at_x, trial, tolerance_m, whole.margin, outcome.margin)
-    return x, contact, judged
-
-
-def _failed_at(run, pid: int, x: float, screen: bool):
+def _failed_at(run, pid: int, x: float):
     """A trial of `locate_event`: ((contact, (classification, outcome)) of piece `pid` at bow position `x`
-    if it fails there, else None; the outcome's margin). With `screen` the outcome is screened
-    (`screen_failure`: a `Pending` where a criterion is met, counted as failed). Nothing is applied or
-    reported."""
+    if it fails there, else None; the outcome's margin). Nothing is applied or reported."""
     run.check_time(x)
     polygon_bf = run.bow_frame([pid], x)[0]
     contact = run.contacts([pid], [polygon_bf])[0]
     if not contact.in_contact:
         return None, None
-    judged = run._judge(pid, polygon_bf, contact, screen)
+    judged = run._judge(pid, polygon_bf, contact)
     return ((contact, judged) if judged[1].failed else None), judged[1].margin
 
 

@@ -10,20 +10,10 @@ re-classified), a cusp (passes under the hull to the propeller) or flipped (stay
 stays intact, or the mode passes it on to the next mode of the dispatch policy (`failure.dispatch`). Modes
 never raise for physical situations; they return status values, and the engine decides. Modes work in the
 bow frame and never see the bow position, files or the clock.
-
-A mode whose outcome is decided by a criterion and then a split may also have::
-
-    screen(inp: FailureInput, ctx: FailureContext) -> Outcome | Pending
-
-the criterion alone: `evaluate`'s outcome where the criterion decides it (intact, passed on), else a
-`Pending` with the criterion's margin whose `finish` makes the split (`evaluate` is then `finish(screen(…))`,
-so the two cannot disagree). Located events (`floebreak.simulation_events`) narrow their brackets on it and
-split once, at the located position; a mode without `screen` is evaluated whole there too.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any, ClassVar, Literal, Protocol
@@ -94,24 +84,6 @@ class Outcome:
     @property
     def failed(self) -> bool:
         return self.status is Status.FAILED
-
-
-@dataclass(frozen=True, eq=False)
-class Pending:
-    """A mode's criterion is met (`FailureMode.screen`); whether the floe fails is decided by the split that
-    `finish` makes (a bending line or crack that separates nothing keeps the floe whole or passes it on).
-    Located events count it as failed: it fails unless its split separates nothing."""
-
-    mode: str
-    margin: float | None  # the criterion's, as `Outcome.margin`
-    finish: Callable[[], Outcome]  # the mode's `evaluate` outcome, from the criterion already computed
-
-    failed: ClassVar[bool] = True
-
-
-def finish(result: Outcome | Pending) -> Outcome:
-    """The outcome of a screened evaluation: a `Pending`'s split made, an `Outcome` as it is."""
-    return result.finish() if isinstance(result, Pending) else result
 
 
 class FailureMode(Protocol):

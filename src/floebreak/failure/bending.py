@@ -11,7 +11,6 @@ policy; rotation — flipped whole — in the thesis profile's, docs/model.md §
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 from typing import Annotated, ClassVar, Literal
 
@@ -26,9 +25,7 @@ from floebreak.failure.base import (
     Fate,
     NewPiece,
     Outcome,
-    Pending,
     failed,
-    finish,
     intact,
     log_margin,
     pass_on,
@@ -181,7 +178,7 @@ def within_bending_line(polygon, check: BendingCheck) -> bool:
     """Whether every vertex of `polygon` lies strictly inside the bending line's regular polygon (closer to O
     than its inradius R cos(π/n)): then the polygon lies inside it (a convex polygon holding every vertex
     holds the polygon), F − disk(O, R) is empty and no bending line crosses the floe — what
-    `split_by_radius` would find, without its two overlays."""
+    `split_by_radius` finds, without its two overlays."""
     inradius = check.breaking_radius_m * np.cos(np.pi / _disk_vertices(check.fan))
     offsets = shapely.get_coordinates(polygon) - check.fan.origin_xy_m
     return bool(np.einsum("ij,ij->i", offsets, offsets).max() < (inradius * (1.0 - WITHIN_RELATIVE)) ** 2)
@@ -201,24 +198,17 @@ class Bending:
     settings: BendingSettings = BendingSettings()
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
-        return finish(self.screen(inp, ctx))
-
-    def screen(self, inp: FailureInput, ctx: FailureContext) -> Outcome | Pending:
-        """The criterion F_v > P_f alone (`FailureMode.screen`); the split by the bending line pending."""
         check = bending_check(inp, ctx, self.settings)
         if (held := bending_gate(self.name, check)) is not None:
             return held
+        # no bending line crosses the floe (it lies within the breaking radius): it cannot fail in bending
+        # here, and the policy's next mode (cracking) is tried; decided without the overlays where it can be
         if within_bending_line(inp.polygon, check):
-            # no bending line crosses the floe (it lies within the breaking radius): it cannot fail in
-            # bending here, and the policy's next mode (cracking) is tried
             return pass_on(self.name, check.margin)
-        return Pending(self.name, check.margin, functools.partial(self._split, inp, check))
-
-    def _split(self, inp: FailureInput, check: BendingCheck) -> Outcome:
         near, far = split_by_radius(inp.polygon, check, inp.thickness_m)
         if not near:  # the bending line misses the floe
             return intact(self.name, check.margin)
-        if not far:  # no bending line crosses the floe, nearly within the radius (`within_bending_line`)
+        if not far:  # within the radius but for a sliver beyond it (merged back, `split_parts`)
             return pass_on(self.name, check.margin)
         pieces = (NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far])
         return failed(self.name, pieces, check.margin)

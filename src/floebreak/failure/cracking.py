@@ -19,7 +19,6 @@ Alg. 5). Floe length b: the floe's extent along the crack direction. Size L: b b
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 from typing import Annotated, ClassVar, Literal
@@ -35,9 +34,7 @@ from floebreak.failure.base import (
     Fate,
     NewPiece,
     Outcome,
-    Pending,
     failed,
-    finish,
     log_margin,
     pass_on,
     split_parts,
@@ -249,10 +246,6 @@ class Cracking:
         )
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
-        return finish(self.screen(inp, ctx))
-
-    def screen(self, inp: FailureInput, ctx: FailureContext) -> Outcome | Pending:
-        """The crack criterion alone (`FailureMode.screen`); the split by the crack line pending."""
         direction = crack_direction(inp, np.radians(self.settings.next_crack_angle_deg))
         # no crack starts (driving < resistance, or the crack line does not split the floe): passed on — at
         # the shoulder the default policy then rotates the floe by its position (thesis §4.4)
@@ -260,9 +253,6 @@ class Cracking:
         margin = log_margin(check.driving, check.resistance)
         if not check.fails:
             return pass_on(self.name, margin)
-        return Pending(self.name, margin, functools.partial(self._split, inp, direction, margin))
-
-    def _split(self, inp: FailureInput, direction: np.ndarray, margin: float | None) -> Outcome:
         left, right = split_by_line(inp.polygon, inp.zone.centre_xy_m, direction, inp.thickness_m)
         if not left or not right:
             return pass_on(self.name, margin)

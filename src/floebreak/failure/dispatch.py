@@ -20,22 +20,12 @@ thesis gives no number, so it is a documented parameter.
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import get_args
 
 from floebreak.errors import InputError, require_range
-from floebreak.failure.base import (
-    BowRegion,
-    FailureContext,
-    FailureInput,
-    FailureMode,
-    Outcome,
-    Pending,
-    Status,
-    finish,
-)
+from floebreak.failure.base import BowRegion, FailureContext, FailureInput, FailureMode, Outcome, Status
 from floebreak.failure.none import NoFailure
 from floebreak.failure.rotation import DirectRotation
 from floebreak.mechanics.classify import FailureClass
@@ -154,33 +144,8 @@ def bow_region(centre_x_m: float, bow_length_m: float, shoulder_region_start: fl
 def resolve_failure(model: FailureModel, inp: FailureInput, ctx: FailureContext) -> Outcome:
     """Try the policy's modes for the floe's class and region in order; the first outcome that is not
     `Status.PASS_ON` decides (or the last mode's, if every mode passed the floe on)."""
-    return finish(screen_failure(model, inp, ctx))
-
-
-def screen_failure(model: FailureModel, inp: FailureInput, ctx: FailureContext) -> Outcome | Pending:
-    """`resolve_failure` up to the first mode whose criterion is met: its `Pending` (with the criterion's
-    margin), whose `finish` makes that mode's split and, if the split passes the floe on, tries the policy's
-    next modes whole; else the outcome that decides. Each mode is asked for its criterion alone
-    (`FailureMode.screen`) where it has one, else evaluated whole (a mode without `screen`, e.g. rotation or
-    a plug-in, works unchanged)."""
-    names = model.policy[inp.classification.failure_class][inp.region]
-    for k, name in enumerate(names):
-        mode = model.modes[name]
-        screen = getattr(mode, "screen", None)
-        result = mode.evaluate(inp, ctx) if screen is None else screen(inp, ctx)
-        if isinstance(result, Pending):
-            resume = functools.partial(_resume, model, inp, ctx, result, names[k + 1 :])
-            return Pending(result.mode, result.margin, resume)
-        if result.status is not Status.PASS_ON:
-            return result
-    return result
-
-
-def _resume(model: FailureModel, inp: FailureInput, ctx: FailureContext, pending: Pending, rest) -> Outcome:
-    """A pending mode's split, then, while the floe is passed on, the policy's `rest` of modes whole."""
-    outcome = pending.finish()
-    for name in rest:
-        if outcome.status is not Status.PASS_ON:
-            break
+    for name in model.policy[inp.classification.failure_class][inp.region]:
         outcome = model.modes[name].evaluate(inp, ctx)
+        if outcome.status is not Status.PASS_ON:
+            return outcome
     return outcome

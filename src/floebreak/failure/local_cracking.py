@@ -29,14 +29,12 @@ from floebreak.failure.base import (
     Fate,
     NewPiece,
     Outcome,
-    Pending,
     failed,
-    finish,
     intact,
     pass_on,
     split_parts,
 )
-from floebreak.failure.bending import BendingCheck, BendingSettings, bending_check, bending_gate
+from floebreak.failure.bending import BendingSettings, bending_check, bending_gate
 from floebreak.failure.registry import register_mode
 
 CRACK_POINTS = 30  # thesis Alg. 6 (intended linspace with 30 points)
@@ -136,16 +134,9 @@ class LocalCracking:
     settings: BendingSettings = BendingSettings()
 
     def evaluate(self, inp: FailureInput, ctx: FailureContext) -> Outcome:
-        return finish(self.screen(inp, ctx))
-
-    def screen(self, inp: FailureInput, ctx: FailureContext) -> Outcome | Pending:
-        """The bending criterion alone (`FailureMode.screen`); the local cracking line's split pending."""
         check = bending_check(inp, ctx, self.settings)
         if (held := bending_gate(self.name, check)) is not None:
             return held
-        return Pending(self.name, check.margin, functools.partial(self._split, inp, ctx, check))
-
-    def _split(self, inp: FailureInput, ctx: FailureContext, check: BendingCheck) -> Outcome:
         zone = inp.zone
         several = len(inp.contact.zones) > 1
         x_int = frontmost_contact_point(
