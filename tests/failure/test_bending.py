@@ -14,11 +14,9 @@ import math
 import numpy as np
 import pytest
 import shapely
-import shapely.affinity
 
 from floebreak.failure import Bending, BendingSettings, Fate, Status
-from floebreak.failure.bending import BendingCheck, bending_check, split_by_radius, within_bending_line
-from floebreak.mechanics.wedge_fan import WedgeFan
+from floebreak.failure.bending import bending_check
 from floebreak.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.studies.single_floe import SingleFloeCase, run_case
@@ -212,61 +210,3 @@ def test_every_cusp_is_unbreakable_by_the_classification_rule(profile):
         if p.area > UNBREAKABLE_AREA_M2
     ]
     assert not too_big, too_big
-
-
-# --------------------------------------------------------------------------------------------------------
-# A floe within the bending line, decided without the overlays (`within_bending_line`)
-# --------------------------------------------------------------------------------------------------------
-
-
-def _check_about_origin(radius_m: float) -> BendingCheck:
-    """A bending check with O at the origin, a half-plane fan of 5° wedges and the bending line at
-    `radius_m` (the verdict's forces do not enter the split)."""
-    fan = WedgeFan(np.zeros(2), math.pi / 2.0, math.pi, PHI_RAD, 1.0)
-    return BendingCheck(fan, 10.0, 1.0, 2.0, radius_m)
-
-
-def test_a_floe_whose_corners_lie_inside_the_inradius_is_not_crossed_by_the_bending_line():
-    """The bending line is a regular 72-gon on the circle of radius R (5° wedges): a square centred on O
-    with its corners at 0.999 R cos(2.5°) lies inside it, one at 1.001 R cos(2.5°) is not decided so
-    (its corners may stick out of the 72-gon's chords); the overlays agree with the first."""
-    radius = 6.0
-    inradius = radius * math.cos(PHI_RAD / 2.0)
-    check = _check_about_origin(radius)
-    inside = shapely.box(-1.0, -1.0, 1.0, 1.0)
-    for factor, expected in ((0.999, True), (1.001, False)):
-        square = shapely.affinity.scale(
-            inside, factor * inradius / math.sqrt(2.0), factor * inradius / math.sqrt(2.0)
-        )
-        assert within_bending_line(square, check) is expected
-    square = shapely.affinity.scale(
-        inside, 0.999 * inradius / math.sqrt(2.0), 0.999 * inradius / math.sqrt(2.0)
-    )
-    near, far = split_by_radius(square, check, thickness_m=1.0)
-    assert far == [] and sum(p.area for p in near) == pytest.approx(square.area, rel=1e-12)
-
-
-def test_within_the_bending_line_only_where_nothing_lies_beyond_it():
-    """Random floes about O (convex hulls of 3–12 points at 0.2–1.1 R): wherever `within_bending_line`
-    holds, F − disk(O, R) computed by GEOS is empty — the test never says "within" for a floe the bending
-    line crosses; and it holds for most floes whose farthest corner is well inside (≤ 0.95 R)."""
-    rng = np.random.default_rng(32)
-    radius = 5.0
-    check = _check_about_origin(radius)
-    disk = shapely.Polygon(radius * np.c_[np.cos(np.arange(72) * PHI_RAD), np.sin(np.arange(72) * PHI_RAD)])
-    disk = shapely.affinity.rotate(disk, math.degrees(PHI_RAD / 2.0), origin=(0.0, 0.0))  # a corner at B_0
-    decided = 0
-    for _ in range(300):
-        n = int(rng.integers(3, 13))
-        angle, distance = rng.uniform(0.0, 2.0 * math.pi, n), radius * rng.uniform(0.2, 1.1, n)
-        floe = shapely.convex_hull(
-            shapely.multipoints(np.c_[distance * np.cos(angle), distance * np.sin(angle)])
-        )
-        if floe.area == 0.0:
-            continue
-        if within_bending_line(floe, check):
-            decided += 1
-            assert shapely.difference(floe, disk).area == 0.0
-        elif distance.max() <= 0.95 * radius:
-            pytest.fail(f"a floe with every corner within 0.95 R was not decided: {floe}")
-    assert decided > 50

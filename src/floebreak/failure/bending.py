@@ -161,30 +161,12 @@ def split_by_radius(polygon, check: BendingCheck, thickness_m: float = 0.0) -> t
     """(parts within the bending line, parts beyond it): F ∩ disk(O, R) and F − disk(O, R)."""
     fan = check.fan
     start = fan.centre_angle_rad - fan.opening_rad / 2.0 + fan.wedge_angle_rad / 2.0  # a vertex at B_0
-    vertices = _disk_vertices(fan)
+    vertices = round(2.0 * np.pi / fan.wedge_angle_rad)
     disk = disk_polygon(fan.origin_xy_m, check.breaking_radius_m, start, vertices)
     near, far = split_parts(
         shapely.intersection(polygon, disk), shapely.difference(polygon, disk), thickness_m=thickness_m
     )
     return near, far
-
-
-def _disk_vertices(fan: WedgeFan) -> int:
-    """Corners of the bending line's polygon (`split_by_radius`): one per wedge angle φ."""
-    return round(2.0 * np.pi / fan.wedge_angle_rad)
-
-
-def within_bending_line(polygon, check: BendingCheck) -> bool:
-    """Whether every vertex of `polygon` lies strictly inside the bending line's regular polygon (closer to O
-    than its inradius R cos(π/n)): then the polygon lies inside it (a convex polygon holding every vertex
-    holds the polygon), F − disk(O, R) is empty and no bending line crosses the floe — what
-    `split_by_radius` finds, without its two overlays."""
-    inradius = check.breaking_radius_m * np.cos(np.pi / _disk_vertices(check.fan))
-    offsets = shapely.get_coordinates(polygon) - check.fan.origin_xy_m
-    return bool(np.einsum("ij,ij->i", offsets, offsets).max() < (inradius * (1.0 - WITHIN_RELATIVE)) ** 2)
-
-
-WITHIN_RELATIVE = 1e-9  # `within_bending_line`: a vertex this close (relative) to the inradius is not inside
 
 
 def bending_gate(mode: str, check: BendingCheck) -> Outcome | None:
@@ -201,14 +183,12 @@ class Bending:
         check = bending_check(inp, ctx, self.settings)
         if (held := bending_gate(self.name, check)) is not None:
             return held
-        # no bending line crosses the floe (it lies within the breaking radius): it cannot fail in bending
-        # here, and the policy's next mode (cracking) is tried; decided without the overlays where it can be
-        if within_bending_line(inp.polygon, check):
-            return pass_on(self.name, check.margin)
         near, far = split_by_radius(inp.polygon, check, inp.thickness_m)
         if not near:  # the bending line misses the floe
             return intact(self.name, check.margin)
-        if not far:  # within the radius but for a sliver beyond it (merged back, `split_parts`)
+        if not far:
+            # no bending line crosses the floe (it lies within the breaking radius): it cannot fail in
+            # bending here, and the policy's next mode (cracking) is tried
             return pass_on(self.name, check.margin)
         pieces = (NewPiece(p, Fate.FLOE, inp.crack_count) for p in [*near, *far])
         return failed(self.name, pieces, check.margin)
