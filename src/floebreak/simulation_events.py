@@ -156,11 +156,8 @@ def locate_step(run, step: int, x0: float, x1: float, touching: list[int], evalu
     queue = deque()
     for pid, polygon in zip(touching, run.bow_frame(touching, x1), strict=True):
         lo = max(x0, pieces.quiet_until[pid])
-        known = previous.get(pid)
-        if known is None or abs(known[2] - lo) > 1e-9:
-            known = None
-        item = _Item(pid, polygon, x1, lo, None if known is None else known[3])
-        queue.extend(_anticipate(run, step, x1, item, known))
+        known_x, margin = previous.get(pid, (math.nan, None))
+        queue.append(_Item(pid, polygon, x1, lo, margin if abs(known_x - lo) <= 1e-9 else None))
     batch: deque = deque()
     while queue:
         if not batch:
@@ -190,45 +187,8 @@ def _settle(run, step: int, x1: float, item: _Item, contact) -> list[_Item]:
     if judged[1].failed:
         return [_Item(child, child_bf, x, x) for child, child_bf in children]
     if x == x1:
-        run.search_margins[pid] = (lo, margin_lo, x1, judged[1].margin)
+        run.search_margins[pid] = (x1, judged[1].margin)
     return _again(run, pid, x, x1, judged[1].margin)
-
-
-def _anticipate(run, step: int, x1: float, item: _Item, known) -> list[_Item]:
-    """`item`, or the items after its failure where it is anticipated: where the zero of its usable margin,
-    extrapolated through its last two intact evaluations `known` = (x_a, margin_a, x_b = item.lo, margin_b),
-    lies before the search position `x1`, a trial just above it; a failure there is located in
-    (item.lo, trial] and applied without evaluating the piece at `x1`; an intact trial raises the bracket's
-    lower end to it."""
-    tolerance_m = run.params.event_tolerance_m
-    estimate = _extrapolated_zero(known)
-    if estimate is None or not item.lo < estimate < x1 - 2.0 * tolerance_m:
-        return [item]
-    x = min(estimate + 0.3 * tolerance_m, x1 - tolerance_m)
-    found, margin = _failed_at(run, item.pid, x)
-    if found is None:
-        return [item._replace(lo=x, margin_lo=margin)]
-    lower = (item.lo, _usable(item.margin_lo, False))
-    if _confirms(estimate, lower, (x, _usable(margin, True)), tolerance_m):
-        located = x, found
-    else:
-        trial = lambda trial_x: _failed_at(run, item.pid, trial_x)  # noqa: E731
-        located = locate_event(item.lo, x, found, trial, tolerance_m, margin, item.margin_lo)
-    x, (contact, judged) = located
-    children = run._apply(step, x, item.pid, contact, judged)
-    return [_Item(child, child_bf, x, x) for child, child_bf in children]
-
-
-def _extrapolated_zero(known) -> float | None:
-    """The zero of the usable margins (`_usable`) of two intact evaluations (x_a, margin_a, x_b, margin_b)
-    extrapolated beyond x_b, if they rise towards it; else None."""
-    if known is None:
-        return None
-    x_a, margin_a, x_b, margin_b = known
-    u_a, u_b = _usable(margin_a, False), _usable(margin_b, False)
-    if u_a is None or u_b is None or not u_b > u_a or not x_b > x_a:
-        return None
-    return _line_zero((x_a, u_a), (x_b, u_b))
 
 
 def _failed_at(run, pid: int, x: float):
