@@ -12,8 +12,9 @@ run (CPU time of the child, user + system, best of `--runs`: on a shared machine
 other processes' load): start-up, field, simulation and the whole run directory with figures and report.
 With `--end-to-end --propeller` it times `floebreak propeller` (shaft line, PC5, operating profile:
 `PROPELLER_ARGS`) on each side's own run instead.
-The child starts the console command's entry point of its version (`_floebreak_entry:main` where that
-module exists, else `floebreak.cli:main`); both sides' sources are compiled to bytecode first, as an
+The child starts the console command's entry point of its version, the function its `pyproject.toml` names
+under `[project.scripts]` (`floebreak.__main__:main` today, with the console process' collector settings;
+`floebreak.cli:main` where no such file is found); both sides' sources are compiled to bytecode first, as an
 installed copy is.
 
 Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]
@@ -34,6 +35,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -68,7 +70,8 @@ COMPILE = "from floebreak.mechanics import compile_kernels; compile_kernels()"
 END_TO_END = """
 import importlib, sys
 entry, sys.argv = sys.argv[1], ["floebreak", *sys.argv[2:]]
-importlib.import_module(entry).main()
+module, function = entry.split(":")
+getattr(importlib.import_module(module), function)()
 """
 
 
@@ -79,13 +82,21 @@ PROPELLER_ARGS = (
 )
 
 
+def _console_entry(src: Path) -> str:
+    """`module:function` of the `floebreak` console command in the version at `src` (its pyproject.toml)."""
+    pyproject = src.parent / "pyproject.toml"
+    if pyproject.exists():
+        scripts = tomllib.loads(pyproject.read_text()).get("project", {}).get("scripts", {})
+        if "floebreak" in scripts:
+            return scripts["floebreak"]
+    return "floebreak.cli:main"
+
+
 def _cli_cpu_s(src: Path, command: list[str]) -> float:
     """CPU time (user + system) of one CLI child process of the version at `src`."""
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
-    # the installed venv may see another checkout's `_floebreak_entry`: choose by this side's files
-    entry = "_floebreak_entry" if (src / "_floebreak_entry.py").exists() else "floebreak.cli"
     child = subprocess.Popen(
-        [sys.executable, "-c", END_TO_END, entry, *command],
+        [sys.executable, "-c", END_TO_END, _console_entry(src), *command],
         env=env,
         cwd=src.parent,
         stdout=subprocess.DEVNULL,
