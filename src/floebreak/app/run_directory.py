@@ -316,7 +316,7 @@ def _figure_worker(connection, parent: int, waiting) -> None:
     `waiting` (an Event) is set while it waits for a message."""
     _die_with(parent)
     # what it inherited lives until it exits: out of the collector's walks, which would otherwise copy
-    # every page of the parent's heap (copy-on-write; ≈ 0.1 s CPU per full collection, benchmarks/README.md)
+    # every page of the parent's heap (copy-on-write; benchmarks/README.md, "Issue 34 §6")
     gc.freeze()
     drawn: dict[str, bytes | BaseException] = {}
     try:

@@ -29,7 +29,7 @@ BLOCK = 1 << 20
 def station_torque_n_m(line: ShaftLine, load_torque_n_m, dt_s: float, station: str | None = None):
     """Shaft torque [N·m] at `station` for the propeller load torque series `load_torque_n_m` sampled
     every `dt_s` seconds (module docstring). Returns an array of the same length."""
-    from scipy.signal import lfilter  # here: the drive model never calls it (import ≈ 0.5 s)
+    from scipy.signal import lfilter  # here: the drive model never calls it
 
     dt = require_range("dt_s", dt_s, low=0.0, unit="s")
     q = np.asarray(load_torque_n_m, dtype=float).reshape(-1)
