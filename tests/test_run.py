@@ -432,7 +432,7 @@ def test_failed_write_leaves_nothing(small_run, tmp_path, monkeypatch):
     def broken(*args, **kwargs):
         raise RuntimeError("disk on fire")
 
-    monkeypatch.setattr(importlib.import_module("floebreak.app.run_directory"), "_save_png", broken)
+    monkeypatch.setattr(importlib.import_module("floebreak.app.figure_process"), "save_png", broken)
     with pytest.raises(RuntimeError):
         result.write(tmp_path / "out")
     assert list(tmp_path.iterdir()) == []

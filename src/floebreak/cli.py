@@ -377,7 +377,7 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     engine is imported (`main`).
     """
     from floebreak.api import check_output_directory
-    from floebreak.app.run_directory import figure_worker
+    from floebreak.app.figure_process import figure_worker
 
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
@@ -1063,8 +1063,8 @@ def propeller(
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
     station of a run (docs/shaft.md)."""
+    from floebreak.app.figure_process import figure_worker
     from floebreak.app.propeller import analyse_runs, read_runs
-    from floebreak.app.run_directory import figure_worker
 
     models = _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters)
     profile = operating_profile(hours_per_year, years)

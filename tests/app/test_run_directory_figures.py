@@ -18,7 +18,7 @@ import pytest
 
 import floebreak
 import floebreak.api
-from floebreak.app import run_directory
+from floebreak.app import figure_process, run_directory
 from floebreak.errors import InputError
 
 pytestmark = pytest.mark.skipif(
@@ -37,10 +37,10 @@ def result():
 def _write(result, out, monkeypatch, fork: bool, early: bool = False, ahead=None):
     """Write `result` to `out`: serially, or (`fork`) with a worker forked at the write or (`early`)
     before, sent the field figure's call `ahead` (a FigureCall) before the write if given."""
-    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: fork)
+    monkeypatch.setattr(figure_process, "fork_for_figures", lambda: fork)
     if not early:
         return result.write(out, directory_name="run")
-    with run_directory.figure_worker() as worker:
+    with figure_process.figure_worker() as worker:
         assert worker is not None
         if ahead is not None:
             assert worker.waiting.wait(timeout=60)  # it has imported matplotlib
@@ -51,14 +51,14 @@ def _write(result, out, monkeypatch, fork: bool, early: bool = False, ahead=None
 def _started_workers(monkeypatch) -> list:
     """The figure workers' processes the code under test starts (filled as they start)."""
     started = []
-    start = run_directory._start_figure_worker
+    start = figure_process.start_figure_worker
 
     def recording():
         worker = start()
         started.append(worker.process)
         return worker
 
-    monkeypatch.setattr(run_directory, "_start_figure_worker", recording)
+    monkeypatch.setattr(figure_process, "start_figure_worker", recording)
     return started
 
 
@@ -103,18 +103,20 @@ def test_figure_workers_write_the_same_files_as_the_serial_path(result, tmp_path
 
 
 def test_the_figure_calls_are_plain_data_that_pickle(result):
-    """A worker forked before the run gets each figure as pickled data (`_dumps`), never the Result."""
+    """A worker forked before the run gets each figure as pickled data (`figure_process.pickled`), not
+    the Result."""
     import pickle
 
     for key in run_directory.FIGURES:
-        module, function, args, kwargs = pickle.loads(run_directory._dumps(result.figure_call(key)))
+        module, function, args, kwargs = pickle.loads(figure_process.pickled(result.figure_call(key)))
         assert (module, function) == result.figure_call(key)[:2]
         assert not any(isinstance(value, type(result)) for value in (*args, *kwargs.values()))
 
 
 def _fail_in_the_child(monkeypatch, error):
-    """`_save_png` raises `error` for the breaking pattern, one of the first worker's figures."""
-    save = run_directory._save_png
+    """`figure_process.save_png` raises `error` for the breaking pattern, one of the first worker's
+    figures."""
+    save = figure_process.save_png
     child_figure = run_directory.FIGURES[next(iter(run_directory.FIGURES))]
 
     def failing(figure, path, meta):
@@ -124,7 +126,7 @@ def _fail_in_the_child(monkeypatch, error):
         save(figure, path, meta)
 
     parent = os.getpid()
-    monkeypatch.setattr(run_directory, "_save_png", failing)
+    monkeypatch.setattr(figure_process, "save_png", failing)
 
 
 @pytest.mark.parametrize("early", [False, True], ids=["forked at the write", "forked before the run"])
@@ -148,7 +150,7 @@ def test_a_full_disk_in_the_child_is_a_storage_error(result, tmp_path, monkeypat
 
 
 def test_a_child_that_dies_fails_the_write_and_leaves_nothing(result, tmp_path, monkeypatch):
-    monkeypatch.setattr(run_directory, "_figure_worker", lambda *args: os._exit(3))
+    monkeypatch.setattr(figure_process, "_figure_worker", lambda *args: os._exit(3))
     with pytest.raises(RuntimeError, match="exit code 3"):
         _write(result, tmp_path / "out", monkeypatch, fork=True)
     assert list(tmp_path.iterdir()) == []
@@ -156,7 +158,7 @@ def test_a_child_that_dies_fails_the_write_and_leaves_nothing(result, tmp_path, 
 
 def test_the_worker_s_own_child_that_dies_fails_the_write_and_leaves_nothing(result, tmp_path, monkeypatch):
     """The breaking pattern is drawn by the child the worker forks at the write (`_draw_halves`)."""
-    save = run_directory._save_png
+    save = figure_process.save_png
     parent = os.getpid()
 
     def dying(figure, path, meta):
@@ -164,7 +166,7 @@ def test_the_worker_s_own_child_that_dies_fails_the_write_and_leaves_nothing(res
             os._exit(3)  # the worker's child, not the worker
         save(figure, path, meta)
 
-    monkeypatch.setattr(run_directory, "_save_png", dying)
+    monkeypatch.setattr(figure_process, "save_png", dying)
     started = _started_workers(monkeypatch)
     with pytest.raises(RuntimeError, match="a figure process ended without an answer"):
         _write(result, tmp_path / "out", monkeypatch, fork=True)
@@ -180,7 +182,7 @@ def test_a_failure_in_the_parent_stops_the_child_and_leaves_nothing(result, tmp_
     def broken_tables(result, temp):
         raise RuntimeError("disk on fire")
 
-    monkeypatch.setattr(run_directory, "_figure_worker", slow_child)
+    monkeypatch.setattr(figure_process, "_figure_worker", slow_child)
     monkeypatch.setattr(run_directory, "_write_tables", broken_tables)
     workers = _started_workers(monkeypatch)
     started = time.perf_counter()
@@ -199,7 +201,7 @@ def test_workers_of_a_run_that_fails_are_ended(tmp_path, monkeypatch):
     def failing_run(*args, **kwargs):
         raise InputError("simulation.step_m", "-1", allowed="> 0")
 
-    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: True)
+    monkeypatch.setattr(figure_process, "fork_for_figures", lambda: True)
     monkeypatch.setattr(floebreak.api, "run", failing_run)
     workers = _started_workers(monkeypatch)
     with pytest.raises(InputError):
@@ -211,7 +213,7 @@ def test_workers_of_a_run_that_fails_are_ended(tmp_path, monkeypatch):
 
 def test_workers_not_used_are_ended():
     """`figure_worker` without a write (`--no-report`-like paths, a refused output, Ctrl-C)."""
-    with run_directory.figure_worker() as worker:
+    with figure_process.figure_worker() as worker:
         if worker is None:
             pytest.skip("this machine gives no second core to fork onto")
     _assert_ended([worker.process])
@@ -224,8 +226,8 @@ def test_the_command_line_leaves_matplotlib_to_the_workers(tmp_path):
     argv = ["floebreak", "run", "examples/reference.toml", "--quiet", "--out", out]
     argv += ["--set", "field.length_m=40"]
     code = (
-        "import sys; from floebreak import cli; from floebreak.app import run_directory\n"
-        "if not run_directory._fork_for_figures(): print('serial'); raise SystemExit\n"
+        "import sys; from floebreak import cli; from floebreak.app import figure_process\n"
+        "if not figure_process.fork_for_figures(): print('serial'); raise SystemExit\n"
         f"sys.argv = {argv!r}\n"
         "try:\n    cli.main()\nexcept SystemExit:\n    pass\n"
         "print('matplotlib' in sys.modules)"
@@ -255,13 +257,13 @@ def test_one_core_or_a_second_thread_draws_serially(monkeypatch):
         monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0})
     else:
         monkeypatch.setattr(os, "cpu_count", lambda: 1)
-    assert run_directory._fork_for_figures() is False
+    assert figure_process.fork_for_figures() is False
     monkeypatch.undo()
     stop = threading.Event()
     thread = threading.Thread(target=stop.wait)
     thread.start()
     try:
-        assert run_directory._fork_for_figures() is False
+        assert figure_process.fork_for_figures() is False
     finally:
         stop.set()
         thread.join()
@@ -280,9 +282,9 @@ def _gone(pid: int) -> bool:
 def test_workers_of_a_killed_run_end_with_it():
     """SIGKILL the process that forked the workers (it cannot end them): they end too."""
     code = (
-        "import sys, time; from floebreak.app import run_directory\n"
-        "run_directory._fork_for_figures = lambda: True\n"
-        "with run_directory.figure_worker() as worker:\n"
+        "import sys, time; from floebreak.app import figure_process\n"
+        "figure_process.fork_for_figures = lambda: True\n"
+        "with figure_process.figure_worker() as worker:\n"
         "    print(worker.process.pid, flush=True)\n"
         "    time.sleep(600)\n"
     )
@@ -303,16 +305,16 @@ def test_workers_of_a_killed_run_end_with_it():
 def test_a_run_sends_its_field_ahead_and_the_write_only_saves_it(tmp_path, monkeypatch):
     """`run(..., figure_worker=)`: the field's figure is drawn while the engine runs, and the write sends
     no job for it (the field was not shifted for initial contact, so the call is the same)."""
-    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: True)
+    monkeypatch.setattr(figure_process, "fork_for_figures", lambda: True)
     sent = []
-    send = run_directory.FigureWorker._send
+    send = figure_process.FigureWorker._send
 
     def recording(self, message):
         sent.append(message)
         return send(self, message)
 
-    monkeypatch.setattr(run_directory.FigureWorker, "_send", recording)
-    with run_directory.figure_worker() as worker:
+    monkeypatch.setattr(figure_process.FigureWorker, "_send", recording)
+    with figure_process.figure_worker() as worker:
         assert worker.waiting.wait(timeout=60)  # else the field is sent at the first event it waits at
         ran = floebreak.run(overrides=SMALL, figure_worker=worker)
         assert ran.summary["field_shift_m"] == 0.0
@@ -330,9 +332,9 @@ def test_a_run_sends_its_field_ahead_and_the_write_only_saves_it(tmp_path, monke
 def test_nothing_is_sent_ahead_while_the_worker_is_busy(result, monkeypatch):
     """A figure's data fill the pipe: sent to a worker still importing matplotlib, the send would block
     the engine until the import ends; it is not sent (the write draws that figure)."""
-    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: True)
-    monkeypatch.setattr(run_directory, "_figure_worker", lambda *args: time.sleep(60))
-    with run_directory.figure_worker() as worker:
+    monkeypatch.setattr(figure_process, "fork_for_figures", lambda: True)
+    monkeypatch.setattr(figure_process, "_figure_worker", lambda *args: time.sleep(60))
+    with figure_process.figure_worker() as worker:
         started = time.perf_counter()
         callback = worker.ahead_callback("field", result.figure_call("field"), result.provenance("figure"))
         callback(object())

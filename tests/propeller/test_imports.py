@@ -47,3 +47,14 @@ def test_the_95_percent_quantile_is_scipys_to_the_bit():
     for level in (0.95, 0.9):  # the constant, and scipy for any other level
         z = stats.norm.ppf(0.5 + level / 2.0)
         assert fit.shape_interval(level) == (fit.shape_k - z * sd, fit.shape_k + z * sd)
+
+
+def test_the_propeller_command_and_its_figure_worker_do_not_import_the_engine():
+    """The figure worker lives apart from the run directory (`floebreak.app.figure_process`): the
+    propeller and shaft analyses draw through it without importing the stepping engine or the ice motion."""
+    loaded = loaded_after(
+        "from floebreak import cli\n"
+        "import floebreak.app.propeller, floebreak.app.shaft, floebreak.app.figure_calls\n"
+        "from floebreak.app.figure_process import figure_worker, figures_drawn_alongside"
+    )
+    assert not {"floebreak.simulation", "floebreak.app.run_directory", "floebreak.dynamics", "pymunk"} & loaded

@@ -1,5 +1,5 @@
 """The propeller and shaft analyses' figures drawn by forked figure workers while the tables are written
-(`floebreak.app.run_directory.figures_drawn_alongside`, as `floebreak propeller` does it): the same files,
+(`floebreak.app.figure_process.figures_drawn_alongside`, as `floebreak propeller` does it): the same files,
 byte for byte, as drawn serially; a worker's failure fails the write with nothing left behind."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import os
 
 import pytest
 
-from floebreak.app import run_directory
+from floebreak.app import figure_process
 from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
 from floebreak.app.shaft import shaft_analysis_of_run
 
@@ -36,16 +36,16 @@ def _files(folder):
 def _sent(monkeypatch) -> list[int]:
     """Fork figure workers here (as on a Linux machine with ≥ 2 cores); the number of figures sent to each
     worker at the write, filled as they are sent."""
-    monkeypatch.setattr(run_directory, "_fork_for_figures", lambda: True)
+    monkeypatch.setattr(figure_process, "fork_for_figures", lambda: True)
     sent = []
-    dumps = run_directory._dumps
+    dumps = figure_process.pickled
 
     def counted(message):
         if isinstance(message, tuple) and message[0] == "write":
             sent.append(len(message[1]))
         return dumps(message)
 
-    monkeypatch.setattr(run_directory, "_dumps", counted)
+    monkeypatch.setattr(figure_process, "pickled", counted)
     return sent
 
 
@@ -54,7 +54,7 @@ def test_figure_workers_write_the_same_files_as_the_serial_path(analyses, tmp_pa
     write_propeller(result, tmp_path / "serial")
     shaft.write(tmp_path / "serial" / "shaft")
     sent = _sent(monkeypatch)
-    with run_directory.figure_worker() as first, run_directory.figure_worker() as second:
+    with figure_process.figure_worker() as first, figure_process.figure_worker() as second:
         write_propeller(result, tmp_path / "forked", figure_worker=first)
         shaft.write(tmp_path / "forked" / "shaft", figure_worker=second)
     serial, forked = _files(tmp_path / "serial"), _files(tmp_path / "forked")
@@ -72,7 +72,7 @@ def test_a_failing_figure_fails_the_write_and_leaves_nothing(analyses, tmp_path,
     _sent(monkeypatch)
     calls = {"broken.png": ("propeller", "no_such_plot", (), {})}
     monkeypatch.setattr("floebreak.app.propeller.propeller_figure_calls", lambda _: calls)
-    with run_directory.figure_worker() as worker, pytest.raises(AttributeError, match="no_such_plot"):
+    with figure_process.figure_worker() as worker, pytest.raises(AttributeError, match="no_such_plot"):
         write_propeller(result, tmp_path / "out", figure_worker=worker)
     assert not (tmp_path / "out").exists()
     assert os.listdir(tmp_path) == []  # no temporary directory left either

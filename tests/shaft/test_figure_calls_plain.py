@@ -50,7 +50,7 @@ def test_the_figure_calls_load_and_draw_without_xarray_or_dask(sent_calls):
     assert {"torque_spectrum_log.png", "torque_comparison_log.png", "shaft_series.png"} <= sent.keys()
     code = (
         "import json, pickle, sys\n"
-        "from floebreak.app.run_directory import draw_figure\n"
+        "from floebreak.app.figure_process import draw_figure\n"
         f"calls = pickle.loads(open({str(path)!r}, 'rb').read())\n"
         "loaded = sorted(sys.modules)\n"
         "for call in calls.values():\n"

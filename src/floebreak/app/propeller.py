@@ -128,7 +128,7 @@ def propeller_figures(result: PropellerResult) -> dict[str, Any]:
 
 
 def propeller_figure_calls(result: PropellerResult) -> dict[str, Any]:
-    """The analysis' figures as plain data (file name → `floebreak.app.run_directory.FigureCall` of
+    """The analysis' figures as plain data (file name → `floebreak.app.figure_process.FigureCall` of
     `floebreak.plotting.propeller`), to draw here or in a figure worker."""
 
     def call(function: str, *args) -> tuple:

@@ -33,15 +33,9 @@ from floebreak.app.build import (
 )
 from floebreak.app.build import field_key as field_key  # re-exported (`as`), as the names below
 from floebreak.app.build import waterline_rule as waterline_rule
+from floebreak.app.figure_process import FigureCall, FigureWorker, draw_figure
 from floebreak.app.poses import PoseRecorder, check_pose_interval
-from floebreak.app.run_directory import (
-    CONTACTS_FILE,
-    FigureCall,
-    FigureWorker,
-    draw_figure,
-    pieces_table,
-    write_run_directory,
-)
+from floebreak.app.run_directory import CONTACTS_FILE, pieces_table, write_run_directory
 from floebreak.app.run_directory import FIGURES as FIGURES
 from floebreak.app.run_directory import PIECE_FILES as PIECE_FILES
 from floebreak.app.run_directory import PIECES_FILE as PIECES_FILE

@@ -138,12 +138,12 @@ def design_figure_calls(result: ShaftResult, histogram, fatigue: dict) -> dict:
 
 
 def _call(function: str, *args) -> tuple:
-    """A `floebreak.app.run_directory.FigureCall` of `floebreak.plotting.shaft`."""
+    """A `floebreak.app.figure_process.FigureCall` of `floebreak.plotting.shaft`."""
     return ("shaft", function, args, {})
 
 
 def shaft_figure_calls(result: ShaftResult, series, edges, densities, measured: TorqueSeries | None) -> dict:
-    """The shaft analysis' figures as plain data (file name → `floebreak.app.run_directory.FigureCall` of
+    """The shaft analysis' figures as plain data (file name → `floebreak.app.figure_process.FigureCall` of
     `floebreak.plotting.shaft`), to draw here or in a figure worker."""
     out = {}
     primary = result.cases[0]
