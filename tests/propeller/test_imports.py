@@ -57,4 +57,5 @@ def test_the_propeller_command_and_its_figure_worker_do_not_import_the_engine():
         "import floebreak.app.propeller, floebreak.app.shaft, floebreak.app.figure_calls\n"
         "from floebreak.app.figure_process import figure_worker, figures_drawn_alongside"
     )
-    assert not {"floebreak.simulation", "floebreak.app.run_directory", "floebreak.dynamics", "pymunk"} & loaded
+    engine = {"floebreak.simulation", "floebreak.app.run_directory", "floebreak.dynamics", "pymunk"}
+    assert not engine & loaded
