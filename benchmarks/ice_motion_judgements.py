@@ -44,8 +44,19 @@ from floebreak.dynamics import engine
 from floebreak.mechanics import compile_kernels
 from floebreak.scenario import Scenario
 from floebreak.simulation import SimulationParams, simulate
+from floebreak.simulation_motion import IceMotion
 
 TOLERANCE = 1e-9
+# where the time goes: process time inside each of these (inclusive: the engine step holds Chipmunk's, a
+# body is built inside whichever call first needs it)
+TIMED = (
+    ("static loop (_evaluate_queue)", simulation._Run, "_evaluate_queue"),
+    ("between searches (IceMotion.advance_to)", IceMotion, "advance_to"),
+    ("engine steps (IceMotionEngine.step)", engine.IceMotionEngine, "step"),
+    ("bodies built (IceMotionEngine._materialize)", engine.IceMotionEngine, "_materialize"),
+    ("moved outlines stored (IceMotion.flush)", IceMotion, "flush"),
+    ("skip check of moved pieces (_apart_after_moving)", simulation._Run, "_apart_after_moving"),
+)
 
 
 def _contact_numbers(contact) -> np.ndarray:
@@ -73,6 +84,7 @@ class _Tally:
         self.engine_steps = 0
         self.chipmunk_steps = 0
         self.chipmunk_ns = 0
+        self.inclusive_ns = dict.fromkeys((name for name, _, _ in TIMED), 0)
 
     def record(self, run, pid: int, polygon_bf, contact, judged, cpu_ns: int) -> None:
         share = 1.0 if run.motion is None else run.motion.load_share.get(pid, 1.0)
@@ -122,11 +134,27 @@ def _wrapped(tally: _Tally):
 
     run_cls._judge, run_cls._evaluate_piece = timed_judge, located_evaluate
     engine_cls.step, pymunk.Space.step = counted_step, timed_space_step
+    originals = [(owner, attr, getattr(owner, attr)) for _, owner, attr in TIMED]
+    for (name, owner, attr), (_, _, original) in zip(TIMED, originals, strict=True):
+        setattr(owner, attr, _timer(tally, name, original))
     try:
         yield
     finally:
+        for owner, attr, original in reversed(originals):
+            setattr(owner, attr, original)
         run_cls._judge, run_cls._evaluate_piece = judge, evaluate
         engine_cls.step, pymunk.Space.step = step, space_step
+
+
+def _timer(tally: _Tally, name: str, function):
+    def timed(*args, **kwargs):
+        start = time.process_time_ns()
+        try:
+            return function(*args, **kwargs)
+        finally:
+            tally.inclusive_ns[name] += time.process_time_ns() - start
+
+    return timed
 
 
 def _run(size: list[str], motion: list[str]) -> float:
@@ -197,6 +225,8 @@ def _summary(tally: _Tally) -> dict[str, float]:
         "rejudge_cpu_s": float(cpu_s[after].sum()) if len(after) else 0.0,
         "engine_steps": tally.engine_steps,
         "chipmunk_us": 1e6 * tally.chipmunk_ns * 1e-9 / max(tally.chipmunk_steps, 1),
+        "chipmunk_s": tally.chipmunk_ns * 1e-9,
+        "inclusive_s": {name: ns * 1e-9 for name, ns in tally.inclusive_ns.items() if ns},
     }
 
 
@@ -232,7 +262,11 @@ def _report(name: str, row: dict[str, float]) -> None:
         f"({per_call:.0f} µs each), re-judgements {row['rejudge_cpu_s']:.2f} s"
     )
     if row["engine_steps"]:
-        print(f"  engine steps {row['engine_steps']}, Chipmunk {row['chipmunk_us']:.0f} µs per step")
+        print(
+            f"  engine steps {row['engine_steps']}, Chipmunk {row['chipmunk_us']:.0f} µs per step "
+            f"({row['chipmunk_s']:.2f} s)"
+        )
+    print("  inclusive: " + ", ".join(f"{name} {t:.2f} s" for name, t in row["inclusive_s"].items()))
 
 
 def _load_average() -> str:
