@@ -11,9 +11,12 @@ With `--time-steps`, the engine-step convergence instead: dynamic motion on the 
 `--seeds N`; `--steps 0.04,0.02` other steps), with the seeds' means and their change from one step to the
 next (measured, nothing tuned).
 The motions alternate, each run `--repeat` times (3): the medians and their ratios, with the load average;
-`--two` leaves out the coarser motion (3 engine steps per search instead of 5).
-Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [[--long] [--repeat N] [--two] |
---time-steps [--fine] [--seeds N]]`.
+`--two` leaves out the coarser motion (3 engine steps per search instead of 5). `--window F` adds `dynamic`
+with the awake window's distances (`ice_motion.window_ahead_m`, `window_behind_m`, `window_side_m`) scaled
+by F; with `--seeds N` as well, instead: seeds 1–N on the 385 m field, `dynamic` at the default window and at
+F, each seed's change in cusps/km and cusp area, and their mean ± standard deviation over the seeds.
+Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [[--long] [--repeat N] [--two]
+[--window F] | --time-steps [--fine] [--seeds N] | --window F --seeds N]`.
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ import time
 import numpy as np
 
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
-from floebreak.dynamics import engine
+from floebreak.dynamics import IceMotionSettings, engine
 from floebreak.mechanics import compile_kernels
 from floebreak.scenario import Scenario
 from floebreak.simulation import ContactEvaluated, SimulationParams, simulate
@@ -39,6 +42,15 @@ MOTIONS = {
     "dynamic": ["simulation.ice_motion=dynamic"],
     "dynamic, 3 steps/search": ["simulation.ice_motion=dynamic", "ice_motion.time_step_s=0.04"],
 }
+
+
+def window_scaled(factor: float) -> list[str]:
+    """The overrides scaling the awake window's three distances by `factor`."""
+    defaults = IceMotionSettings()
+    return [
+        f"ice_motion.{key}={factor * getattr(defaults, key)!r}"
+        for key in ("window_ahead_m", "window_behind_m", "window_side_m")
+    ]
 
 
 TIME_STEPS_S = (0.02, 0.01, 0.005)
@@ -72,16 +84,18 @@ def _measure(size: list[str], motion: list[str]) -> dict[str, float]:
     }
 
 
-def compare(length_m: float, width_m: float, repeats: int) -> None:
+def compare(length_m: float, width_m: float, repeats: int, extra: dict[str, list[str]]) -> None:
     """Each motion `repeats` times, the motions alternating (static, dynamic, …, static, dynamic, …) so
     that a change in the machine's load reaches all of them; the median CPU time of each and the ratios
-    of the medians. The counts are those of the last round (the runs are deterministic)."""
+    of the medians. The counts are those of the last round (the runs are deterministic). `extra`: further
+    motions, after the others."""
     size = [f"field.length_m={length_m}", f"field.width_m={width_m}"]
-    motions = list(MOTIONS)[:2] if "--two" in sys.argv else list(MOTIONS)
+    table = {**MOTIONS, **extra}
+    motions = [*(list(MOTIONS)[:2] if "--two" in sys.argv else list(MOTIONS)), *extra]
     times: dict[str, list[float]] = {name: [] for name in motions}
     rows: dict[str, dict[str, float]] = {}
     for _ in range(repeats):
-        for name, motion in ((name, MOTIONS[name]) for name in motions):
+        for name, motion in ((name, table[name]) for name in motions):
             rows[name] = _measure(size, motion)
             times[name].append(rows[name]["cpu_s"])
     for motion, row in rows.items():
@@ -102,6 +116,34 @@ def compare(length_m: float, width_m: float, repeats: int) -> None:
 
 def _load_average() -> str:
     return " ".join(f"{v:.1f}" for v in os.getloadavg())
+
+
+def window_table(factor: float, seeds: tuple[int, ...]) -> None:
+    """`dynamic` on the 385 m field at the default window and at its distances × `factor`, per seed; each
+    seed's change, and the changes' mean ± standard deviation over the seeds."""
+    size = ["field.length_m=385.0", "field.width_m=100.0"]
+    changes: dict[str, list[float]] = {"cusps_per_km": [], "cusp_area_m2": []}
+    cpu: dict[str, list[float]] = {"default": [], "scaled": []}
+    for seed in seeds:
+        base = _measure(size, [*MOTIONS["dynamic"], f"seed={seed}"])
+        scaled = _measure(size, [*MOTIONS["dynamic"], *window_scaled(factor), f"seed={seed}"])
+        cpu["default"].append(base["cpu_s"])
+        cpu["scaled"].append(scaled["cpu_s"])
+        for key, values in changes.items():
+            values.append(100 * (scaled[key] / base[key] - 1))
+        print(
+            f"seed {seed}: window ×1 {base['cusps_per_km']:.0f} cusps/km, {base['cusp_area_m2']:.0f} m², "
+            f"CPU {base['cpu_s']:.2f} s; ×{factor:g} {scaled['cusps_per_km']:.0f} cusps/km, "
+            f"{scaled['cusp_area_m2']:.0f} m², CPU {scaled['cpu_s']:.2f} s",
+            flush=True,
+        )
+    summary = ", ".join(
+        f"{key} {float(np.mean(v)):+.1f} ± {float(np.std(v, ddof=1)) if len(v) > 1 else 0.0:.1f} %"
+        for key, v in changes.items()
+    )
+    total = sum(cpu["scaled"]) / sum(cpu["default"]) - 1
+    print(f"window ×{factor:g} against ×1 over seeds {seeds[0]}–{seeds[-1]} (mean ± sd): {summary}")
+    print(f"  CPU {sum(cpu['default']):.1f} → {sum(cpu['scaled']):.1f} s ({100 * total:+.0f} %)")
 
 
 def time_step_table(time_steps_s: tuple[float, ...], seeds: tuple[int, ...]) -> None:
@@ -140,22 +182,29 @@ if __name__ == "__main__":
     compile_kernels()
     engine.compile_now()
     gc.freeze()
+    seeds = (
+        tuple(range(1, int(sys.argv[sys.argv.index("--seeds") + 1]) + 1)) if "--seeds" in sys.argv else SEEDS
+    )
+    window = float(sys.argv[sys.argv.index("--window") + 1]) if "--window" in sys.argv else None
+    if window is not None and "--seeds" in sys.argv:
+        window_table(window, seeds)
+        sys.exit(0)
     if "--time-steps" in sys.argv:
-        seeds = (
-            tuple(range(1, int(sys.argv[sys.argv.index("--seeds") + 1]) + 1))
-            if "--seeds" in sys.argv
-            else SEEDS
-        )
         steps = (*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S
         if "--steps" in sys.argv:  # e.g. --steps 0.04,0.02: coarser steps than the default
             steps = tuple(float(v) for v in sys.argv[sys.argv.index("--steps") + 1].split(","))
         time_step_table(steps, seeds)
         sys.exit(0)
     repeats = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
+    extra = (
+        {}
+        if window is None
+        else {f"dynamic, window ×{window:g}": [*MOTIONS["dynamic"], *window_scaled(window)]}
+    )
     # the first run in a process pays one-time costs (imports, caches): not measured
     _measure(["field.length_m=60.0", "field.width_m=100.0"], MOTIONS["dynamic"])
     print(f"load average {_load_average()} (1, 5, 15 min)")
-    compare(385.0, 100.0, repeats)
+    compare(385.0, 100.0, repeats, extra)
     if "--long" in sys.argv:
-        compare(1000.0, 200.0, repeats)
+        compare(1000.0, 200.0, repeats, extra)
     print(f"load average {_load_average()} (1, 5, 15 min)")
