@@ -115,6 +115,9 @@ def test_yaw_skin_integral_is_the_numpy_fan_sum_to_the_bit():
         area = (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) / 2.0
         uv = _SUB_POINTS
         pts = uv[:, None, :, 0, None] * a[None, :, None, :] + uv[:, None, :, 1, None] * b[None, :, None, :]
-        radius_cubed = np.hypot(pts[..., 0], pts[..., 1]) ** 3
+        # cubed by libm's pow, element by element, as the kernel does: numpy's vectorised power takes
+        # other (SIMD) code paths on CPUs with AVX-512, and differs from pow in the last bit there
+        radius = np.hypot(pts[..., 0], pts[..., 1])
+        radius_cubed = np.array([math.pow(r, 3.0) for r in radius.ravel().tolist()]).reshape(radius.shape)
         terms = area[None, :, None] / 16 * _RULE_WEIGHTS[None, None, :] * radius_cubed
         assert _yaw_skin_integral(ring) == abs(math.fsum(terms.ravel().tolist()))
