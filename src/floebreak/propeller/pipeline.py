@@ -334,6 +334,15 @@ def _cusp_loads(columns, tables, options, propeller, speed_m_s, engaged=None) ->
     return loads
 
 
+def _placed_loads(columns, tables, options, propeller, speed, transports) -> tuple[dict, str | None]:
+    """The per-cusp table (`_cusp_loads`) with the milling model's blocks on their engaged intervals where
+    the transport moved the run (`engaged_intervals`), and the placement's text (None for FEM)."""
+    n_runs = len(set(columns["run_id"].tolist()))
+    placement = placement_text(options["load_model"], len(transports), n_runs - len(transports))
+    engaged = engaged_intervals(transports, columns["run_id"].size, propeller) if placement else None
+    return _cusp_loads(columns, tables, options, propeller, speed, engaged), placement
+
+
 def _reaching(columns, exposures, transport: str, settings=None) -> tuple[dict[str, np.ndarray], dict, dict]:
     """Which cusps reach a propeller: per cusp `reaches_propeller`, `propeller_index` (−1: none or not
     modelled) and `arrival_time_s`, the summary's "transport" entry and the transports of the modelled
@@ -447,10 +456,7 @@ def analyse_propeller(
     speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
     reaching, transport_info, transports = _reaching(columns, exposures, transport, transport_settings)
     _report(progress, "transport")
-    n_runs = len(set(columns["run_id"].tolist()))
-    placement = placement_text(load_model, len(transports), n_runs - len(transports))
-    engaged = engaged_intervals(transports, columns["run_id"].size, propeller) if placement else None
-    loads = _cusp_loads(columns, tables, options, propeller, speed, engaged)
+    loads, placement = _placed_loads(columns, tables, options, propeller, speed, transports)
     loads.update(reaching)
     _unload_missed(loads, pitches)
     _report(progress, "per-cusp loads")
