@@ -7,8 +7,9 @@ h = 0.4 m is run (kept in DIR/seedN and reused when present), then the shaft cha
 95.86 % pitch, built-in Agulhas II line, mean torque 105 kN·m, ship speed 3 m/s, excitation case `--case`
 (1, the default excitation). Prints a markdown table per seed and chain:
 
-- `default`: the default profile's chain (transport → port propeller, milling torque at the current rpm,
-  torque-limited drive; `floebreak.shaft.analysis.shaft_drive_response`);
+- `default`: the default profile's chain (transport → port propeller, milling torque at the current rpm on
+  the blade's engaged interval in each cusp, torque-limited drive;
+  `floebreak.shaft.analysis.shaft_drive_response`);
 - `linear (today)`: the thesis chain (every cusp, FEM torque of the 95 % table, 2hZ impacts, constant rpm;
   `shaft_response`), the "before" figure;
 - one link swapped at a time from `default`: `all cusps` (no transport), `FEM torque` (the FEM table's
@@ -16,7 +17,8 @@ h = 0.4 m is run (kept in DIR/seedN and reused when present), then the shaft cha
   drive, with the default chain's arrivals, impacts and milling torque at the nominal rpm), `rigid line`
   (the drive on one rigid inertia: no 7.76 Hz shaft mode), `full flank contact` (the milling model with the
   flank touching the ice over its whole swept length, `IceStrength.flank_contact_chord_fraction = 1`: the
-  chain before docs/propeller.md §10 choice 4), `leading-edge contact` (fraction 0: only the nose crushes);
+  chain before docs/propeller.md §10 choice 4), `leading-edge contact` (fraction 0: only the nose crushes),
+  `tip placement` (every block at the blade tip, its thickness as radial extent: the chain before choice 5);
   the blocks' impacts recomputed with each.
 
 Columns: cusps milled, shaft torque max and min, envelope of the range above 0.1 %/(kN·m) (10 kN·m bins),
@@ -95,6 +97,7 @@ def chains(columns: dict, line, case: int) -> dict:
     spec = PropellerSpec()
     common = {"speed_m_s": SPEED_M_S, "mean_torque_n_m": MEAN_TORQUE_N_M, "cases": (case,)}
     port = milled_cusps(columns, speed_m_s=SPEED_M_S)
+    tip = milled_cusps(columns, speed_m_s=SPEED_M_S, engaged=False)
     every = milled_cusps(columns, speed_m_s=SPEED_M_S, transport=False)
     fem = fem_torque_in_input_order(columns)
     fem_sorted = cusp_torque_inputs(columns, shipped_fem_tables())
@@ -131,6 +134,10 @@ def chains(columns: dict, line, case: int) -> dict:
         ),
     )
     out["default, rigid line"] = (port.arrival_s.size, _rigid(port, line, case))
+    out["default, tip placement"] = (
+        tip.arrival_s.size,
+        shaft_drive_response(tip.arrival_s, tip.n_impacts, tip.impact_torque_n_m, line, **common),
+    )
     for name, fraction in (("full flank contact", 1.0), ("leading-edge contact", 0.0)):
         n_impacts, torque = _with_flank_fraction(port, fraction, spec.rpm)
         out[f"default, {name}"] = (
@@ -148,7 +155,12 @@ def _with_flank_fraction(port, fraction: float, rpm: float):
 
     def torque(k: int, rpm_now: float) -> float:
         b = port.block
-        one = IceBlock(b.thickness_m[k : k + 1], b.length_m[k : k + 1], b.width_m[k : k + 1])
+        one = IceBlock(
+            *(
+                a[k : k + 1]
+                for a in (b.thickness_m, b.length_m, b.width_m, b.inner_radius_m, b.outer_radius_m)
+            )
+        )
         return float(impact_loads(one, port.blade, rpm_now, port.advance_speed_m_s, ice).torque_n_m[0])
 
     return n_impacts, torque
@@ -178,12 +190,32 @@ def _rigid(port, line, case: int) -> _RigidResult:
     return _RigidResult(run, with_operating_point(line, None, MEAN_TORQUE_N_M))
 
 
-def _port_mask(columns: dict) -> np.ndarray:
+def _port_transport(columns: dict):
     from floebreak.propeller.transport import PropellerArrangement, transport_cusps
     from floebreak.shaft.analysis import TRANSPORT_INPUT_COLUMNS, port_propeller_index
 
     moved = transport_cusps(*(columns[k] for k in TRANSPORT_INPUT_COLUMNS), speed_m_s=SPEED_M_S)
-    return moved.propeller_index == port_propeller_index(PropellerArrangement())
+    return moved, moved.propeller_index == port_propeller_index(PropellerArrangement())
+
+
+def _port_mask(columns: dict) -> np.ndarray:
+    return _port_transport(columns)[1]
+
+
+def engagement(columns: dict) -> str:
+    """The depth of the port cusps' upper and lower faces below the disc's top [m] (lowest upper face,
+    deepest lower face) and their engaged length [m] (min / median / max): why the engaged interval
+    changes the torque (docs/propeller.md §10 choice 5)."""
+    moved, port = _port_transport(columns)
+    milled = milled_cusps(columns, speed_m_s=SPEED_M_S)
+    radius = PropellerSpec().radius_m
+    upper = moved.cross_section_m[2][port] + radius  # relative to the axis, depth positive down
+    lower = moved.cross_section_m[3][port] + radius
+    length = milled.block.outer_radius_m - milled.block.inner_radius_m
+    return (
+        f"cusps {upper.min():.2f}–{lower.max():.2f} m below the disc top; engaged length "
+        f"{length.min():.2f} / {np.median(length):.2f} / {length.max():.2f} m (min / median / max)"
+    )
 
 
 def main() -> None:
@@ -198,8 +230,10 @@ def main() -> None:
     line = load_shaft_line("agulhas_ii")
     print("| seed | chain | cusps milled | shaft max | shaft min | > 0.1 % | min rpm | criteria |")
     print("|---|---|---|---|---|---|---|---|")
+    notes = []
     for seed in args.seeds:
         columns = read_run_cusps(run_directory(work, seed), MILLING_INPUT_COLUMNS)
+        notes.append(f"seed {seed}: {engagement(columns)}")
         for name, (n, result) in chains(columns, line, args.case).items():
             m = measures(result)
             env = "–" if m["env"] is None else f"{m['env'][0]:.0f}–{m['env'][1]:.0f}"
@@ -208,6 +242,7 @@ def main() -> None:
                 f"{criteria(m)} |",
                 flush=True,
             )
+    print("\n" + "\n".join(notes))
 
 
 if __name__ == "__main__":

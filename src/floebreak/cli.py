@@ -695,9 +695,10 @@ def _model_line(summary: dict) -> str:
         reach += " (override)"
     else:
         reach += " (every cusp)"
+    placement = f" ({model['placement']})" if model.get("placement") else ""
     return (
-        f"per-cusp loads: {model.get('name', '–')} model; fraction of cusps reaching a propeller: {reach}; "
-        f"rated torque {model.get('rated_torque_knm', math.nan):.1f} kN·m"
+        f"per-cusp loads: {model.get('name', '–')} model{placement}; fraction of cusps reaching a propeller: "
+        f"{reach}; rated torque {model.get('rated_torque_knm', math.nan):.1f} kN·m"
     )
 
 

@@ -63,12 +63,20 @@ def test_transport_decides_which_cusps_load_and_count():
     amp = result.amplitudes(95.8551)
     assert np.isfinite(amp.torque_nm).tolist() == [True, False, False] and amp.weight.tolist() == [0.5, 0, 0]
     assert int(result.spectra["n_loads"].sum()) == 2  # one cusp, two pitches
-    # the milling model at the spec's pitch, rpm and the ship speed, on the cusp's box (wiring check)
+    # the milling model at the spec's pitch, rpm and the ship speed, on the cusp's box (wiring check),
+    # engaged straight up from the cross-section's lower face, 5.25 − 3.24 = 2.01 m above the axis, to the
+    # tip (a slanted blade meets that face farther out: shorter)
     spec = PropellerSpec()
     blade = BladeGeometry.from_spec(spec)
-    expected = impact_loads(IceBlock.from_box(2.0, 2.0, 1.0), blade, 140.0, 3.0)
+    assert result.loads["engaged_inner_radius_m"][0] == pytest.approx(2.01)
+    assert result.loads["engaged_outer_radius_m"][0] == pytest.approx(2.15)
+    assert np.isnan(result.loads["engaged_inner_radius_m"][1:]).all()
+    expected = impact_loads(IceBlock.from_box(2.0, 2.0, 1.0, 2.01, 2.15), blade, 140.0, 3.0)
     assert amp.torque_nm[0] == pytest.approx(-expected.torque_n_m[0])
+    tip = impact_loads(IceBlock.from_box(2.0, 2.0, 1.0), blade, 140.0, 3.0)
+    assert abs(amp.torque_nm[0]) < 0.5 * tip.torque_n_m[0]  # 0.14 m of blade instead of 1 m
     assert result.summary["load_model"]["name"] == "milling"
+    assert result.summary["load_model"]["placement"] == "engaged interval from the transport"
     assert result.summary["options"]["pitches"] == [0.0, 95.8551]
 
 
@@ -79,6 +87,11 @@ def test_fraction_reaching_override_warns_and_loads_every_cusp():
     # 3 cusps × 0.5 / 2 propellers in 1/36 h = 27 per hour
     assert result.summary["rates"]["loads_per_hour_per_propeller"] == pytest.approx(27.0)
     assert any("is an override" in w for w in result.summary["warnings"])
+    # no cusp geometry at the disc: tip placement, said so
+    assert result.summary["load_model"]["placement"].startswith("tip placement (no cusp geometry")
+    assert np.isnan(result.loads["engaged_inner_radius_m"]).all()
+    tip = impact_loads(IceBlock.from_box(2.0, 2.0, 1.0), BladeGeometry.from_spec(PropellerSpec()), 140.0, 3.0)
+    assert result.amplitudes(95.8551).torque_nm[0] == -tip.torque_n_m[0]
     # no override: no such warning; every cusp with transport "all" (the thesis rule)
     everyone = analyse_propeller(
         _cusps(), exposures=EXPOSURE, transport="all", fem_tables=shipped_fem_tables()
@@ -90,6 +103,8 @@ def test_fraction_reaching_override_warns_and_loads_every_cusp():
 def test_fem_tables_take_precedence_and_bad_choices():
     result = analyse_propeller(_cusps(), fem_tables=shipped_fem_tables(), load_model="milling")
     assert result.summary["load_model"]["name"] == "fem" and result.pitches == (0.0, 95.0)
+    assert "placement" not in result.summary["load_model"]
+    assert "engaged_inner_radius_m" not in result.loads
     for key, kwargs in (("load_model", {"load_model": "x"}), ("transport", {"transport": "x"})):
         with pytest.raises(InputError) as info:
             analyse_propeller(_cusps(), **kwargs)
@@ -143,7 +158,8 @@ def test_blade_force_above_the_rule_warns_in_the_summary():
     blade = BladeGeometry.from_spec(replace(spec, pitch_percent=0.0))
     block = IceBlock(np.ones(1), np.full(1, 2.0), np.full(1, 2.0))
     force_n = float(impact_loads(block, blade, 60.0, 3.0).force_n[0])
-    result = analyse_propeller(_cusps(), polar_class="PC7", propeller=spec)
+    # transport "all": every cusp at the tip (tip placement), the block above
+    result = analyse_propeller(_cusps(), polar_class="PC7", propeller=spec, transport="all")
     warned = [w for w in result.summary["warnings"] if w.startswith("pitch 0 %") and "F_b" in w]
     assert force_n > PC7_BACKWARD_FORCE_60_RPM_N and len(warned) == 1
     assert f"{force_n / 1e3:.0f} kN" in warned[0]

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from floebreak.errors import InputError
+from floebreak.propeller import milling
 from floebreak.propeller.milling import (
     BladeGeometry,
     IceBlock,
@@ -25,9 +26,10 @@ def block(thickness, length=3.0, width=2.0) -> IceBlock:
     return IceBlock(np.atleast_1d(thickness), np.atleast_1d(length), np.atleast_1d(width))
 
 
-def one_strip_by_hand(geom: BladeGeometry, extent, rpm, speed, ice: IceStrength):
-    """Torque and aft axial force of one strip [R − e, R] at its mid radius, written out from the docs."""
-    r = geom.radius_m - extent / 2
+def one_strip_by_hand(geom: BladeGeometry, extent, rpm, speed, ice: IceStrength, centre=None):
+    """Torque and aft axial force of one strip [R − e, R] (or of extent e about `centre`) at its mid
+    radius, written out from the docs."""
+    r = geom.radius_m - extent / 2 if centre is None else centre
     chord = geom.chord_m(r).item() if geom.chord_distribution == "b_series" else geom.chord_07_m
     t = geom.thickness_07_m
     omega_r = 2 * math.pi * rpm / 60 * r
@@ -62,6 +64,79 @@ def test_one_radial_strip_torque_is_force_times_radius(pitch_percent, strips, fr
     assert loads.force_n[0] == pytest.approx(abs(f_aft), rel=1e-9)
     assert loads.contact_area_m2[0] == pytest.approx(area, rel=1e-9)
     assert loads.radial_extent_m[0] == pytest.approx(extent)
+
+
+@pytest.mark.parametrize("strips", [1, 64])
+def test_an_engaged_interval_mid_blade_loads_one_strip_at_its_midpoint(strips):
+    # [1.2, 1.205] m lies inside one of 64 strips (edges every 1.505/64 m from 0.645 m: 1.1860–1.2096)
+    ice = IceStrength()
+    q, f_aft, area = one_strip_by_hand(AGULHAS, 0.005, 140.0, 3.0, ice, centre=1.2025)
+    thick = IceBlock(np.ones(1), np.full(1, 3.0), np.full(1, 2.0), 1.2, 1.205)
+    loads = impact_loads(thick, AGULHAS, 140.0, 3.0, ice, strips=strips)
+    assert loads.torque_n_m[0] == pytest.approx(q, rel=1e-9)
+    assert loads.axial_force_aft_n[0] == pytest.approx(f_aft, rel=1e-9)
+    assert loads.contact_area_m2[0] == pytest.approx(area, rel=1e-9)
+    assert loads.radial_extent_m[0] == pytest.approx(0.005, abs=1e-15)
+    assert loads.impact_angle_deg[0] == pytest.approx(math.degrees(2.0 / 1.2025))
+
+
+def test_an_engaged_interval_at_the_tip_is_the_tip_placement_of_that_thickness():
+    e = 0.4
+    tip = impact_loads(block(e), AGULHAS, 140.0, 3.0)
+    interval = impact_loads(
+        IceBlock(np.full(1, e), np.full(1, 3.0), np.full(1, 2.0), AGULHAS.radius_m - e, AGULHAS.radius_m),
+        AGULHAS,
+        140.0,
+        3.0,
+    )
+    for name in ("torque_n_m", "force_n", "contact_area_m2", "impact_angle_deg", "n_impacts"):
+        assert getattr(interval, name)[0] == pytest.approx(getattr(tip, name)[0], rel=1e-12), name
+
+
+def test_a_thick_block_engaged_lower_on_the_blade_takes_less_torque_than_at_the_tip():
+    # the same 0.5 m of blade, mid-span instead of at the tip: smaller radius, narrower layer
+    h = np.ones(1)
+    at_tip = impact_loads(IceBlock(h, 3.0, 2.0, 1.65, 2.15), AGULHAS, 140.0, 3.0)
+    lower = impact_loads(IceBlock(h, 3.0, 2.0, 0.9, 1.4), AGULHAS, 140.0, 3.0)
+    assert 0.0 < lower.torque_n_m[0] < at_tip.torque_n_m[0]
+    assert lower.radial_extent_m[0] == pytest.approx(0.5) == at_tip.radial_extent_m[0]
+
+
+def test_a_zero_length_interval_gives_no_contact_and_no_impacts():
+    loads = impact_loads(IceBlock(np.ones(1), 3.0, 2.0, 1.0, 1.0), AGULHAS, 140.0, 3.0)
+    assert loads.torque_n_m[0] == 0.0 and loads.force_n[0] == 0.0 and loads.contact_area_m2[0] == 0.0
+    assert loads.n_impacts[0] == 0
+
+
+def test_tip_placement_with_nan_intervals_is_the_old_strip_formula_to_the_bit():
+    # the tip placement as it was before engaged intervals: [R − e, R], e = min(h, R − r_hub)
+    rng = np.random.default_rng(5)
+    h = rng.uniform(0.01, 3.0, 40)
+    radius, hub, n = AGULHAS.radius_m, AGULHAS.hub_radius_m, 64
+    extent = np.minimum(h, radius - hub)
+    edges = np.linspace(hub, radius, n + 1)
+    inner = np.maximum(edges[:-1], (radius - extent)[..., None])
+    overlap = np.clip(edges[1:] - inner, 0.0, None)
+    mid = np.where(overlap > 0.0, 0.5 * (inner + edges[1:]), edges[1:])
+    got = milling.block_strips(AGULHAS, h, np.ones(40), n, np.full(40, np.nan), np.full(40, np.nan))
+    np.testing.assert_array_equal(got.radial_extent_m, extent)
+    np.testing.assert_array_equal(got.overlap_m, overlap)
+    np.testing.assert_array_equal(got.mid_radius_m, mid)
+    default = impact_loads(IceBlock(h, 3.0, 2.0), AGULHAS, 140.0, 3.0)
+    nan = impact_loads(IceBlock(h, 3.0, 2.0, np.nan, np.nan), AGULHAS, 140.0, 3.0)
+    centre = radius - 0.5 * extent  # the old contact centre
+    np.testing.assert_array_equal(default.impact_angle_deg, np.degrees(np.minimum(2.0 / centre, math.pi)))
+    for name in ("torque_n_m", "force_n", "n_impacts", "n_impacts_thrown", "contact_area_m2"):
+        np.testing.assert_array_equal(getattr(nan, name), getattr(default, name))
+
+
+@pytest.mark.parametrize(
+    ("inner", "outer", "key"),
+    [(-0.1, 1.0, "inner_radius_m"), (1.2, 1.0, "outer_radius_m"), (1.0, np.nan, "outer_radius_m")],
+)
+def test_bad_engaged_intervals_are_refused(inner, outer, key):
+    with pytest.raises(InputError, match=rf"block\.{key}"):
+        IceBlock(np.ones(1), np.ones(1), np.ones(1), inner, outer)
 
 
 def test_face_contact_at_pitch_pushes_forward_and_back_contact_at_zero_pitch_pushes_aft():

@@ -44,6 +44,34 @@ def test_centreline_cusp_hugging_the_hull_reaches_a_centre_propeller_at_top_dead
     assert got.entry_angle_deg[0] == pytest.approx(0.0)
 
 
+def test_cross_section_is_given_relative_to_the_reached_shaft_centre():
+    # hugging the hull above the disc: z from 2.5 to 3.5 m, i.e. 2.5 … 1.5 m above the axis at 5 m; the
+    # area 4 m² gives half-width 1 m about y = 0.3 m
+    hull = HullUnderwater(run_length_m=200.0)
+    got = _one(0.3, hull=hull, arrangement=CENTRE)
+    y_lo, y_hi, z_lo, z_hi = (float(a[0]) for a in got.cross_section_m)
+    assert (y_lo, y_hi, z_lo, z_hi) == pytest.approx((-0.7, 1.3, -2.5, -1.5))
+
+
+def test_cross_section_is_nan_without_a_propeller_and_on_the_winning_shaft_with_two():
+    hull = HullUnderwater(run_length_m=200.0)
+    two = PropellerArrangement(
+        (
+            Propeller(5.5, diameter_m=4.0, shaft_depth_m=5.0),
+            Propeller(-5.5, diameter_m=4.0, shaft_depth_m=5.0),
+        ),
+        tip_clearance_m=0.5,
+    )
+    got = transport_cusps(
+        [10.0] * 3, [7.0] * 3, [-5.0, 0.0, 5.0], [4.0] * 3, [1.0] * 3, hull=hull, arrangement=two
+    )
+    assert got.propeller_index.tolist() == [1, NO_PROPELLER, 0]
+    y_lo, y_hi = got.cross_section_m[0], got.cross_section_m[1]
+    assert (y_lo[0], y_hi[0]) == pytest.approx((-5.0 - 1.0 + 5.5, -5.0 + 1.0 + 5.5))
+    assert (y_lo[2], y_hi[2]) == pytest.approx((5.0 - 1.0 - 5.5, 5.0 + 1.0 - 5.5))
+    assert all(np.isnan(a[1]) for a in got.cross_section_m)
+
+
 def test_cusp_thinner_than_the_tip_clearance_passes_over_the_disc():
     hull = HullUnderwater(run_length_m=200.0)
     got = _one(0.0, thickness_m=0.4, hull=hull, arrangement=CENTRE)  # 0.4 m < c_tip = 0.5 m

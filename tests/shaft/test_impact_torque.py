@@ -41,3 +41,21 @@ def test_rpm_outside_range_refused():
     torques = CuspTorques(IceBlock(np.array([1.0]), np.array([2.0]), np.array([1.0])), blade, 3.0)
     with pytest.raises(InputError, match="rpm"):
         torques.torque_n_m(0, -1.0)
+
+
+def test_torque_with_engaged_intervals_is_impact_loads_torque():
+    blade = BladeGeometry.from_spec(PropellerSpec())
+    rng = np.random.default_rng(12)
+    inner = rng.uniform(0.0, 2.2, 20)
+    outer = inner + rng.uniform(0.0, 1.0, 20)
+    inner[::4], outer[::4] = np.nan, np.nan  # tip placement among them
+    block = IceBlock(
+        rng.uniform(0.2, 2.0, 20), rng.uniform(0.5, 6.0, 20), rng.uniform(0.5, 3.0, 20), inner, outer
+    )
+    torques = CuspTorques(block, blade, 3.0)
+    for cusp in range(20):
+        one = IceBlock(
+            *(a[cusp : cusp + 1] for a in (block.thickness_m, block.length_m, block.width_m, inner, outer))
+        )
+        for rpm in (60.0, 140.0):
+            assert torques.torque_n_m(cusp, rpm) == impact_loads(one, blade, rpm, 3.0).torque_n_m[0]

@@ -2,10 +2,12 @@
 (`--transport-parameter`, `milled_cusps(transport_settings=)`)."""
 
 import json
+import math
 
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
+import pytest
 
 from floebreak.propeller.transport import transport_settings
 from floebreak.shaft.analysis import milled_cusps
@@ -82,3 +84,23 @@ def test_voyage_shaft_run_uses_the_voyage_transport(tmp_path):
     wide_bilge = run_shaft(run, "agulhas_ii", BILGE)
     # two of four cusps milled: the ice torque ends sooner, the series is shorter
     assert wide_bilge.duration_s < default.duration_s
+
+
+def test_milled_blocks_lie_on_the_engaged_interval_of_their_cross_section():
+    # a 0.4 m cusp rises w = √(2 g h Δρ / (ρ_w C_D)) for 15 m / 3 m/s: its top face at 7.65 − 5 w, i.e.
+    # 1.80 m above the shaft axis (5.25 m), its lower face 1.40 m; the first cusp (on the shaft line, area
+    # 2.4 m²) spans y ∈ ±√2.4 / 2. The blade through the upper corner is the longest chord (steeper: shorter
+    # by 0.4/cos θ; flatter: it leaves through the side): from the lower face at 1.40/cos θ to the corner
+    w = math.sqrt(2 * 9.81 * 0.4 * (1025.0 - 917.0) / (1025.0 * 1.17))
+    top = 5.25 - (7.65 - w * 15.0 / 3.0)
+    half = math.sqrt(2.4) / 2.0
+    corner = math.hypot(half, top)
+    expected = ((top - 0.4) * corner / top, corner)
+    engaged = milled_cusps(_columns(), speed_m_s=3.0)
+    got = (engaged.block.inner_radius_m[0], engaged.block.outer_radius_m[0])
+    assert got == pytest.approx(expected, abs=1e-9)
+    assert engaged.counts["placement"] == "engaged interval from the transport"
+    assert engaged.counts["engaged_zero_length"] == 0
+    tip = milled_cusps(_columns(), speed_m_s=3.0, engaged=False)
+    assert np.isnan(tip.block.inner_radius_m).all() and tip.counts["placement"] == "tip placement"
+    assert engaged.impact_torque_n_m(0, 140.0) != tip.impact_torque_n_m(0, 140.0)

@@ -13,6 +13,7 @@ import numpy as np
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
+from floebreak.propeller.engagement import engaged_interval
 from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
 from floebreak.propeller.rates import RunExposure
 from floebreak.propeller.spec import PropellerSpec
@@ -64,13 +65,20 @@ def milling_pitches(spec: PropellerSpec) -> tuple[float, ...]:
 
 
 def milling_loads(
-    longer_m, shorter_m, thickness_m, spec: PropellerSpec, advance_speed_m_s
+    longer_m,
+    shorter_m,
+    thickness_m,
+    spec: PropellerSpec,
+    advance_speed_m_s,
+    inner_radius_m=math.nan,
+    outer_radius_m=math.nan,
 ) -> dict[str, np.ndarray]:
     """Per pitch (`milling_pitches`): force [N] (|axial blade force| of one impact), torque [N·m] (signed
     as the FEM tables: negative about the shaft axis, thesis §6.1.2), impacts to mill the cusp, and
-    `beyond_table` (all False: no table). Block = the cusp's box (`IceBlock.from_box`), blade = the spec at
-    that pitch, rpm = the spec's, advance speed = the ship speed (docs/propeller.md "Blade milling model")."""
-    block = IceBlock.from_box(longer_m, shorter_m, thickness_m)
+    `beyond_table` (all False: no table). Block = the cusp's box (`IceBlock.from_box`) on its engaged
+    interval (`engaged_intervals`; NaN: tip placement), blade = the spec at that pitch, rpm = the spec's,
+    advance speed = the ship speed (docs/propeller.md "Blade milling model")."""
+    block = IceBlock.from_box(longer_m, shorter_m, thickness_m, inner_radius_m, outer_radius_m)
     out: dict[str, np.ndarray] = {}
     for pitch in milling_pitches(spec):
         blade = BladeGeometry.from_spec(replace(spec, pitch_percent=pitch))
@@ -81,6 +89,47 @@ def milling_loads(
         out[f"n_impacts_{label}"] = loads.n_impacts
         out[f"beyond_table_{label}"] = np.zeros(block.thickness_m.size, dtype=bool)
     return out
+
+
+PLACEMENT_ENGAGED = "engaged interval from the transport"
+PLACEMENT_TIP = "tip placement"
+
+
+def engaged_intervals(
+    transports: dict[str, tuple[np.ndarray, CuspTransport]], n_cusps: int, spec: PropellerSpec
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per cusp (indices of `transports`, `transport_of_runs`) the blade's engaged interval (r_in, r_out)
+    [m] in its cross-section at the propeller (`CuspTransport.cross_section_m`,
+    `engagement.engaged_interval` on the spec's blade from r_hub to R); NaN for cusps that reach no
+    propeller or whose run is not transported (tip placement). A reaching cusp whose cross-section misses
+    the blade's annulus (inside the hub, or outside a spec radius smaller than the transport's disc)
+    engages with zero length at its nearest radius: it reaches and carries no load (docs/propeller.md §2)."""
+    blade = BladeGeometry.from_spec(spec)
+    hub, tip = blade.hub_radius_m, blade.radius_m
+    inner, outer = np.full(n_cusps, math.nan), np.full(n_cusps, math.nan)
+    for idx, t in transports.values():
+        if t.cross_section_m is None:
+            continue
+        r_in, r_out = engaged_interval(*t.cross_section_m, hub, tip)
+        y_lo, y_hi, z_lo, z_hi = t.cross_section_m
+        nearest = np.clip(np.hypot(np.clip(0.0, y_lo, y_hi), np.clip(0.0, z_lo, z_hi)), hub, tip)
+        missed = (t.propeller_index >= 0) & np.isnan(r_in)
+        inner[idx] = np.where(missed, nearest, r_in)
+        outer[idx] = np.where(missed, nearest, r_out)
+    return inner, outer
+
+
+def placement_text(load_model: str, modelled_runs: int, tip_runs: int) -> str | None:
+    """How the milling model places each cusp on the blade (summary.json `load_model.placement`): the
+    engaged interval for runs the transport moved, tip placement where no geometry is known (transport
+    "all" or a fraction reaching override). None for the FEM tables."""
+    if load_model != "milling":
+        return None
+    if not modelled_runs:
+        return f"{PLACEMENT_TIP} (no cusp geometry at the disc with transport 'all' or a fraction override)"
+    if tip_runs:
+        return f"{PLACEMENT_ENGAGED}; {PLACEMENT_TIP} for the {tip_runs} run(s) with a fraction override"
+    return PLACEMENT_ENGAGED
 
 
 def arrangement(n_propellers: int) -> PropellerArrangement:

@@ -236,18 +236,21 @@ def impacts_before_thrown(
 
 @dataclass(frozen=True)
 class IceBlock:
-    """Ice blocks (arrays of equal shape): thickness = radial extent in the disc, length along the shaft
-    axis, width across it."""
+    """Ice blocks (arrays of equal shape): thickness, length along the shaft axis, width across it, and
+    optionally the engaged interval [inner_radius_m, outer_radius_m] of the blade in the block
+    (`propeller.engagement`; docs/propeller.md §10 choice 5). NaN (the default): the block lies at the tip
+    and its thickness is its radial extent in the disc (tip placement)."""
 
     thickness_m: np.ndarray
     length_m: np.ndarray
     width_m: np.ndarray
+    inner_radius_m: np.ndarray | float = math.nan
+    outer_radius_m: np.ndarray | float = math.nan
 
     def __post_init__(self) -> None:
-        arrays = np.broadcast_arrays(
-            *(np.asarray(a, dtype=float) for a in (self.thickness_m, self.length_m, self.width_m))
-        )
-        for name, values in zip(("thickness_m", "length_m", "width_m"), arrays, strict=True):
+        names = ("thickness_m", "length_m", "width_m", "inner_radius_m", "outer_radius_m")
+        arrays = np.broadcast_arrays(*(np.asarray(getattr(self, n), dtype=float) for n in names))
+        for name, values in zip(names[:3], arrays[:3], strict=True):
             bad = np.flatnonzero(~np.isfinite(values) | (values < 0.0))
             if bad.size:
                 raise InputError(
@@ -255,13 +258,37 @@ class IceBlock:
                     f"row {bad[0]}: {values.reshape(-1)[bad[0]]!r}",
                     allowed="finite values >= 0",
                 )
+        _check_interval(arrays[3], arrays[4])
+        for name, values in zip(names, arrays, strict=True):
             object.__setattr__(self, name, np.atleast_1d(values).astype(float))
 
     @classmethod
-    def from_box(cls, side_a_m, side_b_m, thickness_m) -> IceBlock:
-        """A cusp bounding box (cusps.box_dimensions): longer side along the axis, shorter across."""
+    def from_box(cls, side_a_m, side_b_m, thickness_m, inner_radius_m=math.nan, outer_radius_m=math.nan):
+        """A cusp bounding box (cusps.box_dimensions): longer side along the axis, shorter across; the
+        engaged interval as given (NaN: tip placement)."""
         longer, shorter, _ = box_dimensions(side_a_m, side_b_m, thickness_m)
-        return cls(thickness_m=np.asarray(thickness_m, dtype=float), length_m=longer, width_m=shorter)
+        return cls(np.asarray(thickness_m, dtype=float), longer, shorter, inner_radius_m, outer_radius_m)
+
+
+def _check_interval(inner, outer) -> None:
+    """Engaged intervals: both NaN (tip placement) or 0 ≤ inner ≤ outer, finite."""
+    inner, outer = np.ravel(inner), np.ravel(outer)
+    given = ~np.isnan(inner) | ~np.isnan(outer)
+    for name, values in (("inner_radius_m", inner), ("outer_radius_m", outer)):
+        bad = np.flatnonzero(given & (~np.isfinite(values) | (values < 0.0)))
+        if bad.size:
+            raise InputError(
+                f"block.{name}",
+                f"row {bad[0]}: {values[bad[0]]!r}",
+                allowed="finite values >= 0 (NaN in both radii: tip placement)",
+            )
+    bad = np.flatnonzero(given & (outer < inner))
+    if bad.size:
+        raise InputError(
+            "block.outer_radius_m",
+            f"row {bad[0]}: {outer[bad[0]]!r} below inner_radius_m {inner[bad[0]]!r}",
+            allowed="outer_radius_m >= inner_radius_m",
+        )
 
 
 @dataclass(frozen=True)
@@ -378,38 +405,56 @@ def _check_operation(rpm, advance_speed_m_s):
     return rpm, speed
 
 
-def _strips_under_block(blade: BladeGeometry, thickness_m, strips: int):
-    """The radial extent e = min(h, R − r_hub) a block covers from the tip, and per strip of [r_hub, R] its
-    overlap with [R − e, R] and the overlap's mid radius (a strip outside the block: overlap 0)."""
+def _strips_under_block(blade: BladeGeometry, thickness_m, strips: int, inner_m=math.nan, outer_m=math.nan):
+    """The radial interval a block covers and per strip of [r_hub, R] its overlap with it and the
+    overlap's mid radius (a strip outside the block: overlap 0). Tip placement (NaN interval): [R − e, R]
+    with e = min(h, R − r_hub); an engaged interval: [r_in, r_out] clipped to [r_hub, R], e = r_out − r_in.
+    Returns (e, inner edge, overlap, mid radius)."""
     radius, hub = blade.radius_m, blade.hub_radius_m
-    extent = np.minimum(thickness_m, radius - hub)
+    tip_extent = np.minimum(thickness_m, radius - hub)
+    engaged = np.isfinite(inner_m) & np.isfinite(outer_m)
+    low = np.where(engaged, np.clip(inner_m, hub, radius), radius - tip_extent)
+    high = np.where(engaged, np.clip(outer_m, hub, radius), radius)
+    extent = np.where(engaged, high - low, tip_extent)
     edges = np.linspace(hub, radius, strips + 1)
-    inner = np.maximum(edges[:-1], (radius - extent)[..., None])
-    overlap = np.clip(edges[1:] - inner, 0.0, None)
-    mid = np.where(overlap > 0.0, 0.5 * (inner + edges[1:]), edges[1:])
-    return extent, overlap, mid
+    inner = np.maximum(edges[:-1], low[..., None])
+    outer = np.minimum(edges[1:], high[..., None])
+    overlap = np.clip(outer - inner, 0.0, None)
+    mid = np.where(overlap > 0.0, 0.5 * (inner + outer), edges[1:])
+    return extent, low, overlap, mid
 
 
 @dataclass(frozen=True)
 class BlockStrips:
     """What `impact_loads` computes from the blocks alone (`block_strips`): each block's length along the
-    axis, the radial extent e it covers, and per blade strip its overlap with the block, the overlap's
-    mid radius and the chord there."""
+    axis, the radial extent e it covers and its inner edge, and per blade strip its overlap with the
+    block, the overlap's mid radius and the chord there."""
 
     length_m: np.ndarray
     radial_extent_m: np.ndarray
     overlap_m: np.ndarray
     mid_radius_m: np.ndarray
     chord_m: np.ndarray
+    inner_edge_m: np.ndarray | None = None
 
 
-def block_strips(blade: BladeGeometry, thickness_m, length_m, strips: int = DEFAULT_STRIPS) -> BlockStrips:
-    """The blocks' strips on `blade` (`_strips_under_block`), for `impact_loads` or, computed once per block,
-    for `impact_torque_n_m` at many rpm."""
+def block_strips(
+    blade: BladeGeometry,
+    thickness_m,
+    length_m,
+    strips: int = DEFAULT_STRIPS,
+    inner_radius_m=math.nan,
+    outer_radius_m=math.nan,
+) -> BlockStrips:
+    """The blocks' strips on `blade` (`_strips_under_block`; the engaged interval [inner, outer] where
+    given, else tip placement), for `impact_loads` or, computed once per block, for `impact_torque_n_m` at
+    many rpm."""
     if isinstance(strips, bool) or int(strips) != strips or not 1 <= strips <= 10_000:
         raise InputError("strips", f"{strips!r} is not an integer in [1, 10000]", value=strips)
-    extent, overlap, mid = _strips_under_block(blade, thickness_m, int(strips))
-    return BlockStrips(np.asarray(length_m, dtype=float), extent, overlap, mid, blade.chord_m(mid))
+    inner, outer = (np.asarray(a, dtype=float) for a in (inner_radius_m, outer_radius_m))
+    _check_interval(inner, outer)
+    extent, low, overlap, mid = _strips_under_block(blade, thickness_m, int(strips), inner, outer)
+    return BlockStrips(np.asarray(length_m, dtype=float), extent, overlap, mid, blade.chord_m(mid), low)
 
 
 def _strip_loads(strip: BlockStrips, blade: BladeGeometry, rpm, speed, ice: IceStrength):
@@ -459,8 +504,11 @@ def impact_loads(
 ) -> ImpactLoads:
     """Ice torque and axial force of one blade impact on each block, and the impacts to mill it through.
 
-    The blade span [r_hub, R] is cut into `strips` radial strips; the block covers [R − e, R] with
-    e = min(thickness, R − r_hub), each strip counting with its overlap and the overlap's mid radius. The
+    The blade span [r_hub, R] is cut into `strips` radial strips; the block covers its engaged interval
+    [r_in, r_out] (`block.inner_radius_m`, `outer_radius_m`; e = r_out − r_in) or, where that is NaN,
+    [R − e, R] with e = min(thickness, R − r_hub) (tip placement), each strip counting with its overlap
+    and the overlap's mid radius; the contact centre is the interval's midpoint. A zero-length interval
+    (the block only touches the blade's annulus) gives no contact: zero loads and no impacts. The
     contact area A = Σ (w_n + L_f) Δr (`section_contact`; L_f the flank's contact length along the chord,
     at most `ice.flank_contact_chord_fraction` × c) sets one pressure p(A) for the blade (process
     pressure–area), and Q = Σ r · (force against rotation), F = Σ axial force (`strip_forces`).
@@ -471,12 +519,18 @@ def impact_loads(
     """
     ice = IceStrength() if ice is None else ice
     rpm, speed = _check_operation(rpm, advance_speed_m_s)
-    thickness, length, width, rpm, speed = np.broadcast_arrays(
-        block.thickness_m, block.length_m, block.width_m, rpm, speed
+    thickness, length, width, inner, outer, rpm, speed = np.broadcast_arrays(
+        block.thickness_m,
+        block.length_m,
+        block.width_m,
+        block.inner_radius_m,
+        block.outer_radius_m,
+        rpm,
+        speed,
     )
     radius = blade.radius_m
-    strip = block_strips(blade, thickness, length, strips)
-    extent, overlap = strip.radial_extent_m, strip.overlap_m
+    strip = block_strips(blade, thickness, length, strips, inner, outer)
+    extent, overlap, low = strip.radial_extent_m, strip.overlap_m, strip.inner_edge_m
     cut, contact, torque = _strip_loads(strip, blade, rpm, speed, ice)
     nose, flank, layer, area, pressure, aft = contact
     axial = np.sum(aft, axis=-1)
@@ -485,11 +539,13 @@ def impact_loads(
         removed = np.where(layer_area > 0.0, np.sum((nose + flank) * overlap, axis=-1) / layer_area, 1.0)
     finite = np.isfinite(cut) & (cut > 0.0)
     milled = np.where(finite, np.ceil(length / np.where(finite, cut, 1.0) - 1e-12), 0).astype(np.int64)
-    centre = radius - 0.5 * extent
+    engaged = np.isfinite(inner) & np.isfinite(outer)
+    milled = np.where(engaged & (extent <= 0.0), 0, milled)
+    centre = np.where(engaged, low + 0.5 * extent, radius - 0.5 * extent)
     angle = np.minimum(width / centre, math.pi)
     thrown = np.full(milled.shape, HELD_IMPACTS, dtype=np.int64)
     if block_motion is not None:
-        exit_m = np.sqrt(np.maximum(radius**2 - (radius - extent) ** 2, 0.0))
+        exit_m = np.sqrt(np.maximum(radius**2 - np.where(engaged, low, radius - extent) ** 2, 0.0))
         mass = block_motion.effective_mass_kg(thickness, length, width)
         thrown = impacts_before_thrown(torque, centre, angle, exit_m, mass, rpm, blade.blades)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -30,11 +30,13 @@ from floebreak.propeller.load_models import (
     TRANSPORTS,
     check_choice,
     drive_rated_torque_n_m,
+    engaged_intervals,
     extrapolation_warnings,
     force_warnings,
     milling_loads,
     milling_pitches,
     override_warning,
+    placement_text,
     torque_warnings,
     transport_of_runs,
     transport_summary,
@@ -306,9 +308,11 @@ def _add_rates(ds, loads, exposures: dict[str, RunExposure]) -> tuple[Any, dict[
     return ds, tables
 
 
-def _cusp_loads(columns, tables, options, propeller, speed_m_s) -> dict[str, np.ndarray]:
+def _cusp_loads(columns, tables, options, propeller, speed_m_s, engaged=None) -> dict[str, np.ndarray]:
     """The per-cusp table of the cusps (in transit order) by the load model, with their volume class;
-    loads per cusp on one propeller NaN until a time base is known (`_add_rates`)."""
+    loads per cusp on one propeller NaN until a time base is known (`_add_rates`). `engaged`: the milling
+    model's engaged intervals (r_in, r_out) per cusp (`engaged_intervals`; NaN: tip placement), kept as
+    the columns engaged_inner_radius_m, engaged_outer_radius_m."""
     if options["load_model"] == "fem":
         loads = propeller_loads(
             columns,
@@ -320,22 +324,30 @@ def _cusp_loads(columns, tables, options, propeller, speed_m_s) -> dict[str, np.
         )
     else:
         loads = _cusp_geometry(columns, options["cusp_speed_m_s"])
-        loads.update(
-            milling_loads(
-                loads["bbox_longer_m"], loads["bbox_shorter_m"], loads["thickness_m"], propeller, speed_m_s
-            )
-        )
+        n = loads["run_id"].size
+        inner, outer = engaged if engaged is not None else (np.full(n, math.nan), np.full(n, math.nan))
+        loads["engaged_inner_radius_m"], loads["engaged_outer_radius_m"] = inner, outer
+        box = (loads["bbox_longer_m"], loads["bbox_shorter_m"], loads["thickness_m"])
+        loads.update(milling_loads(*box, propeller, speed_m_s, inner, outer))
     loads["volume_class"] = volume_class(loads["box_volume_m3"], options["volume_class_edges_m3"])
     loads["loads_per_propeller"] = np.full(loads["run_id"].size, math.nan)
     return loads
 
 
-def _reaching(
-    columns, exposures, transport: str, settings=None
-) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+def _placed_loads(columns, tables, options, propeller, speed, transports) -> tuple[dict, str | None]:
+    """The per-cusp table (`_cusp_loads`) with the milling model's blocks on their engaged intervals where
+    the transport moved the run (`engaged_intervals`), and the placement's text (None for FEM)."""
+    n_runs = len(set(columns["run_id"].tolist()))
+    placement = placement_text(options["load_model"], len(transports), n_runs - len(transports))
+    engaged = engaged_intervals(transports, columns["run_id"].size, propeller) if placement else None
+    return _cusp_loads(columns, tables, options, propeller, speed, engaged), placement
+
+
+def _reaching(columns, exposures, transport: str, settings=None) -> tuple[dict[str, np.ndarray], dict, dict]:
     """Which cusps reach a propeller: per cusp `reaches_propeller`, `propeller_index` (−1: none or not
-    modelled) and `arrival_time_s`, and the summary's "transport" entry. Runs with an explicit fraction
-    reaching (an override) and `transport="all"` load every cusp; otherwise the transport model decides."""
+    modelled) and `arrival_time_s`, the summary's "transport" entry and the transports of the modelled
+    runs (`transport_of_runs`). Runs with an explicit fraction reaching (an override) and
+    `transport="all"` load every cusp; otherwise the transport model decides."""
     n = columns["run_id"].size
     runs = sorted(set(columns["run_id"].tolist()))
     override = {
@@ -363,7 +375,7 @@ def _reaching(
     summary["by_run"] = {
         r: override.get(r, float(np.mean(out["reaches_propeller"][columns["run_id"] == r]))) for r in runs
     }
-    return out, summary
+    return out, summary, transports
 
 
 def _check_options(
@@ -442,12 +454,12 @@ def analyse_propeller(
     order = transit_order(columns)
     columns = {k: v[order] for k, v in columns.items()}
     speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
-    loads = _cusp_loads(columns, tables, options, propeller, speed)
-    _report(progress, "per-cusp loads")
-    reaching, transport_info = _reaching(columns, exposures, transport, transport_settings)
+    reaching, transport_info, transports = _reaching(columns, exposures, transport, transport_settings)
+    _report(progress, "transport")
+    loads, placement = _placed_loads(columns, tables, options, propeller, speed, transports)
     loads.update(reaching)
     _unload_missed(loads, pitches)
-    _report(progress, "transport")
+    _report(progress, "per-cusp loads")
     ds = load_spectra(loads, dict.fromkeys(pitches), force_bin_kn, torque_bin_knm)
     options["force_bin_kn"] = ds.attrs["force_bin_width_kn"]  # as used: wider for far loads
     options["torque_bin_knm"] = ds.attrs["torque_bin_width_knm"]
@@ -462,13 +474,13 @@ def analyse_propeller(
         options, propeller, tables, loads, classes, ds, exceedance, {}, rule, spectrum, exposures
     )
     result.summary.update(build_summary(result, table_info, operating_profile, sn_curve))
-    _complete_summary(result.summary, transport_info, table_info, rated, rule)
+    _complete_summary(result.summary, transport_info, table_info, rated, rule, placement)
     _report(progress, "summary")
     return result
 
 
 # the steps of `analyse_propeller` that its `progress` callback is told of, in order
-ANALYSIS_STAGES = ("per-cusp loads", "transport", "spectra and rates", "summary")
+ANALYSIS_STAGES = ("transport", "per-cusp loads", "spectra and rates", "summary")
 
 
 def _report(progress: Callable[[str, int, int], None] | None, stage: str) -> None:
@@ -498,14 +510,17 @@ def _speed(exposures: dict[str, RunExposure], run: str) -> float:
     return exposures[run].basis.speed_m_s if run in exposures else RateBasis().speed_m_s
 
 
-def _complete_summary(summary, transport_info, table_info, rated, rule) -> None:
-    """The load model, the transport (fractions reaching) and the out-of-range warnings."""
+def _complete_summary(summary, transport_info, table_info, rated, rule, placement=None) -> None:
+    """The load model (with the milling model's placement on the blade), the transport (fractions
+    reaching) and the out-of-range warnings."""
     options = summary["options"]
     summary["load_model"] = {
         "name": options["load_model"],
         "description": LOAD_MODEL_TEXT[options["load_model"]],
         "rated_torque_knm": rated / 1e3,
     }
+    if placement is not None:
+        summary["load_model"]["placement"] = placement
     summary["transport"] = transport_info
     rates = summary.get("rates")
     for run, entry in ((rates or {}).get("per_run") or {}).items():
@@ -524,6 +539,7 @@ def _complete_summary(summary, transport_info, table_info, rated, rule) -> None:
 
 LOAD_MODEL_TEXT = {
     "milling": "blade milling model (docs/propeller.md 'Blade milling model'): one blade impact on the "
-    "cusp's box at the spec's rpm and the ship speed",
+    "cusp's box at the spec's rpm and the ship speed, on the blade's engaged interval in the cusp where the "
+    "transport gives it (load_model.placement)",
     "fem": "FEM tables (thesis Tables 10/11 or given), interpolated over the cusp volume",
 }

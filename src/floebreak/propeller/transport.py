@@ -157,7 +157,10 @@ class TransportParameters:
 class CuspTransport:
     """Per cusp (input order): propeller index (−1 = none), arrival time [s], entry point in the disc
     (radius fraction r/R and angle from top dead centre [deg], NaN without a propeller), region
-    ("stem"/"shoulder") and path (index into `PATHS`)."""
+    ("stem"/"shoulder") and path (index into `PATHS`). `cross_section_m`: the cross-section of step 5
+    relative to the reached propeller's shaft centre, (y_lo, y_hi, z_lo, z_hi) [m] (y to port, z depth
+    positive down), NaN without a propeller (None when not computed); `propeller.engagement` turns it into
+    the blade's engaged interval."""
 
     propeller_index: np.ndarray
     arrival_time_s: np.ndarray
@@ -166,6 +169,7 @@ class CuspTransport:
     region: np.ndarray
     path: np.ndarray
     n_propellers: int = field(default=2)
+    cross_section_m: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     @property
     def n_cusps(self) -> int:
@@ -273,16 +277,17 @@ def transport_cusps(
     if not params.shoulder_cusps_submerge:
         path[region == "shoulder"] = PATH_SHOULDER
     path[(path == PATH_MISSED) & (np.abs(cols["centroid_y_m"]) > hull.flat_half_width_m)] = PATH_BILGE
-    index, radius, angle = _contact(y, cols, v, hull, arrangement, params, path == PATH_MISSED)
+    index, radius, angle, section = _contact(y, cols, v, hull, arrangement, params, path == PATH_MISSED)
     path[index >= 0] = PATH_PROPELLER
     x_aft = cols["centroid_x_m"] - cols["bow_x_m"]
     travel_s = (hull.propeller_plane_aft_of_stem_m + x_aft) / (params.slip_factor * v)
     arrival = np.where(index >= 0, cols["bow_x_m"] / v + travel_s, np.nan)
-    return CuspTransport(index, arrival, radius, angle, region, path, len(arrangement.propellers))
+    return CuspTransport(index, arrival, radius, angle, region, path, len(arrangement.propellers), section)
 
 
 def _contact(y, cols, v, hull, arrangement, params, candidate):
-    """Steps 4–6: the nearest disc each candidate's cross-section meets, with the entry point."""
+    """Steps 4–6: the nearest disc each candidate's cross-section meets, with the entry point and the
+    cross-section relative to that disc's shaft centre (y_lo, y_hi, z_lo, z_hi; NaN without a disc)."""
     h = cols["thickness_m"]
     half_width = 0.5 * np.sqrt(cols["area_m2"])
     rise_m = (
@@ -293,6 +298,7 @@ def _contact(y, cols, v, hull, arrangement, params, candidate):
     index = np.full(n, NO_PROPELLER, dtype=np.int64)
     radius = np.full(n, np.nan)
     angle = np.full(n, np.nan)
+    section = tuple(np.full(n, np.nan) for _ in range(4))
     for k, prop in enumerate(arrangement.propellers):
         r_disc = prop.radius_m
         z_hull = prop.shaft_depth_m - r_disc - arrangement.tip_clearance_m
@@ -307,7 +313,11 @@ def _contact(y, cols, v, hull, arrangement, params, candidate):
         index[wins] = k
         radius[wins] = dist[wins] / r_disc
         angle[wins] = np.degrees(np.arctan2(dy[wins], dz_up[wins]))
-    return index, radius, angle
+        bounds = (y - half_width - prop.offset_y_m, y + half_width - prop.offset_y_m, z_top, z_top + h)
+        centres = (0.0, 0.0, prop.shaft_depth_m, prop.shaft_depth_m)
+        for out, value, centre in zip(section, bounds, centres, strict=True):
+            out[wins] = value[wins] - centre
+    return index, radius, angle, section
 
 
 def transport_cusp_table(columns: Mapping[str, Any], **kw: Any) -> CuspTransport:

@@ -18,6 +18,7 @@ from floebreak.errors import InputError, require_range
 from floebreak.propeller.cusps import box_dimensions
 from floebreak.propeller.fem import fem_table_dict
 from floebreak.propeller.interpolation import check_options, table_interpolant
+from floebreak.propeller.load_models import PLACEMENT_ENGAGED, PLACEMENT_TIP, engaged_intervals
 from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
 from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS, VOLUME_BASES
 from floebreak.propeller.ruleform import BasquinCurve
@@ -450,15 +451,21 @@ def milled_cusps(
     lead_s: float = 2.0,
     transport: bool = True,
     transport_settings: TransportSettings | None = None,
+    engaged: bool = True,
 ) -> MilledCusps:
     """The cusps of a run's `columns` (MILLING_INPUT_COLUMNS) that reach the port propeller, at their
     arrival times (`propeller.transport.transport_cusps` with the hull, parameters and tip clearance of
     `transport_settings`, default `TransportSettings()`, on the default two-shaft arrangement, as the
     propeller analysis of a two-propeller run), shifted so the first arrives at `lead_s` (the constant
     bow-to-propeller delay is left out, as in the linear model); blade impacts from the milling model at
-    the nominal rpm (`impact_loads`: ⌈length / cut depth⌉, ≥ 1; advance speed = ship speed).
-    `transport=False`: every cusp, at the linear model's arrival times."""
+    the nominal rpm (`impact_loads`: ⌈length / cut depth⌉, ≥ 1; advance speed = ship speed). Each block
+    lies on the blade's engaged interval in its cross-section at the disc
+    (`propeller.load_models.engaged_intervals`, as the propeller analysis); `engaged=False` puts every
+    block at the tip (tip placement, docs/propeller.md §10 choice 5). `transport=False`: every cusp, at the
+    linear model's arrival times, tip placement. counts: "placement", and "engaged_zero_length", the port
+    cusps whose interval has zero length (milled with zero torque)."""
     col, spec = columns, PropellerSpec() if spec is None else spec
+    inner = outer = np.full(col["bow_x_m"].size, np.nan)
     if transport:
         settings = TransportSettings() if transport_settings is None else transport_settings
         arrangement = settings.on(PropellerArrangement())
@@ -475,6 +482,12 @@ def milled_cusps(
         counts = {"reaching_port": int(chosen.size), **moved.path_counts()}
         counts["reaching"] = moved.counts().tolist()
         counts["settings"] = settings.as_dict()
+        if engaged:
+            all_rows = np.arange(col["bow_x_m"].size)
+            inner, outer = engaged_intervals({"run": (all_rows, moved)}, all_rows.size, spec)
+        zero = outer[chosen] - inner[chosen] <= 0.0
+        counts |= {"placement": PLACEMENT_ENGAGED if engaged else PLACEMENT_TIP}
+        counts |= {"engaged_zero_length": int(np.sum(zero))}
     else:
         chosen = np.arange(col["bow_x_m"].size)
         arrival = arrival_times_s(col["bow_x_m"], speed_m_s, lead_s)
@@ -482,7 +495,9 @@ def milled_cusps(
     if arrival.size:
         arrival = arrival - arrival.min() + lead_s
     block = IceBlock.from_box(
-        col["bbox_length_m"][chosen], col["bbox_width_m"][chosen], col["thickness_m"][chosen]
+        *(col[k][chosen] for k in ("bbox_length_m", "bbox_width_m", "thickness_m")),
+        inner[chosen],
+        outer[chosen],
     )
     blade = BladeGeometry.from_spec(spec)
     nominal = impact_loads(block, blade, spec.rpm, speed_m_s)

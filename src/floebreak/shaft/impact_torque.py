@@ -19,7 +19,8 @@ from floebreak.propeller.milling import BladeGeometry, IceBlock, IceStrength
 @dataclass(frozen=True)
 class CuspTorques:
     """Per-impact ice torque [N·m] of each of `block`'s cusps on `blade` at the advance speed, at any rpm
-    (`torque_n_m`), as `impact_loads(block[i], blade, rpm, advance_speed_m_s, ice, strips)`."""
+    (`torque_n_m`), as `impact_loads(block[i], blade, rpm, advance_speed_m_s, ice, strips)` (the block's
+    engaged interval included)."""
 
     block: IceBlock
     blade: BladeGeometry
@@ -28,10 +29,15 @@ class CuspTorques:
     strips: int = milling.DEFAULT_STRIPS
 
     def __post_init__(self) -> None:
-        thickness, length = self.block.thickness_m, self.block.length_m
+        b = self.block
         strips = tuple(
-            milling.block_strips(self.blade, thickness[i : i + 1], length[i : i + 1], self.strips)
-            for i in range(thickness.size)
+            milling.block_strips(
+                self.blade,
+                *(a[i : i + 1] for a in (b.thickness_m, b.length_m)),
+                self.strips,
+                *(a[i : i + 1] for a in (b.inner_radius_m, b.outer_radius_m)),
+            )
+            for i in range(b.thickness_m.size)
         )
         object.__setattr__(self, "_strips", strips)
         object.__setattr__(self, "_ice", IceStrength() if self.ice is None else self.ice)

@@ -35,29 +35,32 @@ OPERATING_HOURS_PER_YEAR, OPERATING_YEARS, POLAR_CLASS = 1000.0, 25.0, "PC5"  # 
 
 _QUOTE_62 = "measured shaft torque −100 … 400 kN·m, density above 0.1 % at 58–152 kN·m (h = 0.4 m)"
 _LINK_62 = (
-    "links measured in docs/shaft.md §6 (scripts/chain_6_2.py): with the flank contact capped at 0.2 c "
-    "(docs/propeller.md §10, choice 4) the per-impact milling torque of a 0.4 m block at 95.86 % pitch, "
-    "3 m/s, 140 rpm is 219 kN·m (1.49 × the rule's Q_max scaled by H_ice^1.1 to 0.4 m, 147 kN·m): case 1's "
-    "pulse reaches 269 kN·m at the propeller; 221 port cusps × 3.8 impacts keep a blade in the ice for 48 % "
-    "of the 123 s series (33 % of it above 228 kN·m), and pulses at 9.33 Hz ring the assumed line's 7.76 Hz "
-    "mode: shaft max 493 kN·m (252 on a rigid line), range above 0.1 % 90–320 kN·m (100–250 on a rigid "
-    "line, 90–240 with the nose alone); tests/shaft/test_drive.py"
+    "links measured in docs/shaft.md §6 (scripts/chain_6_2.py, seeds 1–3): each port cusp loads the blade's "
+    "engaged interval in its cross-section (docs/propeller.md §10, choice 5): at h = 0.4 m the cusps sit "
+    "0.35–0.75 m below the disc's top, so a slanted blade cuts 0.48 m (median; 1.67–2.15 m from the axis, "
+    "where the chord is wider than at the tip) and the per-impact milling torque at 95.86 % pitch, 3 m/s, "
+    "140 rpm is 262 kN·m (219 kN·m with every block at the tip; 1.78 × the rule's Q_max scaled by "
+    "H_ice^1.1 to 0.4 m, 147 kN·m, with the flank contact capped at 0.2 c, choice 4); 221–280 port cusps × "
+    "3.9–4.1 impacts, pulses at 9.33 Hz ring the assumed line's 7.76 Hz mode: shaft max 527–568 kN·m "
+    "(280–282 on a rigid line; 493–509 with tip placement), range above 0.1 % 50–370 kN·m (100–280 on a "
+    "rigid line, 70–270 with the nose alone, 90–320 with tip placement); tests/shaft/test_drive.py"
     "::test_one_blade_pulse_rings_the_first_mode_of_the_agulhas_line"
 )
 _LINK_PC5 = (
-    "links measured in docs/propeller.md §10 (selection log): the per-impact milling torque at h = 1 m with "
-    "the flank contact capped at 0.2 c, 508 kN·m at 95.86 % pitch, 3 m/s, 140 rpm, the same for every cusp "
-    "(so the ratio is the largest load, a lower bound of the lifetime maximum): 0.59 × the PC5 Q_max, "
-    "1.26 × the rule's Q_max scaled by H_ice^1.1 to 1 m (403 kN·m); tests/propeller/test_milling.py"
-    "::test_the_impact_torque_at_1_m_lies_between_the_rules_thickness_scaling_and_q_max"
+    "links measured in docs/propeller.md §10 (selection log, choice 5): at h = 1 m the reaching cusps lie "
+    "against the hull 0.86 m above the disc's top, so the blade engages at most h − 0.86 = 0.14 m "
+    "(2.01–2.15 m from the axis): per-impact milling torque 1.3–71.2 kN·m (median 71.2) at 95.86 % pitch, "
+    "3 m/s, 140 rpm, against 508 kN·m for every cusp with tip placement; the rule-form fit's lifetime "
+    "maximum 120 kN·m is 0.14 × the PC5 Q_max (864 kN·m; 0.59 with tip placement); "
+    "tests/propeller/test_load_models.py::test_transport_decides_which_cusps_load_and_count"
 )
 _LINK_RATE = (
-    "links measured in docs/propeller.md §10 (selection log): on the reference field 2 342 cusps per hour "
-    "reach one propeller (hull transport) with 6.1 blade impacts each (a free block is thrown after a few "
-    "impacts; the capped, smaller torque per impact throws it more slowly: 4.5 before choice 4): 3 573 "
-    "impacts per hour on one blade against N_ice / 25 000 h = 560; no published full-scale rate was found "
-    "to test N_ice's rate for this ship; tests/propeller/test_milling.py"
-    "::test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts"
+    "links measured in docs/propeller.md §10 (selection log, choice 5; the demo field): 2 426 cusps per hour "
+    "reach one propeller (hull transport) with 13.9 blade impacts each (a free block is thrown out of the "
+    "disc after a few impacts, the more slowly the smaller the torque per impact: 6.0 with every block at "
+    "the tip, 71 instead of 508 kN·m): 8 409 impacts per hour on one blade (3 612 with tip placement) "
+    "against N_ice / 25 000 h = 560; no published full-scale rate was found to test N_ice's rate for this "
+    "ship; tests/propeller/test_milling.py::test_a_free_block_is_thrown_out_of_the_disc_after_a_few_impacts"
 )
 PC5_METRICS = ("pc5_lifetime_max_over_q_max", "pc5_blade_loads_over_rule_rate")
 
