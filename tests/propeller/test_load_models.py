@@ -80,6 +80,19 @@ def test_transport_decides_which_cusps_load_and_count():
     assert result.summary["options"]["pitches"] == [0.0, 95.8551]
 
 
+
+def test_the_transport_discs_take_the_spec_radius():
+    """A 5 m propeller (R = 2.5 m): its disc's bottom stays 0.25 m above the base line, so the shaft lies at
+    z_s = 7.65 − 2.5 − 0.25 = 4.9 m and the hull 0.86 m above the disc at 4.9 − 2.5 − 0.86 = 1.54 m. The
+    port cusp rises to that hull: cross-section [4.5, 6.5] × [1.54, 2.54] m, its lower face 4.9 − 2.54 =
+    2.36 m above the axis (5.5, 4.9): engaged [2.36, 2.5] m. On the 4.3 m disc's axis (5.5, 5.25) the same
+    blade would reach [2.01, 2.5] m, 0.35 m into the hull above it."""
+    spec = replace(PropellerSpec(), radius_m=2.5)
+    result = analyse_propeller(_cusps(), exposures=EXPOSURE, propeller=spec)
+    assert result.summary["transport"]["n_reaching"] == 1
+    assert result.loads["engaged_inner_radius_m"][0] == pytest.approx(2.36)
+    assert result.loads["engaged_outer_radius_m"][0] == pytest.approx(2.5)
+
 def test_fraction_reaching_override_warns_and_loads_every_cusp():
     override = {"r": RunExposure(300.0, RateBasis(3.0, 0.5, 2))}
     result = analyse_propeller(_cusps(), exposures=override)
@@ -192,6 +205,7 @@ def test_transport_parameters_out_of_range():
         (("--rated-torque-knm", "0"), "--rated-torque-knm"),
         (("--polar-class", "PC9"), "polar_class"),
         (("--propeller-geometry", "radius_m=0"), "propeller.radius_m"),  # D ≤ 0
+        (("--propeller-geometry", "radius_m=3.3"), "propeller.radius_m"),  # disc + clearance > draught
         (("--propeller-geometry", "blades=1"), "propeller.blades"),  # Z < 2
         (("--propeller-geometry", "hub_ratio=1"), "propeller.hub_ratio"),
         (("--propeller-geometry", "max_pitch_m=0"), "propeller.max_pitch_m"),  # P/D ≤ 0

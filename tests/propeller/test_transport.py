@@ -20,6 +20,7 @@ from floebreak.propeller.transport import (
     Propeller,
     PropellerArrangement,
     TransportParameters,
+    TransportSettings,
     terminal_rise_speed_m_s,
     transport_cusp_table,
     transport_cusps,
@@ -223,3 +224,18 @@ def test_bad_input_names_the_key(build, key):
     with pytest.raises(InputError, match=re.escape(key)) as err:
         build()
     assert "allowed" in str(err.value) or "outside" in str(err.value)
+
+
+def test_the_discs_take_the_propeller_radius_with_their_bottom_above_the_base_line():
+    """`TransportSettings.arrangement`: D = 2 R, z_s = T − R − 0.25 m (docs/model.md's parameter table:
+    4.3 m and 5.25 m for R = 2.15 m and T = 7.65 m); a disc and the 0.86 m clearance above it fill the
+    draught at R = (7.65 − 0.25 − 0.86) / 2 = 3.27 m."""
+    assert TransportSettings().arrangement(2, 2.15) == PropellerArrangement()
+    three = TransportSettings().arrangement(3, 1.5)
+    assert [p.offset_y_m for p in three.propellers] == [5.5, 0.0, -5.5]
+    assert all(p.diameter_m == 3.0 for p in three.propellers)
+    assert all(p.shaft_depth_m == pytest.approx(5.9) for p in three.propellers)
+    assert TransportSettings().arrangement(1, 3.27).propellers[0].offset_y_m == 0.0
+    with pytest.raises(InputError) as info:
+        TransportSettings().arrangement(2, 3.28)
+    assert info.value.field == "propeller.radius_m"

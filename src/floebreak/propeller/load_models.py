@@ -21,8 +21,6 @@ from floebreak.propeller.spectra import pitch_label
 from floebreak.propeller.transport import (
     PATHS,
     CuspTransport,
-    Propeller,
-    PropellerArrangement,
     TransportSettings,
     transport_cusps,
 )
@@ -37,7 +35,6 @@ RATED_TORQUE_FACTOR = 2.0  # warn when a per-cusp torque exceeds this many times
 EXTRAPOLATION_FACTOR = 1.5  # warn when a rule-form x_max lies this far beyond the largest fitted load
 MILLING_PITCH_PERCENT = 0.0  # the milling model's pitches: 0 % and the spec's (those of the FEM tables)
 # shaft lines of 1 or more than 2 propellers: evenly over ±5.5 m (the Agulhas II's ASSUMED offsets)
-SHAFT_SPREAD_M = 5.5
 
 
 def profile_defaults(profile: str | None) -> tuple[str, str]:
@@ -102,8 +99,9 @@ def engaged_intervals(
     [m] in its cross-section at the propeller (`CuspTransport.cross_section_m`,
     `engagement.engaged_interval` on the spec's blade from r_hub to R); NaN for cusps that reach no
     propeller or whose run is not transported (tip placement). A reaching cusp whose cross-section misses
-    the blade's annulus (inside the hub, or outside a spec radius smaller than the transport's disc)
-    engages with zero length at its nearest radius: it reaches and carries no load (docs/propeller.md §2)."""
+    the blade's annulus (inside the hub) engages with zero length at its nearest radius: it reaches and
+    carries no load (docs/propeller.md §2). The transport's discs are the spec's
+    (`TransportSettings.arrangement`)."""
     blade = BladeGeometry.from_spec(spec)
     hub, tip = blade.hub_radius_m, blade.radius_m
     inner, outer = np.full(n_cusps, math.nan), np.full(n_cusps, math.nan)
@@ -132,23 +130,17 @@ def placement_text(load_model: str, modelled_runs: int, tip_runs: int) -> str | 
     return PLACEMENT_ENGAGED
 
 
-def arrangement(n_propellers: int) -> PropellerArrangement:
-    """The transport's propellers: the default (two shafts at ±5.5 m) for 2, else spread evenly."""
-    if n_propellers == 2:
-        return PropellerArrangement()
-    offsets = np.linspace(SHAFT_SPREAD_M, -SHAFT_SPREAD_M, n_propellers) if n_propellers > 1 else [0.0]
-    return PropellerArrangement(tuple(Propeller(float(y)) for y in offsets))
-
-
 def transport_of_runs(
     columns: dict[str, np.ndarray],
     exposures: dict[str, RunExposure],
     runs,
     settings: TransportSettings = TransportSettings(),  # noqa: B008 - frozen dataclass, immutable default
+    radius_m: float = PropellerSpec().radius_m,
 ) -> dict:
     """The transport (`transport_cusps`) of the cusps of each of `runs` at its run's speed and propeller
-    count (3 m/s and 2 without an exposure), with the hull and parameters of `settings`: run → (indices
-    into `columns`, CuspTransport)."""
+    count (3 m/s and 2 without an exposure), on discs of `radius_m` (the propeller spec's;
+    `TransportSettings.arrangement`), with the hull and parameters of `settings`: run → (indices into
+    `columns`, CuspTransport)."""
     missing = [k for k in TRANSPORT_COLUMNS if not np.all(np.isfinite(columns[k][_rows(columns, runs)]))]
     if missing:
         raise InputError(
@@ -169,7 +161,7 @@ def transport_of_runs(
                 **cols,
                 speed_m_s=speed,
                 hull=settings.hull,
-                arrangement=settings.on(arrangement(n_prop)),
+                arrangement=settings.arrangement(n_prop, radius_m),
                 params=settings.params,
             ),
         )

@@ -343,11 +343,11 @@ def _placed_loads(columns, tables, options, propeller, speed, transports) -> tup
     return _cusp_loads(columns, tables, options, propeller, speed, engaged), placement
 
 
-def _reaching(columns, exposures, transport: str, settings=None) -> tuple[dict[str, np.ndarray], dict, dict]:
+def _reaching(columns, exposures, transport: str, settings, spec: PropellerSpec) -> tuple[dict, dict, dict]:
     """Which cusps reach a propeller: per cusp `reaches_propeller`, `propeller_index` (−1: none or not
     modelled) and `arrival_time_s`, the summary's "transport" entry and the transports of the modelled
-    runs (`transport_of_runs`). Runs with an explicit fraction reaching (an override) and
-    `transport="all"` load every cusp; otherwise the transport model decides."""
+    runs (`transport_of_runs`, on discs of `spec`'s radius). Runs with an explicit fraction reaching (an
+    override) and `transport="all"` load every cusp; otherwise the transport model decides."""
     n = columns["run_id"].size
     runs = sorted(set(columns["run_id"].tolist()))
     override = {
@@ -360,7 +360,7 @@ def _reaching(columns, exposures, transport: str, settings=None) -> tuple[dict[s
         "arrival_time_s": np.full(n, math.nan),
     }
     settings = settings or TransportSettings()
-    transports = transport_of_runs(columns, exposures, modelled, settings)
+    transports = transport_of_runs(columns, exposures, modelled, settings, spec.radius_m)
     for idx, t in transports.values():
         out["reaches_propeller"][idx] = t.propeller_index >= 0
         out["propeller_index"][idx] = t.propeller_index
@@ -454,7 +454,7 @@ def analyse_propeller(
     order = transit_order(columns)
     columns = {k: v[order] for k, v in columns.items()}
     speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
-    reaching, transport_info, transports = _reaching(columns, exposures, transport, transport_settings)
+    reaching, reach_info, transports = _reaching(columns, exposures, transport, transport_settings, propeller)
     _report(progress, "transport")
     loads, placement = _placed_loads(columns, tables, options, propeller, speed, transports)
     loads.update(reaching)
@@ -474,7 +474,7 @@ def analyse_propeller(
         options, propeller, tables, loads, classes, ds, exceedance, {}, rule, spectrum, exposures
     )
     result.summary.update(build_summary(result, table_info, operating_profile, sn_curve))
-    _complete_summary(result.summary, transport_info, table_info, rated, rule, placement)
+    _complete_summary(result.summary, reach_info, table_info, rated, rule, placement)
     _report(progress, "summary")
     return result
 

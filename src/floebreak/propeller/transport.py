@@ -336,10 +336,16 @@ def loads_per_hour(n_loads: np.ndarray | float, transit_m: float, speed_m_s: flo
     return np.asarray(n_loads, dtype=float) / hours
 
 
+# ASSUMED (docs/model.md, "Parameters and their sources"): the shafts' lateral offset for two propellers (more
+# are spread evenly over ±SHAFT_SPREAD_M) and the discs' bottom above the base line
+SHAFT_SPREAD_M: Final = 5.5
+DISC_BOTTOM_ABOVE_BASE_M: Final = 0.25
+
+
 @dataclass(frozen=True)
 class TransportSettings:
     """The user-settable transport inputs: the hull, the parameters and the hull's clearance above the discs
-    (the propellers' count and offsets come from the runs, `propeller.load_models.arrangement`)."""
+    (the propellers' count comes from the runs, their radius from the propeller spec: `arrangement`)."""
 
     hull: HullUnderwater = HullUnderwater()
     params: TransportParameters = TransportParameters()
@@ -351,6 +357,27 @@ class TransportSettings:
     def on(self, arrangement: PropellerArrangement) -> PropellerArrangement:
         """`arrangement` with this clearance above the discs."""
         return PropellerArrangement(arrangement.propellers, self.tip_clearance_m)
+
+    def arrangement(self, n_propellers: int, radius_m: float) -> PropellerArrangement:
+        """`n_propellers` discs of the propeller spec's radius under this hull, with this clearance: shafts at
+        ±SHAFT_SPREAD_M for two (else spread evenly; one on the centreline), each disc's bottom
+        DISC_BOTTOM_ABOVE_BASE_M above the base line (shaft depth T − R − 0.25 m: 5.25 m for the defaults,
+        T = 7.65 m and R = 2.15 m). A radius that leaves no room for the clearance between the hull and the
+        disc's top is refused as `propeller.radius_m`."""
+        depth = self.hull.draught_m - radius_m - DISC_BOTTOM_ABOVE_BASE_M
+        largest = 0.5 * (self.hull.draught_m - DISC_BOTTOM_ABOVE_BASE_M - self.tip_clearance_m)
+        if not 0.0 < radius_m <= largest:
+            raise InputError(
+                "propeller.radius_m",
+                f"{radius_m:g} m: the disc (bottom {DISC_BOTTOM_ABOVE_BASE_M:g} m above the base line) and "
+                f"the hull's clearance above it ({self.tip_clearance_m:g} m) must fit in the draught "
+                f"({self.hull.draught_m:g} m)",
+                value=radius_m,
+                allowed=f"(0, {largest:g}] m",
+            )
+        offsets = np.linspace(SHAFT_SPREAD_M, -SHAFT_SPREAD_M, n_propellers) if n_propellers > 1 else [0.0]
+        propellers = tuple(Propeller(float(y), 2.0 * radius_m, depth) for y in offsets)
+        return PropellerArrangement(propellers, self.tip_clearance_m)
 
     def as_dict(self) -> dict[str, Any]:
         """The settings as `TRANSPORT_KEYS` → value."""

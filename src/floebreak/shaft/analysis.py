@@ -455,7 +455,7 @@ def milled_cusps(
 ) -> MilledCusps:
     """The cusps of a run's `columns` (MILLING_INPUT_COLUMNS) that reach the port propeller, at their
     arrival times (`propeller.transport.transport_cusps` with the hull, parameters and tip clearance of
-    `transport_settings`, default `TransportSettings()`, on the default two-shaft arrangement, as the
+    `transport_settings`, default `TransportSettings()`, on two discs of the spec's radius, as the
     propeller analysis of a two-propeller run), shifted so the first arrives at `lead_s` (the constant
     bow-to-propeller delay is left out, as in the linear model); blade impacts from the milling model at
     the nominal rpm (`impact_loads`: ⌈length / cut depth⌉, ≥ 1; advance speed = ship speed). Each block
@@ -468,7 +468,7 @@ def milled_cusps(
     inner = outer = np.full(col["bow_x_m"].size, np.nan)
     if transport:
         settings = TransportSettings() if transport_settings is None else transport_settings
-        arrangement = settings.on(PropellerArrangement())
+        arrangement = settings.arrangement(2, spec.radius_m)
         moved = transport_cusps(
             *(col[k] for k in TRANSPORT_INPUT_COLUMNS),
             speed_m_s=speed_m_s,
