@@ -263,10 +263,12 @@ def _check_cli_options(tmp_path, out, cli):
     assert code == 0, err
     text = " ".join(stdout.split())
     assert "per-cusp loads: milling model" in text and "0.5 (override)" in text and "PC5 Q_max" in text
+    assert "milling model (tip placement (no cusp geometry at the disc" in text  # the override: no geometry
     assert "shaft line agulhas_ii" in text and "is an override" in text
     written = json.loads((out / "results" / "summary.json").read_text(encoding="utf-8"))
     assert written["analysis"]["polar_class"] == "PC5" and written["analysis"]["n_propellers"] == 1
     assert written["analysis"]["transport"] == {"slip_factor": "0.8"}
+    assert written["load_model"]["placement"].startswith("tip placement")
 
 
 def _skip_comments(out):
@@ -297,5 +299,5 @@ def _check_rule_form_and_report(summary, out, reaching, weights):
     )
     report = (out / "results" / "report.html").read_text(encoding="utf-8")
     assert "<h2>Propeller loads</h2>" in report and "Time base:" in report
-    assert "per-cusp loads: milling model" in report
+    assert "per-cusp loads: milling model (engaged interval from the transport)" in report
     assert "alt='rule_form.png'" in report and "report.html" in written["files"]

@@ -267,8 +267,10 @@ def voyage_model_line(summary: dict) -> str:
     fraction = transport.get("fraction_reaching")
     reach = "–" if fraction is None else f"{fraction:.3g}"
     source = {"hull": "transport model", "all": "every cusp", "override": "override"}
+    placement = f" ({model['placement']})" if model.get("placement") else ""
     line = (
-        f"per-cusp loads: {model.get('load_model') or '–'} model; fraction of cusps reaching a propeller: "
+        f"per-cusp loads: {model.get('load_model') or '–'} model{placement}; fraction of cusps reaching a "
+        "propeller: "
         f"{reach} ({source.get(transport.get('rule'), '–')}); {summary['propeller']['count']} propellers"
     )
     if model.get("rated_torque_knm") is not None:

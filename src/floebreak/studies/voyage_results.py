@@ -426,6 +426,12 @@ def _case_summary(spectra: dict[str, Any], loads: dict[str, Any]) -> dict[str, A
     return out
 
 
+def _placement_text(model: dict[str, Any]) -> str:
+    """Where the milling model places each cusp on the blade, in brackets after the model's name; empty
+    for the FEM tables and without runs."""
+    return f" ({model['placement']})" if model.get("placement") else ""
+
+
 def voyage_notes(document: dict[str, Any], rows: list[dict], model: dict[str, Any]) -> list[str]:
     """What a reader of the tables must know: rules, scaling, load model, fallbacks, failures (`model`:
     `load_model_record`)."""
@@ -435,7 +441,8 @@ def voyage_notes(document: dict[str, Any], rows: list[dict], model: dict[str, An
         f"{document['identity']['max_length_m']:g} m)",
         f"field width W = beam + 2 × largest floe diameter + 2 × {FIELD_MARGIN_M:g} m margin: the field's "
         "edges never touch the ship's band",
-        f"per-cusp loads: {model['load_model']} model; fraction of cusps reaching a propeller "
+        f"per-cusp loads: {model['load_model']} model{_placement_text(model)}; fraction of cusps reaching a "
+        "propeller "
         f"{_fraction_text(reach)} ({reach['rule']}: {TRANSPORT_TEXT[reach['rule']]}); loads are per "
         f"propeller ({model['n_propellers']} propellers); rates per hour are per hour in ice (the periods' "
         "hours, not the gaps between them)",
@@ -484,6 +491,7 @@ def load_model_record(result, analysis: VoyageAnalysis) -> dict[str, Any]:
     if result is None:
         return {
             "load_model": None,
+            "placement": None,
             "transport": {"rule": "all" if analysis.fraction_reaching is None else "override"},
             "n_propellers": n_propellers,
             "options": {"beyond": None},
@@ -506,6 +514,7 @@ def load_model_record(result, analysis: VoyageAnalysis) -> dict[str, Any]:
     return {
         "load_model": summary["load_model"]["name"],
         "load_model_description": summary["load_model"]["description"],
+        "placement": summary["load_model"].get("placement"),
         "transport": transport,
         "n_propellers": per_run.pop() if len(per_run) == 1 else n_propellers,
         "options": jsonable(result.options),
@@ -576,7 +585,7 @@ def write_voyage_results(
         "cusps_voyage": sum(row["cusps_in_period"] for row in rows if row["n_fields_complete"]),
         "pitches_percent": loads["pitches"],
         "analysis": analysis.as_dict(),
-        "load_model": {k: model[k] for k in ("load_model", "rated_torque_knm") if k in model}
+        "load_model": {k: model[k] for k in ("load_model", "placement", "rated_torque_knm") if k in model}
         | {"description": model.get("load_model_description")},
         "transport": model["transport"],
         "propeller_options": model["options"],
