@@ -226,6 +226,7 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
     assert ("rated torque (306.9" in stdout) is warned
     report = (out / "report.html").read_text()
     assert "<h2>Propeller loads</h2>" in report and "rule_form.png" in report
+    assert "Per-cusp loads: milling model (engaged interval from the transport)" in report
     assert ("Warning:" in report) is bool(summary["warnings"])  # any warning (extrapolation too) shows
     assert "propeller spectra" in stdout and f"{prop}" in stdout
 

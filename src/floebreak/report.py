@@ -304,6 +304,7 @@ def propeller_parts(summary: dict, figures: Path, captions: dict[str, str] | Non
         )
     else:
         parts.append("<p>No time base (transit distance unknown): densities only, no rates.</p>")
+    parts += _load_model_part(summary.get("load_model") or {})
     parts += _propeller_rows(summary)
     if "design_loads" in summary:  # a propeller analysis' (a voyage's pooled loads have none)
         parts += design_load_parts(summary["design_loads"])
@@ -317,6 +318,16 @@ def propeller_parts(summary: dict, figures: Path, captions: dict[str, str] | Non
         if (figures / name).is_file():
             parts.append(_embedded_figure(figures / name, caption))
     return parts
+
+
+def _load_model_part(model: dict) -> list[str]:
+    """The per-cusp load model and where it places each cusp on the blade (`load_model` of a propeller
+    analysis' summary.json: "name"; of a voyage's: "load_model"), as the terminal states them."""
+    name = model.get("name") or model.get("load_model")
+    if not name:
+        return []
+    placement = f" ({model['placement']})" if model.get("placement") else ""
+    return [f"<p>Per-cusp loads: {html.escape(f'{name} model{placement}')}</p>"]
 
 
 _SHAFT_FIGURES = {
