@@ -545,7 +545,7 @@ def impact_loads(
     angle = np.minimum(width / centre, math.pi)
     thrown = np.full(milled.shape, HELD_IMPACTS, dtype=np.int64)
     if block_motion is not None:
-        exit_m = np.sqrt(np.maximum(radius**2 - np.where(engaged, low, radius - extent) ** 2, 0.0))
+        exit_m = np.sqrt(np.maximum(radius**2 - low**2, 0.0))  # low = R − e under tip placement
         mass = block_motion.effective_mass_kg(thickness, length, width)
         thrown = impacts_before_thrown(torque, centre, angle, exit_m, mass, rpm, blade.blades)
     with np.errstate(divide="ignore", invalid="ignore"):
