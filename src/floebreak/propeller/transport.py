@@ -354,10 +354,6 @@ class TransportSettings:
     def __post_init__(self) -> None:
         PropellerArrangement(tip_clearance_m=self.tip_clearance_m)  # its bounds and the disc check
 
-    def on(self, arrangement: PropellerArrangement) -> PropellerArrangement:
-        """`arrangement` with this clearance above the discs."""
-        return PropellerArrangement(arrangement.propellers, self.tip_clearance_m)
-
     def arrangement(self, n_propellers: int, radius_m: float) -> PropellerArrangement:
         """`n_propellers` discs of the propeller spec's radius under this hull, with this clearance: shafts at
         ±SHAFT_SPREAD_M for two (else spread evenly; one on the centreline), each disc's bottom
