@@ -89,6 +89,23 @@ def test_a_lone_small_floe_off_the_stem_is_pushed_aside_not_broken():
     assert dynamic.polygon[0].area == pytest.approx(field.polygons[0].area, rel=1e-12)
 
 
+def test_a_floe_split_on_the_centreline_keeps_finite_valid_pieces():
+    """Issue 29 (crash): a 6 m floe centred on the stem is cut along the centreline within 1e-15 m of two
+    of its vertices; in a child's body frame such a vertex and the crack's end are one point. The run
+    completes, the children hold their parents' area, and every piece is a valid polygon."""
+    field, bow = _lone_floe(offset_m=0.0)
+    params = SimulationParams(x_end_m=60.0, ice_motion="dynamic")
+    result = simulate(field, bow, build_model("default"), params)
+    assert result.n_breaks > 0
+    assert all(p.is_valid and np.isfinite(shapely.get_coordinates(p)).all() for p in result.polygon)
+    area, parents = result.piece_area_m2, result.parent_piece_id
+    children = np.bincount(parents[parents >= 0], weights=area[parents >= 0], minlength=len(area))
+    for parent in np.flatnonzero(result.fate == "broken"):
+        assert children[parent] == pytest.approx(area[parent], rel=1e-9)
+    final = sum(result.area_m2(fate) for fate in ("cusp", "flipped", "remaining"))
+    assert final == pytest.approx(field.ice_area_m2, rel=1e-9)
+
+
 def test_children_inherit_the_parents_rigid_body_velocity_at_their_centroids():
     field, bow = _lone_floe()  # the engine is not stepped: only the velocities set here act
     params = SimulationParams(x_end_m=60.0, ice_motion="dynamic")
