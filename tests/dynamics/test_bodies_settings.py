@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -10,7 +11,14 @@ import shapely
 from shapely import affinity
 
 from floebreak.dynamics import IceMotionSettings, body_geometry
-from floebreak.dynamics.bodies import _RULE_WEIGHTS, _SUB_POINTS, _fsum, _yaw_skin_integral, projected_width_m
+from floebreak.dynamics.bodies import (
+    _RULE_WEIGHTS,
+    _SUB_POINTS,
+    _fsum,
+    _yaw_form_integrals,
+    _yaw_skin_integral,
+    projected_width_m,
+)
 from floebreak.errors import InputError
 
 
@@ -42,6 +50,34 @@ def test_yaw_drag_integrals_of_a_disc():
     g = body_geometry(shapely.Point(0, 0).buffer(r, 512))
     assert g.yaw_skin_m5 == pytest.approx(2 * math.pi * r**5 / 5, rel=1e-3)  # ∫ r³ dA
     assert max(g.yaw_form_m3) < 1e-6 * r**4  # a disc's edge moves tangentially: no form drag in yaw
+
+
+def _square_yaw_form_m3(half_side_m: float) -> float:
+    """K± of a square about its centre: on each edge s = (r × n)·ẑ runs linearly from +a to −a (a the
+    half-side), so ∫ max(s, 0)³ dl = ∫₀ᵃ s³ ds = a⁴/4 per edge, a⁴ over the four."""
+    return half_side_m**4
+
+
+def test_yaw_form_integral_of_a_ring_with_a_repeated_vertex_counts_the_empty_edge_as_zero():
+    a = 1.5
+    ring = np.array([[-a, -a], [a, -a], [a, -a], [a, a], [-a, a]])  # (a, −a) twice: an edge of length 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # 0/0 for the edge's normal was the failure
+        plus, minus = _yaw_form_integrals(ring)
+    expected = _square_yaw_form_m3(a)
+    assert plus == pytest.approx(expected, rel=1e-12) and minus == pytest.approx(expected, rel=1e-12)
+
+
+def test_two_vertices_that_meet_in_the_body_frame_give_one():
+    """A crack ending 5e-17 m from a vertex (the centred floe of issue 29's crash): the two vertices are
+    distinct in the field frame and one point once the centroid (1, 1) is subtracted."""
+    polygon = shapely.Polygon([(0, 0), (2, 0), (2, 5e-17), (2, 2), (0, 2)])
+    assert polygon.is_valid
+    g = body_geometry(polygon)
+    edges = np.diff(np.vstack([g.ring_xy_m, g.ring_xy_m[:1]]), axis=0)
+    assert len(g.ring_xy_m) == 4 and np.all(np.hypot(edges[:, 0], edges[:, 1]) > 0.0)
+    assert g.yaw_form_m3 == pytest.approx((_square_yaw_form_m3(1.0),) * 2, rel=1e-12)
+    assert g.area_m2 == pytest.approx(4.0, rel=1e-15)
 
 
 def test_projected_width_of_a_square_seen_diagonally():

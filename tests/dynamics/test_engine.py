@@ -100,6 +100,40 @@ def test_floe_pushed_by_inclined_panel_sticks_inside_the_friction_cone():
     assert magnitude == pytest.approx(3.0, rel=0.01)
 
 
+def _floe_after_a_panel_push(hull_contact: str, **changed: float):
+    """The square floe of `_panel_push` (panel at 60°, 3 m/s in +x) after 2 s, held against the panel as
+    the stepping loop holds a piece in contact (`hold_against_hull`: 200 kN along the panel's normal at the
+    floe's face, renewed every 5 steps), with the given ice–hull settings changed."""
+    alpha = math.radians(60.0)
+    normal = (math.cos(alpha), math.sin(alpha))
+    face = (0.05 * normal[0], 0.05 * normal[1])
+    s = IceMotionSettings(window_ahead_m=1e3, window_side_m=1e3, hull_contact=hull_contact, **changed)
+    panel = affinity.rotate(shapely.box(-1.0, -40.0, 0.0, 40.0), alpha, origin=(0, 0), use_radians=True)
+    floe = affinity.rotate(shapely.box(0.05, -1.0, 2.05, 1.0), alpha, origin=(0, 0), use_radians=True)
+    engine = IceMotionEngine(panel, (3.0, 0.0), s)
+    engine.add_piece(1, floe, 1.0)
+    for _ in range(20):
+        hull_x = engine.time_s * 3.0
+        engine.hold_against_hull(1, (2e5 * normal[0], 2e5 * normal[1]), (face[0] + hull_x, face[1]))
+        for _ in range(5):
+            engine.step()
+        engine.release_holds()
+    return engine.state(1)
+
+
+@pytest.mark.parametrize("changed", [{"ice_hull_friction": 1.5}, {"ice_hull_restitution": 0.9}])
+def test_ice_hull_friction_and_restitution_act_only_through_the_engines_own_hull_contact(changed):
+    """Under `hull_contact = "crushing"` the hull does not collide with the ice in the engine: the push is
+    the hold along the normal, which takes neither μ_ih nor e_ih, so changing them changes nothing. Under
+    "engine" Chipmunk's hull contact uses both."""
+    crushing = _floe_after_a_panel_push("crushing")
+    assert math.hypot(crushing.vx_m_s, crushing.vy_m_s) > 0.5  # the hold did push it
+    # along the normal: no tangential force, so none of the friction cone's tilt (the test above)
+    assert math.degrees(math.atan2(crushing.vy_m_s, crushing.vx_m_s)) == pytest.approx(60.0, abs=0.5)
+    assert _floe_after_a_panel_push("crushing", **changed) == crushing
+    assert _floe_after_a_panel_push("engine", **changed) != _floe_after_a_panel_push("engine")
+
+
 def test_pinned_floe_does_not_move():
     engine = IceMotionEngine(FAR_HULL, (0.0, 0.0), IceMotionSettings(window_ahead_m=1e3), water=False)
     engine.add_piece(1, shapely.box(0, 0, 4, 2), 1.0, velocity_m_s=(2.0, 0.0))

@@ -130,11 +130,13 @@ def _turn(p: list[float], q: list[float], r: list[float]) -> float:
 def _yaw_form_integrals(ring: np.ndarray) -> tuple[float, float]:
     """∫ max(s, 0)³ dl and ∫ max(−s, 0)³ dl over the edges, s = (r × n)·ẑ: the normal speed of the edge per
     unit yaw rate. s is linear along an edge (s0 → s1 over length L), so the integral is exact:
-    L·(F(s1) − F(s0))/(s1 − s0) with F(σ) = max(σ, 0)⁴/4 (L·max(s0, 0)³ where s1 = s0)."""
+    L·(F(s1) − F(s0))/(s1 − s0) with F(σ) = max(σ, 0)⁴/4 (L·max(s0, 0)³ where s1 = s0). An edge of length 0
+    (a repeated vertex) adds exactly 0: its normal is taken as (0, 0) rather than 0/0."""
     a, b = ring, np.roll(ring, -1, axis=0)
     edge = b - a
     length = np.hypot(edge[:, 0], edge[:, 1])
-    nx, ny = edge[:, 1] / length, -edge[:, 0] / length  # outward for a counter-clockwise ring
+    divisor = np.where(length > 0.0, length, 1.0)
+    nx, ny = edge[:, 1] / divisor, -edge[:, 0] / divisor  # outward for a counter-clockwise ring
     s0 = a[:, 0] * ny - a[:, 1] * nx
     s1 = b[:, 0] * ny - b[:, 1] * nx
 
@@ -268,7 +270,7 @@ def body_geometry(polygon: shapely.Polygon) -> BodyGeometry:
     """The body-frame geometry of `polygon` (a valid polygon without holes; field frame)."""
     ring_field = _ccw_ring(polygon)
     area, centroid, polar = polygon_area_moment(ring_field)
-    ring = ring_field - centroid
+    ring = _without_repeats(ring_field - centroid)
     local = shapely.Polygon(ring)
     parts = tuple(_ccw_ring(p) for p in convex_parts(local))
     return BodyGeometry(
@@ -280,6 +282,14 @@ def body_geometry(polygon: shapely.Polygon) -> BodyGeometry:
         _yaw_form_integrals(ring),
         _yaw_skin_integral(ring),
     )
+
+
+def _without_repeats(ring_xy_m: np.ndarray) -> np.ndarray:
+    """The ring without each vertex equal to the one before it (cyclically). A crack that ends within
+    round-off of a vertex leaves two vertices ~1e-16 m apart, which the shift to the centroid can round to
+    one point: an edge of length 0 in the body frame."""
+    keep = np.any(ring_xy_m != np.roll(ring_xy_m, 1, axis=0), axis=1)
+    return ring_xy_m[keep]
 
 
 def projected_width_m(ring_xy_m: np.ndarray, direction_xy: np.ndarray) -> float:

@@ -48,11 +48,15 @@ class IceMotionSettings:
     ice_ice_friction: Annotated[float, Bounds(0.0, 2.0)] = 0.35
     """μ ice–ice [-] (Huang et al. 2020, Mar. Struct. 74; used by AUTO-IceNav). In [0, 2]"""
     ice_hull_friction: Annotated[float, Bounds(0.0, 2.0)] = c.FRICTION_COEFFICIENT
-    """μ ice–hull [-]; floebreak's contact model's μ (thesis Alg. 3: 0.15), so that the two agree"""
+    """μ ice–hull [-] of the engine's own hull contact, so used only under ``hull_contact = "engine"``: under
+    "crushing" (the default) the hull does not collide with the ice in the engine, and its push, along the
+    panel normals, takes no friction (the contact model's μ, ``ice.friction_coefficient``, enters only the
+    crushing force's F_h and F_v). Default: the contact model's value (thesis Alg. 3: 0.15). In [0, 2]"""
     ice_ice_restitution: Annotated[float, Bounds(0.0, 1.0)] = 0.1
     """e ice–ice [-] (Yulmetov et al. 2016, Cold Reg. Sci. Technol. 121; used by AUTO-IceNav). In [0, 1]"""
     ice_hull_restitution: Annotated[float, Bounds(0.0, 1.0)] = 0.1
-    """e ice–hull [-] (as ice–ice, same source). In [0, 1]"""
+    """e ice–hull [-] (as ice–ice, same source) of the engine's own hull contact, so used only under
+    ``hull_contact = "engine"`` (under "crushing" the hull's push does not bounce). In [0, 1]"""
     window_ahead_m: Annotated[float, _POSITIVE] = 40.0
     """awake window: distance ahead of the hull's foremost point [m], > 0"""
     window_behind_m: Annotated[float, _POSITIVE] = 20.0
