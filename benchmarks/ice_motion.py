@@ -15,8 +15,12 @@ The motions alternate, each run `--repeat` times (3): the medians and their rati
 with the awake window's distances (`ice_motion.window_ahead_m`, `window_behind_m`, `window_side_m`) scaled
 by F; with `--seeds N` as well, instead: seeds 1–N on the 385 m field, `dynamic` at the default window and at
 F, each seed's change in cusps/km and cusp area, and their mean ± standard deviation over the seeds.
+`--windows A/B/S,A/B/S,…` (ahead/behind/side distances in m) runs `dynamic` on the 385 m field for each window
+and each seed (`--seeds N`, from `--first-seed K`, default 1) and gives each window's mean paired change
+against the last one (the reference, e.g. one spanning the field's whole width), ± its standard error.
 Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [[--long] [--repeat N] [--two]
-[--window F] | --time-steps [--fine] [--seeds N] | --window F --seeds N]`.
+[--window F] | --time-steps [--fine] [--seeds N] | --window F --seeds N | --windows W,… --seeds N
+[--first-seed K]]`.
 """
 
 from __future__ import annotations
@@ -146,6 +150,29 @@ def window_table(factor: float, seeds: tuple[int, ...]) -> None:
     print(f"  CPU {sum(cpu['default']):.1f} → {sum(cpu['scaled']):.1f} s ({100 * total:+.0f} %)")
 
 
+def window_sweep(windows: list[tuple[float, float, float]], seeds: tuple[int, ...]) -> None:
+    """`dynamic` on the 385 m field at each window (ahead, behind, side) [m] for each seed; each window's
+    paired change in cusps/km, cusp area and CPU against the last window, mean ± standard error."""
+    size = ["field.length_m=385.0", "field.width_m=100.0"]
+    keys = ("window_ahead_m", "window_behind_m", "window_side_m")
+    rows: list[list[dict[str, float]]] = [[] for _ in windows]
+    for seed in seeds:
+        for k, window in enumerate(windows):
+            overrides = [f"ice_motion.{key}={value!r}" for key, value in zip(keys, window, strict=True)]
+            rows[k].append(_measure(size, [*MOTIONS["dynamic"], *overrides, f"seed={seed}"]))
+            print(f"seed {seed}, window {window}: {rows[k][-1]['cusps_per_km']:.1f} cusps/km", flush=True)
+    for window, runs in zip(windows, rows, strict=True):
+        summary = []
+        for key in ("cusps_per_km", "cusp_area_m2", "cpu_s"):
+            change = [100 * (run[key] / ref[key] - 1) for run, ref in zip(runs, rows[-1], strict=True)]
+            error = float(np.std(change, ddof=1) / np.sqrt(len(change))) if len(change) > 1 else 0.0
+            summary.append(
+                f"{key} {float(np.mean([r[key] for r in runs])):.1f} "
+                f"({float(np.mean(change)):+.2f} ± {error:.2f} %)"
+            )
+        print(f"window {window} against {windows[-1]}, seeds {seeds[0]}–{seeds[-1]}: {'; '.join(summary)}")
+
+
 def time_step_table(time_steps_s: tuple[float, ...], seeds: tuple[int, ...]) -> None:
     """Each seed at each time step, then the seeds' means and each mean's change from the step before."""
     size = ["field.length_m=385.0", "field.width_m=100.0"]
@@ -182,9 +209,16 @@ if __name__ == "__main__":
     compile_kernels()
     engine.compile_now()
     gc.freeze()
+    first = int(sys.argv[sys.argv.index("--first-seed") + 1]) if "--first-seed" in sys.argv else 1
     seeds = (
-        tuple(range(1, int(sys.argv[sys.argv.index("--seeds") + 1]) + 1)) if "--seeds" in sys.argv else SEEDS
+        tuple(range(first, first + int(sys.argv[sys.argv.index("--seeds") + 1])))
+        if "--seeds" in sys.argv
+        else SEEDS
     )
+    if "--windows" in sys.argv:
+        text = sys.argv[sys.argv.index("--windows") + 1]
+        window_sweep([tuple(float(v) for v in w.split("/")) for w in text.split(",")], seeds)
+        sys.exit(0)
     window = float(sys.argv[sys.argv.index("--window") + 1]) if "--window" in sys.argv else None
     if window is not None and "--seeds" in sys.argv:
         window_table(window, seeds)

@@ -10,6 +10,7 @@ rows per km of these transits).
 
     .venv/bin/python benchmarks/memory.py                      # thin floe, 1 km and 10 km × 200 m
     nice .venv/bin/python benchmarks/memory.py --no-thin --lengths 100000   # minutes
+    nice .venv/bin/python benchmarks/memory.py --no-thin --lengths 100000 --dynamic   # ice that moves
 """
 
 from __future__ import annotations
@@ -64,10 +65,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--lengths", type=float, nargs="*", default=[1000.0, 10000.0], help="transits [m]")
     parser.add_argument("--no-thin", action="store_true", help="skip the thin-floe case")
+    parser.add_argument("--dynamic", action="store_true", help='transits with ice_motion = "dynamic"')
     args = parser.parse_args()
     cases = [] if args.no_thin else [("thin floe D = 40 m, h = 0.06 m", THIN_FLOE)]
+    motion = '[simulation]\nice_motion = "dynamic"\n' if args.dynamic else ""
     cases += [
-        (f"transit {length / 1000:g} km × 200 m", TRANSIT.format(length=length)) for length in args.lengths
+        (
+            f"transit {length / 1000:g} km × 200 m{', dynamic' if args.dynamic else ''}",
+            TRANSIT.format(length=length) + motion,
+        )
+        for length in args.lengths
     ]
     with tempfile.TemporaryDirectory() as temp:
         for i, (label, text) in enumerate(cases):

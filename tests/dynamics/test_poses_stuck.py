@@ -19,7 +19,7 @@ INTERVAL = 8
 # the regression's stored field (150 m × 50 m of reference floes), not one generated here: how a field is
 # packed depends on the CPU's BLAS kernels, and on some CPUs a generated 50 m field let this ship through
 STORED_FIELD = Path(__file__).parents[1] / "regression" / "data" / "field.parquet"
-# a light, weak ship (0.1 kt of displacement, 1 kN bollard pull): it spends its kinetic energy pushing the
+# a light, weak ship (0.1 kt of displacement, 0.1 kN bollard pull): it spends its kinetic energy pushing the
 # floes and stops within the field, between two pose steps
 WEAK_SHIP = [
     f"field.file={str(STORED_FIELD)!r}",
@@ -27,7 +27,7 @@ WEAK_SHIP = [
     f"simulation.pose_interval_steps={INTERVAL}",
     "ship.propulsion.model=bollard_pull",
     "ship.propulsion.displacement_kg=1e5",
-    "ship.propulsion.bollard_pull_n=1e3",
+    "ship.propulsion.bollard_pull_n=1e2",
     "ship.propulsion.open_water_speed_m_s=8.23",
 ]
 

@@ -57,12 +57,14 @@ class IceMotionSettings:
     ice_hull_restitution: Annotated[float, Bounds(0.0, 1.0)] = 0.1
     """e ice–hull [-] (as ice–ice, same source) of the engine's own hull contact, so used only under
     ``hull_contact = "engine"`` (under "crushing" the hull's push does not bounce). In [0, 1]"""
-    window_ahead_m: Annotated[float, _POSITIVE] = 40.0
+    # the window: the smallest of 40/20/20 × 1, 1.5, 3 m whose cusp statistics lie within 2 % of the
+    # field's whole width awake (docs/model.md, "Awake window")
+    window_ahead_m: Annotated[float, _POSITIVE] = 60.0
     """awake window: distance ahead of the hull's foremost point [m], > 0"""
-    window_behind_m: Annotated[float, _POSITIVE] = 20.0
+    window_behind_m: Annotated[float, _POSITIVE] = 30.0
     """awake window: distance behind the hull's aftmost point [m], > 0; pieces entirely behind it are
     retired (removed from the engine), so memory does not grow with the transit"""
-    window_side_m: Annotated[float, _POSITIVE] = 20.0
+    window_side_m: Annotated[float, _POSITIVE] = 30.0
     """awake window: distance beyond either side of the hull [m], > 0"""
     time_step_s: Annotated[float, Bounds(0.0, 1.0, low_inclusive=False, unit="s")] = 0.02
     """engine time step Δt [s], in (0, 1]; must resolve the ship's speed (`check_time_step`)"""
