@@ -209,6 +209,8 @@ def test_an_inert_flag_whose_reason_the_value_contradicts_does_not_hide_a_failur
     rows = scoreboard_rows(data, {"default": "default"}, statements, inert=inert)
     assert [r["default"]["status"] for r in rows] == ["fail", "pass"]
     assert [r["default"]["inert"] for r in rows] == [None, None]
+    lines = "\n".join(explained_and_inert_lines(rows, ["default"]))
+    assert "**T8.BZ1.dV** (`default`): flagged inert (same run), but the measured value contradicts" in lines
     assert must_hold_counts(rows, "default") == (("S533.h1.2.dV_max",), (), ("T8.BZ1.dV",), ())
     data["default"]["BZ1"][0]["mean_cusp_volume_m3"] = 8.0  # exactly 0 and the cap's change: inert again
     data["default"]["h1.2"][0]["max_cusp_volume_m3"] = 10.0 * 1.2**1.75

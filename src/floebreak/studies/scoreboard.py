@@ -211,7 +211,7 @@ def scoreboard_rows(
         for config, data in data_by_config.items():
             value, se, n = evaluate(st, data)
             flag = inert.get(config, {}).get(st.id)
-            contradicted = flag is not None and not reason_holds(flag, value)
+            contradicted = flag.reason if flag is not None and not reason_holds(flag, value) else ""
             flag = None if contradicted else flag
             result = verdict(value, st.thesis_value, st.tolerance)
             band = st.explained_band(profiles[config])

@@ -216,7 +216,14 @@ def explained_and_inert_lines(rows: list[dict], names: list[str]) -> list[str]:
                 reasons.setdefault((row["statement"].id, flag.reason), []).append(n)
     for (sid, why), cols in reasons.items():
         lines.append(f"- **{sid}** ({', '.join(f'`{n}`' for n in cols)}): {why}")
-    return lines if reasons else [*lines, "none"]
+    contradicted = [
+        f"- **{row['statement'].id}** (`{n}`): flagged inert ({row[n]['inert_contradicted']}), but the "
+        "measured value contradicts that reason, so the row is scored as any other"
+        for row in rows
+        for n in names
+        if row[n].get("inert_contradicted")
+    ]
+    return lines + contradicted if reasons or contradicted else [*lines, "none"]
 
 
 def torque_range_lines(run_dirs: dict[str, list[Path]]) -> list[str]:
