@@ -51,6 +51,14 @@ class Inert:
     reason: str
     predicted: float
 
+    def holds(self, value: float) -> bool:
+        """Whether a measured value agrees with the reason (the same run: a change of exactly 0; the cap: the
+        cap's change within `CAP_TOLERANCE`). Where it does not, the reason is wrong for this run and the row
+        is scored as any other (issue 32, audit gap 7: an inert flag must not hide a failure)."""
+        if self.kind == "identity":
+            return value == 0.0
+        return math.isfinite(value) and abs(value - self.predicted) <= CAP_TOLERANCE
+
 
 @dataclass(frozen=True)
 class PointRun:
@@ -139,12 +147,3 @@ def inert_flags(
     runs = {name: point_run(base, profile, {**overrides, **keys}) for name, keys in points.items()}
     flags = {st.id: inert_flag(st, runs) for st in statements}
     return {key: flag for key, flag in flags.items() if flag is not None}
-
-
-def reason_holds(flag: Inert, value: float) -> bool:
-    """Whether a measured value agrees with the reason the row is inert (the same run: a change of exactly
-    0; the cap: the cap's change within `CAP_TOLERANCE`). Where it does not, the reason is wrong for this
-    run and the row is scored as any other (issue 32, audit gap 7: an inert flag must not hide a failure)."""
-    if flag.kind == "identity":
-        return value == 0.0
-    return math.isfinite(value) and abs(value - flag.predicted) <= CAP_TOLERANCE

@@ -202,8 +202,6 @@ def scoreboard_rows(
     id: `floebreak.studies.inert.Inert`}; a flag whose reason the measured value contradicts is dropped,
     so it cannot hide a failure) and the status (`row_status`); `profiles` maps a configuration to its
     profile, whose must-hold flags and bands it takes."""
-    from floebreak.studies.inert import reason_holds
-
     inert = inert or {}
     rows = []
     for st in statements:
@@ -211,7 +209,7 @@ def scoreboard_rows(
         for config, data in data_by_config.items():
             value, se, n = evaluate(st, data)
             flag = inert.get(config, {}).get(st.id)
-            contradicted = flag.reason if flag is not None and not reason_holds(flag, value) else ""
+            contradicted = flag.reason if flag is not None and not flag.holds(value) else ""
             flag = None if contradicted else flag
             result = verdict(value, st.thesis_value, st.tolerance)
             band = st.explained_band(profiles[config])
