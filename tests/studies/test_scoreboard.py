@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -22,7 +23,8 @@ from floebreak.studies.scoreboard import (
     summary_metrics,
     tally_text,
 )
-from floebreak.studies.statements import STATEMENTS
+from floebreak.studies.statements import STATEMENTS, Recorded
+from floebreak.studies.validation_report import explained_and_inert_lines
 
 
 def test_summary_metrics_ratios():
@@ -116,22 +118,68 @@ def test_scoreboard_rows_csv_and_must_hold_counts():
     assert "**FAIL**" in markdown and "8.5 ± 0.5 pass" in markdown
 
 
-def test_an_explained_failure_is_not_a_pass_and_an_inert_row_is_not_counted():
-    """Issue 32 §1–2: a must-hold row that fails for a documented reason counts as "fail (explained)"; a row
-    that cannot fail (flagged inert) is left out of the count, whatever its verdict."""
-    from floebreak.studies.inert import Inert
-
+def _explained_statement():
+    """T6.line_load.dA_aff with a made-up explanation band in `default`: recorded −10.0 % on the choice sample
+    and −14.0 % on the holdout, to 0.1 % → −10.0 ± (4.0 + 0.1) %, i.e. −14.1 … −5.9 %."""
     by_id = {st.id: st for st in STATEMENTS}
-    statements = (by_id["T6.line_load.dA_aff"], by_id["T8.BZ1.dV"], by_id["T5.K230.dV"])
-    assert statements[0].explained and statements[0].must_hold == {"default", "thesis"}
-    data = {"default": {
+    recorded = (Recorded("default", -0.100, -0.140, 0.001, "made up"),)
+    return replace(by_id["T6.line_load.dA_aff"], explained="made-up mechanism", recorded=recorded)
+
+
+def _line_load_data(change: float) -> dict:
+    return {"default": {
         "reference": {0: {"affected_area_m2": 100.0, "mean_cusp_volume_m3": 8.0}},
-        "line_load": {0: {"affected_area_m2": 90.0}},  # −10 %: beyond the 1 % of "nearly constant"
+        "line_load": {0: {"affected_area_m2": 100.0 * (1.0 + change)}},
         "BZ1": {0: {"mean_cusp_volume_m3": 8.0}},
         "K230": {0: {"mean_cusp_volume_m3": 8.8}},  # +10 %: beyond the 5 % of a small effect, unexplained
     }}  # fmt: skip
+
+
+def test_the_explanation_band_is_the_choice_value_with_its_spread_to_the_holdout():
+    low, high = _explained_statement().explained_band("default")
+    assert (low, high) == (pytest.approx(-0.141), pytest.approx(-0.059))
+    assert _explained_statement().explained_band("thesis") is None  # no value recorded for that profile
+
+
+@pytest.mark.parametrize(
+    ("change", "status"),
+    [
+        (-0.10, "fail (explained)"),  # the recorded failure: inside the band
+        (-0.14, "fail (explained)"),  # the holdout's value: inside
+        (-0.06, "fail (explained)"),  # −6.0 % lies within −14.1 … −5.9 %
+        (-0.05, "fail"),  # fails (beyond the 1 % of "nearly constant") but outside the band: a plain failure
+        (-0.20, "fail"),  # fails by more than the explanation was recorded for
+        (+0.10, "fail"),  # the other sign
+        (-0.005, "pass"),  # passes: the explanation is not needed
+    ],
+)
+def test_an_explained_row_fails_explained_only_within_its_band(change, status):
+    rows = scoreboard_rows(_line_load_data(change), {"default": "default"}, (_explained_statement(),))
+    assert rows[0]["default"]["status"] == status
+    tally = must_hold_counts(rows, "default")
+    row_id = ("T6.line_load.dA_aff",)
+    expected = {"pass": (row_id, (), ()), "fail (explained)": ((), row_id, ()), "fail": ((), (), row_id)}
+    assert tuple(tally[:3]) == expected[status]
+    lines = "\n".join(explained_and_inert_lines(rows, ["default"]))
+    expected_text = {
+        "pass": "pass: explanation not needed",
+        "fail": "FAIL outside the explained band (-14.1 … -5.9 %)",
+        "fail (explained)": "fail (explained; band -14.1 … -5.9 %)",
+    }[status]
+    assert expected_text in lines
+
+
+def test_an_explained_failure_is_not_a_pass_and_an_inert_row_is_not_counted():
+    """Issue 32 §1–2: a must-hold row that fails for a documented reason (within its band) counts as
+    "fail (explained)"; a row that cannot fail (flagged inert) is left out of the count, whatever its
+    verdict."""
+    from floebreak.studies.inert import Inert
+
+    by_id = {st.id: st for st in STATEMENTS}
+    statements = (_explained_statement(), by_id["T8.BZ1.dV"], by_id["T5.K230.dV"])
+    assert statements[0].must_hold == {"default", "thesis"}
     inert = {"default": {"T8.BZ1.dV": Inert("identity", "same run", 0.0)}}
-    rows = scoreboard_rows(data, {"default": "default"}, statements, inert=inert)
+    rows = scoreboard_rows(_line_load_data(-0.10), {"default": "default"}, statements, inert=inert)
     assert [r["default"]["status"] for r in rows] == ["fail (explained)", "inert", "fail"]
     tally = must_hold_counts(rows, "default")
     assert tally == ((), ("T6.line_load.dA_aff",), ("T5.K230.dV",), ("T8.BZ1.dV",)) and tally.counted == 2
@@ -141,3 +189,30 @@ def test_an_explained_failure_is_not_a_pass_and_an_inert_row_is_not_counted():
     table = list(csv.DictReader(io.StringIO(scoreboard_csv(rows, ["default"]))))
     assert [r["default_status"] for r in table] == ["fail (explained)", "inert", "fail"]
     assert table[1]["default_inert"] == "same run"
+    assert table[0]["default_explained_band"] == "-0.141 … -0.059"
+
+
+def test_an_inert_flag_whose_reason_the_value_contradicts_does_not_hide_a_failure():
+    """Audit gap 7: a row flagged inert whose measured value is not what the reason predicts (the same run:
+    exactly 0; the cap: the cap's change within 1 %) is scored as any other row."""
+    from floebreak.studies.inert import Inert
+
+    by_id = {st.id: st for st in STATEMENTS}
+    statements = (by_id["T8.BZ1.dV"], by_id["S533.h1.2.dV_max"])
+    data = {"default": {
+        "reference": {0: {"mean_cusp_volume_m3": 8.0, "max_cusp_volume_m3": 10.0}},
+        "BZ1": {0: {"mean_cusp_volume_m3": 8.8}},  # +10 %: not 0, and beyond the 5 % of a small effect
+        "h1.2": {0: {"max_cusp_volume_m3": 13.0}},  # +30 %, not the cap's +37.6 %: the direction still passes
+    }}  # fmt: skip
+    inert = {"default": {"T8.BZ1.dV": Inert("identity", "same run", 0.0),
+                         "S533.h1.2.dV_max": Inert("cap", "cap", 1.2**1.75 - 1.0)}}  # fmt: skip
+    rows = scoreboard_rows(data, {"default": "default"}, statements, inert=inert)
+    assert [r["default"]["status"] for r in rows] == ["fail", "pass"]
+    assert [r["default"]["inert"] for r in rows] == [None, None]
+    lines = "\n".join(explained_and_inert_lines(rows, ["default"]))
+    assert "**T8.BZ1.dV** (`default`): flagged inert (same run), but the measured value contradicts" in lines
+    assert must_hold_counts(rows, "default") == (("S533.h1.2.dV_max",), (), ("T8.BZ1.dV",), ())
+    data["default"]["BZ1"][0]["mean_cusp_volume_m3"] = 8.0  # exactly 0 and the cap's change: inert again
+    data["default"]["h1.2"][0]["max_cusp_volume_m3"] = 10.0 * 1.2**1.75
+    rows = scoreboard_rows(data, {"default": "default"}, statements, inert=inert)
+    assert [r["default"]["status"] for r in rows] == ["inert", "inert"]

@@ -21,6 +21,7 @@ here with its reason; tests/studies/test_inert.py checks each against the functi
 from __future__ import annotations
 
 import copy
+import math
 from dataclasses import dataclass, replace
 from typing import Any, Literal
 
@@ -49,6 +50,14 @@ class Inert:
     kind: Literal["identity", "cap"]
     reason: str
     predicted: float
+
+    def holds(self, value: float) -> bool:
+        """Whether a measured value agrees with the reason (the same run: a change of exactly 0; the cap: the
+        cap's change within `CAP_TOLERANCE`). Where it does not, the reason is wrong for this run and the row
+        is scored as any other (issue 32, audit gap 7: an inert flag must not hide a failure)."""
+        if self.kind == "identity":
+            return value == 0.0
+        return math.isfinite(value) and abs(value - self.predicted) <= CAP_TOLERANCE
 
 
 @dataclass(frozen=True)

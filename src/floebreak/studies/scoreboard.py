@@ -180,12 +180,13 @@ def evaluate(statement: Statement, data: dict[str, dict[int, dict[str, float]]])
     return paired_relative_change(values, series(statement.against or "reference"))
 
 
-def row_status(verdict_: str, explained: bool, inert: bool) -> str:
-    """pass | fail | fail (explained) | inert | info | missing: a row that cannot fail is inert whatever its
-    verdict, a failing row with a documented reason is "fail (explained)" (issue 32 §1–2)."""
+def row_status(verdict_: str, value: float, band: tuple[float, float] | None, inert: bool) -> str:
+    """pass | fail | fail (explained) | inert | info | missing (issue 32 §1–2): a row that cannot fail is
+    inert whatever its verdict; a failing row is "fail (explained)" only where its value lies within the band
+    its explanation was recorded for (`Statement.explained_band`), and a plain failure outside it."""
     if inert and verdict_ in ("pass", "fail"):
         return "inert"
-    if verdict_ == "fail" and explained:
+    if verdict_ == "fail" and band is not None and band[0] <= value <= band[1]:
         return "fail (explained)"
     return verdict_
 
@@ -197,9 +198,10 @@ def scoreboard_rows(
     inert: dict[str, dict[str, Any]] | None = None,
 ) -> list[dict[str, Any]]:
     """One row per statement: the statement and, per configuration, value, s.e., n, verdict, must-hold,
-    the inert reason (`inert` maps a configuration to {statement id: `floebreak.studies.inert.Inert`}) and
-    the status (`row_status`); `profiles` maps a configuration to its profile, whose must-hold flags it
-    takes."""
+    the explanation's band in its profile, the inert reason (`inert` maps a configuration to {statement
+    id: `floebreak.studies.inert.Inert`}; a flag whose reason the measured value contradicts is dropped,
+    so it cannot hide a failure) and the status (`row_status`); `profiles` maps a configuration to its
+    profile, whose must-hold flags and bands it takes."""
     inert = inert or {}
     rows = []
     for st in statements:
@@ -207,7 +209,10 @@ def scoreboard_rows(
         for config, data in data_by_config.items():
             value, se, n = evaluate(st, data)
             flag = inert.get(config, {}).get(st.id)
+            contradicted = flag.reason if flag is not None and not flag.holds(value) else ""
+            flag = None if contradicted else flag
             result = verdict(value, st.thesis_value, st.tolerance)
+            band = st.explained_band(profiles[config])
             row[config] = {
                 "value": value,
                 "se": se,
@@ -215,7 +220,9 @@ def scoreboard_rows(
                 "verdict": result,
                 "must_hold": profiles[config] in st.must_hold,
                 "inert": flag,
-                "status": row_status(result, bool(st.explained), flag is not None),
+                "inert_contradicted": contradicted,
+                "band": band,
+                "status": row_status(result, value, band, flag is not None),
             }
         rows.append(row)
     return rows
@@ -244,7 +251,7 @@ def ours_cell(result: dict[str, Any], st: Statement) -> str:
 
 CSV_STATEMENT_COLUMNS = ("id", "source", "quote", "quantity", "unit", "point", "against", "statistic",
                          "thesis_value", "thesis_text", "tolerance", "explained")  # fmt: skip
-CSV_CONFIG_COLUMNS = ("ours", "se", "n_fields", "verdict", "must_hold", "status", "inert")
+CSV_CONFIG_COLUMNS = ("ours", "se", "n_fields", "verdict", "must_hold", "status", "inert", "explained_band")
 
 
 def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
@@ -263,7 +270,9 @@ def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
             flag = r.get("inert")
             must = "yes" if r["must_hold"] else "no"
             reason = flag.reason if flag else ""
-            cells += [r["value"], r["se"], r["n"], r["verdict"], must, r["status"], reason]
+            band = r.get("band")
+            band_text = f"{band[0]:.6g} … {band[1]:.6g}" if band else ""
+            cells += [r["value"], r["se"], r["n"], r["verdict"], must, r["status"], reason, band_text]
         lines.append(cells)
     return csv_text({name: [cells[i] for cells in lines] for i, name in enumerate(names)})
 
