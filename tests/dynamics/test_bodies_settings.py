@@ -29,6 +29,21 @@ def test_rectangle_moment_is_m_a2_plus_b2_over_12():
     assert g.centroid_xy_m == pytest.approx((5.0, 5.0))
 
 
+@pytest.mark.parametrize("x_m", [0.0, 1.0e3, 1.0e5])
+def test_a_thin_piece_far_down_the_transit_keeps_its_moment(x_m):
+    """A 2 m × 0.05 m strip turned by 30°, at x up to 100 km (a long transit's field frame): its centroid and
+    its moment about it are the rectangle's, A(a² + b²)/12, to the precision its coordinates carry. Computed
+    from field coordinates, the polar moment at the origin and A·|c|² are 1e10 times the strip's own moment
+    and their difference was noise, often negative (Chipmunk aborted a 100 km run on one)."""
+    a, b, angle = 2.0, 0.05, math.radians(30.0)
+    centre = (x_m + 0.3, 137.9)
+    strip = affinity.rotate(shapely.box(-a / 2, -b / 2, a / 2, b / 2), angle, origin=(0, 0), use_radians=True)
+    geometry = body_geometry(affinity.translate(strip, *centre))
+    ulp = np.spacing(max(abs(centre[0]), abs(centre[1])))  # the coordinates' own resolution
+    assert geometry.centroid_xy_m == pytest.approx(centre, abs=8 * ulp)
+    assert geometry.polar_moment_m4 == pytest.approx(a * b * (a * a + b * b) / 12.0, rel=1e-6)
+
+
 def test_concave_piece_decomposes_exactly_and_its_moment_follows_the_parallel_axis_theorem():
     ell = shapely.Polygon([(0, 0), (3, 0), (3, 1), (1, 1), (1, 3), (0, 3)])
     g = body_geometry(ell)

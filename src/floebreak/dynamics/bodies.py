@@ -33,15 +33,20 @@ class BodyGeometry:
 def polygon_area_moment(ring_xy_m: np.ndarray) -> tuple[float, np.ndarray, float]:
     """(area, centroid, ∫r² dA about the centroid) of a simple polygon's ring (shoelace sums; the polar
     second moment J_o = 1/12 Σ c_i (x_i² + x_i x_j + x_j² + y_i² + y_i y_j + y_j²), c_i = x_i y_j − x_j y_i,
-    moved to the centroid by the parallel-axis theorem)."""
-    x, y = ring_xy_m[:, 0], ring_xy_m[:, 1]
+    moved to the centroid by the parallel-axis theorem). The sums run in a frame centred on the ring's box:
+    in field coordinates (x up to 1e5 m on a long transit) J_o and A·|c|² are ~1e10 times J of a small piece,
+    and their difference lost every digit (negative moments, a Chipmunk abort at 100 km)."""
+    origin = (ring_xy_m.min(axis=0) + ring_xy_m.max(axis=0)) / 2.0
+    local = ring_xy_m - origin
+    x, y = local[:, 0], local[:, 1]
     xj, yj = np.roll(x, -1), np.roll(y, -1)
     cross = x * yj - xj * y
     area = _exact_sum(cross) / 2.0
     cx = _exact_sum((x + xj) * cross) / (6.0 * area)
     cy = _exact_sum((y + yj) * cross) / (6.0 * area)
     j_origin = _exact_sum(cross * (x * x + x * xj + xj * xj + y * y + y * yj + yj * yj)) / 12.0
-    return abs(area), np.array([cx, cy]), abs(j_origin) - abs(area) * (cx * cx + cy * cy)
+    centroid = np.array([cx, cy]) + origin
+    return abs(area), centroid, abs(j_origin) - abs(area) * (cx * cx + cy * cy)
 
 
 def _exact_sum(terms: np.ndarray) -> float:
