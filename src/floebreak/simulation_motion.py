@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from array import array
 
 import numpy as np
 import shapely
@@ -71,8 +72,9 @@ class IceMotion:
         self.origin: dict[int, tuple[float, float]] = {}  # centroid when added: unmoved pieces keep polygons
         self.forces: dict[int, list[tuple[float, float, float, float]]] = {}
         # per search: the mean force the hull passed to the ice over the interval ending there [N], field
-        # frame (the ship receives the opposite; the x part is the ice resistance); none before the first
-        self.force_on_ice_xy_n: list[tuple[float, float]] = [(0.0, 0.0)]
+        # frame (the ship receives the opposite; the x part is the ice resistance); none before the first.
+        # Flat (x, y) pairs in a typed array: 16 bytes a search, not ≈ 110 as a list of tuples
+        self.force_on_ice_xy_n = array("d", (0.0, 0.0))
         # per piece held over the last interval: Σ transmitted / Σ |F|·time of its holds (`failure_contact`)
         self.load_share: dict[int, float] = {}
         # with `params.propulsion` the ship's speed follows from its net thrust and that force
@@ -89,7 +91,7 @@ class IceMotion:
 
     def outputs(self, n_steps: int) -> dict:
         """The run's transmitted forces per search and, with propulsion, its surge (`SimulationResult`)."""
-        forces = np.array(self.force_on_ice_xy_n[:n_steps], dtype=float).reshape(-1, 2)
+        forces = np.frombuffer(self.force_on_ice_xy_n, dtype=float).reshape(-1, 2)[:n_steps].copy()
         return {
             "hull_force_on_ice_xy_n": forces,
             "surge": None if self.surge is None else self.surge.result(0.0),
@@ -115,7 +117,7 @@ class IceMotion:
                 (held_x + contact_x) / duration + resisted[0],
                 (held_y + contact_y) / duration + resisted[1],
             )
-            self.force_on_ice_xy_n.append(force)
+            self.force_on_ice_xy_n.extend(force)
             self.engine.release_holds()
             self.forces.clear()
             self.bow_x = bow_x

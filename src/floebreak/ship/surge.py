@@ -22,6 +22,7 @@ outward normals, as the contact model sums them).
 
 from __future__ import annotations
 
+from array import array
 from dataclasses import dataclass
 
 import numpy as np
@@ -131,8 +132,10 @@ class SurgeIntegrator:
         self.propulsion, self.substeps = propulsion, substeps
         self.mass_kg = propulsion.effective_mass_kg
         self.energy_j = 0.5 * self.mass_kg * initial_speed_m_s**2
-        self._x, self._speeds, self._times = [bow_x0_m], [initial_speed_m_s], [0.0]
-        self._arrival, self._after = [force_arrival0_n], []
+        # typed arrays: 8 bytes a value, not a list slot and a float object (a series per contact search)
+        self._x, self._speeds = array("d", [bow_x0_m]), array("d", [initial_speed_m_s])
+        self._times, self._arrival = array("d", [0.0]), array("d", [force_arrival0_n])
+        self._after = array("d")
         self.impulse_n_s = 0.0  # ∫ F dt
         self.stuck_at_bow_x_m: float | None = None
 
