@@ -73,7 +73,7 @@ class IceMotion:
         self.forces: dict[int, list[tuple[float, float, float, float]]] = {}
         # per search: the mean force the hull passed to the ice over the interval ending there [N], field
         # frame (the ship receives the opposite; the x part is the ice resistance); none before the first.
-        # Flat (x, y) pairs in a typed array: 16 bytes a search, not ≈ 110 as a list of tuples
+        # flat (x, y) pairs in a typed array: one series entry per search, so memory per km matters
         self.force_on_ice_xy_n = array("d", (0.0, 0.0))
         # per piece held over the last interval: Σ transmitted / Σ |F|·time of its holds (`failure_contact`)
         self.load_share: dict[int, float] = {}
