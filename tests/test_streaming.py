@@ -158,6 +158,50 @@ def test_the_run_figures_of_a_long_field_say_which_part_they_show(monkeypatch):
     assert result.plot_breaking_pattern().axes[0].get_xlim()[1] == 20.0  # the field starts at x = 0
 
 
+def _pixels(figure) -> np.ndarray:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(figure)
+    canvas.draw()
+    return np.asarray(canvas.buffer_rgba()).copy()
+
+
+def test_the_figure_calls_of_a_long_field_carry_only_what_the_window_draws(monkeypatch):
+    """A figure worker is sent a figure's call pickled: for a field longer than the window the call holds the
+    floes and pieces in the window, not the whole field or run (a 100 km run's result pickles to hundreds of
+    MB), and draws exactly what plotting the whole field or result in that window draws (a 60 m field and a
+    20 m window standing in for 100 km and 2 km)."""
+    from floebreak.app.figure_process import draw_figure, pickled
+    from floebreak.plotting.field import plot_field
+    from floebreak.plotting.pattern import plot_breaking_pattern
+    from floebreak.plotting.pattern_data import BreakingPattern
+
+    result = floebreak.run(overrides=SMALL)
+    sim = result.simulation
+    monkeypatch.setattr("floebreak.app.run.FIGURE_WINDOW_M", 20.0)
+    x0 = result.field.domain_m[0]
+
+    _, _, (sent_field,), kwargs = call = result.figure_call("field")
+    bounds = shapely.bounds(result.field.polygons)
+    inside = (bounds[:, 0] <= x0 + 20.0) & (bounds[:, 2] >= x0)
+    assert 0 < sent_field.n_floes == inside.sum() < result.field.n_floes
+    whole = plot_field(result.field, title=kwargs["title"], x_window_m=(x0, x0 + 20.0))
+    np.testing.assert_array_equal(_pixels(draw_figure(call)), _pixels(whole))
+
+    _, _, (pattern,), kwargs = call = result.figure_call("breaking_pattern")
+    assert isinstance(pattern, BreakingPattern)
+    window = pattern.x_window_m
+    shown = sim.fate != "broken"
+    drawn = sum(len(p) for p in pattern.polygons.values())
+    assert 0 < drawn < shown.sum()
+    assert pattern.counts == {f: int((sim.fate == f).sum()) for f in ("remaining", "flipped", "cusp")}
+    whole = plot_breaking_pattern(sim, title=kwargs["title"], x_window_m=window, bow_at_end=False)
+    np.testing.assert_array_equal(_pixels(draw_figure(call)), _pixels(whole))
+    assert len(pickled(call)) < len(pickled(sim)) / 2
+    with pytest.raises(ValueError, match="x_window_m"):
+        plot_breaking_pattern(pattern, x_window_m=(0.0, 1.0))
+
+
 def test_the_engine_keeps_finished_pieces_as_wkb_and_gives_them_back_exactly():
     """Pieces the run has finished with are held as WKB bytes, not GEOS geometries; decoding gives the
     polygons back exactly (the areas the engine measured on the geometries when it made them)."""

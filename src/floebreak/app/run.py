@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import shapely
 
 from floebreak.app.build import (
     as_scenario,
@@ -44,9 +45,10 @@ from floebreak.app.run_directory import field_table as field_table
 from floebreak.app.run_directory import file_checksums as file_checksums
 from floebreak.app.surge import surge_summary
 from floebreak.errors import InputError
-from floebreak.ice.field import FloeField
+from floebreak.ice.field import FloeField, diameter_classes_m
 from floebreak.io.contacts import ContactFile, read_contacts
 from floebreak.io.provenance import floebreak_version, provenance
+from floebreak.plotting.pattern_data import breaking_pattern
 from floebreak.results import ContactRecorder, ContactRecords, empty_contacts, piece_table, summary
 from floebreak.scenario import Scenario
 from floebreak.simulation import (
@@ -73,8 +75,15 @@ def field_figure_call(floe_field: FloeField, title: str | None = None) -> Figure
     `FIGURE_WINDOW_M` (the title says so), so that a figure's memory does not grow with the field
     (issue 20)."""
     x0, _, x1, _ = floe_field.domain_m
-    window = None if x1 - x0 <= FIGURE_WINDOW_M else (x0, x0 + FIGURE_WINDOW_M)
-    return "field", "plot_field", (floe_field,), {"title": title, "x_window_m": window}
+    if x1 - x0 <= FIGURE_WINDOW_M:
+        return "field", "plot_field", (floe_field,), {"title": title, "x_window_m": None}
+    window = (x0, x0 + FIGURE_WINDOW_M)
+    # the call carries the floes the figure draws, not the whole field (a figure worker is sent it), and
+    # the field's diameter classes, so that the colours and the legend are the whole field's
+    bounds = shapely.bounds(floe_field.polygons).reshape(-1, 4)
+    shown = floe_field.subset((bounds[:, 0] <= window[1]) & (bounds[:, 2] >= window[0]))
+    kwargs = {"title": title, "x_window_m": window, "classes_m": diameter_classes_m(floe_field)}
+    return "field", "plot_field", (shown,), kwargs
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,11 +161,14 @@ class Result:
         )  # both bow outlines (start and end) inside the frame
         title = title or self._title("breaking pattern")
         field_x0, _, field_x1, _ = sim.field.domain_m
+        # the call carries what the figure draws (`BreakingPattern`), not the run's result: a figure worker
+        # is sent it
         if field_x1 - field_x0 <= FIGURE_WINDOW_M:
-            return "pattern", "plot_breaking_pattern", (sim,), {"title": title, "xlim": xlim}
+            kwargs = {"title": title, "xlim": xlim}
+            return "pattern", "plot_breaking_pattern", (breaking_pattern(sim),), kwargs
         window = (xlim[0], field_x0 + FIGURE_WINDOW_M)  # from the bow at the start to 2 km into the field
-        kwargs = {"title": title, "x_window_m": window, "bow_at_end": False}
-        return "pattern", "plot_breaking_pattern", (sim,), kwargs
+        kwargs = {"title": title, "bow_at_end": False}
+        return "pattern", "plot_breaking_pattern", (breaking_pattern(sim, window),), kwargs
 
     def plot_cusp_volume_spectrum(self):
         """Cusp-volume probability density (thesis Fig. 17 style)."""

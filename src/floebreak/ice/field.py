@@ -117,6 +117,12 @@ class FloeField:
         )
 
 
+def diameter_classes_m(floe_field: FloeField) -> tuple[float, ...]:
+    """The observed diameter classes of `floe_field`'s floes [m], ascending (NaN, no class, left out)."""
+    classes = floe_field.diameter_class_m
+    return tuple(float(d) for d in np.unique(classes[~np.isnan(classes)]))
+
+
 def circle_polygons(centers_m: np.ndarray, radii_m: np.ndarray, vertices: int) -> np.ndarray:
     """Regular polygons with `vertices` corners inscribed in the given circles (vectorised).
 

@@ -7,7 +7,7 @@ import shapely
 from matplotlib import colormaps
 from matplotlib.patches import Patch, Rectangle
 
-from floebreak.ice.field import FloeField
+from floebreak.ice.field import FloeField, diameter_classes_m
 from floebreak.plotting.common import (
     FIELD_MARGINS_IN,
     NOTE_LINE_IN,
@@ -19,12 +19,18 @@ from floebreak.plotting.common import (
 
 
 def plot_field(
-    floe_field: FloeField, title: str | None = None, ax=None, x_window_m: tuple[float, float] | None = None
+    floe_field: FloeField,
+    title: str | None = None,
+    ax=None,
+    x_window_m: tuple[float, float] | None = None,
+    classes_m: tuple[float, ...] | None = None,
 ):
     """Plot `floe_field`; returns the matplotlib Figure. Floes are coloured by diameter class.
 
     `x_window_m`: show only this x range [m] of the field, in a figure sized for it (a long field); the
-    title's second line says which part is shown (`window_note`: "first 2 000 m of the 10 000 m field")."""
+    title's second line says which part is shown (`window_note`: "first 2 000 m of the 10 000 m field").
+    `classes_m`: the diameter classes [m] that the colours and the legend stand for (default: those of
+    `floe_field`'s floes; a caller that passes only the floes in the window gives the whole field's)."""
     x0, y0, x1, y1 = floe_field.domain_m
     note = None
     if x_window_m is not None:
@@ -40,7 +46,7 @@ def plot_field(
     else:
         figure = ax.figure
     classes = floe_field.diameter_class_m
-    known = np.unique(classes[~np.isnan(classes)])
+    known = diameter_classes_m(floe_field) if classes_m is None else classes_m
     palette = colormaps["viridis"](np.linspace(0.15, 0.9, max(len(known), 1)))
     colours = np.empty((floe_field.n_floes, 4))
     colours[:] = (0.6, 0.6, 0.6, 1.0)
