@@ -55,7 +55,7 @@ def test_figures_scenario_and_provenance_are_embedded(run_dir):
     assert f"src='data:image/png;base64,{base64.b64encode(PNG).decode()}'" in text
     assert "Initial floe field" in text  # the figure's caption
     assert "profile = &quot;thesis&quot;" in text
-    assert '&quot;numpy&quot;: &quot;2.0&quot;' in text
+    assert "&quot;numpy&quot;: &quot;2.0&quot;" in text
     assert "<code>final-name</code>" in text  # the name given, not the directory's current one
 
 

@@ -265,4 +265,3 @@ def test_floebreak_field_figure_of_a_long_field_shows_the_window(monkeypatch):
     figure = plot_field_figure(field, title="field")
     assert figure.axes[0].get_title().endswith("\nfirst 20 m of the 60 m field")
     assert figure.axes[0].get_xlim()[1] < field.domain_m[0] + 30.0  # the window and a margin, not 60 m
-

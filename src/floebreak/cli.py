@@ -1092,7 +1092,7 @@ def propeller(
         )
     # forked after the shaft analysis, whose openTorsion imports matplotlib: the workers inherit it; one
     # for the propeller's figures, one for the shaft's
-    with figure_worker() as first, (figure_worker() if shaft is not None else nullcontext()) as second:
+    with figure_worker() as first, figure_worker() if shaft is not None else nullcontext() as second:
         overrides = {"speed_m_s": speed, "fraction_reaching": fraction_reaching, "n_propellers": propellers}
         inputs = read_runs(run_or_study_dir, pool=pool, **overrides)
         with _stage_progress("propeller analysis", quiet) as progress:

@@ -20,8 +20,10 @@ def _one_piece(side_a: float, side_b: float, h: float, angle: float, v, m: float
     speed = math.hypot(*v)
     beta = math.atan2(v[1], v[0]) - angle
     width = side_a * abs(math.sin(beta)) + side_b * abs(math.cos(beta))
-    k = 0.5 * s.water_density_kg_m3 * (
-        s.form_drag_coefficient * h * s.draft_ratio * width + s.skin_drag_coefficient * side_a * side_b
+    k = (
+        0.5
+        * s.water_density_kg_m3
+        * (s.form_drag_coefficient * h * s.draft_ratio * width + s.skin_drag_coefficient * side_a * side_b)
     )
     u_next = speed / (1.0 + k * speed * dt / m)
     magnitude = m * (speed - u_next) / dt

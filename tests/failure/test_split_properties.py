@@ -29,6 +29,7 @@ SETTINGS = settings(
 )
 PHI_RAD = math.radians(5.0)
 
+
 def assert_partition(parent, pieces) -> None:
     assert all(shapely.get_type_id(p) == 3 and p.is_valid and p.area > 0 for p in pieces)
     total = sum(p.area for p in pieces)

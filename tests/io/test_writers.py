@@ -18,7 +18,7 @@ from floebreak.io.writers import csv_text, write_csv, write_json, write_netcdf
 def test_csv_one_format_reads_back_exactly():
     values = np.array([0.1, 1.0 / 3.0, 1e-7, 2.5e20, np.nan, -np.inf])
     text = csv_text(
-        {"x": values, "n": np.arange(6), "ok": [True, False, True, False, True, None], "s": list("ab,d\"f")},
+        {"x": values, "n": np.arange(6), "ok": [True, False, True, False, True, None], "s": list('ab,d"f')},
         ["a comment"],
     )
     lines = text.splitlines()

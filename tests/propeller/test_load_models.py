@@ -80,7 +80,6 @@ def test_transport_decides_which_cusps_load_and_count():
     assert result.summary["options"]["pitches"] == [0.0, 95.8551]
 
 
-
 def test_the_transport_discs_take_the_spec_radius():
     """A 5 m propeller (R = 2.5 m): its disc's bottom stays 0.25 m above the base line, so the shaft lies at
     z_s = 7.65 − 2.5 − 0.25 = 4.9 m and the hull 0.86 m above the disc at 4.9 − 2.5 − 0.86 = 1.54 m. The
@@ -92,6 +91,7 @@ def test_the_transport_discs_take_the_spec_radius():
     assert result.summary["transport"]["n_reaching"] == 1
     assert result.loads["engaged_inner_radius_m"][0] == pytest.approx(2.36)
     assert result.loads["engaged_outer_radius_m"][0] == pytest.approx(2.5)
+
 
 def test_fraction_reaching_override_warns_and_loads_every_cusp():
     override = {"r": RunExposure(300.0, RateBasis(3.0, 0.5, 2))}

@@ -170,8 +170,7 @@ class DaskExecutor:
             except (OSError, TimeoutError) as error:
                 raise InputError(
                     "scheduler",
-                    f"cannot reach the Dask scheduler at {address!r} within {timeout_s:g} s "
-                    f"({error})",
+                    f"cannot reach the Dask scheduler at {address!r} within {timeout_s:g} s ({error})",
                     value=address,
                     allowed="tcp://HOST:PORT of a running `dask scheduler`, or 'local'",
                 ) from None
