@@ -18,9 +18,12 @@ F, each seed's change in cusps/km and cusp area, and their mean ± standard devi
 `--windows A/B/S,A/B/S,…` (ahead/behind/side distances in m) runs `dynamic` on the 385 m field for each window
 and each seed (`--seeds N`, from `--first-seed K`, default 1) and gives each window's mean paired change
 against the last one (the reference, e.g. one spanning the field's whole width), ± its standard error.
+`--search-steps S,S,…` (contact-search steps `ship.step_m` in m, the finest last) runs `dynamic` (`--static`:
+`static`) on the 385 m field for each step and seed (`--seeds N`, from `--first-seed K`) and gives each step's
+mean paired change against the finest.
 Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [[--long] [--repeat N] [--two]
 [--window F] | --time-steps [--fine] [--seeds N] | --window F --seeds N | --windows W,… --seeds N
-[--first-seed K]]`.
+[--first-seed K] | --search-steps S,… [--static] --seeds N [--first-seed K]]`.
 """
 
 from __future__ import annotations
@@ -205,6 +208,43 @@ def time_step_table(time_steps_s: tuple[float, ...], seeds: tuple[int, ...]) -> 
         previous = mean
 
 
+def search_step_table(search_steps_m: tuple[float, ...], seeds: tuple[int, ...], motion: str) -> None:
+    """`motion` on the 385 m field at each contact-search step (`ship.step_m`) for each seed; each step's
+    mean cusps/km, cusp area and share of touched floes broken, with its paired change against the last
+    (finest) step, mean ± standard error over the seeds."""
+    size = ["field.length_m=385.0", "field.width_m=100.0"]
+    rows: dict[float, list[dict[str, float]]] = {step: [] for step in search_steps_m}
+    for seed in seeds:
+        for step in search_steps_m:
+            rows[step].append(_measure(size, [*MOTIONS[motion], f"ship.step_m={step}", f"seed={seed}"]))
+            row = rows[step][-1]
+            print(
+                f"seed {seed}, step {step} m: {row['cusps_per_km']:.1f} cusps/km, "
+                f"{row['cusp_area_m2']:.0f} m², {100 * row['broke_share']:.1f} % broke, "
+                f"CPU {row['cpu_s']:.1f} s",
+                flush=True,
+            )
+    finest = rows[search_steps_m[-1]]
+    for step, runs in rows.items():
+        summary = []
+        for key, scale, unit in (
+            ("cusps_per_km", 1, "%"),
+            ("cusp_area_m2", 1, "%"),
+            ("broke_share", 100, "pts"),
+        ):
+            mean = float(np.mean([run[key] for run in runs])) * scale
+            if unit == "%":
+                change = [100 * (run[key] / ref[key] - 1) for run, ref in zip(runs, finest, strict=True)]
+            else:
+                change = [100 * (run[key] - ref[key]) for run, ref in zip(runs, finest, strict=True)]
+            error = float(np.std(change, ddof=1) / np.sqrt(len(change))) if len(change) > 1 else 0.0
+            summary.append(f"{key} {mean:.1f} ({float(np.mean(change)):+.1f} ± {error:.1f} {unit})")
+        cpu = float(np.mean([run["cpu_s"] for run in runs]))
+        print(
+            f"{motion}, step {step} m against {search_steps_m[-1]} m: {'; '.join(summary)}; CPU {cpu:.1f} s"
+        )
+
+
 if __name__ == "__main__":
     compile_kernels()
     engine.compile_now()
@@ -222,6 +262,11 @@ if __name__ == "__main__":
     window = float(sys.argv[sys.argv.index("--window") + 1]) if "--window" in sys.argv else None
     if window is not None and "--seeds" in sys.argv:
         window_table(window, seeds)
+        sys.exit(0)
+    if "--search-steps" in sys.argv:  # e.g. --search-steps 0.25,0.125,0.0625,0.03125 [--static]
+        text = sys.argv[sys.argv.index("--search-steps") + 1]
+        motion = "static" if "--static" in sys.argv else "dynamic"
+        search_step_table(tuple(float(v) for v in text.split(",")), seeds, motion)
         sys.exit(0)
     if "--time-steps" in sys.argv:
         steps = (*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S
