@@ -448,3 +448,20 @@ def test_public_names_are_the_api_modules():
     ) <= set(dir(floebreak))
     with pytest.raises(AttributeError, match="no_such_name"):
         floebreak.no_such_name  # noqa: B018
+
+
+@pytest.mark.parametrize(
+    ("motion", "step_m", "warned"),
+    [("dynamic", 0.25, True), ("dynamic", 0.125, True), ("dynamic", 0.0625, False), ("static", 0.25, False)],
+)
+def test_moving_ice_at_a_search_step_coarser_than_the_converged_one_is_named_in_the_warnings(
+    motion, step_m, warned
+):
+    # docs/model.md, "Search-step convergence under moving ice": cusp statistics converged from 0.0625 m on
+    scenario = floebreak.Scenario.reference(
+        [*SMALL, f"simulation.ice_motion={motion}", f"ship.step_m={step_m}"]
+    ).resolved()
+    warnings = run_module.set_up_warnings(scenario, run_module.build_bow(scenario))
+    assert bool(warnings) is warned
+    if warned:
+        assert f"ship.step_m = {step_m:g} m" in warnings[0] and "0.0625 m" in warnings[0]
