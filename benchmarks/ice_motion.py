@@ -153,6 +153,17 @@ def window_table(factor: float, seeds: tuple[int, ...]) -> None:
     print(f"  CPU {sum(cpu['default']):.1f} → {sum(cpu['scaled']):.1f} s ({100 * total:+.0f} %)")
 
 
+def _paired_change(runs, refs, key: str, relative: bool = True) -> tuple[float, float]:
+    """Mean ± standard error over the seeds of each run's change in `key` against its reference run: in %
+    (`relative`) or, for a share, in percentage points."""
+    if relative:
+        change = [100 * (run[key] / ref[key] - 1) for run, ref in zip(runs, refs, strict=True)]
+    else:
+        change = [100 * (run[key] - ref[key]) for run, ref in zip(runs, refs, strict=True)]
+    error = float(np.std(change, ddof=1) / np.sqrt(len(change))) if len(change) > 1 else 0.0
+    return float(np.mean(change)), error
+
+
 def window_sweep(windows: list[tuple[float, float, float]], seeds: tuple[int, ...]) -> None:
     """`dynamic` on the 385 m field at each window (ahead, behind, side) [m] for each seed; each window's
     paired change in cusps/km, cusp area and CPU against the last window, mean ± standard error."""
@@ -167,11 +178,9 @@ def window_sweep(windows: list[tuple[float, float, float]], seeds: tuple[int, ..
     for window, runs in zip(windows, rows, strict=True):
         summary = []
         for key in ("cusps_per_km", "cusp_area_m2", "cpu_s"):
-            change = [100 * (run[key] / ref[key] - 1) for run, ref in zip(runs, rows[-1], strict=True)]
-            error = float(np.std(change, ddof=1) / np.sqrt(len(change))) if len(change) > 1 else 0.0
+            mean_change, error = _paired_change(runs, rows[-1], key)
             summary.append(
-                f"{key} {float(np.mean([r[key] for r in runs])):.1f} "
-                f"({float(np.mean(change)):+.2f} ± {error:.2f} %)"
+                f"{key} {float(np.mean([r[key] for r in runs])):.1f} ({mean_change:+.2f} ± {error:.2f} %)"
             )
         print(f"window {window} against {windows[-1]}, seeds {seeds[0]}–{seeds[-1]}: {'; '.join(summary)}")
 
@@ -233,12 +242,8 @@ def search_step_table(search_steps_m: tuple[float, ...], seeds: tuple[int, ...],
             ("broke_share", 100, "pts"),
         ):
             mean = float(np.mean([run[key] for run in runs])) * scale
-            if unit == "%":
-                change = [100 * (run[key] / ref[key] - 1) for run, ref in zip(runs, finest, strict=True)]
-            else:
-                change = [100 * (run[key] - ref[key]) for run, ref in zip(runs, finest, strict=True)]
-            error = float(np.std(change, ddof=1) / np.sqrt(len(change))) if len(change) > 1 else 0.0
-            summary.append(f"{key} {mean:.1f} ({float(np.mean(change)):+.1f} ± {error:.1f} {unit})")
+            mean_change, error = _paired_change(runs, finest, key, relative=unit == "%")
+            summary.append(f"{key} {mean:.1f} ({mean_change:+.1f} ± {error:.1f} {unit})")
         cpu = float(np.mean([run["cpu_s"] for run in runs]))
         print(
             f"{motion}, step {step} m against {search_steps_m[-1]} m: {'; '.join(summary)}; CPU {cpu:.1f} s"

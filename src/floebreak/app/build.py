@@ -300,7 +300,7 @@ def as_scenario(
 
 
 # the contact-search step from which moving ice's cusp statistics stop changing (docs/model.md, "Search-step
-# convergence under moving ice": 0.0625 m is within 1 % of 0.03125 m over 16 seeds, 0.25 m is not)
+# convergence under moving ice")
 MOVING_ICE_CONVERGED_STEP_M = 0.0625
 
 
