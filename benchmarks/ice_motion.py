@@ -20,10 +20,13 @@ and each seed (`--seeds N`, from `--first-seed K`, default 1) and gives each win
 against the last one (the reference, e.g. one spanning the field's whole width), ± its standard error.
 `--search-steps S,S,…` (contact-search steps `ship.step_m` in m, the finest last) runs `dynamic` (`--static`:
 `static`) on the 385 m field for each step and seed (`--seeds N`, from `--first-seed K`) and gives each step's
-mean paired change against the finest.
+mean paired change against the finest; `--judged-at J` adds the finest step once more with the failure judged
+only at the searches on multiples of J m (the hold forces still refreshed at every search), which separates
+the coarse step's two effects: the judgements' spacing and the hold forces' lag; `--time-step T` sets
+`ice_motion.time_step_s` in every row.
 Run: `PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/ice_motion.py [[--long] [--repeat N] [--two]
 [--window F] | --time-steps [--fine] [--seeds N] | --window F --seeds N | --windows W,… --seeds N
-[--first-seed K] | --search-steps S,… [--static] --seeds N [--first-seed K]]`.
+[--first-seed K] | --search-steps S,… [--static] [--judged-at J] [--time-step T] --seeds N [--first-seed K]]`.
 """
 
 from __future__ import annotations
@@ -32,14 +35,16 @@ import gc
 import os
 import sys
 import time
+from contextlib import contextmanager
 
 import numpy as np
 
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
 from floebreak.dynamics import IceMotionSettings, engine
+from floebreak.failure.base import intact
 from floebreak.mechanics import compile_kernels
 from floebreak.scenario import Scenario
-from floebreak.simulation import ContactEvaluated, SimulationParams, simulate
+from floebreak.simulation import ContactEvaluated, SimulationParams, _Run, simulate
 
 # the motions compared: overrides of the reference scenario; the last takes 3 engine steps of 0.028 s per
 # 0.25 m contact search instead of 5 of 0.017 s (`time_step_s` 0.04: the convergence table of docs/model.md
@@ -217,24 +222,60 @@ def time_step_table(time_steps_s: tuple[float, ...], seeds: tuple[int, ...]) -> 
         previous = mean
 
 
-def search_step_table(search_steps_m: tuple[float, ...], seeds: tuple[int, ...], motion: str) -> None:
-    """`motion` on the 385 m field at each contact-search step (`ship.step_m`) for each seed; each step's
-    mean cusps/km, cusp area and share of touched floes broken, with its paired change against the last
-    (finest) step, mean ± standard error over the seeds."""
+@contextmanager
+def _judged_only_every(judged_at_m: float | None):
+    """Within the block, a run's failure judgements (`floebreak.simulation._Run._judge`) leave every piece
+    intact except at the searches on multiples of `judged_at_m` from the start (the hold forces are still
+    refreshed at every search): the coarse step's judgement spacing without its force lag."""
+    original = _Run._judge
+    if judged_at_m is not None:
+
+        def judge(self, pid, polygon_bf, contact):
+            classification, outcome = original(self, pid, polygon_bf, contact)
+            offset = (self.motion.bow_x - self.params.x_start_m) / judged_at_m
+            return (
+                (classification, outcome)
+                if abs(offset - round(offset)) < 1e-6
+                else (classification, intact("none"))
+            )
+
+        _Run._judge = judge
+    try:
+        yield
+    finally:
+        _Run._judge = original
+
+
+def search_step_table(
+    search_steps_m: tuple[float, ...],
+    seeds: tuple[int, ...],
+    motion: str,
+    judged_at_m: float | None,
+    extra: list[str],
+) -> None:
+    """`motion` (with the overrides `extra`) on the 385 m field at each contact-search step (`ship.step_m`)
+    for each seed, and with
+    `judged_at_m` the finest step once more with the failure judged only every `judged_at_m`
+    (`_judged_only_every`); each row's mean cusps/km, cusp area and share of touched floes broken, with its
+    paired change against the finest step, mean ± standard error over the seeds."""
     size = ["field.length_m=385.0", "field.width_m=100.0"]
-    rows: dict[float, list[dict[str, float]]] = {step: [] for step in search_steps_m}
+    finest = search_steps_m[-1]
+    variants = [(step, None) for step in search_steps_m]
+    if judged_at_m is not None:
+        variants.append((finest, judged_at_m))
+    rows: dict[tuple, list[dict[str, float]]] = {variant: [] for variant in variants}
     for seed in seeds:
-        for step in search_steps_m:
-            rows[step].append(_measure(size, [*MOTIONS[motion], f"ship.step_m={step}", f"seed={seed}"]))
-            row = rows[step][-1]
+        for step, judged_at in variants:
+            with _judged_only_every(judged_at):
+                row = _measure(size, [*MOTIONS[motion], *extra, f"ship.step_m={step}", f"seed={seed}"])
+            rows[(step, judged_at)].append(row)
             print(
-                f"seed {seed}, step {step} m: {row['cusps_per_km']:.1f} cusps/km, "
+                f"seed {seed}, {_variant_name((step, judged_at))}: {row['cusps_per_km']:.1f} cusps/km, "
                 f"{row['cusp_area_m2']:.0f} m², {100 * row['broke_share']:.1f} % broke, "
                 f"CPU {row['cpu_s']:.1f} s",
                 flush=True,
             )
-    finest = rows[search_steps_m[-1]]
-    for step, runs in rows.items():
+    for variant, runs in rows.items():
         summary = []
         for key, scale, unit in (
             ("cusps_per_km", 1, "%"),
@@ -242,12 +283,19 @@ def search_step_table(search_steps_m: tuple[float, ...], seeds: tuple[int, ...],
             ("broke_share", 100, "pts"),
         ):
             mean = float(np.mean([run[key] for run in runs])) * scale
-            mean_change, error = _paired_change(runs, finest, key, relative=unit == "%")
+            mean_change, error = _paired_change(runs, rows[(finest, None)], key, relative=unit == "%")
             summary.append(f"{key} {mean:.1f} ({mean_change:+.1f} ± {error:.1f} {unit})")
         cpu = float(np.mean([run["cpu_s"] for run in runs]))
-        print(
-            f"{motion}, step {step} m against {search_steps_m[-1]} m: {'; '.join(summary)}; CPU {cpu:.1f} s"
-        )
+        print(f"{motion}, {_variant_name(variant)} against {finest} m: {'; '.join(summary)}; CPU {cpu:.1f} s")
+
+
+def _variant_name(variant: tuple[float, float | None]) -> str:
+    step, judged_at = variant
+    return f"step {step} m" + ("" if judged_at is None else f", judged every {judged_at} m")
+
+
+def _option(flag: str) -> str:
+    return sys.argv[sys.argv.index(flag) + 1]
 
 
 if __name__ == "__main__":
@@ -271,7 +319,9 @@ if __name__ == "__main__":
     if "--search-steps" in sys.argv:  # e.g. --search-steps 0.25,0.125,0.0625,0.03125 [--static]
         text = sys.argv[sys.argv.index("--search-steps") + 1]
         motion = "static" if "--static" in sys.argv else "dynamic"
-        search_step_table(tuple(float(v) for v in text.split(",")), seeds, motion)
+        judged_at = float(_option("--judged-at")) if "--judged-at" in sys.argv else None
+        extra = [f"ice_motion.time_step_s={_option('--time-step')}"] if "--time-step" in sys.argv else []
+        search_step_table(tuple(float(v) for v in text.split(",")), seeds, motion, judged_at, extra)
         sys.exit(0)
     if "--time-steps" in sys.argv:
         steps = (*TIME_STEPS_S, 0.0025) if "--fine" in sys.argv else TIME_STEPS_S
