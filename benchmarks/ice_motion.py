@@ -254,10 +254,9 @@ def search_step_table(
     extra: list[str],
 ) -> None:
     """`motion` (with the overrides `extra`) on the 385 m field at each contact-search step (`ship.step_m`)
-    for each seed, and with
-    `judged_at_m` the finest step once more with the failure judged only every `judged_at_m`
-    (`_judged_only_every`); each row's mean cusps/km, cusp area and share of touched floes broken, with its
-    paired change against the finest step, mean ± standard error over the seeds."""
+    for each seed, and with `judged_at_m` the finest step once more with the failure judged only every
+    `judged_at_m` (`_judged_only_every`); each row's mean cusps/km, cusp area and share of touched floes
+    broken, with its paired change against the finest step, mean ± standard error over the seeds."""
     size = ["field.length_m=385.0", "field.width_m=100.0"]
     finest = search_steps_m[-1]
     variants = [(step, None) for step in search_steps_m]
@@ -320,6 +319,8 @@ if __name__ == "__main__":
         text = sys.argv[sys.argv.index("--search-steps") + 1]
         motion = "static" if "--static" in sys.argv else "dynamic"
         judged_at = float(_option("--judged-at")) if "--judged-at" in sys.argv else None
+        if judged_at is not None and motion == "static":
+            sys.exit("--judged-at: dynamic only (it reads the engine's bow position)")
         extra = [f"ice_motion.time_step_s={_option('--time-step')}"] if "--time-step" in sys.argv else []
         search_step_table(tuple(float(v) for v in text.split(",")), seeds, motion, judged_at, extra)
         sys.exit(0)
