@@ -182,7 +182,9 @@ _CONNECTED_M = 1e-6  # a line part within this distance of O starts at O
 
 
 def extent_along_m(polygon, direction: np.ndarray) -> float:
-    along = shapely.get_coordinates(polygon) @ (direction / np.hypot(*direction))
+    unit = direction / np.hypot(*direction)
+    xy = shapely.get_coordinates(polygon)
+    along = xy[:, 0] * unit[0] + xy[:, 1] * unit[1]  # element-wise, not `@`: BLAS kernels round per CPU
     return float(along.max() - along.min())
 
 

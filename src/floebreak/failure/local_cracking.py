@@ -16,12 +16,12 @@ by default bending-class floes whose contact lies in the shoulder region).
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 import shapely
-from scipy.special import comb
 
 from floebreak.failure.base import (
     FailureContext,
@@ -44,9 +44,12 @@ BEZIER_POINTS = 30
 @functools.lru_cache(maxsize=64)
 def _bernstein_basis(degree: int, n_points: int) -> np.ndarray:
     """B_(i,degree)(t) = C(degree, i) tⁱ (1 − t)^(degree − i) at n_points t in [0, 1] (rows), read-only."""
-    t = np.linspace(0.0, 1.0, n_points)[:, None]
-    i = np.arange(degree + 1)[None, :]
-    basis = comb(degree, i) * t**i * (1.0 - t) ** (degree - i)
+    t = np.linspace(0.0, 1.0, n_points)
+    # integer powers by repeated products: `**` may round differently with the CPU's vector width
+    rising = np.cumprod(np.vstack([np.ones(n_points), np.tile(t, (degree, 1))]), axis=0)
+    falling = np.cumprod(np.vstack([np.ones(n_points), np.tile(1.0 - t, (degree, 1))]), axis=0)[::-1]
+    binomial = np.array([math.comb(degree, i) for i in range(degree + 1)], dtype=float)
+    basis = (binomial[:, None] * rising * falling).T.copy()
     basis.setflags(write=False)
     return basis
 
@@ -54,7 +57,11 @@ def _bernstein_basis(degree: int, n_points: int) -> np.ndarray:
 def bezier_curve(nodes: np.ndarray, n_points: int = BEZIER_POINTS) -> np.ndarray:
     """Points of the Bezier curve with control points `nodes` (Bernstein form), from first to last node."""
     nodes = np.asarray(nodes, dtype=float)
-    return _bernstein_basis(len(nodes) - 1, n_points) @ nodes
+    basis = _bernstein_basis(len(nodes) - 1, n_points)
+    points = np.zeros((n_points, nodes.shape[1]))
+    for i, node in enumerate(nodes):  # Σ_i B_i · node_i in a fixed order, not `@` (BLAS kernels vary per CPU)
+        points += basis[:, i, None] * node[None, :]
+    return points
 
 
 @dataclass(frozen=True)

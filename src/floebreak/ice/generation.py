@@ -24,6 +24,7 @@ The field occupies x ∈ [0, L], y ∈ [−W/2, W/2] (ship frame: the bow tip st
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -124,7 +125,7 @@ def floe_counts(
     require_range("floe_area_factor", floe_area_factor, low=0.0, unit="(A = factor·π d²)")
     d = np.asarray(observation.diameter_classes_m, dtype=float)
     p = observation.fractions
-    mean_area = float(np.dot(floe_area_factor * np.pi * d**2, p))
+    mean_area = math.fsum(floe_area_factor * np.pi * d**2 * p)  # exact sum, not BLAS' dot (varies per CPU)
     thesis_total = int(np.ceil(observation.concentration * field_area_m2 / mean_area))
     best = None
     # Rounding per class can move the covered area away from the target when few large floes exist; of the

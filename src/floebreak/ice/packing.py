@@ -5,7 +5,8 @@ each entirely inside, pulled together the way the thesis' objective pulls floes 
 
 * `relax_circles` (default, scales to ≥ 10 000 circles): soft-disk overlap relaxation. The energy
   E = Σ_pairs max(0, r_i + r_j + gap − d_ij)² + λ Σ_i max(0, δ_i)² / n, with δ_i the gap from circle i to
-  its nearest neighbour, is minimised with L-BFGS-B. The walls are the optimiser's box bounds
+  its nearest neighbour, is minimised with a projected L-BFGS in fixed-order arithmetic (`_minimise_in_box`,
+  the same result on every CPU). The walls are the optimiser's box bounds
   (r_i ≤ x_i − x_min, …: erratum 3), pairs come from a KD-tree neighbour list (rebuilt between rounds,
   Verlet skin), so one evaluation costs O(n). The radii grow from a fraction of their size to full size
   over a few rounds (Lubachevsky–Stillinger-style compression), which reaches much denser packings than
@@ -37,7 +38,7 @@ DEFAULT_CLUSTERING = 0.05  # λ, weight of the clustering term relative to overl
 GROWTH_START = 1.0  # radii start at this fraction of their size in `relax_circles` (1: no growth)
 GROWTH_ROUNDS = 5
 CLUSTERING_ROUNDS = 1
-ROUND_ITERATIONS = 200  # L-BFGS-B iterations per round (a round re-checks overlap exactly)
+ROUND_ITERATIONS = 200  # optimiser iterations per round (a round re-checks overlap exactly)
 VERLET_SKIN = 1.0  # in mean radii
 CLUSTERING_REACH = 1.0
 DENSE_COVER = 0.6  # above this cover, circles are placed size group by size group (largest first)
@@ -142,7 +143,7 @@ def _energy(
     pairs = candidates(xy) if isinstance(candidates, _VerletList) else candidates
     i, j = np.ascontiguousarray(pairs[:, 0]), np.ascontiguousarray(pairs[:, 1])
     delta, dist, surface_gap, overlap, coef = _pair_terms(xy, radii, i, j, gap, middle)
-    energy = float(np.dot(overlap, overlap))
+    energy = _sum_of_squares(overlap)
     if clustering > 0.0 and len(pairs):
         # nearest-neighbour gap per circle among listed pairs
         nearest = np.full(n, np.inf)
@@ -154,8 +155,8 @@ def _energy(
         pull_i = (surface_gap == nearest[i]) & reachable
         pull_j = (surface_gap == nearest[j]) & reachable
         weight = clustering / n
-        energy += weight * float(np.sum(np.where(pull_i, surface_gap, 0.0) ** 2))
-        energy += weight * float(np.sum(np.where(pull_j, surface_gap, 0.0) ** 2))
+        energy += weight * _sum_of_squares(np.where(pull_i, surface_gap, 0.0))
+        energy += weight * _sum_of_squares(np.where(pull_j, surface_gap, 0.0))
         coef = coef + 2.0 * weight * surface_gap * (pull_i.astype(float) + pull_j.astype(float)) / dist
     return energy, _gradient(i, j, coef, delta, n).ravel()
 
@@ -163,7 +164,7 @@ def _energy(
 @numba.njit(cache=True, nogil=True)
 def _pair_terms(xy, radii, i, j, gap, middle):
     """Per pair: centre offset x_i − x_j, distance, surface gap, overlap max(0, gap − surface gap) and
-    dE/dd / d = −2·overlap / d. Compiled, with numpy's operation order, so that the energy's L-BFGS-B path
+    dE/dd / d = −2·overlap / d. Compiled, with numpy's operation order, so that the energy's optimiser path
     (and every generated field) is the same as with the array expressions it replaces."""
     m = len(i)
     delta, dist = np.empty((m, 2)), np.empty(m)
@@ -199,7 +200,8 @@ def _gradient(i, j, coef, delta, n):
 def compile_now() -> None:
     """Compile (or load from numba's on-disk cache) the energy kernels; see `mechanics.compile_kernels`."""
     xy, radii, pairs = np.array([0.0, 0.0, 1.5, 0.0]), np.array([1.0, 1.0]), np.array([[0, 1]])
-    _energy(xy, radii, pairs, 0.01, 0.05, np.zeros(2))
+    args = (radii, pairs, 0.01, 0.05, np.zeros(2))
+    _minimise_in_box(_energy, xy, args, Bounds(np.full(4, -5.0), np.full(4, 5.0)), 3, 1e-14, 1e-10)
 
 
 def _box_bounds(radii: np.ndarray, domain: tuple[float, float, float, float]) -> Bounds:
@@ -207,6 +209,110 @@ def _box_bounds(radii: np.ndarray, domain: tuple[float, float, float, float]) ->
     lo = np.stack([x0 + radii, y0 + radii], axis=1).ravel()
     hi = np.stack([x1 - radii, y1 - radii], axis=1).ravel()
     return Bounds(lo, np.maximum(lo, hi))
+
+
+@numba.njit(cache=True, nogil=True)
+def _sum_of_squares(values):
+    """Σ v², summed in index order (`np.dot` would use the BLAS kernel of the CPU, whose order varies)."""
+    total = 0.0
+    for v in values:
+        total += v * v
+    return total
+
+
+@numba.njit(cache=True, nogil=True)
+def _free_dot(a, b, free):
+    """Σ a·b over the free variables, in index order."""
+    total = 0.0
+    for k in range(len(a)):
+        if free[k]:
+            total += a[k] * b[k]
+    return total
+
+
+@numba.njit(cache=True, nogil=True)
+def _lbfgs_direction(gradient, free, s, y, stored, newest):
+    """−H·g by the L-BFGS two-loop recursion on the free variables (the others stay 0), from the `stored`
+    newest pairs (s, y) of the ring buffers, slot `newest` last; pairs with s·y ≤ 0 there are skipped."""
+    memory = s.shape[0]
+    q = np.where(free, -gradient, 0.0)
+    alpha, rho = np.zeros(memory), np.zeros(memory)
+    scale = 0.0  # H0 = (s·y / y·y)·I of the newest usable pair
+    for age in range(stored):
+        slot = (newest - age) % memory
+        sy = _free_dot(s[slot], y[slot], free)
+        if sy <= 0.0:
+            continue
+        if scale == 0.0:
+            scale = sy / _free_dot(y[slot], y[slot], free)
+        rho[slot] = 1.0 / sy
+        alpha[slot] = rho[slot] * _free_dot(s[slot], q, free)
+        q -= np.where(free, alpha[slot] * y[slot], 0.0)
+    q *= scale if scale > 0.0 else 1.0
+    for age in range(stored - 1, -1, -1):
+        slot = (newest - age) % memory
+        if rho[slot] > 0.0:
+            beta = rho[slot] * _free_dot(y[slot], q, free)
+            q += np.where(free, (alpha[slot] - beta) * s[slot], 0.0)
+    return q
+
+
+def _line_search(fun, args, x, value, gradient, direction, free, step, lo, hi):
+    """(point, value, gradient) along the projected path x + t·direction: the first t (halving from `step`)
+    with sufficient decrease (Armijo), doubled while the slope is still steep (weak Wolfe: the slope must
+    rise to 0.9 of its start) and the decrease holds, as L-BFGS-B's line search extrapolates; None when
+    no step decreases the value."""
+    slope = _free_dot(gradient, direction, free)
+    best = None
+    for _ in range(60):
+        trial = np.clip(x + step * direction, lo, hi)
+        trial_value, trial_gradient = fun(trial, *args)
+        if trial_value > value + 1e-4 * _free_dot(gradient, trial - x, free):  # no sufficient decrease
+            if best is not None:
+                return best
+            step *= 0.5
+            continue
+        if best is not None and (trial_value >= best[1] or np.array_equal(trial, best[0])):
+            return best  # no further decrease, or the bounds stop the path
+        best = (trial, trial_value, trial_gradient)
+        if _free_dot(trial_gradient, direction, free) >= 0.9 * slope:
+            return best
+        step *= 2.0
+    return best
+
+
+def _minimise_in_box(fun, x0, args, bounds: Bounds, maxiter: int, ftol: float, gtol: float, memory: int = 10):
+    """(x, iterations) minimising `fun(x, *args) -> (value, gradient)` over the box `bounds`: projected
+    L-BFGS (variables at a bound the gradient pushes against are held; `_line_search` along the projected
+    path). Every reduction runs in a fixed order, so the result is the same on every CPU (scipy's
+    L-BFGS-B reduces through BLAS and LAPACK, whose kernels differ from one CPU to another). Stops when
+    the projected gradient is below `gtol`, the relative decrease below `ftol`, or after `maxiter`."""
+    lo, hi = bounds.lb, bounds.ub
+    x = np.clip(x0, lo, hi)
+    value, gradient = fun(x, *args)
+    s, y = np.zeros((memory, len(x))), np.zeros((memory, len(x)))
+    stored, newest = 0, memory - 1
+    for iteration in range(maxiter):
+        held = ((x <= lo) & (gradient > 0.0)) | ((x >= hi) & (gradient < 0.0))
+        if not np.any(np.abs(np.where(held, 0.0, gradient)) > gtol):
+            return x, iteration
+        free = ~held
+        direction = _lbfgs_direction(gradient, free, s, y, stored, newest)
+        if not _free_dot(gradient, direction, free) < 0.0:  # lost curvature: steepest descent again
+            stored, direction = 0, np.where(free, -gradient, 0.0)
+        step = 1.0 if stored else min(1.0, 1.0 / np.sqrt(_sum_of_squares(direction)))
+        found = _line_search(fun, args, x, value, gradient, direction, free, step, lo, hi)
+        if found is None:
+            return x, iteration
+        trial, trial_value, trial_gradient = found
+        newest = (newest + 1) % memory
+        s[newest], y[newest] = trial - x, trial_gradient - gradient
+        stored = min(stored + 1, memory)
+        decrease = value - trial_value
+        x, value, gradient = trial, trial_value, trial_gradient
+        if decrease <= ftol * max(abs(value) + decrease, abs(value), 1.0):
+            return x, iteration + 1
+    return x, maxiter
 
 
 def random_centers_m(
@@ -289,23 +395,23 @@ def relax_circles(
 
     def run(current, lam, maxiter):
         nonlocal xy, iterations
-        result = minimize(
+        flat, nit = _minimise_in_box(
             _energy,
             xy.ravel(),
-            args=(
+            (
                 current,
                 _VerletList(current, CLUSTERING_REACH if lam > 0.0 else gap, VERLET_SKIN),
                 gap,
                 lam,
                 middle,
             ),
-            jac=True,
-            method="L-BFGS-B",
-            bounds=_box_bounds(current, domain),
-            options={"maxiter": maxiter, "ftol": 1e-14, "gtol": 1e-10, "maxcor": 10},
+            _box_bounds(current, domain),
+            maxiter,
+            ftol=1e-14,
+            gtol=1e-10,
         )
-        iterations += int(result.get("nit", 0))  # none when the bounds fix every circle (scipy: no nit)
-        xy = result.x.reshape(n, 2)
+        iterations += nit
+        xy = flat.reshape(n, 2)
         rounds[0] += 1
         if on_round is not None:
             on_round(rounds[0], most_rounds)
@@ -394,17 +500,17 @@ def _polish(xy, r, domain, gap, clustering, max_rounds) -> tuple[np.ndarray, int
     for k, lam in enumerate(rounds):
         if lam == 0.0 and overlap < 0.0 and k > 0:
             break
-        result = minimize(
+        flat, nit = _minimise_in_box(
             _energy,
             xy.ravel(),
-            args=(r, _VerletList(r, CLUSTERING_REACH if lam > 0.0 else gap, VERLET_SKIN), gap, lam, middle),
-            jac=True,
-            method="L-BFGS-B",
-            bounds=_box_bounds(r, domain),
-            options={"maxiter": ROUND_ITERATIONS, "ftol": 1e-14, "gtol": 1e-10, "maxcor": 10},
+            (r, _VerletList(r, CLUSTERING_REACH if lam > 0.0 else gap, VERLET_SKIN), gap, lam, middle),
+            _box_bounds(r, domain),
+            ROUND_ITERATIONS,
+            ftol=1e-14,
+            gtol=1e-10,
         )
-        iterations += int(result.get("nit", 0))  # none when the bounds fix every circle (scipy: no nit)
-        xy = result.x.reshape(-1, 2)
+        iterations += nit
+        xy = flat.reshape(-1, 2)
         overlap = max_pair_overlap_m(xy, r)
     return xy, iterations, overlap
 

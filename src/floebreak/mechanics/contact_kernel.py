@@ -29,6 +29,8 @@ Forces (`zone_forces`, `panel_forces`): A_l, contact areas and the Eq. 7–10 fo
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
@@ -765,7 +767,7 @@ def ccw_ring(coords: np.ndarray) -> np.ndarray:
     if len(ring) > 1 and np.array_equal(ring[0], ring[-1]):
         ring = ring[:-1]
     x, y = ring[:, 0], ring[:, 1]
-    signed = 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    signed = 0.5 * math.fsum(x * np.roll(y, -1) - np.roll(x, -1) * y)  # exact sum, not BLAS' dot
     return ring if signed > 0.0 else ring[::-1].copy()
 
 
