@@ -1,6 +1,6 @@
 """The thesis' statements loaded from data equal the statements the Python module held before they became
-data (tests/studies/data/thesis_statements_frozen.json, dumped from that module), and the loader refuses
-malformed data with a message naming the statement and the key."""
+data (tests/studies/data/thesis_statements_frozen.json, dumped from that module) but for what was removed on
+purpose since, and the loader refuses malformed data with a message naming the statement and the key."""
 
 from __future__ import annotations
 
@@ -20,6 +20,8 @@ from floebreak.studies.statements import (
 )
 
 FROZEN = Path(__file__).parent / "data" / "thesis_statements_frozen.json"
+# removed after the conversion: the explanation bands (`recorded`), drawn around values measured before them
+REMOVED = ("recorded",)
 
 
 def plain(x):
@@ -45,7 +47,10 @@ def same(a, b) -> bool:
 
 
 def test_the_loaded_statements_equal_the_frozen_copy_of_the_module():
-    frozen = json.loads(FROZEN.read_text(encoding="utf-8"))
+    frozen = [
+        {k: v for k, v in st.items() if k not in REMOVED}
+        for st in json.loads(FROZEN.read_text(encoding="utf-8"))
+    ]
     loaded = [plain(st) for st in STATEMENTS]
     assert [st["id"] for st in loaded] == [st["id"] for st in frozen]  # same rows, same order
     for ours, theirs in zip(loaded, frozen, strict=True):

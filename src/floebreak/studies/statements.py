@@ -28,8 +28,10 @@ effects must stay small (≤ 5 %); levels and rough sizes must hold in the ``the
 to reproduce the published numbers.
 
 A statement our model does not hold for a documented reason keeps its must-hold profiles and carries the
-reason (`Statement.explained`), which the scoreboard shows as a note. Whether a row can fail at all under a
-configuration is computed in `floebreak.studies.inert`.
+reason (`Statement.explained`), which the scoreboard shows as a note: a failing row fails, explained or not.
+A change row that a model with no effect at all passes (`Statement.weak`, from `null_verdict`) is weak
+evidence and counted apart; whether a row can fail at all under a configuration is computed in
+`floebreak.studies.inert`.
 """
 
 from __future__ import annotations
@@ -86,25 +88,6 @@ class Tolerance:
 
 
 @dataclass(frozen=True)
-class Recorded:
-    """One profile's measured value of a statement when its explanation was written: on the choice sample and
-    on the holdout, as recorded in `source`. The explanation covers a failure only within the band
-    choice ± (|choice − holdout| + resolution): the run-to-run spread between the two samples, widened by the
-    recorded values' last digit so that the rounded values themselves lie inside (issue 32, audit gap 1)."""
-
-    profile: str
-    choice: float
-    holdout: float
-    resolution: float
-    source: str
-
-    @property
-    def band(self) -> tuple[float, float]:
-        half = abs(self.choice - self.holdout) + self.resolution
-        return self.choice - half, self.choice + half
-
-
-@dataclass(frozen=True)
 class Statement:
     """One quantitative thesis statement and how it is scored."""
 
@@ -122,17 +105,21 @@ class Statement:
     unit: str = "-"  # "%" marks a fraction shown in per cent
     thesis_text: str = ""  # the thesis' value in words where it is a band or a direction, not a number
     # why our model does not hold the statement, where docs/model.md says so and which test shows the
-    # mechanism; the row keeps its must-hold profiles, and where it fails within a band of `recorded` it
-    # counts as "fail (explained)"; outside every band, or in a profile without one, it is a plain failure
+    # mechanism: a note next to the row; the row keeps its must-hold profiles and a failure stays a failure
     explained: str = ""
-    recorded: tuple[Recorded, ...] = ()
 
-    def explained_band(self, profile: str) -> tuple[float, float] | None:
-        """The band of values within which a failure in `profile` is the documented one (None: no band)."""
-        if not self.explained:
-            return None
-        bands = [r.band for r in self.recorded if r.profile == profile]
-        return bands[0] if bands else None
+    @property
+    def weak(self) -> bool:
+        """Whether a model with no effect at all passes the row: a change whose tolerance a change of exactly
+        0 passes (e.g. |ours| ≤ 5 %). Its pass shows the effect is not large, not that the model has the
+        thesis' effect (levels have no such null model)."""
+        return self.statistic == "change" and null_verdict(self) == "pass"
+
+
+def null_verdict(st: Statement) -> Verdict | None:
+    """The verdict of the null variant — no change between the two design points (0 %) — computed, not run;
+    None for a level."""
+    return verdict(0.0, st.thesis_value, st.tolerance) if st.statistic == "change" else None
 
 
 def verdict(value: float, thesis_value: float, tolerance: Tolerance) -> Verdict:
@@ -182,8 +169,7 @@ def _where(entry: dict[str, Any]) -> str:
 
 STATEMENT_KEYS = frozenset(
     {"id", "source", "quote", "quantity", "metric", "point", "statistic", "against", "thesis_value",
-     "thesis_change", "thesis_ratio", "tolerance", "must_hold", "unit", "thesis_text", "explained",
-     "recorded"}
+     "thesis_change", "thesis_ratio", "tolerance", "must_hold", "unit", "thesis_text", "explained"}
 )  # fmt: skip
 REQUIRED_TEXT = ("id", "source", "quote", "quantity", "metric", "point")
 
@@ -262,7 +248,6 @@ def _statement(entry: dict[str, Any], explanations: dict[str, str]) -> Statement
         unit=entry.get("unit", "%" if statistic == "change" else "-"),
         thesis_text=entry.get("thesis_text", ""),
         explained=explanations[explained] if explained else "",
-        recorded=tuple(Recorded(**r) for r in entry.get("recorded", ())),
     )
 
 
