@@ -125,7 +125,14 @@ def _thesis_inputs(sample_name, samples: Path, profile, n_fields, seed, length_m
             f'field.observation="{registered.observation}"',
             f"field.width_m={registered.width_m:g}",
         ]
-    return profile or "both", n_fields or 4, 2023 if seed is None else seed, length_m, sets, options
+    return (
+        "both" if profile is None else profile,
+        4 if n_fields is None else n_fields,
+        2023 if seed is None else seed,
+        length_m,
+        sets,
+        options,
+    )
 
 
 def thesis_command(
