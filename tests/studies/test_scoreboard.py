@@ -23,7 +23,7 @@ from floebreak.studies.scoreboard import (
     summary_metrics,
     tally_text,
 )
-from floebreak.studies.statements import STATEMENTS, Recorded
+from floebreak.studies.statements import STATEMENTS, null_verdict
 from floebreak.studies.validation_report import explained_and_inert_lines
 
 
@@ -101,29 +101,45 @@ def test_scoreboard_rows_csv_and_must_hold_counts():
     rows = scoreboard_rows(data, {"default": "default", "thesis": "thesis"}, statements)
     assert [r["default"]["verdict"] for r in rows] == ["pass", "pass"]  # 8.5 within 15 % of 8.14; 2.5 % ≤ 5 %
     assert [r["thesis"]["verdict"] for r in rows] == ["fail", "fail"]  # 4.0 vs 8.14; +25 %
-    assert must_hold_counts(rows, "default") == (("T5.K230.dV",), (), (), ())  # T5.V: thesis profile only
+    # "≤ 5 %" passes a change of 0 too: the pass of T5.K230.dV is weak; T5.V: thesis profile only
+    assert [r["default"]["status"] for r in rows] == ["pass", "weak-pass"]
+    assert must_hold_counts(rows, "default") == ((), ("T5.K230.dV",), (), ())
     thesis = must_hold_counts(rows, "thesis")
-    assert thesis == ((), (), ("T5.V", "T5.K230.dV"), ())
-    assert tally_text(thesis) == (
-        "0 pass, 0 fail (explained), 2 fail, 0 inert (of 2 must-hold rows); fail: T5.V, T5.K230.dV"
-    )
-    assert tally_text(must_hold_counts(rows, "default")) == (
-        "1 pass, 0 fail (explained), 0 fail, 0 inert (of 1 must-hold rows)"
-    )
+    assert thesis == ((), (), ("T5.V", "T5.K230.dV"), ())  # a weak row that fails is a failure
+    assert tally_text(thesis) == "0 of 2 must-hold rows pass; 0 weak; 0 inert; fail: T5.V, T5.K230.dV"
+    assert tally_text(must_hold_counts(rows, "default")) == "0 of 0 must-hold rows pass; 1 weak; 0 inert"
     table = list(csv.DictReader(io.StringIO(scoreboard_csv(rows, ["default", "thesis"]))))
     assert [r["id"] for r in table] == ["T5.V", "T5.K230.dV"]
     assert table[0]["thesis_value"] == "8.14" and table[0]["thesis_verdict"] == "fail"
     assert table[0]["thesis_must_hold"] == "yes" and table[0]["default_must_hold"] == "no"
+    assert [(r["null_verdict"], r["weak"]) for r in table] == [("", "no"), ("pass", "yes")]
+    assert table[1]["default_status"] == "weak-pass"
     markdown = "\n".join(scoreboard_markdown_table(rows, ["default", "thesis"]))
-    assert "**FAIL**" in markdown and "8.5 ± 0.5 pass" in markdown
+    assert "**FAIL**" in markdown and "8.5 ± 0.5 pass" in markdown and "weak pass" in markdown
+
+
+def test_the_weak_rows_are_the_changes_a_change_of_zero_passes():
+    """The null variant (no change between the two points) passes exactly the changes whose tolerance admits
+    0: the "small" and "nearly constant" effects (|ours| ≤ a bound); it fails a direction, a rough size, and
+    levels have no null variant."""
+    weak = {st.id for st in STATEMENTS if st.weak and st.must_hold}
+    assert weak == {
+        "T5.K120.dV", "T5.K230.dV", "T5.K120.dA_aff", "T5.K230.dA_aff",  # K_Ic: ≤ 5 %, ≤ 1 %
+        "T6.point_load.dA_aff", "T6.line_load.dA_aff", "T6.flexural_stress.dA_aff",  # criteria: ≤ 1 %
+        "S535.flex.dA_cusp",  # < 4 %
+        "S533.random.dV",  # random h: ≤ 10 %
+        "T8.BZ1.dV", "T8.BZ2.dV", "T8.BZ1.dA_aff", "T8.BZ2.dA_aff",  # size-effect laws: ≤ 5 %, ≤ 1 %
+    }  # fmt: skip
+    by_id = {st.id: st for st in STATEMENTS}
+    assert null_verdict(by_id["S532.line.dn_cusp"]) == "fail"  # a direction: 0 has no sign
+    assert null_verdict(by_id["T7.h1.2.dA_size"]) == "fail"  # a rough size
+    assert null_verdict(by_id["T5.V"]) is None and not by_id["T5.V"].weak  # a level
 
 
 def _explained_statement():
-    """T6.line_load.dA_aff with a made-up explanation band in `default`: recorded −10.0 % on the choice sample
-    and −14.0 % on the holdout, to 0.1 % → −10.0 ± (4.0 + 0.1) %, i.e. −14.1 … −5.9 %."""
+    """T6.line_load.dA_aff with a made-up explanation."""
     by_id = {st.id: st for st in STATEMENTS}
-    recorded = (Recorded("default", -0.100, -0.140, 0.001, "made up"),)
-    return replace(by_id["T6.line_load.dA_aff"], explained="made-up mechanism", recorded=recorded)
+    return replace(by_id["T6.line_load.dA_aff"], explained="made-up mechanism")
 
 
 def _line_load_data(change: float) -> dict:
@@ -131,65 +147,63 @@ def _line_load_data(change: float) -> dict:
         "reference": {0: {"affected_area_m2": 100.0, "mean_cusp_volume_m3": 8.0}},
         "line_load": {0: {"affected_area_m2": 100.0 * (1.0 + change)}},
         "BZ1": {0: {"mean_cusp_volume_m3": 8.0}},
-        "K230": {0: {"mean_cusp_volume_m3": 8.8}},  # +10 %: beyond the 5 % of a small effect, unexplained
+        "K230": {0: {"mean_cusp_volume_m3": 8.8}},  # +10 %: beyond the 5 % of a small effect
+        "h1.2": {0: {"mean_cusp_volume_m3": 10.0}},  # +25 %: the thesis' direction
     }}  # fmt: skip
-
-
-def test_the_explanation_band_is_the_choice_value_with_its_spread_to_the_holdout():
-    low, high = _explained_statement().explained_band("default")
-    assert (low, high) == (pytest.approx(-0.141), pytest.approx(-0.059))
-    assert _explained_statement().explained_band("thesis") is None  # no value recorded for that profile
 
 
 @pytest.mark.parametrize(
     ("change", "status"),
     [
-        (-0.10, "fail (explained)"),  # the recorded failure: inside the band
-        (-0.14, "fail (explained)"),  # the holdout's value: inside
-        (-0.06, "fail (explained)"),  # −6.0 % lies within −14.1 … −5.9 %
-        (-0.05, "fail"),  # fails (beyond the 1 % of "nearly constant") but outside the band: a plain failure
-        (-0.20, "fail"),  # fails by more than the explanation was recorded for
-        (+0.10, "fail"),  # the other sign
-        (-0.005, "pass"),  # passes: the explanation is not needed
+        (-0.10, "fail"),  # fails by the documented mechanism: still a failure
+        (+0.10, "fail"),
+        (-0.005, "weak-pass"),  # within "nearly constant": a change of 0 would pass too
     ],
 )
-def test_an_explained_row_fails_explained_only_within_its_band(change, status):
+def test_an_explained_row_fails_like_any_other_and_its_explanation_is_a_note(change, status):
     rows = scoreboard_rows(_line_load_data(change), {"default": "default"}, (_explained_statement(),))
     assert rows[0]["default"]["status"] == status
     tally = must_hold_counts(rows, "default")
     row_id = ("T6.line_load.dA_aff",)
-    expected = {"pass": (row_id, (), ()), "fail (explained)": ((), row_id, ()), "fail": ((), (), row_id)}
-    assert tuple(tally[:3]) == expected[status]
+    assert tuple(tally[:3]) == {"weak-pass": ((), row_id, ()), "fail": ((), (), row_id)}[status]
     lines = "\n".join(explained_and_inert_lines(rows, ["default"]))
-    expected_text = {
-        "pass": "pass: explanation not needed",
-        "fail": "FAIL outside the explained band (-14.1 … -5.9 %)",
-        "fail (explained)": "fail (explained; band -14.1 … -5.9 %)",
-    }[status]
-    assert expected_text in lines
+    note = {"fail": "FAIL", "weak-pass": "weak pass"}[status]
+    assert f"- **T6.line_load.dA_aff** (`default` {note}): made-up mechanism" in lines
+    table = list(csv.DictReader(io.StringIO(scoreboard_csv(rows, ["default"]))))
+    assert table[0]["note"] == "made-up mechanism" and table[0]["default_status"] == status
 
 
-def test_an_explained_failure_is_not_a_pass_and_an_inert_row_is_not_counted():
-    """Issue 32 §1–2: a must-hold row that fails for a documented reason (within its band) counts as
-    "fail (explained)"; a row that cannot fail (flagged inert) is left out of the count, whatever its
-    verdict."""
+def test_an_explained_failure_is_a_failure_and_an_inert_row_is_not_counted():
+    """A must-hold row that fails for a documented reason counts as a failure; a row that cannot fail
+    (flagged inert) is left out of the count, whatever its verdict; a pass that the null variant shares is
+    counted apart."""
     from floebreak.studies.inert import Inert
 
     by_id = {st.id: st for st in STATEMENTS}
-    statements = (_explained_statement(), by_id["T8.BZ1.dV"], by_id["T5.K230.dV"])
+    ids = ("T8.BZ1.dV", "T5.K230.dV", "S535.h1.2.dV", "T5.K120.dV")
+    statements = (_explained_statement(), *(by_id[i] for i in ids))
     assert statements[0].must_hold == {"default", "thesis"}
+    data = _line_load_data(-0.10)
+    data["default"]["K120"] = {0: {"mean_cusp_volume_m3": 8.1}}  # −1.25 %: small, as the thesis says
     inert = {"default": {"T8.BZ1.dV": Inert("identity", "same run", 0.0)}}
-    rows = scoreboard_rows(_line_load_data(-0.10), {"default": "default"}, statements, inert=inert)
-    assert [r["default"]["status"] for r in rows] == ["fail (explained)", "inert", "fail"]
+    rows = scoreboard_rows(data, {"default": "default"}, statements, inert=inert)
+    assert [r["default"]["status"] for r in rows] == ["fail", "inert", "fail", "pass", "weak-pass"]
     tally = must_hold_counts(rows, "default")
-    assert tally == ((), ("T6.line_load.dA_aff",), ("T5.K230.dV",), ("T8.BZ1.dV",)) and tally.counted == 2
-    assert tally_text(tally).startswith("0 pass, 1 fail (explained), 1 fail, 1 inert (of 3 must-hold rows)")
+    assert tally == (
+        ("S535.h1.2.dV",),
+        ("T5.K120.dV",),
+        ("T6.line_load.dA_aff", "T5.K230.dV"),
+        ("T8.BZ1.dV",),
+    )
+    assert tally.counted == 3
+    assert tally_text(tally) == (
+        "1 of 3 must-hold rows pass; 1 weak; 1 inert; fail: T6.line_load.dA_aff, T5.K230.dV"
+    )
     markdown = "\n".join(scoreboard_markdown_table(rows, ["default"]))
-    assert "FAIL (explained)" in markdown and " inert |" in markdown and "**FAIL**" in markdown
+    assert "(explained" not in markdown and " inert |" in markdown and markdown.count("**FAIL**") == 2
     table = list(csv.DictReader(io.StringIO(scoreboard_csv(rows, ["default"]))))
-    assert [r["default_status"] for r in table] == ["fail (explained)", "inert", "fail"]
+    assert [r["default_status"] for r in table] == ["fail", "inert", "fail", "pass", "weak-pass"]
     assert table[1]["default_inert"] == "same run"
-    assert table[0]["default_explained_band"] == "-0.141 … -0.059"
 
 
 def test_an_inert_flag_whose_reason_the_value_contradicts_does_not_hide_a_failure():

@@ -1,10 +1,15 @@
-"""The scoreboard of `floebreak validate thesis`: per-run metrics, every statement scored (issue 16 §1).
+"""The scoreboard of `floebreak validate thesis`: per-run metrics, every statement scored.
 
 `run_metrics` reads what one run directory holds (summary.json, cusps.parquet, contacts.parquet); the
 metric functions below it are pure. `evaluate` applies a statement's statistic (level or paired relative
 change, `floebreak.studies.statements`) to the per-field metrics of one configuration; `scoreboard_rows`
 scores every statement for every configuration; `write_scoreboard` writes ``scoreboard.csv`` and
 ``scoreboard.md`` (atomically).
+
+A must-hold row has one status per configuration: pass, fail, weak-pass (a change row that the null variant,
+no change at all, passes too: `Statement.weak`), inert (it cannot fail there: `floebreak.studies.inert`),
+info or missing. The tally counts the passes of the rows that can tell, with weak and inert rows apart; an
+explanation a statement carries is a note and never changes a status.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ from floebreak.studies.statements import (
     TABLE5_REFERENCE,
     Statement,
     mean_se,
+    null_verdict,
     paired_relative_change,
     verdict,
 )
@@ -127,7 +133,7 @@ def run_metrics(run_dir: Path, forces: bool = False, torque: bool = False) -> di
         out.update(bending_force_metrics(bending_forces_kn(contacts.to_pydict())))
     if torque:
         out.update(torque_metrics(cusps))
-    out.update(chain_metrics(run_dir, torque=torque, forces=forces))  # issue 33 item 6 (chain_statements)
+    out.update(chain_metrics(run_dir, torque=torque, forces=forces))  # the chain rows (chain_statements)
     return out
 
 
@@ -180,14 +186,13 @@ def evaluate(statement: Statement, data: dict[str, dict[int, dict[str, float]]])
     return paired_relative_change(values, series(statement.against or "reference"))
 
 
-def row_status(verdict_: str, value: float, band: tuple[float, float] | None, inert: bool) -> str:
-    """pass | fail | fail (explained) | inert | info | missing (issue 32 §1–2): a row that cannot fail is
-    inert whatever its verdict; a failing row is "fail (explained)" only where its value lies within the band
-    its explanation was recorded for (`Statement.explained_band`), and a plain failure outside it."""
+def row_status(verdict_: str, weak: bool, inert: bool) -> str:
+    """pass | fail | weak-pass | inert | info | missing: a row that cannot fail is inert whatever its verdict;
+    a pass of a row that the null variant passes too is weak; a failure is a failure, explained or not."""
     if inert and verdict_ in ("pass", "fail"):
         return "inert"
-    if verdict_ == "fail" and band is not None and band[0] <= value <= band[1]:
-        return "fail (explained)"
+    if verdict_ == "pass" and weak:
+        return "weak-pass"
     return verdict_
 
 
@@ -198,10 +203,9 @@ def scoreboard_rows(
     inert: dict[str, dict[str, Any]] | None = None,
 ) -> list[dict[str, Any]]:
     """One row per statement: the statement and, per configuration, value, s.e., n, verdict, must-hold,
-    the explanation's band in its profile, the inert reason (`inert` maps a configuration to {statement
-    id: `floebreak.studies.inert.Inert`}; a flag whose reason the measured value contradicts is dropped,
-    so it cannot hide a failure) and the status (`row_status`); `profiles` maps a configuration to its
-    profile, whose must-hold flags and bands it takes."""
+    the inert reason (`inert` maps a configuration to {statement id: `floebreak.studies.inert.Inert`}; a
+    flag whose reason the measured value contradicts is dropped, so it cannot hide a failure) and the status
+    (`row_status`); `profiles` maps a configuration to its profile, whose must-hold flags it takes."""
     inert = inert or {}
     rows = []
     for st in statements:
@@ -212,7 +216,6 @@ def scoreboard_rows(
             contradicted = flag.reason if flag is not None and not flag.holds(value) else ""
             flag = None if contradicted else flag
             result = verdict(value, st.thesis_value, st.tolerance)
-            band = st.explained_band(profiles[config])
             row[config] = {
                 "value": value,
                 "se": se,
@@ -221,8 +224,7 @@ def scoreboard_rows(
                 "must_hold": profiles[config] in st.must_hold,
                 "inert": flag,
                 "inert_contradicted": contradicted,
-                "band": band,
-                "status": row_status(result, value, band, flag is not None),
+                "status": row_status(result, st.weak, flag is not None),
             }
         rows.append(row)
     return rows
@@ -250,8 +252,9 @@ def ours_cell(result: dict[str, Any], st: Statement) -> str:
 
 
 CSV_STATEMENT_COLUMNS = ("id", "source", "quote", "quantity", "unit", "point", "against", "statistic",
-                         "thesis_value", "thesis_text", "tolerance", "explained")  # fmt: skip
-CSV_CONFIG_COLUMNS = ("ours", "se", "n_fields", "verdict", "must_hold", "status", "inert", "explained_band")
+                         "thesis_value", "thesis_text", "tolerance", "null_verdict", "weak",
+                         "note")  # fmt: skip
+CSV_CONFIG_COLUMNS = ("ours", "se", "n_fields", "verdict", "must_hold", "status", "inert")
 
 
 def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
@@ -264,22 +267,21 @@ def scoreboard_csv(rows: list[dict[str, Any]], configs: list[str]) -> str:
     for row in rows:
         st: Statement = row["statement"]
         cells = [st.id, st.source, st.quote, st.quantity, st.unit, st.point, st.against or "", st.statistic,
-                 st.thesis_value, st.thesis_text, st.tolerance.describe(st.unit), st.explained]  # fmt: skip
+                 st.thesis_value, st.thesis_text, st.tolerance.describe(st.unit), null_verdict(st) or "",
+                 "yes" if st.weak else "no", st.explained]  # fmt: skip
         for c in configs:
             r = row[c]
             flag = r.get("inert")
             must = "yes" if r["must_hold"] else "no"
             reason = flag.reason if flag else ""
-            band = r.get("band")
-            band_text = f"{band[0]:.6g} … {band[1]:.6g}" if band else ""
-            cells += [r["value"], r["se"], r["n"], r["verdict"], must, r["status"], reason, band_text]
+            cells += [r["value"], r["se"], r["n"], r["verdict"], must, r["status"], reason]
         lines.append(cells)
     return csv_text({name: [cells[i] for cells in lines] for i, name in enumerate(names)})
 
 
 def _verdict_mark(result: dict[str, Any]) -> str:
-    text = {"pass": "pass", "fail": "FAIL", "fail (explained)": "FAIL (explained)", "inert": "inert",
-            "info": "info", "missing": "missing"}[result["status"]]  # fmt: skip
+    text = {"pass": "pass", "fail": "FAIL", "weak-pass": "weak pass", "inert": "inert", "info": "info",
+            "missing": "missing"}[result["status"]]  # fmt: skip
     return f"**{text}**" if result["must_hold"] and result["status"] in ("fail", "missing") else text
 
 
@@ -293,8 +295,10 @@ def scoreboard_markdown_table(rows: list[dict[str, Any]], configs: list[str]) ->
     for row in rows:
         st: Statement = row["statement"]
         must = ", ".join(sorted(st.must_hold)) or "—"
+        if st.weak:
+            must += " (weak)"
         if st.explained:
-            must += " (explained below)"
+            must += " (note below)"
         cells = [f"{ours_cell(row[c], st)} {_verdict_mark(row[c])}" for c in configs]
         unit = "" if st.unit in ("-", "%") or st.thesis_text else f" {st.unit}"
         lines.append(
@@ -305,43 +309,38 @@ def scoreboard_markdown_table(rows: list[dict[str, Any]], configs: list[str]) ->
 
 
 class MustHoldTally(NamedTuple):
-    """The must-hold rows of one configuration by status (ids): a row that cannot fail (inert) is not
-    counted, a failing row with a documented reason is a failure, explained (issue 32 §1–2)."""
+    """The must-hold rows of one configuration by status (ids): the rows that can tell (passed, failed) are
+    counted, the weak passes and the inert rows apart; a failure with a documented reason is a failure."""
 
     passed: tuple[str, ...]
-    failed_explained: tuple[str, ...]
-    failed: tuple[str, ...]  # unexplained failures and missing rows
+    weak: tuple[str, ...]  # weak-pass: the null variant passes them too
+    failed: tuple[str, ...]  # failures (explained or not) and missing rows
     inert: tuple[str, ...]
 
     @property
     def counted(self) -> int:
-        return len(self.passed) + len(self.failed_explained) + len(self.failed)
+        return len(self.passed) + len(self.failed)
 
 
 def must_hold_counts(rows: list[dict[str, Any]], config: str) -> MustHoldTally:
-    """The `MustHoldTally` of one configuration (a missing row counts as an unexplained failure)."""
-    by_status: dict[str, list[str]] = {"pass": [], "fail (explained)": [], "fail": [], "inert": []}
+    """The `MustHoldTally` of one configuration (a missing row counts as a failure)."""
+    by_status: dict[str, list[str]] = {"pass": [], "weak-pass": [], "fail": [], "inert": []}
     for row in rows:
         result = row[config]
         if result["must_hold"]:
             status = result["status"] if result["status"] in by_status else "fail"
             by_status[status].append(row["statement"].id)
-    return MustHoldTally(*(tuple(by_status[k]) for k in ("pass", "fail (explained)", "fail", "inert")))
+    return MustHoldTally(*(tuple(by_status[k]) for k in ("pass", "weak-pass", "fail", "inert")))
 
 
 def tally_text(tally: MustHoldTally) -> str:
-    """The tally as one line, e.g. ``25 pass, 3 fail (explained), 0 fail, 4 inert`` and the ids of the rows
-    that do not pass, to look at."""
-    passed, explained, failed, inert = (len(ids) for ids in tally)
+    """The tally as one line, e.g. ``21 of 22 must-hold rows pass; 8 weak; 6 inert; fail: PC5.rate`` (with
+    the ids of the failing rows, to look at)."""
     text = (
-        f"{passed} pass, {explained} fail (explained), {failed} fail, {inert} inert "
-        f"(of {tally.counted + inert} must-hold rows)"
+        f"{len(tally.passed)} of {tally.counted} must-hold rows pass; {len(tally.weak)} weak; "
+        f"{len(tally.inert)} inert"
     )
-    if tally.failed:
-        text += f"; fail: {', '.join(tally.failed)}"
-    if tally.failed_explained:
-        text += f"; explained: {', '.join(tally.failed_explained)}"
-    return text
+    return text + (f"; fail: {', '.join(tally.failed)}" if tally.failed else "")
 
 
 def per_100m_lines(

@@ -11,7 +11,10 @@ Both are ordinary study directories: resumable, `--workers` / `--scheduler` as `
 from __future__ import annotations
 
 import copy
+import datetime
+import math
 import re
+import tomllib
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -59,6 +62,74 @@ CHOICE_SAMPLE = Sample("choice", 2023, "2019-12-18T20:20", 16)
 # the reference's affected area, so its changes are noisier (docs/validation.md gives the standard errors).
 HOLDOUT_SAMPLE = Sample("holdout", 31, "2020-01-03T13:40", 16)
 HOLDOUT_SUFFIX = "@holdout"
+
+
+@dataclass(frozen=True)
+class RegisteredSample:
+    """A sample of the samples registry (``validation/samples.toml``): what defines its fields, the profiles
+    it is scored in, and when it was registered (and whether it had been run before that)."""
+
+    name: str
+    seed: int
+    observation: str
+    n_fields: int
+    length_m: float
+    width_m: float
+    profiles: tuple[str, ...]
+    registered: datetime.date
+    run_before_registration: bool = False
+    note: str = ""
+
+
+SAMPLE_KEYS = {"name": str, "seed": int, "observation": str, "n_fields": int, "length_m": float,
+               "width_m": float, "profiles": list, "registered": datetime.date,
+               "run_before_registration": bool, "note": str}  # fmt: skip
+OPTIONAL_SAMPLE_KEYS = ("run_before_registration", "note")
+
+
+def _registered_sample(entry: dict[str, Any], where: str) -> RegisteredSample:
+    from floebreak.ice.observations import thesis_observations
+
+    unknown = set(entry) - set(SAMPLE_KEYS)
+    missing = set(SAMPLE_KEYS) - set(entry) - set(OPTIONAL_SAMPLE_KEYS)
+    if unknown or missing:
+        raise InputError(where, f"unknown keys {sorted(unknown)}, missing keys {sorted(missing)}",
+                         allowed=", ".join(SAMPLE_KEYS))  # fmt: skip
+    for key, kind in SAMPLE_KEYS.items():
+        value = entry.get(key)
+        ok = isinstance(value, kind) and not (kind is int and isinstance(value, bool))
+        if kind is float:
+            ok = isinstance(value, int | float) and not isinstance(value, bool)
+            ok = ok and math.isfinite(value) and value > 0
+        if key in entry and not ok:
+            raise InputError(f"{where}.{key}", f"{value!r} is not a {kind.__name__}", value=value)
+    observations = thesis_observations()
+    if entry["n_fields"] < 1 or entry["observation"] not in observations:
+        raise InputError(where, "n_fields ≥ 1 and an observation of thesis Table 1 needed",
+                         allowed=f"observations {', '.join(observations)}")  # fmt: skip
+    if not entry["profiles"] or not set(entry["profiles"]) <= set(PROFILES):
+        raise InputError(f"{where}.profiles", f"{entry['profiles']!r}", allowed=", ".join(PROFILES))
+    values = {key: entry[key] for key in SAMPLE_KEYS if key in entry}
+    values.update(profiles=tuple(entry["profiles"]), length_m=float(entry["length_m"]),
+                  width_m=float(entry["width_m"]))  # fmt: skip
+    return RegisteredSample(**values)
+
+
+def parse_samples(text: str, source: str = "--samples") -> dict[str, RegisteredSample]:
+    """The samples of a registry's TOML text by name, checked (known keys, types, a Table 1 observation,
+    known profiles, unique names); an error names `source` and the sample."""
+    try:
+        entries = tomllib.loads(text).get("sample", [])
+    except tomllib.TOMLDecodeError as error:
+        raise InputError(source, f"not TOML: {error}") from None
+    samples: dict[str, RegisteredSample] = {}
+    for index, entry in enumerate(entries):
+        sample = _registered_sample(entry, f"{source}: sample {entry.get('name', index)!r}")
+        if sample.name in samples:
+            raise InputError(source, f"sample {sample.name!r} registered twice", allowed="unique names")
+        samples[sample.name] = sample
+    return samples
+
 
 SINGLE_FLOE_CASES = ((10.0, 0.8), (20.0, 1.0))  # (d [m], h [m]) of thesis Figs. 15 and 16
 SINGLE_FLOE_POSITIONS = ("a", "b", "c", "d", "e")

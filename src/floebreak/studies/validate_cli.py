@@ -1,4 +1,4 @@
-"""CLI of `floebreak validate thesis | sensitivity | convergence` (a thin layer; issue 16 §1, §4)."""
+"""CLI of `floebreak validate thesis | sensitivity | convergence` (a thin layer)."""
 
 from __future__ import annotations
 
@@ -88,11 +88,60 @@ def _command(name: str, out: Path, options: list[tuple[str, object]]) -> str:
     return shlex.join(words)
 
 
+def _registered(samples: Path, name: str, given: dict[str, object]):
+    """The sample `name` of the registry file `samples`; the options it fixes may not be given too."""
+    from floebreak.io.text_files import read_text_file
+    from floebreak.studies.validate import parse_samples
+
+    registry = parse_samples(read_text_file(samples, "--samples"), f"--samples {samples}")
+    if name not in registry:
+        raise InputError("--sample", f"{name!r} is not registered in {samples}", allowed=", ".join(registry))
+    clash = [option for option, value in given.items() if value not in (None, False, [])]
+    if clash:
+        raise InputError("--sample", f"the sample fixes {', '.join(clash)}", allowed="--sample without them")
+    return registry[name]
+
+
+def _thesis_inputs(sample_name, samples: Path, profile, n_fields, seed, length_m, sets: list[str], holdout,
+                   holdout_n_fields):  # fmt: skip
+    """(profile, n_fields, seed, length_m, sets, options shown in the command) of a `validate thesis` call:
+    the registered sample's where `--sample` names one, else the options' (default both, 4, 2023)."""
+    if holdout_n_fields is not None and holdout_n_fields < 1:
+        raise InputError(
+            "--holdout-n-fields", f"{holdout_n_fields} < 1", value=holdout_n_fields, allowed="an integer ≥ 1"
+        )
+    options = [("--profile", profile), ("--n-fields", n_fields), ("--seed", seed), ("--length-m", length_m)]
+    options += [("--set", s) for s in sets]
+    if sample_name is not None:
+        given = {"--profile": profile, "--n-fields": n_fields, "--seed": seed, "--length-m": length_m,
+                 "--holdout": holdout, "--holdout-n-fields": holdout_n_fields,
+                 "--set field.*": [s for s in sets if s.strip().startswith("field.")]}  # fmt: skip
+        registered = _registered(samples, sample_name, given)
+        profile = "both" if len(registered.profiles) > 1 else registered.profiles[0]
+        n_fields, seed, length_m = registered.n_fields, registered.seed, registered.length_m
+        options = [("--samples", samples), ("--sample", sample_name)] + [("--set", s) for s in sets]
+        sets = [
+            *sets,
+            f'field.observation="{registered.observation}"',
+            f"field.width_m={registered.width_m:g}",
+        ]
+    return (
+        "both" if profile is None else profile,
+        4 if n_fields is None else n_fields,
+        2023 if seed is None else seed,
+        length_m,
+        sets,
+        options,
+    )
+
+
 def thesis_command(
     out: OutOption,
-    profile: ProfileOption = "both",
-    n_fields: FieldsOption = 4,
-    seed: SeedOption = 2023,
+    profile: Annotated[str | None, typer.Option("--profile", help="default | thesis | both")] = None,
+    n_fields: Annotated[
+        int | None, typer.Option("--n-fields", help="common random fields per design point (≥ 1; default 4)")
+    ] = None,
+    seed: Annotated[int | None, typer.Option("--seed", help="root seed of the fields (default 2023)")] = None,
     workers: WorkersOption = None,
     scheduler: SchedulerOption = None,
     sets: SetOption = None,
@@ -110,8 +159,18 @@ def thesis_command(
     holdout_n_fields: Annotated[
         int | None, typer.Option("--holdout-n-fields", help="fields of the holdout sample (default: its own)")
     ] = None,
+    sample_name: Annotated[
+        str | None,
+        typer.Option(
+            "--sample", help="score a registered sample: its seed, observation, fields and profiles"
+        ),
+    ] = None,
+    samples: Annotated[
+        Path, typer.Option("--samples", help="the samples registry (TOML) --sample reads")
+    ] = Path("validation/samples.toml"),
 ) -> None:
-    """Score every quantitative statement of thesis §5.1–§5.3 and §6.2: scoreboard.md/.csv and figures."""
+    """Score every quantitative statement of thesis §5.1–§5.3 and §6.2: scoreboard.md/.csv, fields.csv
+    (each field's checksum) and figures."""
     import dataclasses
     import time
 
@@ -125,20 +184,17 @@ def thesis_command(
     )
     from floebreak.studies.validation_report import ValidationSettings, write_outputs
 
+    profile, n_fields, seed, length_m, sets, options = _thesis_inputs(
+        sample_name, samples, profile, n_fields, seed, length_m, list(sets or []), holdout, holdout_n_fields
+    )
     _check(n_fields, workers, length_m)
-    if holdout_n_fields is not None and holdout_n_fields < 1:
-        raise InputError(
-            "--holdout-n-fields", f"{holdout_n_fields} < 1", value=holdout_n_fields, allowed="an integer ≥ 1"
-        )
     configs = make_configs(profile, list(variants or []))
-    sets = list(sets or [])
     base = thesis_scenario(sets, length_m)
     specs = {
         "single_floe": single_floe_spec(configs, base),
         "study": thesis_validation_spec(configs, base, n_fields, seed),
     }
-    options = [("--profile", profile), ("--n-fields", n_fields), ("--seed", seed), ("--length-m", length_m)]
-    options += [("--set", s) for s in sets] + [("--variant", v) for v in variants or []]
+    options += [("--variant", v) for v in variants or []]
     sample, holdout_base = None, {}
     if holdout:  # the holdout's observation after the user's --set: it is what defines the sample
         sample = dataclasses.replace(HOLDOUT_SAMPLE, n_fields=holdout_n_fields or HOLDOUT_SAMPLE.n_fields)
@@ -147,25 +203,16 @@ def thesis_command(
         options += [("--holdout-n-fields", holdout_n_fields)]
     command = _command("thesis", out, options) + (" --holdout" if holdout else "")
     field = base["field"]
-    settings = ValidationSettings(
-        command,
-        field["length_m"],
-        field["width_m"],
-        thesis_field_length_m(field["width_m"]),
-        n_fields,
-        seed,
-        tuple(sets),
-        base,
-        sample,
-        holdout_base,
-    )
+    settings = ValidationSettings(command, field["length_m"], field["width_m"],
+                                  thesis_field_length_m(field["width_m"]), n_fields, seed, tuple(sets), base,
+                                  sample, holdout_base, sample_name or "")  # fmt: skip
     started = time.perf_counter()
 
     def finish(failures):
         counts = write_outputs(out, configs, settings, time.perf_counter() - started, failures)
         for name, tally in counts.items():
             console.print(f"{name}: {tally_text(tally)}", soft_wrap=True)
-        console.print(f"written: {out}/scoreboard.md, scoreboard.csv, figures/", soft_wrap=True)
+        console.print(f"written: {out}/scoreboard.md, scoreboard.csv, fields.csv, figures/", soft_wrap=True)
 
     _run(out, specs, workers, scheduler, finish)
 
