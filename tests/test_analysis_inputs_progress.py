@@ -1,4 +1,4 @@
-"""Issue 34 §1 and issue 30 §6: the pure propeller and shaft analyses take FemTables and TorqueSeries (the
+"""The pure propeller and shaft analyses take FemTables and TorqueSeries (the
 application layer reads the files), and the long stages report progress through a plain callback whose
 counts rise to the total (no timing involved)."""
 
@@ -7,15 +7,20 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from floebreak.app.inputs import measured_series, resolve_fem_tables
+from floebreak.app.inputs import (
+    load_shaft_line,
+    measured_series,
+    read_torque_csv,
+    resolve_fem_tables,
+    shipped_fem_tables,
+    synthetic_torque_path,
+)
 from floebreak.app.propeller import analyse_propeller as analyse_with_files
 from floebreak.errors import InputError
 from floebreak.io.figures import save_figures
-from floebreak.propeller.fem import shipped_fem_tables
-from floebreak.propeller.measured import TorqueSeries, read_torque_csv, synthetic_torque_path
-from floebreak.propeller.pipeline import ANALYSIS_STAGES, analyse_propeller
+from floebreak.propeller.measured import TorqueSeries
+from floebreak.propeller.pipeline import ANALYSIS_STAGES, analyse_cusp_loads
 from floebreak.shaft.analysis import cusp_torque_inputs, shaft_drive_response, shaft_response
-from floebreak.shaft.line import load_shaft_line
 
 
 def _cusps():
@@ -48,12 +53,12 @@ class Recorder:
 
 def test_the_pure_analysis_refuses_paths_and_fem_without_tables(tmp_path):
     with pytest.raises(InputError) as info:
-        analyse_propeller(_cusps(), load_model="fem", transport="all")
+        analyse_cusp_loads(_cusps(), load_model="fem", transport="all")
     assert info.value.field == "fem_tables"
     with pytest.raises(InputError, match="is not a FemTable"):
-        analyse_propeller(_cusps(), fem_tables=[tmp_path / "table.csv"], transport="all")
+        analyse_cusp_loads(_cusps(), fem_tables=[tmp_path / "table.csv"], transport="all")
     with pytest.raises(InputError) as info:
-        analyse_propeller(_cusps(), measured=synthetic_torque_path(), transport="all")
+        analyse_cusp_loads(_cusps(), measured=synthetic_torque_path(), transport="all")
     assert info.value.field == "measured"
 
 
@@ -61,7 +66,7 @@ def test_the_application_layer_reads_the_files_the_pure_analysis_is_given():
     path = synthetic_torque_path()
     by_path = analyse_with_files(_cusps(), load_model="fem", transport="all", torque_csv=path)
     tables, series = shipped_fem_tables(), read_torque_csv(path)
-    by_data = analyse_propeller(_cusps(), fem_tables=tables, measured=series, transport="all")
+    by_data = analyse_cusp_loads(_cusps(), fem_tables=tables, measured=series, transport="all")
     assert by_path.pitches == by_data.pitches == (0.0, 95.0)
     for pitch in by_data.pitches:
         assert np.array_equal(by_path.amplitudes(pitch).torque_nm, by_data.amplitudes(pitch).torque_nm)
@@ -75,7 +80,7 @@ def test_the_application_layer_reads_the_files_the_pure_analysis_is_given():
 
 def test_the_propeller_analysis_reports_its_stages():
     recorder = Recorder()
-    analyse_propeller(_cusps(), transport="all", progress=recorder)
+    analyse_cusp_loads(_cusps(), transport="all", progress=recorder)
     recorder.check_rises_to_the_total()
     assert [stage for stage, _, _ in recorder.calls] == list(ANALYSIS_STAGES)
 

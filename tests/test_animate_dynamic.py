@@ -1,4 +1,4 @@
-"""Moving ice replayed (issue 29 item 7): `simulation.pose_interval_steps` records the moved pieces' poses
+"""Moving ice replayed: `simulation.pose_interval_steps` records the moved pieces' poses
 into poses.parquet without changing the run; `floebreak animate` draws a dynamic run from them and refuses a
 dynamic run without them (exit code 2, nothing written)."""
 
@@ -13,10 +13,10 @@ import shapely
 from PIL import Image
 
 import floebreak
+from floebreak.config.scenario import Scenario
 from floebreak.errors import InputError
 from floebreak.io.poses import read_poses
 from floebreak.plotting.animation import PieceMotion
-from floebreak.scenario import Scenario
 
 INTERVAL = 10
 SHORT = ["field.length_m=50", "simulation.ice_motion=dynamic"]  # the reference observation's floes

@@ -1,4 +1,4 @@
-"""A small fixed sample of the fuzz campaign (`floebreak.fuzz`; the full campaign: `make fuzz N=5000`)."""
+"""A small fixed sample of the fuzz campaign (`fuzz`; the full campaign: `make fuzz N=5000`)."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from floebreak import fuzz
-from floebreak.scenario import Scenario
+import fuzz
+from floebreak.config.scenario import Scenario
 
 
 def _scenario(data):
@@ -171,7 +171,7 @@ def test_a_slow_scenario_holds_only_its_own_worker(tmp_path, monkeypatch):
 WORKER_SCRIPT = """
 import os, sys, time
 from pathlib import Path
-from floebreak import fuzz
+import fuzz
 
 def stuck(data):
     Path(sys.argv[1], f"worker-{os.getpid()}").touch()

@@ -1,4 +1,4 @@
-"""The fuzz campaign's adversarial generator (issue 31): reproducible draws of hostile files and policies,
+"""The fuzz campaign's adversarial generator: reproducible draws of hostile files and policies,
 each written with the project's writers and run to a record (a crash is what the campaign looks for)."""
 
 from __future__ import annotations
@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pyarrow.parquet as pq
 
-from floebreak import fuzz
-from floebreak.fuzz_adversarial import write_field_file
+import fuzz
+from fuzz.adversarial import write_field_file
 
 
 def test_adversarial_draws_are_reproducible_and_hostile():

@@ -1,4 +1,4 @@
-"""The run pipeline and run directory (issue 5 §2, §4, §6): Python API, files, consistency, determinism."""
+"""The run pipeline and run directory: Python API, files, consistency, determinism."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import shapely
 import floebreak
 from floebreak.app import run as run_module
 from floebreak.errors import InputError
-from floebreak.io.field_files import load_field, save_field
+from floebreak.output.field_files import load_field, save_field
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SMALL = ["field.length_m=60.0"]  # a short reference field (the full one is the CLI demo test)
@@ -432,7 +432,7 @@ def test_failed_write_leaves_nothing(small_run, tmp_path, monkeypatch):
     def broken(*args, **kwargs):
         raise RuntimeError("disk on fire")
 
-    monkeypatch.setattr(importlib.import_module("floebreak.app.figure_process"), "save_png", broken)
+    monkeypatch.setattr(importlib.import_module("floebreak.output.figure_process"), "save_png", broken)
     with pytest.raises(RuntimeError):
         result.write(tmp_path / "out")
     assert list(tmp_path.iterdir()) == []

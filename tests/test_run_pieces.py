@@ -12,7 +12,7 @@ import pytest
 import shapely
 
 import floebreak
-from floebreak.simulation import StepDone
+from floebreak.engine.loop import StepDone
 
 SMALL = ["field.length_m=60.0"]  # a short reference field, as in tests/test_run.py
 

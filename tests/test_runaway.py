@@ -1,5 +1,5 @@
-"""Regression tests of issue 31, item 1: valid input that exhausted the machine. Each test rebuilds one
-reproducer of the issue's campaign: a count-setting setting without a lower bound (the bending wedge angle,
+"""Regression tests: valid input that exhausted the machine. Each test rebuilds one reproducer of a
+campaign: a count-setting setting without a lower bound (the bending wedge angle,
 the Bates summands), ice that breaks without end (the wall-time guard, also within one step's queue) and a
 field whose floes never meet the bow's path."""
 
@@ -14,14 +14,14 @@ import pytest
 import shapely
 
 import floebreak
+from floebreak.engine.loop import SimulationParams, WallTimeError, simulate
 from floebreak.errors import InputError
 from floebreak.failure import Fate, NewPiece, Outcome, Status
 from floebreak.failure.bending import BendingSettings
 from floebreak.ice.field import FloeField
 from floebreak.ice.thickness import bounded_random_thickness_m
-from floebreak.io.field_files import save_field
+from floebreak.output.field_files import save_field
 from floebreak.ship.hulls import agulhas_ii
-from floebreak.simulation import SimulationParams, WallTimeError, simulate
 
 ONE_FLOE = "[field]\nfloes = [{ x_m = 20.0, y_m = 0.0, diameter_m = 10.0 }]\n[ice]\nthickness_m = 1.0\n"
 
@@ -31,7 +31,7 @@ ONE_FLOE = "[field]\nfloes = [{ x_m = 20.0, y_m = 0.0, diameter_m = 10.0 }]\n[ic
 
 @pytest.mark.parametrize("angle_deg", [1e-6, 0.001, 0.5])
 def test_a_wedge_angle_below_one_degree_is_refused(angle_deg):
-    # issue 31: 1e-6° grew one 10 m floe past 1.5 GB in 40 s (2π/φ rays); 0.001° ran past 120 s
+    # 1e-6° grew one 10 m floe past 1.5 GB in 40 s (2π/φ rays); 0.001° ran past 120 s
     text = ONE_FLOE + f"[failure.bending]\nwedge_angle_deg = {angle_deg}\n"
     with pytest.raises(InputError) as info:
         floebreak.run(floebreak.Scenario.from_toml_text(text))
@@ -81,7 +81,7 @@ max_wall_s = 2.0
 
 
 def test_thin_ice_breaking_without_end_stops_at_the_wall_time_budget(cli, tmp_path):
-    # issue 31: a custom policy on thin ice churned past 5 000 pieces with 0 cusps without finishing
+    # a custom policy on thin ice churned past 5 000 pieces with 0 cusps without finishing
     scenario = tmp_path / "s.toml"
     scenario.write_text(CHURN, encoding="utf-8")
     started = time.perf_counter()
@@ -133,7 +133,7 @@ def test_the_wall_time_guard_stops_within_one_bow_position():
 
 
 def test_the_default_wall_time_budget_grows_with_the_transit():
-    from floebreak.simulation import WALL_S_BASE, WALL_S_PER_KM
+    from floebreak.engine.loop import WALL_S_BASE, WALL_S_PER_KM
 
     assert WALL_S_BASE >= 120.0 and WALL_S_PER_KM >= 6 * 10.0  # ≥ 6 × the slowest measured 10 s per km
     with pytest.raises(InputError, match=r"simulation\.max_wall_s"):
@@ -156,7 +156,7 @@ def _far_field(offset_m: float) -> FloeField:
 
 
 def test_a_field_in_utm_like_coordinates_is_refused_before_stepping(cli, tmp_path):
-    # issue 31: floes at x, y ≈ 1e7 m ran with no end and no warning that no floe is in the bow's path
+    # floes at x, y ≈ 1e7 m ran with no end and no warning that no floe is in the bow's path
     save_field(_far_field(1.0e7), tmp_path / "utm.parquet")
     scenario = tmp_path / "s.toml"
     scenario.write_text('[field]\nfile = "utm.parquet"\n', encoding="utf-8")

@@ -1,4 +1,4 @@
-"""Bounded memory (issue 20): contact records streamed to Parquet row groups while the run goes on, large
+"""Bounded memory: contact records streamed to Parquet row groups while the run goes on, large
 tables written row group by row group, long fields drawn in a window — each giving what the in-memory path
 gives."""
 
@@ -13,14 +13,14 @@ import shapely
 
 import floebreak
 from floebreak.api import CONTACTS_FILE, FIGURE_WINDOW_M
+from floebreak.engine.loop import SimulationParams, simulate
+from floebreak.engine.records import ContactRecorder
 from floebreak.errors import InputError
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
 from floebreak.io import geoparquet
 from floebreak.io.geoparquet import ROW_GROUP_ROWS, read_geoparquet, write_geoparquet
-from floebreak.results import ContactRecorder
 from floebreak.ship.hulls import agulhas_ii
-from floebreak.simulation import SimulationParams, simulate
 
 SMALL = ["field.length_m=60.0"]
 
@@ -171,7 +171,7 @@ def test_the_figure_calls_of_a_long_field_carry_only_what_the_window_draws(monke
     floes and pieces in the window, not the whole field or run (a 100 km run's result pickles to hundreds of
     MB), and draws exactly what plotting the whole field or result in that window draws (a 60 m field and a
     20 m window standing in for 100 km and 2 km)."""
-    from floebreak.app.figure_process import draw_figure, pickled
+    from floebreak.output.figure_process import draw_figure, pickled
     from floebreak.plotting.field import plot_field
     from floebreak.plotting.pattern import plot_breaking_pattern
     from floebreak.plotting.pattern_data import BreakingPattern

@@ -1,4 +1,4 @@
-"""The must-hold rows of the thesis scoreboard on two samples (issues 16 §1, 32 §3; marker `validation`,
+"""The must-hold rows of the thesis scoreboard on two samples (marker `validation`,
 `make validate`).
 
 Runs `floebreak validate thesis --holdout` as documented (both profiles; the choice sample — 16 common fields
@@ -11,8 +11,9 @@ profile, on both samples:
   failure (xfail, with the reason) only while its value lies within the band that explanation was recorded
   for in this profile (`Statement.explained_band`: the value on the choice sample ± its spread to the
   holdout, as recorded in the docs); outside the band, or in a profile without one, it fails;
-- a row flagged inert (`floebreak.studies.inert`: it cannot fail in this configuration) is not a test of the
-  thesis; instead its reason is checked on the measured value (the same run: a change of exactly 0; the cap:
+- a row flagged inert (`floebreak.validation.inert`: it cannot fail in this configuration) is not a test of
+  the thesis; instead its reason is checked on the measured value (the same run: a change of exactly 0; the
+  cap:
   the change of the cap within 1 %);
 - any other failure fails.
 
@@ -32,9 +33,9 @@ from typer.testing import CliRunner
 
 from floebreak.cli import app
 from floebreak.studies.field_size import thesis_scenario
-from floebreak.studies.inert import CAP_TOLERANCE, inert_flags
-from floebreak.studies.statements import STATEMENTS
-from floebreak.studies.validate import HOLDOUT_SAMPLE, HOLDOUT_SUFFIX, POINTS, Sample
+from floebreak.validation.inert import CAP_TOLERANCE, inert_flags
+from floebreak.validation.statements import STATEMENTS
+from floebreak.validation.validate import HOLDOUT_SAMPLE, HOLDOUT_SUFFIX, POINTS, Sample
 
 pytestmark = pytest.mark.validation
 
