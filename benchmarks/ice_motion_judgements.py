@@ -38,12 +38,12 @@ import pymunk
 import shapely
 from shapely.affinity import translate
 
-from floebreak import simulation
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
 from floebreak.config.scenario import Scenario
 from floebreak.dynamics import engine
+from floebreak.engine import loop as simulation
 from floebreak.engine.loop import SimulationParams, simulate
-from floebreak.engine.motion.dynamic import IceMotion
+from floebreak.engine.motion.dynamic import DynamicIce as IceMotion
 from floebreak.mechanics import compile_kernels
 
 TOLERANCE = 1e-9
@@ -51,10 +51,10 @@ TOLERANCE = 1e-9
 # body is built inside whichever call first needs it)
 TIMED = (
     ("static loop (_evaluate_queue)", simulation._Run, "_evaluate_queue"),
-    ("between searches (IceMotion.advance_to)", IceMotion, "advance_to"),
+    ("between searches (DynamicIce.advance_to)", IceMotion, "advance_to"),
     ("engine steps (IceMotionEngine.step)", engine.IceMotionEngine, "step"),
     ("bodies built (IceMotionEngine._materialize)", engine.IceMotionEngine, "_materialize"),
-    ("moved outlines stored (IceMotion.flush)", IceMotion, "flush"),
+    ("moved outlines stored (DynamicIce.flush)", IceMotion, "flush"),
     ("skip check of moved pieces (_apart_after_moving)", simulation._Run, "_apart_after_moving"),
 )
 

@@ -18,7 +18,7 @@ from floebreak.app import run as run_module
 from floebreak.errors import InputError
 from floebreak.output.field_files import load_field, save_field
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 SMALL = ["field.length_m=60.0"]  # a short reference field (the full one is the CLI demo test)
 PIECE_COLUMNS = {
     "geometry",

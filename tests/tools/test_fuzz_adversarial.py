@@ -50,5 +50,5 @@ def test_a_run_over_the_time_limit_is_flagged():
 
 
 def test_the_makefile_runs_both_generators():
-    makefile = (Path(__file__).resolve().parents[1] / "Makefile").read_text(encoding="utf-8")
+    makefile = (Path(__file__).resolve().parents[2] / "Makefile").read_text(encoding="utf-8")
     assert "--generator valid" in makefile and "--generator adversarial" in makefile
