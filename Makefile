@@ -18,7 +18,7 @@ demo: $(STAMP)
 	$(BIN)/floebreak demo --out demo-output --overwrite
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks scripts validation
+	$(BIN)/ruff check src tests benchmarks scripts tools validation
 
 # one BLAS/OpenMP thread per process: the physics is not BLAS-bound, and extra threads only oversubscribe the cores
 # (pytest-xdist workers, one per core; benchmarks measured on one core)
@@ -48,16 +48,16 @@ bytecode:
 bench: $(STAMP) bytecode
 	@for script in $(filter-out benchmarks/compare.py,$(wildcard benchmarks/*.py)); do echo "== $$script"; OMP_NUM_THREADS=1 $(BIN)/python $$script || exit 1; done
 
-# fuzz campaigns (issues 20, 31): N random valid scenarios from SEED, then N adversarial ones (hostile field
-# files, bow CSVs and policies: floebreak.fuzz_adversarial), checked for internal errors, area balance, valid
+# fuzz campaigns: N random valid scenarios from SEED, then N adversarial ones (hostile field
+# files, bow CSVs and policies: fuzz.adversarial), checked for internal errors, area balance, valid
 # polygons, peak memory and wall time; violations saved in fuzz-report/{valid,adversarial}/
 # (benchmarks/README.md, fuzz)
 N ?= 200
 SEED ?= 1
 JOBS ?= 1
 fuzz: $(STAMP)
-	OMP_NUM_THREADS=1 $(BIN)/python -m floebreak.fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --generator valid --out fuzz-report/valid
-	OMP_NUM_THREADS=1 $(BIN)/python -m floebreak.fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --generator adversarial --out fuzz-report/adversarial
+	OMP_NUM_THREADS=1 PYTHONPATH=tools $(BIN)/python -m fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --generator valid --out fuzz-report/valid
+	OMP_NUM_THREADS=1 PYTHONPATH=tools $(BIN)/python -m fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --generator adversarial --out fuzz-report/adversarial
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache

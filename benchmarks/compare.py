@@ -46,9 +46,9 @@ import numpy as np
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
 from floebreak.mechanics import compile_kernels
-from floebreak.profiles import build_model
+from floebreak.config.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
-from floebreak.simulation import SimulationParams, simulate
+from floebreak.engine.loop import SimulationParams, simulate
 compile_kernels()
 gc.freeze()  # as the CLI does after loading the engine
 length_m, width_m, runs, profile = float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3]), sys.argv[5]

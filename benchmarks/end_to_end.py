@@ -10,7 +10,7 @@ from one run, so the machine's phase cancels; "outside/engine" is their ratio).
 Each case is a child process pinned to one CPU (``sched_setaffinity``; BLAS/OpenMP threads set to 1;
 ``--cores 2``: two CPUs, as on the issue's quiet 2-core machine, where the command line forks a figure worker
 before the run, which imports matplotlib and draws the field during it, and the other figures with a child
-of its own at the write, `floebreak.app.run_directory`). Wall
+of its own at the write, `floebreak.output.run_directory`). Wall
 time: ``time.perf_counter`` around the child. Peak memory: the child's ``ru_maxrss`` (``os.wait4`` returns
 the rusage of that one child; ``resource.getrusage(RUSAGE_CHILDREN)`` would give the maximum over all
 children so far, which hides a smaller later case). CPU time (user + system) is printed too: on a shared
@@ -140,10 +140,10 @@ def wrap(owner, attribute, name):
 def children_cpu():
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
     return usage.ru_utime + usage.ru_stime
-t0 = t = clock(); import floebreak.cli as cli; timed("import floebreak.cli", t)
-t = clock(); import floebreak.scenario as scenario; timed("import scenario", t)
+t0 = t = clock(); import floebreak.cli as cli, floebreak.cli.run as cli_run; timed("import floebreak.cli", t)
+t = clock(); import floebreak.config.scenario as scenario; timed("import scenario", t)
 t = clock(); import floebreak.api as api; timed("import the engine (floebreak.api)", t)
-import floebreak.app.run as app_run, floebreak.app.run_directory as run_directory
+import floebreak.app.run as app_run, floebreak.output.run_directory as run_directory
 from_toml = scenario.Scenario.from_toml.__func__
 def read(cls, *args, **kwargs):
     t = clock()
@@ -152,12 +152,12 @@ def read(cls, *args, **kwargs):
     finally:
         timed("read the scenario (failure modes)", t)
 scenario.Scenario.from_toml = classmethod(read)
-wrap(cli, "_prepare_kernels", "load the compiled kernels")
+wrap(cli_run, "_prepare_kernels", "load the compiled kernels")
 wrap(api, "run", "run (engine + summary)")
 wrap(app_run.Result, "write", "write the run directory")
 wrap(run_directory, "draw_figure", "of which: draw the figures (first: import matplotlib)")
 wrap(run_directory, "_save_png", "of which: render and encode the PNGs")
-wrap(run_directory, "_write_tables", "of which here: tables")
+wrap(run_directory, "_write_run_files", "of which here: files")
 out = sys.argv[1]
 sys.argv = ["floebreak", "run", "examples/reference.toml", "--quiet", "--out", out,
             "--set", "field.length_m=250", "--set", "field.width_m=200"]

@@ -40,9 +40,9 @@ from pathlib import Path
 import numpy as np
 
 from floebreak.app.run import run
-from floebreak.app.surge import recorded_ice_force_series_n
 from floebreak.dynamics import IceMotionEngine
 from floebreak.mechanics import compile_kernels
+from floebreak.output.surge import recorded_ice_force_series_n
 
 REFERENCE = Path(__file__).resolve().parents[1] / "examples" / "reference.toml"
 AT_LIMIT = 0.999  # transmitted / |F| at or above this: the joint was at its limit throughout

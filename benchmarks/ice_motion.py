@@ -40,11 +40,11 @@ from contextlib import contextmanager
 import numpy as np
 
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
+from floebreak.config.scenario import Scenario
 from floebreak.dynamics import IceMotionSettings, engine
+from floebreak.engine.loop import ContactEvaluated, SimulationParams, _Run, simulate
 from floebreak.failure.base import intact
 from floebreak.mechanics import compile_kernels
-from floebreak.scenario import Scenario
-from floebreak.simulation import ContactEvaluated, SimulationParams, _Run, simulate
 
 # the motions compared: overrides of the reference scenario; the last takes 3 engine steps of 0.028 s per
 # 0.25 m contact search instead of 5 of 0.017 s (`time_step_s` 0.04: the convergence table of docs/model.md
@@ -224,10 +224,10 @@ def time_step_table(time_steps_s: tuple[float, ...], seeds: tuple[int, ...]) -> 
 
 @contextmanager
 def _judged_only_every(judged_at_m: float | None):
-    """Within the block, a run's failure judgements (`floebreak.simulation._Run._judge`) leave every piece
+    """Within the block, a run's failure judgements (`floebreak.engine.loop._Run.judge`) leave every piece
     intact except at the searches on multiples of `judged_at_m` from the start (the hold forces are still
     refreshed at every search): the coarse step's judgement spacing without its force lag."""
-    original = _Run._judge
+    original = _Run.judge
     if judged_at_m is not None:
 
         def judge(self, pid, polygon_bf, contact):
@@ -239,11 +239,11 @@ def _judged_only_every(judged_at_m: float | None):
                 else (classification, intact("none"))
             )
 
-        _Run._judge = judge
+        _Run.judge = judge
     try:
         yield
     finally:
-        _Run._judge = original
+        _Run.judge = original
 
 
 def search_step_table(

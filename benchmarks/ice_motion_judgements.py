@@ -2,7 +2,7 @@
 piece already judged, whether a cache could serve them, and their CPU time.
 
 A judgement is one call of the stepping loop's per-piece failure judgement
-(`floebreak.simulation._Run._judge`: classification and failure dispatch of a piece in contact). On the
+(`floebreak.engine.loop._Run.judge`: classification and failure dispatch of a piece in contact). On the
 reference transit (`default` profile, observation 2019-12-18T20:20, h = 1 m, `agulhas_ii`, 0.25 m searches;
 1 km × 200 m, or 385 m × 100 m with `--short`), for `static` and for `dynamic` at each engine time step of
 `--steps` (default 0.02; e.g. `--steps 0.02,0.04`):
@@ -38,23 +38,23 @@ import pymunk
 import shapely
 from shapely.affinity import translate
 
-from floebreak import simulation
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
+from floebreak.config.scenario import Scenario
 from floebreak.dynamics import engine
+from floebreak.engine import loop as simulation
+from floebreak.engine.loop import SimulationParams, simulate
+from floebreak.engine.motion.dynamic import DynamicIce as IceMotion
 from floebreak.mechanics import compile_kernels
-from floebreak.scenario import Scenario
-from floebreak.simulation import SimulationParams, simulate
-from floebreak.simulation_motion import IceMotion
 
 TOLERANCE = 1e-9
 # where the time goes: process time inside each of these (inclusive: the engine step holds Chipmunk's, a
 # body is built inside whichever call first needs it)
 TIMED = (
     ("static loop (_evaluate_queue)", simulation._Run, "_evaluate_queue"),
-    ("between searches (IceMotion.advance_to)", IceMotion, "advance_to"),
+    ("between searches (DynamicIce.advance_to)", IceMotion, "advance_to"),
     ("engine steps (IceMotionEngine.step)", engine.IceMotionEngine, "step"),
     ("bodies built (IceMotionEngine._materialize)", engine.IceMotionEngine, "_materialize"),
-    ("moved outlines stored (IceMotion.flush)", IceMotion, "flush"),
+    ("moved outlines stored (DynamicIce.flush)", IceMotion, "flush"),
     ("skip check of moved pieces (_apart_after_moving)", simulation._Run, "_apart_after_moving"),
 )
 
@@ -105,7 +105,7 @@ def _wrapped(tally: _Tally):
     wrapped to feed `tally`; the originals restored on exit."""
     run_cls, engine_cls = simulation._Run, engine.IceMotionEngine
     judge, evaluate, step, space_step = (
-        run_cls._judge,
+        run_cls.judge,
         run_cls._evaluate_piece,
         engine_cls.step,
         pymunk.Space.step,
@@ -132,7 +132,7 @@ def _wrapped(tally: _Tally):
         tally.chipmunk_ns += time.process_time_ns() - start
         tally.chipmunk_steps += 1
 
-    run_cls._judge, run_cls._evaluate_piece = timed_judge, located_evaluate
+    run_cls.judge, run_cls._evaluate_piece = timed_judge, located_evaluate
     engine_cls.step, pymunk.Space.step = counted_step, timed_space_step
     originals = [(owner, attr, getattr(owner, attr)) for _, owner, attr in TIMED]
     for (name, owner, attr), (_, _, original) in zip(TIMED, originals, strict=True):
@@ -142,7 +142,7 @@ def _wrapped(tally: _Tally):
     finally:
         for owner, attr, original in reversed(originals):
             setattr(owner, attr, original)
-        run_cls._judge, run_cls._evaluate_piece = judge, evaluate
+        run_cls.judge, run_cls._evaluate_piece = judge, evaluate
         engine_cls.step, pymunk.Space.step = step, space_step
 
 

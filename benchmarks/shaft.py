@@ -15,8 +15,8 @@ import tracemalloc
 import numpy as np
 import opentorsion  # noqa: F401  (imported here: its import, ≈ 1 s with matplotlib.pyplot, is not timed)
 
+from floebreak.app.inputs import load_shaft_line
 from floebreak.shaft.excitation import ice_torque_series
-from floebreak.shaft.line import load_shaft_line
 from floebreak.shaft.response import station_torque_n_m
 
 

@@ -19,13 +19,13 @@ import time
 
 import numpy as np
 
+from floebreak.config.profiles import build_model
+from floebreak.engine.loop import SimulationParams, simulate
 from floebreak.failure import bending, cracking, local_cracking
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
 from floebreak.mechanics import compile_kernels
-from floebreak.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
-from floebreak.simulation import SimulationParams, simulate
 
 
 def record_run(length_m: float, width_m: float) -> tuple[list, float]:

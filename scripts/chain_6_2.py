@@ -35,9 +35,9 @@ from pathlib import Path
 import numpy as np
 
 import floebreak
-from floebreak.io.run_files import read_run_cusps
-from floebreak.propeller.fem import shipped_fem_tables
-from floebreak.propeller.milling import IceBlock, IceStrength, impact_loads
+from floebreak.app.inputs import load_shaft_line, shipped_fem_tables
+from floebreak.output.run_files import read_run_cusps
+from floebreak.propeller.loads.milling import IceBlock, IceStrength, impact_loads
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.shaft.analysis import (
     MILLING_INPUT_COLUMNS,
@@ -49,7 +49,6 @@ from floebreak.shaft.analysis import (
 )
 from floebreak.shaft.drive import drive_for_line, simulate_drive, train_from_line
 from floebreak.shaft.excitation import impacts_per_cusp
-from floebreak.shaft.line import load_shaft_line
 
 SPEED_M_S, MEAN_TORQUE_N_M, THICKNESS_M = 3.0, 105e3, 0.4
 MEASURED_MAX_KNM, MEASURED_ABOVE_KNM = 400.0, (58.0, 152.0)

@@ -16,9 +16,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from floebreak.propeller.fem import shipped_fem_tables
+from floebreak.app.inputs import shipped_fem_tables
 from floebreak.propeller.iceclass import POLAR_CLASSES, ur_i3_loads
-from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
+from floebreak.propeller.loads.milling import BladeGeometry, IceBlock, impact_loads
 from floebreak.propeller.spec import PropellerSpec
 
 RPM = 140.0

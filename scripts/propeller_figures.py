@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from floebreak.studies.chain_statements import blade_load_rate, lifetime_max_ratio
+from floebreak.validation.chain_statements import blade_load_rate, lifetime_max_ratio
 
 
 def _columns(path: Path) -> dict[str, np.ndarray]:

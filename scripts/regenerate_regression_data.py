@@ -21,7 +21,7 @@ import numpy as np
 import floebreak
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
-from floebreak.io.field_files import save_field
+from floebreak.output.field_files import save_field
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "regression" / "data"
 FIELD_FILE = "field.parquet"

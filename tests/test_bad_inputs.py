@@ -1,4 +1,4 @@
-"""The bad-input table of issue 20: each kind of bad input or trouble a user meets, the exit code and the
+"""The bad-input table: each kind of bad input or trouble a user meets, the exit code and the
 message it gives, run through the command line in-process. Rows of refused input, a refusing machine and
 Ctrl-C (exit codes 2, 3, 130) also check that nothing was written and that no traceback was printed.
 
@@ -111,7 +111,7 @@ def _disk_full(folder: Path, monkeypatch) -> list[str]:
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(importlib.import_module("floebreak.app.run_directory"), "write_geoparquet", full)
+    monkeypatch.setattr(importlib.import_module("floebreak.output.run_directory"), "write_geoparquet", full)
     return _run()(folder, monkeypatch)
 
 

@@ -1,4 +1,4 @@
-"""report.html in a real headless browser (issue 30): a demo run with its propeller analysis (PC5, operating
+"""report.html in a real headless browser: a demo run with its propeller analysis (PC5, operating
 profile) and shaft line renders every section, every figure decodes, and the screenshots are kept.
 
 Marked `browser` (not in the default run): `make test-browser` installs Debian's Chromium where it is missing

@@ -1,4 +1,4 @@
-"""The console entry point alone changes the garbage collector (issue 34): a test process or a script that
+"""The console entry point alone changes the garbage collector: a test process or a script that
 calls `floebreak.cli.main` runs with Python's defaults."""
 
 from __future__ import annotations

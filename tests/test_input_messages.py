@@ -1,4 +1,4 @@
-"""Messages that misled (issue 31, item 6): each names the parameter or file and the fix, in the user's units,
+"""Messages that misled: each names the parameter or file and the fix, in the user's units,
 and its numbers agree with each other. The reproducers are rebuilt from the issue's descriptions."""
 
 from __future__ import annotations
@@ -9,10 +9,10 @@ import re
 import numpy as np
 import pytest
 
+from floebreak.config.scenario import Scenario
 from floebreak.errors import InputError
 from floebreak.ice.generation import CONCENTRATION_TOLERANCE, ConcentrationError, floe_counts, generate_field
 from floebreak.ice.observations import Observation, get_observation
-from floebreak.scenario import Scenario
 from floebreak.ship.hulls import agulhas_ii, polarstern
 from floebreak.studies.design import load_study
 

@@ -1,4 +1,4 @@
-"""Mirror symmetry under `ice_motion = "static"` (issue 29, item 2): a floe with an exactly mirror-symmetric
+"""Mirror symmetry under `ice_motion = "static"`: a floe with an exactly mirror-symmetric
 outline on the centreline of the symmetric reference bow must break into pieces that are mirror images of
 each other. The expectation is the symmetry itself (no value from the code under test): every piece the run
 leaves (cusp, flipped, remaining) has a mirror image among them, to rounding.
@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 import shapely
 
+from floebreak.config.profiles import build_model
+from floebreak.engine.loop import SimulationParams, simulate
 from floebreak.ice.field import FloeField
-from floebreak.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
-from floebreak.simulation import SimulationParams, simulate
 
 ROUNDING_M = 1e-9  # the mirror of a piece lies this close to a piece of the run (measured ≤ 2.5e-13 m)
 

@@ -1,5 +1,5 @@
-"""Regression tests of issue 20: what a user types must not crash the program, exhaust the machine or lose a
-result. Each test is one failure the issue's campaigns found (bad numbers, environment errors, Ctrl-C,
+"""Regression tests: what a user types must not crash the program, exhaust the machine or lose a
+result. Each test is one failure a campaign found (bad numbers, environment errors, Ctrl-C,
 memory on thin ice); the fuzz harness (`floebreak.testing.fuzz`, `make fuzz`) keeps looking for more. The
 cases that are one command line and its exit code and message (a pseudo file system, a full disk, a bow
 CSV's bad row, an unknown figure format, the piece budget, …) are rows of tests/test_bad_inputs.py."""
@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 
 import floebreak
+from floebreak.config.scenario import json_schema
+from floebreak.engine.loop import PieceBudgetError
 from floebreak.errors import InputError
 from floebreak.io.storage import StorageError, probe_directory
-from floebreak.scenario import json_schema
-from floebreak.simulation import PieceBudgetError
 
 SMALL = ["field.length_m=60.0"]
 
@@ -30,7 +30,7 @@ def _scenario(tmp_path: Path, text: str = "[field]\nlength_m = 60.0\n") -> str:
     return str(path)
 
 
-# --- inputs: non-finite and absurd numbers (issue 20, failure 3) ---------------------------------------
+# --- inputs: non-finite and absurd numbers ---------------------------------------
 
 ISSUE_INPUTS = [
     ("ice.youngs_modulus_pa=inf", "ice.youngs_modulus_pa"),
@@ -318,7 +318,7 @@ CRESCENT_XY_M = [
 def test_a_crescent_made_invalid_by_translation_keeps_its_area():
     import shapely
 
-    from floebreak.simulation import _translate_pieces
+    from floebreak.engine.loop import _translate_pieces
 
     crescent = shapely.Polygon(CRESCENT_XY_M)
     assert crescent.is_valid
@@ -411,7 +411,7 @@ def test_ten_thousand_inline_floes_are_checked_for_overlap_by_index():
 def test_failure_chain_from_the_written_pieces_file(tmp_path):
     import pyarrow.parquet as pq
 
-    from floebreak.results import failure_chain
+    from floebreak.engine.records import failure_chain
 
     result = floebreak.run(overrides=SMALL)
     result.write(tmp_path / "run", figures=False, report=False)

@@ -1,4 +1,4 @@
-"""Issue 31, item 4 and message 6: SIGTERM of `run` gave exit 143 and left the hidden ``.out.spool-*``
+"""SIGTERM of `run` gave exit 143 and left the hidden ``.out.spool-*``
 directory; under an inherited ignored SIGINT an interrupt printed ``KeyboardInterrupt:`` and exited 0.
 SIGTERM now unwinds like Ctrl-C (clean-up, one line, exit 143), and a signal at any moment gives one line
 and its code."""

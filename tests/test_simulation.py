@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 import shapely
 
+from floebreak.engine.loop import SimulationParams, simulate
+from floebreak.engine.records import ContactRecorder, crushing_force_per_evaluation_n
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
-from floebreak.results import ContactRecorder, crushing_force_per_evaluation_n
 from floebreak.ship.hulls import agulhas_ii
-from floebreak.simulation import SimulationParams, simulate
 
 BOW = agulhas_ii(ice_thickness_m=1.0)
 
@@ -48,7 +48,7 @@ def test_same_field_same_result():
 def test_pieces_out_of_contact_are_skipped_until_they_can_touch_the_hull(monkeypatch):
     """Skipping pieces that cannot touch the hull yet changes nothing: the run without the skip (every
     piece in the hull's box evaluated every step) gives the same pieces and contact records."""
-    import floebreak.simulation as simulation
+    import floebreak.engine.loop as simulation
 
     field = small_field(4)
     evaluated = []
@@ -76,7 +76,7 @@ def test_the_candidate_search_distance_changes_no_result():
     """`dist_bow_max_m` (thesis §3.2) only pre-selects the pieces whose contact is evaluated: contact itself
     is decided on the hull, so the breaking result is the same for 0 m and 5 m (its elasticity is zero, the
     sensitivity table says so instead of varying it)."""
-    from floebreak.profiles import build_model
+    from floebreak.config.profiles import build_model
 
     field = small_field(3, length=100.0)
     model = build_model("default")
@@ -141,7 +141,7 @@ def test_bad_stepping_parameters(kwargs, field):
 
 @pytest.mark.slow
 def test_step_convergence_on_the_reference_field():
-    """Halving x_step changes the floes contacted and the summed contact impulse by < 2 % (issue 3)."""
+    """Halving x_step changes the floes contacted and the summed contact impulse by < 2 %."""
     obs = get_observation("2019-12-18T20:20")
     field = generate_field(obs, 400.0, 50.0, np.random.default_rng(1), thickness_m=1.0)
     results = {}
@@ -162,7 +162,7 @@ def test_breaking_is_port_starboard_symmetric_for_a_mirrored_floe(position, diam
     # An exact mirror image of a floe must break into the mirror image of the same pieces: same counts, same
     # cusp / flipped / remaining areas up to rounding. (Two defects broke this: the zone centre came from an
     # overlay of collinear segments, and wedge-fan rays along the waterline were kept or not by rounding.)
-    from floebreak.profiles import build_model
+    from floebreak.config.profiles import build_model
     from floebreak.studies.single_floe import SingleFloeCase, single_floe_field
 
     bow = agulhas_ii(ice_thickness_m=thickness_m)
@@ -193,7 +193,7 @@ CRESCENT = [
 
 
 def test_translated_pieces_are_valid_polygons_of_the_same_area():
-    from floebreak.simulation import _translate_pieces
+    from floebreak.engine.loop import _translate_pieces
 
     crescent = shapely.Polygon(CRESCENT)
     assert not shapely.is_valid(crescent)  # the input is what a run produced
@@ -213,7 +213,7 @@ def test_translated_pieces_are_valid_polygons_of_the_same_area():
 def test_floes_no_generator_made_are_checked_like_broken_pieces(monkeypatch, generated):
     # broken pieces may be nearly degenerate, and so may floes from a user's file or inline floes: those are
     # checked after every translation into the bow frame; a generator's floes (64-gons, cells) are not
-    from floebreak import simulation
+    from floebreak.engine import loop as simulation
 
     field = small_field(1, length=60.0)
     if not generated:
@@ -229,7 +229,7 @@ def test_floes_no_generator_made_are_checked_like_broken_pieces(monkeypatch, gen
         return original(polygons, dx, check)
 
     monkeypatch.setattr(simulation, "_translate_pieces", recording)
-    from floebreak.profiles import build_model
+    from floebreak.config.profiles import build_model
 
     result = simulate(field, BOW, build_model("default"), SimulationParams(step_m=0.5))
     flags = np.concatenate(flags)
@@ -299,7 +299,7 @@ def test_thicker_ice_bends_less_and_leaves_more_of_the_floes_it_touches_in_the_f
     assert thick_left_m2 > 1.3 * thin_left_m2
 
 
-# a 13 m² piece of a local_cracking split in 0.04 m ice (fuzz campaign seed 3, scenario 1805, issue 20), in
+# a 13 m² piece of a local_cracking split in 0.04 m ice (fuzz campaign seed 3, scenario 1805), in
 # the bow frame at bow x = 6 m: valid there, self-intersecting once moved into the field (rounding of x + 6)
 PINCHED_PIECE_WKB = (
     "010300000001000000160000005C2271EBF18C26401B1B1CDE0A5F32408556B8B5AB5E274007DBE91F908432409A673F20C4F4C5"
@@ -314,7 +314,7 @@ PINCHED_PIECE_WKB = (
 
 
 def test_a_piece_made_invalid_by_the_move_into_the_field_keeps_its_area():
-    from floebreak.simulation import _into_field
+    from floebreak.engine.loop import _into_field
 
     piece = shapely.from_wkb(PINCHED_PIECE_WKB)
     assert shapely.is_valid(piece)

@@ -1,4 +1,4 @@
-"""Each command imports only what it uses (issue 34 §6): checked on `sys.modules` of a fresh interpreter,
+"""Each command imports only what it uses: checked on `sys.modules` of a fresh interpreter,
 not on timings (benchmarks/startup.py measures those)."""
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ def test_the_package_and_the_command_line_load_no_heavy_library(statement):
 def test_a_run_loads_no_figure_netcdf_or_dask_library_before_it_draws():
     # a run imports the engine (numba, scipy.interpolate for the Nevel table) but neither matplotlib (the
     # figures import it when they are drawn) nor scipy.integrate (only the Nevel table's generation)
-    loaded = loaded_after("import floebreak.app.run, floebreak.scenario")
+    loaded = loaded_after("import floebreak.app.run, floebreak.config.scenario")
     assert not {"matplotlib", "xarray", "dask", "scipy.integrate"} & loaded
 
 

@@ -16,31 +16,34 @@ libraries (numba, scipy.optimize, pyarrow), which take most of a start's time an
 from __future__ import annotations
 
 import importlib
+import sys
+import warnings
+from importlib.machinery import ModuleSpec
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # for type checkers and IDEs; at run time `__getattr__` imports them on first use
+    from floebreak.app.inputs import load_shaft_line
     from floebreak.app.propeller import analyse_propeller, propeller_analysis
     from floebreak.app.run import Result, run
     from floebreak.app.shaft import write_shaft_analysis
+    from floebreak.config.profiles import PROFILES, build_model
+    from floebreak.config.scenario import Scenario
+    from floebreak.engine.loop import Model, SimulationParams, SimulationResult, simulate
     from floebreak.errors import InputError
     from floebreak.failure import mode_names, register_mode, registered_mode, unregister_mode
     from floebreak.ice.field import FloeField
     from floebreak.ice.generation import generate_field
     from floebreak.ice.observations import Observation, get_observation, thesis_observations
-    from floebreak.io.voyage_log import read_voyage_log
-    from floebreak.profiles import PROFILES, build_model
     from floebreak.propeller.pipeline import PropellerResult
-    from floebreak.scenario import Scenario
     from floebreak.shaft.analysis import shaft_response
-    from floebreak.shaft.line import load_shaft_line
     from floebreak.ship.bow import Bow
     from floebreak.ship.hulls import get_hull
-    from floebreak.simulation import Model, SimulationParams, SimulationResult, simulate
     from floebreak.studies.aggregate import aggregate as aggregate_study
     from floebreak.studies.design import expand as expand_study
     from floebreak.studies.design import load_study, thesis_study
     from floebreak.studies.runner import run_study
     from floebreak.studies.voyage import prepare_voyage, run_voyage
+    from floebreak.studies.voyage_log import read_voyage_log
 
 # public name → the module that defines it ("module:name" where the public name differs)
 _LAZY = {
@@ -49,32 +52,32 @@ _LAZY = {
     "Bow": "floebreak.ship.bow",
     "FloeField": "floebreak.ice.field",
     "InputError": "floebreak.errors",
-    "Model": "floebreak.simulation",
+    "Model": "floebreak.engine.loop",
     "Observation": "floebreak.ice.observations",
-    "PROFILES": "floebreak.profiles",
+    "PROFILES": "floebreak.config.profiles",
     "Result": "floebreak.app.run",
-    "Scenario": "floebreak.scenario",
-    "SimulationParams": "floebreak.simulation",
-    "SimulationResult": "floebreak.simulation",
-    "build_model": "floebreak.profiles",
+    "Scenario": "floebreak.config.scenario",
+    "SimulationParams": "floebreak.engine.loop",
+    "SimulationResult": "floebreak.engine.loop",
+    "build_model": "floebreak.config.profiles",
     "generate_field": "floebreak.ice.generation",
     "get_hull": "floebreak.ship.hulls",
     "get_observation": "floebreak.ice.observations",
-    "load_shaft_line": "floebreak.shaft.line",
+    "load_shaft_line": "floebreak.app.inputs",
     "load_study": "floebreak.studies.design",
     "mode_names": "floebreak.failure",
     "PropellerResult": "floebreak.propeller.pipeline",
     "analyse_propeller": "floebreak.app.propeller",
     "prepare_voyage": "floebreak.studies.voyage",
     "propeller_analysis": "floebreak.app.propeller",
-    "read_voyage_log": "floebreak.io.voyage_log",
+    "read_voyage_log": "floebreak.studies.voyage_log",
     "register_mode": "floebreak.failure",
     "registered_mode": "floebreak.failure",
     "run": "floebreak.app.run",
     "run_study": "floebreak.studies.runner",
     "run_voyage": "floebreak.studies.voyage",
     "shaft_response": "floebreak.shaft.analysis",
-    "simulate": "floebreak.simulation",
+    "simulate": "floebreak.engine.loop",
     "thesis_observations": "floebreak.ice.observations",
     "thesis_study": "floebreak.studies.design",
     "unregister_mode": "floebreak.failure",
@@ -138,3 +141,60 @@ def __getattr__(name: str):
 
 def __dir__() -> list[str]:
     return sorted({*globals(), *_LAZY, "__version__"})
+
+
+# module paths of the previous release → their new home; importing an old path warns and gives the new module
+# (kept for one release, docs/architecture.md)
+_MOVED = {
+    "floebreak.simulation": "floebreak.engine.loop",
+    "floebreak.simulation_events": "floebreak.engine.events",
+    "floebreak.simulation_motion": "floebreak.engine.motion.dynamic",
+    "floebreak.results": "floebreak.engine.records",
+    "floebreak.scenario": "floebreak.config.scenario",
+    "floebreak.profiles": "floebreak.config.profiles",
+    "floebreak.report": "floebreak.output.report",
+    "floebreak.replay": "floebreak.app.replay",
+    "floebreak.cli_options": "floebreak.cli.options",
+    "floebreak.app.run_directory": "floebreak.output.run_directory",
+    "floebreak.app.poses": "floebreak.output.poses",
+    "floebreak.app.surge": "floebreak.output.surge",
+    "floebreak.app.figure_process": "floebreak.output.figure_process",
+    "floebreak.io.propeller": "floebreak.output.propeller_files",
+    "floebreak.propeller.fem": "floebreak.propeller.loads.fem",
+    "floebreak.propeller.milling": "floebreak.propeller.loads.milling",
+    "floebreak.io.shaft_files": "floebreak.output.shaft_files",
+    "floebreak.io.field_files": "floebreak.output.field_files",
+    "floebreak.io.run_files": "floebreak.output.run_files",
+    "floebreak.io.voyage_log": "floebreak.studies.voyage_log",
+    "floebreak.studies.cli": "floebreak.cli.study",
+    "floebreak.studies.validate_cli": "floebreak.cli.validate",
+    "floebreak.studies.statements": "floebreak.validation.statements",
+    "floebreak.studies.chain_statements": "floebreak.validation.chain_statements",
+    "floebreak.studies.scoreboard": "floebreak.validation.scoreboard",
+    "floebreak.studies.validate": "floebreak.validation.validate",
+    "floebreak.studies.validation_report": "floebreak.validation.validation_report",
+    "floebreak.studies.sensitivity": "floebreak.validation.sensitivity",
+    "floebreak.studies.inert": "floebreak.validation.inert",
+}
+
+
+class _MovedModules:
+    """A `sys.meta_path` finder and loader: an old module path (`_MOVED`) is the module at its new path."""
+
+    @staticmethod
+    def find_spec(fullname: str, path=None, target=None) -> ModuleSpec | None:
+        return ModuleSpec(fullname, _MovedModules) if fullname in _MOVED else None
+
+    @staticmethod
+    def create_module(spec: ModuleSpec):
+        new = _MOVED[spec.name]
+        warnings.warn(f"{spec.name} is deprecated; import {new}", DeprecationWarning, stacklevel=2)
+        return importlib.import_module(new)
+
+    @staticmethod
+    def exec_module(module) -> None:
+        pass  # the new module is already executed
+
+
+if not any(finder is _MovedModules for finder in sys.meta_path):
+    sys.meta_path.insert(0, _MovedModules)

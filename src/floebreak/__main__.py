@@ -16,7 +16,7 @@ Python's defaults).
   `exit_codes.interruption()`'s line and code.
 - Once the command has returned (interpreter shutdown, atexit callbacks), a signal ends the process at once
   again: raised there, a KeyboardInterrupt printed "Exception ignored … KeyboardInterrupt:" and the process
-  exited 0 (issue 31; seen with a SIGINT that the parent had set to be ignored, which a command started in
+  exited 0 (seen with a SIGINT that the parent had set to be ignored, which a command started in
   the background inherits).
 """
 

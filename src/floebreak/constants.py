@@ -59,5 +59,9 @@ PSI_MIN_DEG: Final = 10.0  # near-vertical panel guard, physics-notes §2.2
 
 # --- Propeller loads: time base (thesis §6.1, §6.3) -----------------------------------------------
 SHIP_SPEED_IN_ICE_M_S: Final = 3.0  # ship surge speed in ice, thesis §6.3 (Eq. 28: v_cusp = v_ship = 3 m/s)
-PROPELLER_COUNT: Final = 2  # the Agulhas II has two controllable-pitch propellers, thesis §6.1
+# the ranges a scenario allows, shared by the propeller's own checks: 20 m/s ≈ 39 kn is above any ice-going
+# ship's top speed in open water; ice-going ships have 1–4 propellers (Agulhas II 2, thesis §6.1), 8 leaves
+# room
+SHIP_SPEED_RANGE_M_S: Final = (0.0, 20.0)
+PROPELLER_COUNT_RANGE: Final = (1, 8)
 FRACTION_REACHING_PROPELLER: Final = 1.0  # every cusp reaches a propeller, as the thesis assumes (§6.2)

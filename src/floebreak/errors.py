@@ -79,7 +79,7 @@ class Bounds:
     """The allowed interval of a setting, carried in its type: ``x: Annotated[float, Bounds(0.0, 60.0)]``.
 
     One source for the range check of a settings dataclass (`check_bounds`, from its ``__post_init__``) and
-    for the scenario table built from it (`floebreak.scenario`: validation and ``floebreak schema``).
+    for the scenario table built from it (`floebreak.config.scenario`: validation and ``floebreak schema``).
     """
 
     low: float

@@ -84,7 +84,7 @@ def test_yaw_form_integral_of_a_ring_with_a_repeated_vertex_counts_the_empty_edg
 
 
 def test_two_vertices_that_meet_in_the_body_frame_give_one():
-    """A crack ending 5e-17 m from a vertex (the centred floe of issue 29's crash): the two vertices are
+    """A crack ending 5e-17 m from a vertex (the centred floe of a crash): the two vertices are
     distinct in the field frame and one point once the centroid (1, 1) is subtracted."""
     polygon = shapely.Polygon([(0, 0), (2, 0), (2, 5e-17), (2, 2), (0, 2)])
     assert polygon.is_valid

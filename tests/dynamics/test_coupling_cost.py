@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from floebreak import simulation
 from floebreak.app.build import build_bow, build_field, build_model_for, ice_motion_params
-from floebreak.scenario import Scenario
-from floebreak.simulation import SimulationParams, StepDone, _Run, simulate
-from floebreak.simulation_motion import IceMotion
+from floebreak.config.scenario import Scenario
+from floebreak.engine import loop as simulation
+from floebreak.engine.loop import SimulationParams, StepDone, _Run, simulate
+from floebreak.engine.motion.dynamic import DynamicIce
 
 SHORT = ["field.length_m=50"]  # the reference observation's floes, 50 m × 100 m
 
@@ -41,13 +41,13 @@ def test_outlines_stored_when_read_equal_outlines_stored_at_every_search(monkeyp
     for pid in held:
         assert shapely.equals_exact(lazy.polygon[pid], engine.polygon(pid), 0.0)
         assert tuple(lazy.piece_bounds_m[pid]) == tuple(shapely.bounds(engine.polygon(pid)))
-    advance_to = IceMotion.advance_to
+    advance_to = DynamicIce.advance_to
 
     def at_once(self, bow_x):
         advance_to(self, bow_x)
         self.flush()
 
-    monkeypatch.setattr(IceMotion, "advance_to", at_once)
+    monkeypatch.setattr(DynamicIce, "advance_to", at_once)
     eager = _reference_run("simulation.ice_motion=dynamic")
     assert _same_pieces(lazy, eager)
     assert np.array_equal(lazy.piece_bounds_m, eager.piece_bounds_m)

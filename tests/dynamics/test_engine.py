@@ -1,4 +1,4 @@
-"""Checks a dynamics engineer would run (issue 29 item 5), expectations computed here, independently."""
+"""Checks a dynamics engineer would run, expectations computed here, independently."""
 
 from __future__ import annotations
 

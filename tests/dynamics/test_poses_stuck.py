@@ -1,5 +1,5 @@
-"""The pose recorder of a run that stops stuck (issue 29 item 7; `floebreak.app.poses.PoseRecorder.finish`):
-such a run ends before its planned last step, after one more interval of ice motion, and poses.parquet must
+"""The pose recorder of a run that stops stuck (`floebreak.output.poses.PoseRecorder.finish`): such a run
+ends before its planned last step, after one more interval of ice motion, and poses.parquet must
 end where the ice ended (the outlines of pieces.parquet), not at the last multiple of the pose interval."""
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ import pytest
 import shapely
 
 import floebreak
+from floebreak.config.scenario import Scenario
+from floebreak.engine.loop import StepDone
 from floebreak.io.poses import read_poses
-from floebreak.scenario import Scenario
-from floebreak.simulation import StepDone
 
 INTERVAL = 8
 # the regression's stored field (150 m × 50 m of reference floes), not one generated here: how a field is

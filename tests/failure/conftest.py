@@ -1,6 +1,6 @@
 """Shared construction for the failure-mode tests (thesis ch. 4; physics-notes §0, §1, §2).
 
-FailureInput/FailureContext objects are built from real geometry exactly as `floebreak.simulation` does
+FailureInput/FailureContext objects are built from real geometry exactly as `floebreak.engine.loop` does
 (contact → dominant zone → classification → bow region). The expectations of the tests come from the
 independent helpers below (physics-notes values), never from the code under test.
 

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 import shapely
 
+from floebreak.config.profiles import build_model
 from floebreak.failure import Bending, BendingSettings, Fate, Status
 from floebreak.failure.bending import bending_check
-from floebreak.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.studies.single_floe import SingleFloeCase, run_case
 

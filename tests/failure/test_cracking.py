@@ -185,7 +185,7 @@ def test_indentation_depth_is_the_penetration(make_input, context, kit):
 def test_line_load_has_no_singularity_at_first_touch(make_input, context, kit, penetration_m):
     """Default: the line load is evaluated at a = max(indentation, 0.13 b), where a crack loaded at its mouth
     in a strip of width b has its smallest K_I (physics-notes §3.3), so K_I → 0 with the load at first touch
-    instead of reaching K_Ic at a few kN with a = 1 mm (issue 16: F_h ≈ 3.7 kN)."""
+    instead of reaching K_Ic at a few kN with a = 1 mm (F_h ≈ 3.7 kN)."""
     floe = kit.midbody_box(WIDTH_M, LENGTH_M, penetration_m)
     inp = make_input(floe)
     f_h = kit.panel0_forces_per_area()[1] * WIDTH_M * penetration_m
@@ -381,11 +381,11 @@ def test_flexural_and_tensile_stress_start_the_same_crack_with_the_load(make_inp
 
 @pytest.mark.parametrize("spelling", ["table", "flat"])
 def test_a_self_locking_wedge_is_refused_when_the_scenario_is_read(spelling):
-    # fuzz campaign (issue 20): wedge_friction = 2 within its [0, 2] with the default tip angle 64.54° passed
+    # fuzz campaign: wedge_friction = 2 within its [0, 2] with the default tip angle 64.54° passed
     # validation and was refused only at the first line-load check, mid-run, as "failure.wedge_friction";
     # μ tan(α/2) = 2 tan(32.27°) = 1.26 ≥ 1 is self-locking (physics-notes §3.3)
+    from floebreak.config.scenario import Scenario
     from floebreak.errors import InputError
-    from floebreak.scenario import Scenario
 
     assert 2.0 * math.tan(math.radians(64.54 / 2.0)) >= 1.0
     cracking = {"wedge_friction": 2.0}

@@ -1,4 +1,4 @@
-"""Failure modes that load everywhere (issue 34): the toy `Halving` mode of test_registry.py as a plug-in
+"""Failure modes that load everywhere: the toy `Halving` mode of test_registry.py as a plug-in
 module named by a scenario (``[failure] plugins``) — from the command line and in a 2-worker study, whose
 spawned workers never saw the parent's registration — and as an installed package's entry point
 (``floebreak.failure_modes``); a bad plug-in is an InputError naming ``failure.plugins`` and the module."""
@@ -16,9 +16,9 @@ from pathlib import Path
 import pytest
 
 import floebreak
+from floebreak.config.scenario import Scenario
 from floebreak.errors import InputError
 from floebreak.failure import registry
-from floebreak.scenario import Scenario
 from floebreak.studies.design import StudySpec, expand
 from floebreak.studies.executors import ProcessPoolExecutor
 from floebreak.studies.runner import run_study
@@ -143,7 +143,7 @@ ENTRY_POINTS = f"[floebreak.failure_modes]\nhalving = {MODULE}:Halving\n"
 
 CHECK_ENTRY_POINT = """
 from floebreak.failure import get_mode
-from floebreak.scenario import Scenario
+from floebreak.config.scenario import Scenario
 spec = get_mode("halving")
 print(spec.settings.__name__, Scenario.from_toml_text({scenario!r}).failure.mode_tables())
 """

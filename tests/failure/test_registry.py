@@ -1,4 +1,4 @@
-"""A failure mode that plugs in from outside the package (issue 17): defined here, registered through the
+"""A failure mode that plugs in from outside the package: defined here, registered through the
 public API, selected by name in a scenario and run through `floebreak.run` — no package file touched.
 docs/architecture.md ("Failure modes") shows this code."""
 

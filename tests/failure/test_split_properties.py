@@ -146,7 +146,7 @@ def test_a_strip_thinner_than_the_ice_is_no_piece(cut_y_m, thickness_m, separate
 
 
 def test_dust_of_a_split_of_rubble_is_merged():
-    """Issue 20, fuzz campaign: in 10 m ice every part of a split of a 1 m × 1 m floe is a sliver (4A/P ≤
+    """Fuzz campaign: in 10 m ice every part of a split of a 1 m × 1 m floe is a sliver (4A/P ≤
     1 m), and such parts were kept as they were — also dust of 1e-17 m² whose vertices lay one rounding step
     apart and which became invalid polygons once moved to the world frame. Dust (≤ 1e-6 m²) is merged even
     there."""

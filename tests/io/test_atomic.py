@@ -51,7 +51,7 @@ def test_a_failed_write_leaves_nothing(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-# --- atomic also at the end (issue 31, item 3) -----------------------------------------------------------
+# --- atomic also at the end -----------------------------------------------------------
 def test_a_directory_created_meanwhile_is_not_replaced(tmp_path):
     target = tmp_path / "out"
     with pytest.raises(InputError, match="created by another process while this one was writing"):

@@ -91,7 +91,7 @@ def _same_bits(parsed, expected) -> bool:
 
 
 def test_csv_floats_read_back_bit_for_bit(tmp_path):
-    # issue 34 item 3: one float format for every CSV, read back exactly by the usual readers
+    # one float format for every CSV, read back exactly by the usual readers
     x = _any_floats(np.random.default_rng(7))
     path = write_csv(tmp_path / "t.csv", {"x": x, "n": np.arange(x.size) - 5, "y": x[::-1]}, ["c"])
     finite = np.isfinite(x)

@@ -1,4 +1,4 @@
-"""The batched contact evaluation gives the same contacts as evaluating floe by floe (issue 3 performance)."""
+"""The batched contact evaluation gives the same contacts as evaluating floe by floe (a performance path)."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""Contact of a mirror-symmetric floe on the centreline of the symmetric reference bow (issue 29, mirror
+"""Contact of a mirror-symmetric floe on the centreline of the symmetric reference bow (mirror
 symmetry): the zone centre, its normal and the dominant zone must not take one side. Expected values come
 from the symmetry alone (a centre on the stem, a normal along the centreline) and from thesis Eq. 20 (the
 node normal from the neighbouring nodes), computed here from the bow's nodes."""

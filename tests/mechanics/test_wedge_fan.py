@@ -64,7 +64,7 @@ def test_disk_polygon_has_its_corners_on_the_circle():
 def test_a_fan_of_intact_ice_all_around_is_the_whole_circle(n_rays):
     # O inside a large floe, no hull: every ray meets intact ice and Θ = 2π; n · (2π/n) rounds above 2π for
     # n = 25, 41, 50, which Nevel's capacity refused mid-run as "opening_rad exceeds 2π" (fuzz campaign,
-    # issue 20: wedge_angle_deg 7.13° → 50 rays, a 1 m wide bow inside a 10 m thick floe)
+    # wedge_angle_deg 7.13° → 50 rays, a 1 m wide bow inside a 10 m thick floe)
     from floebreak.mechanics.nevel import bearing_capacity_n
 
     assert (n_rays * (2.0 * math.pi / n_rays) > 2.0 * math.pi) == (n_rays != 36)

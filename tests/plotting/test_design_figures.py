@@ -1,4 +1,4 @@
-"""Figures of issue 30: the rule exceedance with the rule's N_ice, legible legends in two-panel figures,
+"""Design figures: the rule exceedance with the rule's N_ice, legible legends in two-panel figures,
 the Campbell diagram and the rainflow histogram."""
 
 from __future__ import annotations
@@ -92,7 +92,7 @@ def test_add_legend_lists_a_repeated_label_once():
 
 
 def test_campbell_diagram_lines_and_crossings():
-    # Z = 4 at 140 rpm: order 4 is at 9.33 Hz; a mode at 7.75 Hz (0.83 of it, as in issue 30) crosses
+    # Z = 4 at 140 rpm: order 4 is at 9.33 Hz; a mode at 7.75 Hz (0.83 of it) crosses
     # order 4 at 60·7.75/4 = 116.25 rpm (inside 140 ± 20 %), orders 8 and 12 at 58.1 and 38.75 rpm
     # (outside); a mode at 30 Hz crosses order 12 at 150 rpm (inside) and orders 4 and 8 beyond 154 rpm
     rpm = np.linspace(0.0, 154.0, 221)

@@ -7,6 +7,7 @@ import pytest
 from matplotlib.figure import Figure
 from PIL import Image
 
+from floebreak.engine.loop import SimulationParams, simulate
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.ice.generation import generate_field
@@ -17,7 +18,6 @@ from floebreak.plotting.field import plot_field
 from floebreak.plotting.pattern import plot_breaking_pattern
 from floebreak.plotting.spectra import plot_crushing_force_spectrum, plot_cusp_volume_spectrum
 from floebreak.ship.hulls import agulhas_ii
-from floebreak.simulation import SimulationParams, simulate
 
 
 def test_crushing_force_spectrum_is_a_density():

@@ -1,4 +1,4 @@
-"""The shaft figures' long series (issue 33): decimated to each group's extremes, drawn as the whole series
+"""The shaft figures' long series: decimated to each group's extremes, drawn as the whole series
 is, pixel for pixel within the line's antialiasing, every peak kept."""
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ import shapely
 
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
-from floebreak.io.run_files import load_cusps
+from floebreak.output.run_files import load_cusps
 from floebreak.propeller.cusps import box_dimensions, class_means, cusp_columns, volume_class
 
 

@@ -1,5 +1,5 @@
-"""The design-load table in the terminal, summary.json and report.html (issue 30 §1), the rule's N_ice in
-the exceedance figure, and the report's collapsed provenance at the end (issue 30 §4)."""
+"""The design-load table in the terminal, summary.json and report.html, the rule's N_ice in
+the exceedance figure, and the report's collapsed provenance at the end."""
 
 from __future__ import annotations
 
@@ -10,9 +10,10 @@ import pytest
 from rich.console import Console
 
 from floebreak.app.propeller import design_load_summary, propeller_figures
-from floebreak.cli import _design_basis_lines, _design_load_tables
-from floebreak.io.propeller import write_propeller_files
-from floebreak.report import render_report
+from floebreak.cli.tables import design_basis_lines as _design_basis_lines
+from floebreak.cli.tables import design_load_tables as _design_load_tables
+from floebreak.output.propeller_files import write_propeller_files
+from floebreak.output.report import render_report
 
 from .test_design_loads import N_ICE, _analysed, _table
 

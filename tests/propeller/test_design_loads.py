@@ -1,4 +1,4 @@
-"""The design-load table (issue 30 §1), checked against numbers computed by hand."""
+"""The design-load table, checked against numbers computed by hand."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 
 from floebreak.errors import InputError
 from floebreak.propeller.design_loads import SimulatedLoads, design_load_tables, design_loads, simulated_loads
-from floebreak.propeller.pipeline import analyse_propeller
+from floebreak.propeller.pipeline import analyse_cusp_loads
 from floebreak.propeller.rates import RateBasis, RunExposure
 from floebreak.propeller.ruleform import OperatingProfile
 from floebreak.propeller.spec import PropellerSpec
@@ -156,7 +156,7 @@ def _analysed(transport: str):
         "centroid_y_m": np.where(np.arange(n) % 3 == 0, -5.5, 5.5),
         "run_id": np.array(["r"] * n),
     }
-    return analyse_propeller(
+    return analyse_cusp_loads(
         cusps,
         exposures={"r": RunExposure(300.0, RateBasis(3.0, None, 2))},
         transport=transport,
@@ -189,7 +189,7 @@ def test_design_load_tables_of_the_mean_propeller_and_without_a_polar_class():
     assert table.propeller == "one propeller (mean)"
     # every cusp reaches; each counts 1/2 on one propeller: 120 / 2 / (1/36 h) × 1 000 h
     assert table.rows[0].n_loads_profile == pytest.approx(120 / 2 * 36.0 * 1000.0)
-    no_class = analyse_propeller(_analysed_cusps_of(result), exposures=result.exposures, transport="all")
+    no_class = analyse_cusp_loads(_analysed_cusps_of(result), exposures=result.exposures, transport="all")
     assert design_load_tables(no_class) == []
 
 

@@ -1,13 +1,13 @@
-"""FEM tables: thesis Tables 10/11 as shipped, and validation of user tables (issue 7 §7)."""
+"""FEM tables: thesis Tables 10/11 as shipped, and validation of user tables."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from floebreak.app.inputs import resolve_fem_tables
+from floebreak.app.inputs import read_fem_table, resolve_fem_tables, shipped_fem_tables
 from floebreak.errors import InputError
-from floebreak.propeller.fem import fem_table_dict, parse_fem_table, read_fem_table, shipped_fem_tables
+from floebreak.propeller.loads.fem import fem_table_dict, parse_fem_table
 
 GOOD = """# pitch_percent: 50
 volume_m3,length_m,width_m,height_m,force_kN,torque [kN m]

@@ -1,4 +1,4 @@
-"""The propeller and shaft analyses import scipy's heavy modules where they use them (issue 33):
+"""The propeller and shaft analyses import scipy's heavy modules where they use them:
 scipy.interpolate only for the "pchip" interpolation and N-D FEM tables, scipy.optimize for a rule-form
 fit, scipy.stats for an interval at a level other than 95 %, scipy.signal for the linear shaft response
 (the drive model does not use it). Checked on `sys.modules` of a fresh interpreter, not on timings."""
@@ -50,12 +50,12 @@ def test_the_95_percent_quantile_is_scipys_to_the_bit():
 
 
 def test_the_propeller_command_and_its_figure_worker_do_not_import_the_engine():
-    """The figure worker lives apart from the run directory (`floebreak.app.figure_process`): the
+    """The figure worker lives apart from the run directory (`floebreak.output.figure_process`): the
     propeller and shaft analyses draw through it without importing the stepping engine or the ice motion."""
     loaded = loaded_after(
         "from floebreak import cli\n"
         "import floebreak.app.propeller, floebreak.app.shaft, floebreak.app.figure_calls\n"
-        "from floebreak.app.figure_process import figure_worker, figures_drawn_alongside"
+        "from floebreak.output.figure_process import figure_worker, figures_drawn_alongside"
     )
-    engine = {"floebreak.simulation", "floebreak.app.run_directory", "floebreak.dynamics", "pymunk"}
+    engine = {"floebreak.engine.loop", "floebreak.output.run_directory", "floebreak.dynamics", "pymunk"}
     assert not engine & loaded

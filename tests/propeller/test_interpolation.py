@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from floebreak.app.inputs import shipped_fem_tables
 from floebreak.errors import InputError
-from floebreak.propeller.fem import parse_fem_table, shipped_fem_tables
 from floebreak.propeller.interpolation import (
     VolumeInterpolant,
     divided_differences,
@@ -14,6 +14,7 @@ from floebreak.propeller.interpolation import (
     power_law_exponent,
     table_interpolant,
 )
+from floebreak.propeller.loads.fem import parse_fem_table
 
 # thesis Table 10 (pitch 0 %), force in kN, with the origin the thesis adds
 X = [0.0, 3.7073, 6.5232, 9.4535, 12.5043]

@@ -1,4 +1,4 @@
-"""The load model and the transport in the propeller analysis (issue 33 items 1, 2, 5): profile defaults,
+"""The load model and the transport in the propeller analysis: profile defaults,
 the fraction-reaching override, bad input, and the out-of-range warnings' thresholds by hand."""
 
 from __future__ import annotations
@@ -12,17 +12,17 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
+from floebreak.app.inputs import shipped_fem_tables
+from floebreak.config.analysis import propeller_defaults
 from floebreak.errors import InputError
-from floebreak.propeller.fem import shipped_fem_tables
 from floebreak.propeller.load_models import (
     drive_rated_torque_n_m,
     extrapolation_warnings,
     force_warnings,
-    profile_defaults,
     torque_warnings,
 )
-from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
-from floebreak.propeller.pipeline import analyse_propeller
+from floebreak.propeller.loads.milling import BladeGeometry, IceBlock, impact_loads
+from floebreak.propeller.pipeline import analyse_cusp_loads
 from floebreak.propeller.rates import RateBasis, RunExposure
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.transport import TransportParameters
@@ -52,7 +52,7 @@ EXPOSURE = {"r": RunExposure(300.0, RateBasis(3.0, None, 2))}  # 300 m at 3 m/s 
 
 
 def test_transport_decides_which_cusps_load_and_count():
-    result = analyse_propeller(_cusps(), exposures=EXPOSURE)
+    result = analyse_cusp_loads(_cusps(), exposures=EXPOSURE)
     transport = result.summary["transport"]
     assert transport["rule"] == "hull" and transport["n_reaching"] == 1
     assert transport["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 1, "missed": 1}
@@ -87,7 +87,7 @@ def test_the_transport_discs_take_the_spec_radius():
     2.36 m above the axis (5.5, 4.9): engaged [2.36, 2.5] m. On the 4.3 m disc's axis (5.5, 5.25) the same
     blade would reach [2.01, 2.5] m, 0.35 m into the hull above it."""
     spec = replace(PropellerSpec(), radius_m=2.5)
-    result = analyse_propeller(_cusps(), exposures=EXPOSURE, propeller=spec)
+    result = analyse_cusp_loads(_cusps(), exposures=EXPOSURE, propeller=spec)
     assert result.summary["transport"]["n_reaching"] == 1
     assert result.loads["engaged_inner_radius_m"][0] == pytest.approx(2.36)
     assert result.loads["engaged_outer_radius_m"][0] == pytest.approx(2.5)
@@ -95,7 +95,7 @@ def test_the_transport_discs_take_the_spec_radius():
 
 def test_fraction_reaching_override_warns_and_loads_every_cusp():
     override = {"r": RunExposure(300.0, RateBasis(3.0, 0.5, 2))}
-    result = analyse_propeller(_cusps(), exposures=override)
+    result = analyse_cusp_loads(_cusps(), exposures=override)
     assert result.summary["transport"]["rule"] == "override"
     # 3 cusps × 0.5 / 2 propellers in 1/36 h = 27 per hour
     assert result.summary["rates"]["loads_per_hour_per_propeller"] == pytest.approx(27.0)
@@ -106,7 +106,7 @@ def test_fraction_reaching_override_warns_and_loads_every_cusp():
     tip = impact_loads(IceBlock.from_box(2.0, 2.0, 1.0), BladeGeometry.from_spec(PropellerSpec()), 140.0, 3.0)
     assert result.amplitudes(95.8551).torque_nm[0] == -tip.torque_n_m[0]
     # no override: no such warning; every cusp with transport "all" (the thesis rule)
-    everyone = analyse_propeller(
+    everyone = analyse_cusp_loads(
         _cusps(), exposures=EXPOSURE, transport="all", fem_tables=shipped_fem_tables()
     )
     assert not any("override" in w for w in everyone.summary["warnings"])
@@ -114,18 +114,21 @@ def test_fraction_reaching_override_warns_and_loads_every_cusp():
 
 
 def test_fem_tables_take_precedence_and_bad_choices():
-    result = analyse_propeller(_cusps(), fem_tables=shipped_fem_tables(), load_model="milling")
+    result = analyse_cusp_loads(_cusps(), fem_tables=shipped_fem_tables(), load_model="milling")
     assert result.summary["load_model"]["name"] == "fem" and result.pitches == (0.0, 95.0)
     assert "placement" not in result.summary["load_model"]
     assert "engaged_inner_radius_m" not in result.loads
     for key, kwargs in (("load_model", {"load_model": "x"}), ("transport", {"transport": "x"})):
         with pytest.raises(InputError) as info:
-            analyse_propeller(_cusps(), **kwargs)
+            analyse_cusp_loads(_cusps(), **kwargs)
         assert info.value.field == key
     no_centroids = {k: v for k, v in _cusps().items() if not k.startswith("centroid")}
     with pytest.raises(InputError, match="centroid_x_m, centroid_y_m"):
-        analyse_propeller(no_centroids)
-    assert profile_defaults("thesis") == ("fem", "all") and profile_defaults("default") == ("milling", "hull")
+        analyse_cusp_loads(no_centroids)
+    assert propeller_defaults("thesis") == ("fem", "all") and propeller_defaults("default") == (
+        "milling",
+        "hull",
+    )
 
 
 def test_rated_torque_and_torque_warnings_by_hand():
@@ -172,11 +175,11 @@ def test_blade_force_above_the_rule_warns_in_the_summary():
     block = IceBlock(np.ones(1), np.full(1, 2.0), np.full(1, 2.0))
     force_n = float(impact_loads(block, blade, 60.0, 3.0).force_n[0])
     # transport "all": every cusp at the tip (tip placement), the block above
-    result = analyse_propeller(_cusps(), polar_class="PC7", propeller=spec, transport="all")
+    result = analyse_cusp_loads(_cusps(), polar_class="PC7", propeller=spec, transport="all")
     warned = [w for w in result.summary["warnings"] if w.startswith("pitch 0 %") and "F_b" in w]
     assert force_n > PC7_BACKWARD_FORCE_60_RPM_N and len(warned) == 1
     assert f"{force_n / 1e3:.0f} kN" in warned[0]
-    unclassed = analyse_propeller(_cusps(), propeller=spec).summary["warnings"]
+    unclassed = analyse_cusp_loads(_cusps(), propeller=spec).summary["warnings"]
     assert not [w for w in unclassed if "F_b" in w]  # no polar class: no rule check
 
 

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from floebreak.app.inputs import read_torque_csv, synthetic_torque_path
 from floebreak.errors import InputError
-from floebreak.propeller.measured import parse_torque_csv, read_torque_csv, synthetic_torque_path
+from floebreak.propeller.measured import parse_torque_csv
 from floebreak.propeller.spectra import bin_edges, density, envelope, ranges_above
 
 

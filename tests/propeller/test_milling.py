@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from floebreak.errors import InputError
-from floebreak.propeller import milling
-from floebreak.propeller.milling import (
+from floebreak.propeller.loads import milling
+from floebreak.propeller.loads.milling import (
     BladeGeometry,
     IceBlock,
     IceStrength,

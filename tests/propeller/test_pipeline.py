@@ -10,11 +10,10 @@ import pytest
 import shapely
 import xarray as xr
 
+from floebreak.app.inputs import shipped_fem_tables, synthetic_torque_path
 from floebreak.app.propeller import propeller_analysis
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
-from floebreak.propeller.fem import shipped_fem_tables
-from floebreak.propeller.measured import synthetic_torque_path
 from floebreak.propeller.pipeline import load_spectra, torque_ranges_above
 
 
@@ -263,7 +262,7 @@ def test_far_loads_widen_the_bins_instead_of_making_millions():
 
 def test_report_section_without_time_base(tmp_path):
     """A table of cusps has no transit distance: densities only, said so in the summary and the report."""
-    from floebreak.report import propeller_section
+    from floebreak.output.report import propeller_section
 
     out = propeller_analysis(_cusps(), tmp_path / "prop", **THESIS_PATH)
     summary = json.loads((out / "summary.json").read_text())

@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 import shapely
 
+from floebreak.app.inputs import shipped_fem_tables
 from floebreak.app.propeller import read_runs, run_transit_distance_m
+from floebreak.config.scenario import Scenario
 from floebreak.errors import InputError
 from floebreak.io.geoparquet import write_geoparquet
-from floebreak.propeller.fem import shipped_fem_tables
-from floebreak.propeller.pipeline import analyse_propeller
+from floebreak.propeller.pipeline import analyse_cusp_loads
 from floebreak.propeller.rates import RateBasis, RunExposure, weighted_exceedance
-from floebreak.scenario import Scenario
 
 
 def _cusps(run_ids, bow_x):
@@ -66,7 +66,7 @@ def test_rates_pool_runs_time_weighted():
         "b": RunExposure(600.0, RateBasis(2.0, 0.5, 1)),
     }
     # fractions given: override
-    result = analyse_propeller(cusps, exposures=exposures, fem_tables=shipped_fem_tables())
+    result = analyse_cusp_loads(cusps, exposures=exposures, fem_tables=shipped_fem_tables())
     rates = result.summary["rates"]
     assert rates["hours_in_ice"] == pytest.approx(300 / 3 / 3600 + 600 / 2 / 3600)
     assert rates["loads_per_hour_per_propeller"] == pytest.approx(27.0)
@@ -83,10 +83,10 @@ def test_rates_pool_runs_time_weighted():
     assert amp.weight.tolist() == [0.5] * 4 + [0.5] * 2
     assert amp.torque_nm.size == 6 and np.all(amp.torque_nm < 0)
     with pytest.raises(InputError, match="no RunExposure for run 'b'"):
-        analyse_propeller(cusps, exposures={"a": exposures["a"]})
+        analyse_cusp_loads(cusps, exposures={"a": exposures["a"]})
     # a run without cusps still took its time: 900 m at 3 m/s more → 3 loads in (100 + 300 + 300) s
     quiet = {**exposures, "c": RunExposure(900.0, RateBasis(3.0, 1.0, 2))}
-    rates = analyse_propeller(cusps, exposures=quiet, fem_tables=shipped_fem_tables()).summary["rates"]
+    rates = analyse_cusp_loads(cusps, exposures=quiet, fem_tables=shipped_fem_tables()).summary["rates"]
     assert rates["loads_per_hour_per_propeller"] == pytest.approx(3 / (700 / 3600))
     assert rates["loads_per_km_per_propeller"] == pytest.approx(3 / 1.8)
 

@@ -1,4 +1,4 @@
-"""The rule-maximum horizon of the propeller summary: finite hours, or null / "never" (issue 30)."""
+"""The rule-maximum horizon of the propeller summary: finite hours, or null / "never"."""
 
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ def test_finite_horizon_by_hand():
 
 
 def test_overflowing_horizon_is_null_and_never():
-    # the 0 % pitch case of issue 30: a tiny scale puts ln N* far beyond a float's range
+    # the 0 % pitch case: a tiny scale puts ln N* far beyond a float's range
     out = rule_maximum_horizon(750e3, 100.0, 0.75, per_hour=100.0)  # ln N* = 7500^0.75 = 802
     assert out == {
         "loads_until_rule_maximum": None,

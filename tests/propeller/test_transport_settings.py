@@ -11,7 +11,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from floebreak.errors import InputError
-from floebreak.propeller.pipeline import analyse_propeller
+from floebreak.propeller.pipeline import analyse_cusp_loads
 from floebreak.propeller.transport import TRANSPORT_KEYS, TransportSettings, transport_settings
 
 
@@ -56,9 +56,9 @@ def test_settings_from_text_keep_defaults_and_name_the_key():
 
 
 def test_bilge_radius_reaches_the_transport():
-    default = analyse_propeller(_cusps())
+    default = analyse_cusp_loads(_cusps())
     assert default.summary["transport"]["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 1, "missed": 0}
-    flat = analyse_propeller(_cusps(), transport_settings=transport_settings({"hull.bilge_radius_m": 0}))
+    flat = analyse_cusp_loads(_cusps(), transport_settings=transport_settings({"hull.bilge_radius_m": 0}))
     assert flat.summary["transport"]["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 0, "missed": 1}
     assert flat.summary["transport"]["settings"]["hull.bilge_radius_m"] == 0.0
 

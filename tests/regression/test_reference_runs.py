@@ -23,7 +23,7 @@ import shapely
 import floebreak
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
-from floebreak.io.field_files import load_field
+from floebreak.output.field_files import load_field
 
 DATA = Path(__file__).parent / "data"
 EXPECTED = json.loads((DATA / "expected.json").read_text(encoding="utf-8"))

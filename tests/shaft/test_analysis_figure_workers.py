@@ -1,5 +1,5 @@
 """The propeller and shaft analyses' figures drawn by forked figure workers while the tables are written
-(`floebreak.app.figure_process.figures_drawn_alongside`, as `floebreak propeller` does it): the same files,
+(`floebreak.output.figure_process.figures_drawn_alongside`, as `floebreak propeller` does it): the same files,
 byte for byte, as drawn serially; a worker's failure fails the write with nothing left behind."""
 
 from __future__ import annotations
@@ -9,9 +9,9 @@ import os
 
 import pytest
 
-from floebreak.app import figure_process
 from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
 from floebreak.app.shaft import shaft_analysis_of_run
+from floebreak.output import figure_process
 
 from .test_cli_shaft import make_run
 

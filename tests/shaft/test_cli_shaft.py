@@ -8,9 +8,8 @@ import pyarrow.parquet as pq
 import pytest
 import xarray as xr
 
-from floebreak.propeller.measured import synthetic_torque_path
+from floebreak.app.inputs import load_shaft_line, synthetic_torque_path
 from floebreak.shaft.analysis import shaft_response
-from floebreak.shaft.line import load_shaft_line
 
 
 def make_run(path, speed_m_s=None, profile="thesis"):

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from floebreak.app.inputs import load_shaft_line
 from floebreak.errors import InputError
 from floebreak.shaft.drive import (
     DriveTrain,
@@ -17,7 +18,7 @@ from floebreak.shaft.drive import (
     train_from_line,
 )
 from floebreak.shaft.excitation import ExcitationCase
-from floebreak.shaft.line import load_shaft_line, with_operating_point
+from floebreak.shaft.line import with_operating_point
 from floebreak.shaft.response import station_torque_n_m
 
 J, RPM, Z, Q_MEAN = 1000.0, 100.0, 4, 1.0e4  # rigid inertia [kg m²], set speed, blades, mean torque [N m]

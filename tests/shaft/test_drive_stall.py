@@ -1,4 +1,4 @@
-"""The stall of the drive under the rule's case 2 (issue 33): the case's mean ice torque per blade passage
+"""The stall of the drive under the rule's case 2: the case's mean ice torque per blade passage
 by integrating the pulse train numerically, the stop time from the rigid-shaft equation solved by hand, and
 the stall as the terminal and summary.json state it."""
 
@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from floebreak.propeller.milling import BladeGeometry, IceBlock
+from floebreak.propeller.loads.milling import BladeGeometry, IceBlock
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.shaft.analysis import (
     MilledCusps,

@@ -1,4 +1,4 @@
-"""What `floebreak propeller` sends its figure processes is plain data (issue 33): loading and drawing the
+"""What `floebreak propeller` sends its figure processes is plain data: loading and drawing the
 propeller's and the shaft's figure calls needs neither xarray nor dask. The parent builds the spectra as an
 xarray Dataset for spectra.nc; sent as such, each figure process imported xarray to read it and, where dask
 is installed, dask.array the first time xarray indexed it (≈ 0.4 s in each of the two drawing processes)."""
@@ -13,9 +13,9 @@ from contextlib import nullcontext
 
 import pytest
 
+from floebreak.app.inputs import synthetic_torque_path
 from floebreak.app.propeller import analyse_runs, read_runs, write_propeller
 from floebreak.app.shaft import shaft_analysis_of_run
-from floebreak.propeller.measured import synthetic_torque_path
 
 from .test_cli_shaft import make_run
 
@@ -50,7 +50,7 @@ def test_the_figure_calls_load_and_draw_without_xarray_or_dask(sent_calls):
     assert {"torque_spectrum_log.png", "torque_comparison_log.png", "shaft_series.png"} <= sent.keys()
     code = (
         "import json, pickle, sys\n"
-        "from floebreak.app.figure_process import draw_figure\n"
+        "from floebreak.output.figure_process import draw_figure\n"
         f"calls = pickle.loads(open({str(path)!r}, 'rb').read())\n"
         "loaded = sorted(sys.modules)\n"
         "for call in calls.values():\n"

@@ -1,5 +1,5 @@
 """The drive's per-impact torque (`shaft.impact_torque.CuspTorques`) is the milling model's
-(`propeller.milling.impact_loads`), to the bit, for any block and rpm (issue 33: one call per blade
+(`propeller.milling.impact_loads`), to the bit, for any block and rpm (one call per blade
 passage)."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from floebreak.errors import InputError
-from floebreak.propeller.milling import BladeGeometry, IceBlock, IceStrength, impact_loads
+from floebreak.propeller.loads.milling import BladeGeometry, IceBlock, IceStrength, impact_loads
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.shaft.impact_torque import CuspTorques
 

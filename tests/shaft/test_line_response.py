@@ -7,9 +7,9 @@ import numpy as np
 import opentorsion as ot
 import pytest
 
+from floebreak.app.inputs import load_shaft_line
 from floebreak.errors import InputError
 from floebreak.shaft.line import (
-    load_shaft_line,
     modal_analysis,
     shaft_line_from_dict,
     solid_shaft_stiffness_n_m_per_rad,

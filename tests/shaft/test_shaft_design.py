@@ -1,4 +1,4 @@
-"""Issue 30 §2–4, §6 for the shaft: rainflow histogram and Miner's damage in the shaft analysis, the
+"""The shaft's design outputs: rainflow histogram and Miner's damage in the shaft analysis, the
 Campbell and rainflow figures, the terminal tables, the report's "Shaft line" section, CF bounds and
 provenance on the shaft files."""
 
@@ -13,9 +13,9 @@ import rainflow
 import xarray as xr
 from rich.console import Console
 
-from floebreak.cli import _shaft_tables
+from floebreak.cli.tables import shaft_tables as _shaft_tables
+from floebreak.output.report import render_report
 from floebreak.propeller.ruleform import BasquinCurve
-from floebreak.report import render_report
 from floebreak.shaft.analysis import shaft_fatigue
 
 from .test_cli_shaft import make_run

@@ -152,10 +152,10 @@ def test_parametric_input_errors(kw, field):
 
 
 def test_a_hull_parameter_name_renames_the_bow():
-    # fuzz campaign (issue 20): ship.hull_parameters = {name = "fuzz"} — an allowed parametric keyword —
+    # fuzz campaign: ship.hull_parameters = {name = "fuzz"} — an allowed parametric keyword —
     # collided with get_hull's own `name` (TypeError: got multiple values for argument 'name')
     from floebreak.api import build_bow
-    from floebreak.scenario import Scenario
+    from floebreak.config.scenario import Scenario
 
     bow = get_hull("polarstern", name="my bow", ice_thickness_m=0.5)
     assert bow.name == "my bow"
@@ -174,7 +174,7 @@ def test_a_hull_parameter_name_renames_the_bow():
     ],
 )
 def test_needle_and_flat_bows_are_refused_naming_the_parameter(kw):
-    # fuzz campaign (issue 20): angles and beams at the open edge of (0, …] crashed the hull's construction;
+    # fuzz campaign: angles and beams at the open edge of (0, …] crashed the hull's construction;
     # the ranges now start at a bow that exists (5°, 1 m; HULL_PARAMETER_BOUNDS)
     with pytest.raises(InputError) as info:
         agulhas_ii(**kw)

@@ -7,8 +7,8 @@ import math
 
 import pytest
 
+from floebreak.config.scenario import Scenario
 from floebreak.errors import InputError
-from floebreak.scenario import Scenario
 from floebreak.ship.propulsion import (
     Propulsion,
     balance_speed_m_s,

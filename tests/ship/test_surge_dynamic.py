@@ -1,4 +1,4 @@
-"""Ship surge under moving ice (``simulation.ice_motion = "dynamic"``, issue 29): the force the hull passes
+"""Ship surge under moving ice (``simulation.ice_motion = "dynamic"``): the force the hull passes
 to the ice (`SimulationResult.hull_force_on_ice_xy_n`) and the surge integrated in the stepping loop from it
 (docs/model.md, "Ship surge", "The force the hull passes on"). Expectations are derived in the tests: the
 closed-form open-water acceleration under the Juva–Riska net thrust, the water drag of a floe carried at the
@@ -19,17 +19,17 @@ from scipy.integrate import solve_ivp
 
 from floebreak import constants as c
 from floebreak.app.run import run
-from floebreak.app.surge import SURGE_FILE, recorded_ice_force_series_n
+from floebreak.config.profiles import build_model
+from floebreak.config.scenario import Scenario
 from floebreak.dynamics import IceMotionSettings
+from floebreak.engine.loop import SimulationParams, StepDone, _Run, simulate
+from floebreak.engine.records import ContactRecorder
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.mechanics.contact import BowContactGeometry, evaluate_contact
-from floebreak.profiles import build_model
-from floebreak.results import ContactRecorder
-from floebreak.scenario import Scenario
+from floebreak.output.surge import SURGE_FILE, recorded_ice_force_series_n
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.ship.propulsion import Propulsion, juva_riska_net_thrust_n
-from floebreak.simulation import SimulationParams, StepDone, _Run, simulate
 
 NO_BREAKING = {"policy": {"unbreakable": ["none"], "bending": ["none"], "cracking": ["none"]}}
 SHORT = ["field.length_m=50", "simulation.ice_motion=dynamic"]  # the reference observation's floes

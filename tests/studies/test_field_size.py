@@ -1,4 +1,4 @@
-"""The thesis' field length inferred from its affected area (issue 16 §2)."""
+"""The thesis' field length inferred from its affected area."""
 
 from __future__ import annotations
 

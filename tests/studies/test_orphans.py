@@ -1,4 +1,4 @@
-"""Issue 31, item 4: after a SIGKILL of `floebreak study --workers 2`, the pool's workers and
+"""After a SIGKILL of `floebreak study --workers 2`, the pool's workers and
 multiprocessing's resource tracker outlived the parent (≈ 370 MB each). Now every process the study started
 ends within seconds of its parent's death."""
 

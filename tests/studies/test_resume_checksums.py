@@ -1,5 +1,5 @@
-"""A resumed study trusts a run only as far as its checksums reach, its summary.json included (issue 31,
-item 5): a hand-edited summary is not aggregated but run again."""
+"""A resumed study trusts a run only as far as its checksums reach, its summary.json included: a
+hand-edited summary is not aggregated but run again."""
 
 from __future__ import annotations
 
@@ -49,8 +49,8 @@ def test_an_untouched_summary_is_trusted(tmp_path):
 
 def test_a_study_resumed_under_another_event_location_runs_again(tmp_path, monkeypatch):
     """The profile's event location is not in the scenario hash (the scenario does not state it): a run made
-    under one default is not reused under another (issue 32 item 4)."""
-    from floebreak import profiles
+    under one default is not reused under another."""
+    from floebreak.config import profiles
 
     spec = study_from_dict(STUDY)
     runs, members = expand(spec)

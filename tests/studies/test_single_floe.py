@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import shapely
 
-from floebreak.profiles import build_model
+from floebreak.config.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.studies.single_floe import DIAMETERS_M, POSITIONS, SingleFloeCase, run_case
 

@@ -1,4 +1,4 @@
-"""Studies (issue 6): design expansion, seeds, validation before running, resume, failures, executors."""
+"""Studies: design expansion, seeds, validation before running, resume, failures, executors."""
 
 from __future__ import annotations
 
@@ -272,7 +272,7 @@ def test_study_cli_runs_and_resumes(tmp_path):
     assert bad.returncode == 2 and "study" in bad.stderr and not (tmp_path / "x").exists()
 
 
-# --- issue 20: damaged runs, relative paths, failed runs, temporary folders ----------------------------
+# --- damaged runs, relative paths, failed runs, temporary folders ----------------------------
 
 
 class RecordingExecutor(SerialExecutor):

@@ -1,4 +1,4 @@
-"""Voyages (issue 18 §4): period → scenario, field rules, generator fallback, a tiny voyage end to end."""
+"""Voyages: period → scenario, field rules, generator fallback, a tiny voyage end to end."""
 
 from __future__ import annotations
 
@@ -9,10 +9,9 @@ import numpy as np
 import pyarrow.csv
 import pytest
 
+from floebreak.config.scenario import Scenario
 from floebreak.errors import InputError
-from floebreak.io.voyage_log import parse_voyage_log
 from floebreak.propeller.spec import PropellerSpec
-from floebreak.scenario import Scenario
 from floebreak.studies.design import expand
 from floebreak.studies.voyage import (
     DEFAULT_MAX_LENGTH_M,
@@ -25,6 +24,7 @@ from floebreak.studies.voyage import (
     run_voyage,
     voyage_spec,
 )
+from floebreak.studies.voyage_log import parse_voyage_log
 from floebreak.studies.voyage_results import VoyageAnalysis, write_voyage_results
 
 AGULHAS_BEAM_M = 21.7  # physics-notes §6.1
@@ -159,7 +159,7 @@ def test_tiny_voyage_end_to_end_and_resume(tmp_path, cli):
     assert summary["cusps_voyage"] == pytest.approx(expected)
     hours = 4 / 60
     assert summary["cusps_per_hour"] == pytest.approx(expected / hours)
-    # default profile: the milling model and the hull transport, as `floebreak propeller` (issue 33)
+    # default profile: the milling model and the hull transport, as `floebreak propeller`
     assert summary["load_model"]["load_model"] == "milling" and summary["transport"]["rule"] == "hull"
     reaching = [_reaching(d, v) for d, v in zip(run_dirs, (0.25, 0.5), strict=True)]
     assert 0 < sum(reaching) < runs[0]["n_cusps"] + runs[1]["n_cusps"]

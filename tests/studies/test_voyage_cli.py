@@ -1,4 +1,4 @@
-"""`floebreak voyage` (issue 18 §4): bad logs and options exit with code 2, name file, row and column, and
+"""`floebreak voyage`: bad logs and options exit with code 2, name file, row and column, and
 write nothing."""
 
 from __future__ import annotations

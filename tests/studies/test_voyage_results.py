@@ -1,4 +1,4 @@
-"""Voyage pooling (issue 18 §4): time-weighted spectra and exceedances against a hand computation."""
+"""Voyage pooling: time-weighted spectra and exceedances against a hand computation."""
 
 from __future__ import annotations
 

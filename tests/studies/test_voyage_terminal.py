@@ -1,5 +1,5 @@
 """The voyage's terminal tables as a piped (80-column) terminal shows them: units in brackets are printed,
-not taken for rich markup, and long cells fold instead of being cut with "…" (issue 30 item 6)."""
+not taken for rich markup, and long cells fold instead of being cut with "…"."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import io
 
 from rich.console import Console
 
-import floebreak.studies.cli as studies_cli
+import floebreak.cli.study as studies_cli
 
 
 def _fit(scale: float) -> dict:

@@ -9,9 +9,9 @@ profile, on both samples:
   weak-pass in the scoreboard);
 - a row that fails, fails, whether or not its statement carries a documented reason
   (`Statement.explained`, shown with the failure as a note);
-- a row flagged inert (`floebreak.studies.inert`: it cannot fail in this configuration) is not a test of the
-  thesis; instead its reason is checked on the measured value (the same run: a change of exactly 0; the cap:
-  the change of the cap within 1 %);
+- a row flagged inert (`floebreak.validation.inert`: it cannot fail in this configuration) is not a test of
+  the thesis; instead its reason is checked on the measured value (the same run: a change of exactly 0; the
+  cap: the change of the cap within 1 %);
 - any other failure fails.
 
 Set FLOEBREAK_VALIDATE_DIR to a directory to keep (and resume) the run between sessions,
@@ -30,9 +30,9 @@ from typer.testing import CliRunner
 
 from floebreak.cli import app
 from floebreak.studies.field_size import thesis_scenario
-from floebreak.studies.inert import CAP_TOLERANCE, inert_flags
-from floebreak.studies.statements import STATEMENTS
-from floebreak.studies.validate import HOLDOUT_SAMPLE, HOLDOUT_SUFFIX, POINTS, Sample
+from floebreak.validation.inert import CAP_TOLERANCE, inert_flags
+from floebreak.validation.statements import STATEMENTS
+from floebreak.validation.validate import HOLDOUT_SAMPLE, HOLDOUT_SUFFIX, POINTS, Sample
 
 pytestmark = pytest.mark.validation
 

@@ -15,13 +15,13 @@ import numpy as np
 import shapely
 
 from floebreak import constants as c
+from floebreak.config.scenario import Scenario
+from floebreak.engine.loop import MAX_PIECES_DEFAULT
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons, first_overlap
-from floebreak.scenario import Scenario
-from floebreak.simulation import MAX_PIECES_DEFAULT
 
 if TYPE_CHECKING:
-    from floebreak.simulation import Model
+    from floebreak.engine.loop import Model
 
 # where generate_field's own field names belong in a scenario
 _GENERATION_KEYS = {
@@ -42,7 +42,7 @@ def _prefixed(key: str, error: InputError) -> InputError:
 
 def waterline_rule(scenario: Scenario) -> str:
     """ "follow_thickness" or "fixed": the scenario's `ship.waterlines`, else its profile's."""
-    from floebreak.profiles import profile_switches
+    from floebreak.config.profiles import profile_switches
 
     return scenario.ship.waterlines or profile_switches(scenario.profile).get(
         "ship.waterlines", "follow_thickness"
@@ -51,7 +51,7 @@ def waterline_rule(scenario: Scenario) -> str:
 
 def event_location(scenario: Scenario) -> str:
     """ "step_end" or "root": the scenario's `simulation.event_location`, else its profile's."""
-    from floebreak.profiles import DEFAULT_EVENT_LOCATION, profile_switches
+    from floebreak.config.profiles import DEFAULT_EVENT_LOCATION, profile_switches
 
     return scenario.simulation.event_location or profile_switches(scenario.profile).get(
         "simulation.event_location", DEFAULT_EVENT_LOCATION
@@ -93,8 +93,8 @@ def _mean_thickness_m(scenario: Scenario, floe_field: FloeField | None = None) -
 
 
 def _draw_thickness(scenario: Scenario, n: int, rng: np.random.Generator) -> np.ndarray:
+    from floebreak.config.profiles import field_switches
     from floebreak.ice.thickness import bounded_random_thickness_m
-    from floebreak.profiles import field_switches
 
     low, high = scenario.ice.thickness_range_m
     summands = scenario.ice.thickness_summands or field_switches(scenario.profile).thickness_summands
@@ -148,7 +148,7 @@ def field_key(scenario: Scenario) -> str | None:
 
 def build_field(scenario: Scenario, rng: np.random.Generator) -> FloeField:
     """The initial floe field of a resolved scenario (generated, read from a file, or inline)."""
-    from floebreak.profiles import field_switches
+    from floebreak.config.profiles import field_switches
 
     spec, ice = scenario.field, scenario.ice
     if spec.source in ("observation", "user_observation"):
@@ -179,7 +179,7 @@ def build_field(scenario: Scenario, rng: np.random.Generator) -> FloeField:
             floe_field = floe_field.with_thickness(_draw_thickness(scenario, floe_field.n_floes, rng))
         return floe_field
     if spec.source == "file":
-        from floebreak.io.field_files import load_field
+        from floebreak.output.field_files import load_field
 
         floe_field = load_field(spec.file, field="field.file")
     else:
@@ -258,8 +258,8 @@ def build_bow(scenario: Scenario, floe_field: FloeField | None = None):
 def build_model_for(scenario: Scenario) -> Model:
     """The physics `Model`: the scenario's profile with the [ice] values, the mode tables
     ``[failure.<mode>]`` and the dispatch keys of [failure] applied (modes from the failure registry)."""
+    from floebreak.config.profiles import build_model
     from floebreak.failure import get_mode, mode_names
-    from floebreak.profiles import build_model
 
     ice, failure = scenario.ice, scenario.failure
     tables = failure.mode_tables()

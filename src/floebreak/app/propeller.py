@@ -1,6 +1,6 @@
-"""A propeller analysis of a run's or study's cusps: read the run directories (`floebreak.io.run_files`),
-analyse (`floebreak.propeller.pipeline.analyse_propeller`, pure), draw (`floebreak.plotting.propeller`) and
-write (`floebreak.io.propeller`). Files: docs/propeller.md "Output directory"."""
+"""A propeller analysis of a run's or study's cusps: read the run directories (`floebreak.output.run_files`),
+analyse (`floebreak.propeller.pipeline.analyse_cusp_loads`, pure), draw (`floebreak.plotting.propeller`) and
+write (`floebreak.output.propeller_files`). Files: docs/propeller.md "Output directory"."""
 
 from __future__ import annotations
 
@@ -11,14 +11,16 @@ from typing import Any
 
 from floebreak.app.figure_calls import drawn, figures_in_worker
 from floebreak.app.inputs import measured_series, resolve_fem_tables
+from floebreak.config.analysis import propeller_defaults
 from floebreak.errors import InputError
 from floebreak.io.jsonable import jsonable
-from floebreak.io.propeller import write_propeller_files
-from floebreak.io.run_files import cusp_files, load_cusps, parquet_metadata, read_resolved_scenario
+from floebreak.output.propeller_files import write_propeller_files
+from floebreak.output.run_files import cusp_files, load_cusps, parquet_metadata, read_resolved_scenario
 from floebreak.propeller import pipeline
 from floebreak.propeller.design_loads import design_load_tables
 from floebreak.propeller.iceclass import WEIBULL_SHAPE
-from floebreak.propeller.load_models import LOAD_MODELS, check_choice, profile_defaults
+from floebreak.propeller.load_models import check_choice
+from floebreak.propeller.loads import get_load_model, load_model_names
 from floebreak.propeller.pipeline import PropellerResult
 from floebreak.propeller.ruleform import rule_n_ice
 from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
@@ -69,12 +71,15 @@ def analyse_propeller(
     flip_measured_sign: bool = False,
     **options,
 ) -> PropellerResult:
-    """`floebreak.propeller.pipeline.analyse_propeller` with its input files read first: `fem_table` as
+    """`floebreak.propeller.pipeline.analyse_cusp_loads` with its input files read first: `fem_table` as
     `floebreak.app.inputs.resolve_fem_tables` (paths, {pitch: path}, FemTables; the shipped tables for the
     FEM load model without one), `torque_csv` a path or a `TorqueSeries` (`measured_series`, with
     `torque_unit` and `flip_measured_sign`). Other `options`: those of the pure function."""
-    fem = fem_table is not None or check_choice("load_model", load_model, LOAD_MODELS) == "fem"
-    return pipeline.analyse_propeller(
+    fem = (
+        fem_table is not None
+        or get_load_model(check_choice("load_model", load_model, load_model_names())).needs_tables
+    )
+    return pipeline.analyse_cusp_loads(
         cusps,
         load_model=load_model,
         fem_tables=resolve_fem_tables(fem_table) if fem else None,
@@ -85,8 +90,8 @@ def analyse_propeller(
 
 def analyse_runs(inputs: RunInputs, **options) -> PropellerResult:
     """`analyse_propeller` of `inputs` (`read_runs`, `read_run_dirs`) with their exposures; the runs'
-    scenario profile sets the load model and transport unless given (`load_models.profile_defaults`)."""
-    load_model, transport = profile_defaults(inputs.profile)
+    scenario profile sets the load model and transport unless given (`config.analysis.propeller_defaults`)."""
+    load_model, transport = propeller_defaults(inputs.profile)
     options.setdefault("load_model", load_model)
     options.setdefault("transport", transport)
     return analyse_propeller(inputs.cusps, exposures=inputs.exposures, **options)
@@ -103,8 +108,8 @@ def write_propeller(
 ) -> Path:
     """Draw `result`'s figures, compute its design-load tables and write both with it to the new directory
     `out_dir` atomically; return it. `record` adds to the provenance (e.g. the input files); `progress`
-    as `floebreak.io.propeller.write_propeller_files`'. `figure_worker`
-    (`floebreak.app.run_directory.figure_worker`): a process that draws the figures while the tables are
+    as `floebreak.output.propeller_files.write_propeller_files`'. `figure_worker`
+    (`floebreak.output.run_directory.figure_worker`): a process that draws the figures while the tables are
     written (the same files)."""
     calls = propeller_figure_calls(result)
     options = {"overwrite": overwrite, "record": record, "progress": progress}
@@ -128,7 +133,7 @@ def propeller_figures(result: PropellerResult) -> dict[str, Any]:
 
 
 def propeller_figure_calls(result: PropellerResult) -> dict[str, Any]:
-    """The analysis' figures as plain data (file name → `floebreak.app.figure_process.FigureCall` of
+    """The analysis' figures as plain data (file name → `floebreak.output.figure_process.FigureCall` of
     `floebreak.plotting.propeller`), to draw here or in a figure worker."""
 
     def call(function: str, *args) -> tuple:
@@ -179,7 +184,7 @@ def propeller_analysis(
     """Analyse and write: `cusps` is a run or study directory (its transit distances and scenarios give
     the rates; several runs need equal scenarios but for seed and field, or `pool=True`) or a table
     (`options["exposures"]` then gives the rates). `options`: those of `analyse_propeller`; a directory's
-    scenario profile sets the load model and transport unless given (`load_models.profile_defaults`)."""
+    scenario profile sets the load model and transport unless given (`config.analysis.propeller_defaults`)."""
     record: dict[str, Any] = {}
     if isinstance(cusps, str | os.PathLike):
         inputs = read_runs(
@@ -192,7 +197,7 @@ def propeller_analysis(
         if "exposures" in options:
             raise InputError("exposures", "given with a directory, which has its own", allowed="one of them")
         options["exposures"] = inputs.exposures
-        load_model, transport = profile_defaults(inputs.profile)
+        load_model, transport = propeller_defaults(inputs.profile)
         options.setdefault("load_model", load_model)
         options.setdefault("transport", transport)
         cusps = inputs.cusps

@@ -1,5 +1,5 @@
 """One run: scenario → field + bow + model (`floebreak.app.build`) → `simulate` (with a ContactRecorder) →
-`Result` → run directory (`floebreak.app.run_directory`, whose docstring lists the files).
+`Result` → run directory (`floebreak.output.run_directory`, whose docstring lists the files).
 
 ``floebreak.run(scenario)`` is the Python API (no files touched); ``Result.write(out)`` writes the run
 directory atomically. The only randomness is ``numpy.random.default_rng(seed)``, used for the field only, so
@@ -34,24 +34,8 @@ from floebreak.app.build import (
 )
 from floebreak.app.build import field_key as field_key  # re-exported (`as`), as the names below
 from floebreak.app.build import waterline_rule as waterline_rule
-from floebreak.app.figure_process import FigureCall, FigureWorker, draw_figure
-from floebreak.app.poses import PoseRecorder, check_pose_interval
-from floebreak.app.run_directory import CONTACTS_FILE, pieces_table, write_run_directory
-from floebreak.app.run_directory import FIGURES as FIGURES
-from floebreak.app.run_directory import PIECE_FILES as PIECE_FILES
-from floebreak.app.run_directory import PIECES_FILE as PIECES_FILE
-from floebreak.app.run_directory import check_output_directory as check_output_directory
-from floebreak.app.run_directory import field_table as field_table
-from floebreak.app.run_directory import file_checksums as file_checksums
-from floebreak.app.surge import surge_summary
-from floebreak.errors import InputError
-from floebreak.ice.field import FloeField, diameter_classes_m
-from floebreak.io.contacts import ContactFile, read_contacts
-from floebreak.io.provenance import floebreak_version, provenance
-from floebreak.plotting.pattern_data import breaking_pattern
-from floebreak.results import ContactRecorder, ContactRecords, empty_contacts, piece_table, summary
-from floebreak.scenario import Scenario
-from floebreak.simulation import (
+from floebreak.config.scenario import Scenario
+from floebreak.engine.loop import (
     EVENT_TOLERANCE_M,
     MAX_PIECES_DEFAULT,
     Callback,
@@ -59,6 +43,22 @@ from floebreak.simulation import (
     SimulationResult,
     simulate,
 )
+from floebreak.engine.records import ContactRecorder, ContactRecords, empty_contacts, piece_table, summary
+from floebreak.errors import InputError
+from floebreak.ice.field import FloeField, diameter_classes_m
+from floebreak.io.contacts import ContactFile, read_contacts
+from floebreak.io.provenance import floebreak_version, provenance
+from floebreak.output.figure_process import FigureCall, FigureWorker, draw_figure
+from floebreak.output.poses import PoseRecorder, check_pose_interval
+from floebreak.output.run_directory import CONTACTS_FILE, pieces_table, write_run_directory
+from floebreak.output.run_directory import FIGURES as FIGURES
+from floebreak.output.run_directory import PIECE_FILES as PIECE_FILES
+from floebreak.output.run_directory import PIECES_FILE as PIECES_FILE
+from floebreak.output.run_directory import check_output_directory as check_output_directory
+from floebreak.output.run_directory import field_table as field_table
+from floebreak.output.run_directory import file_checksums as file_checksums
+from floebreak.output.surge import surge_summary
+from floebreak.plotting.pattern_data import breaking_pattern
 
 # the run directory's figures of a longer field or transit show its first this many metres: its whole length
 # would be a sliver of pixels, and drawing it holds every polygon once more (benchmarks/README.md, memory)
@@ -72,8 +72,8 @@ def plot_field_figure(floe_field: FloeField, title: str | None = None):
 
 def field_figure_call(floe_field: FloeField, title: str | None = None) -> FigureCall:
     """The plotting call of a floe field's figure: a field longer than `FIGURE_WINDOW_M` shows its first
-    `FIGURE_WINDOW_M` (the title says so), so that a figure's memory does not grow with the field
-    (issue 20)."""
+     `FIGURE_WINDOW_M` (the title says so), so that a figure's memory does not grow with the field
+    ."""
     x0, _, x1, _ = floe_field.domain_m
     if x1 - x0 <= FIGURE_WINDOW_M:
         return "field", "plot_field", (floe_field,), {"title": title, "x_window_m": None}
@@ -90,7 +90,7 @@ def field_figure_call(floe_field: FloeField, title: str | None = None) -> Figure
 class Result:
     """A finished run: the resolved scenario, the simulation result, contact records and the summary.
 
-    ``cusps``/``flipped``/``remaining`` are column dicts (geometry included, see `floebreak.results
+    ``cusps``/``flipped``/``remaining`` are column dicts (geometry included, see `floebreak.engine.records
     .piece_table`); ``contacts`` holds one row per floe–panel contact evaluation: kept in memory, or, for a
     run with a spool (`run`), read back from the spool's ``contacts.parquet`` when asked for.
     """
@@ -104,7 +104,7 @@ class Result:
 
     @cached_property
     def contacts(self) -> dict[str, np.ndarray]:
-        """The contact records as numpy columns (`floebreak.results.CONTACT_COLUMNS`)."""
+        """The contact records as numpy columns (`floebreak.engine.records.CONTACT_COLUMNS`)."""
         if self.contact_records.columns is not None:
             return self.contact_records.columns
         return read_contacts(self.contacts_file)
@@ -210,7 +210,7 @@ class Result:
 
         `directory_name`: the name the report shows (default `out`'s), for a caller that writes into a
         temporary directory of its own and renames it afterwards. `figure_worker`: the process forked
-        before the run to draw the figures (`floebreak.app.run_directory.figure_worker`; the one given to
+        before the run to draw the figures (`floebreak.output.run_directory.figure_worker`; the one given to
         `run`, if any).
         """
         return write_run_directory(
@@ -243,7 +243,7 @@ def run(
     the contact records stream (``contacts.parquet``, in row groups) instead of staying in memory (a long
     transit makes ≈ 20 000 rows per km); the Result reads them back from there when asked for, and
     `Result.write` copies the file, so the directory must outlive the Result's use of its records.
-    `figure_worker` (`floebreak.app.run_directory.figure_worker`): it is sent the field's figure once it
+    `figure_worker` (`floebreak.output.run_directory.figure_worker`): it is sent the field's figure once it
     has imported matplotlib, to draw while the engine runs; give it to `Result.write` too.
     """
     started = time.perf_counter()

@@ -1,6 +1,6 @@
 """The shaft analysis of a run: read its cusps, resolved scenario and a measured torque series, compute
 (`floebreak.shaft.analysis.shaft_response`), draw (`floebreak.plotting.shaft`) and write
-(`floebreak.io.shaft_files`). Files: docs/shaft.md."""
+(`floebreak.output.shaft_files`). Files: docs/shaft.md."""
 
 from __future__ import annotations
 
@@ -11,12 +11,12 @@ from pathlib import Path
 from typing import Any
 
 from floebreak.app.figure_calls import drawn, figures_in_worker
-from floebreak.app.inputs import measured_series, resolve_fem_tables
+from floebreak.app.inputs import load_shaft_line, measured_series, resolve_fem_tables
 from floebreak.errors import InputError, require_range
-from floebreak.io.run_files import read_resolved_scenario, read_run_cusps
-from floebreak.io.shaft_files import write_shaft_files
+from floebreak.output.run_files import read_resolved_scenario, read_run_cusps
+from floebreak.output.shaft_files import write_shaft_files
+from floebreak.propeller.loads.fem import DEFAULT_VOLUME_BASIS
 from floebreak.propeller.measured import TorqueSeries
-from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS
 from floebreak.propeller.ruleform import BasquinCurve
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
 from floebreak.propeller.transport import TransportSettings
@@ -38,7 +38,6 @@ from floebreak.shaft.analysis import (
     torque_series_knm,
     with_stall_positions,
 )
-from floebreak.shaft.line import load_shaft_line
 from floebreak.shaft.resonance import campbell
 
 
@@ -105,8 +104,8 @@ def write_shaft_analysis(
 ) -> Path:
     """Write `result` (and the comparison with `measured`) with its spectra, rainflow histogram (Miner's
     damage against `sn_curve` if given), summary and figures to `out_dir` atomically; return it. `progress`
-    as `floebreak.io.shaft_files.write_shaft_files`'. `figure_worker`
-    (`floebreak.app.run_directory.figure_worker`): a process that draws the figures while the tables are
+    as `floebreak.output.shaft_files.write_shaft_files`'. `figure_worker`
+    (`floebreak.output.run_directory.figure_worker`): a process that draws the figures while the tables are
     written (the same files)."""
     series = torque_series_knm(result, None if measured is None else measured.torque_nm)
     edges, densities = torque_densities(series, bin_knm)
@@ -138,12 +137,12 @@ def design_figure_calls(result: ShaftResult, histogram, fatigue: dict) -> dict:
 
 
 def _call(function: str, *args) -> tuple:
-    """A `floebreak.app.figure_process.FigureCall` of `floebreak.plotting.shaft`."""
+    """A `floebreak.output.figure_process.FigureCall` of `floebreak.plotting.shaft`."""
     return ("shaft", function, args, {})
 
 
 def shaft_figure_calls(result: ShaftResult, series, edges, densities, measured: TorqueSeries | None) -> dict:
-    """The shaft analysis' figures as plain data (file name → `floebreak.app.figure_process.FigureCall` of
+    """The shaft analysis' figures as plain data (file name → `floebreak.output.figure_process.FigureCall` of
     `floebreak.plotting.shaft`), to draw here or in a figure worker."""
     out = {}
     primary = result.cases[0]

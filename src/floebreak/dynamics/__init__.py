@@ -1,4 +1,4 @@
-"""Moving ice: rigid-body dynamics of the pieces (issue 29; docs/model.md, "Ice motion").
+"""Moving ice: rigid-body dynamics of the pieces (docs/model.md, "Ice motion").
 
 `IceMotionSettings` (coefficients, window, time step), `IceMotionEngine` (a pymunk space with a kinematic
 hull, the pieces by id, water forces, the awake window), `body_geometry` (mass properties of a polygon).

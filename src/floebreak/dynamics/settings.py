@@ -1,7 +1,7 @@
 """Settings of the rigid-body ice motion (docs/model.md, "Ice motion (rigid-body dynamics)").
 
 Every coefficient carries its unit, its allowed interval (`floebreak.errors.Bounds`, checked on construction)
-and its source in its docstring. The scenario table that states them is ``[ice_motion]`` (issue 29); an
+and its source in its docstring. The scenario table that states them is ``[ice_motion]``; an
 InputError names ``ice_motion.<field>``.
 """
 

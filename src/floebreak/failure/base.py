@@ -78,7 +78,7 @@ class Outcome:
     pieces: tuple[NewPiece, ...] = ()
     # the deciding criterion's margin ln(driving / resistance) (> 0: met), where the mode has one (bending:
     # F_v / P_f, cracking: its criterion's); None otherwise. It decides nothing: located events
-    # (`floebreak.simulation_events`) use it to place their trial positions (regula falsi)
+    # (`floebreak.engine.events`) use it to place their trial positions (regula falsi)
     margin: float | None = None
 
     @property

@@ -54,7 +54,7 @@ class BendingSettings:
     and how many vertices the bending line has, 360°/φ each. At 1° the bending line's chords deviate from
     its arc by R(1 − cos 0.5°) < 4·10⁻⁵ R, 0.04 mm at R = 1 m, far below an ice edge's roughness, so a finer
     φ resolves nothing; below it the cost grows as 1/φ without bound (0.01°: 36 000 rays, 48 s and 540 MB
-    for one 10 m floe; issue 31)"""
+    for one 10 m floe)"""
     flexural_strength_pa: float = c.FLEXURAL_STRENGTH_PA
     """σ_f [Pa] (from [ice])"""
     capacity_model: CapacityModel = "nevel_narrow"

@@ -1,8 +1,9 @@
 """The registry of failure modes: what a scenario may name in ``[failure.policy]`` and ``[failure.<mode>]``.
 
 A mode registers itself where it is defined (the built-in modes at the end of their modules, a user's mode
-in the user's code) with `register_mode`; the scenario validation (`floebreak.scenario`), the profiles
-(`floebreak.profiles.build_model`) and `floebreak.api.build_model_for` read it, so adding a mode touches no
+in the user's code) with `register_mode`; the scenario validation (`floebreak.config.scenario`), the profiles
+(`floebreak.config.profiles.build_model`) and `floebreak.api.build_model_for` read it, so adding a mode
+touches no
 other file. A registration holds:
 
 - the mode class (a frozen dataclass with ``name`` and ``evaluate``, `failure.base.FailureMode`);
@@ -23,7 +24,8 @@ Where modes come from — resolved by the registry itself, so no import line any
   imported) or a mode class (``halving = "my_pkg.modes:Halving"``, registered with the dataclass type of its
   ``settings`` field, if any, as its settings);
 - a scenario's ``[failure] plugins = ["my_pkg.my_mode"]``: modules on the path, resolved by
-  `resolve_plugins` whenever a scenario is read (`floebreak.scenario.Scenario.from_dict`): in the parent
+  `resolve_plugins` whenever a scenario is read (`floebreak.config.scenario.Scenario.from_dict`): in the
+  parent
   and in every study worker (pool or Dask), which receive the scenario as a dict and read it there.
 
 A module is resolved once per process (again only after its modes were unregistered). A module that cannot

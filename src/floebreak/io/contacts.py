@@ -1,4 +1,5 @@
-"""``contacts.parquet``: the contact records of a run (`floebreak.results.CONTACT_COLUMNS`), one row per
+"""``contacts.parquet``: the contact records of a run (`floebreak.engine.records.CONTACT_COLUMNS`), one row
+per
 floe–panel pair of each contact evaluation, written at once or streamed in row groups while the run goes on.
 
 Both ways give the same table: the columns in the recorder's order and types, each unit as Arrow field
@@ -47,7 +48,8 @@ def write_contacts(
 
 
 class ContactFile:
-    """A ``contacts.parquet`` written chunk by chunk while a run goes on (`floebreak.results.ContactRecorder`
+    """A ``contacts.parquet`` written chunk by chunk while a run goes on
+    (`floebreak.engine.records.ContactRecorder`
     with a spool): each chunk of records becomes a row group and leaves memory.
 
     `empty`: the columns of a run without contact (their types make the file's schema when no chunk comes).

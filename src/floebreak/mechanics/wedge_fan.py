@@ -85,7 +85,7 @@ def intact_fan(
         n_rays,
     )
     # every ray in intact ice is the whole circle: n · (2π/n) rounds above 2π for some n (25, 41, 50, …),
-    # which the capacity refuses (fuzz campaign, issue 20: a 1 m wide bow inside a 10 m thick floe)
+    # which the capacity refuses (fuzz campaign: a 1 m wide bow inside a 10 m thick floe)
     return min(n_block * (2.0 * np.pi / n_rays), 2.0 * np.pi), float(centre)
 
 

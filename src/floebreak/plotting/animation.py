@@ -5,7 +5,8 @@ Pure drawing: `Transit` holds every piece of a run with its life span (``created
 figure (ice still in the field blue, flipped pieces orange and cusps red where they left the field, the bow's
 ice waterlines at the current position). A `dynamic` run's pieces move: its `Transit` also holds
 `PieceMotion`, the recorded poses of the moved pieces (``poses.parquet``), and a moved piece in the field is
-drawn at its latest recorded pose at or before the step. Writing the frames to a file is `floebreak.replay`'s
+drawn at its latest recorded pose at or before the step. Writing the frames to a file is
+`floebreak.app.replay`'s
 job.
 """
 

@@ -1,7 +1,7 @@
 """What a breaking-pattern figure draws (`BreakingPattern`), as plain data taken from a `SimulationResult`
 without importing matplotlib.
 
-A figure worker (`floebreak.app.figure_process`) is sent this, not the run's result: the result of a
+A figure worker (`floebreak.output.figure_process`) is sent this, not the run's result: the result of a
 100 km transit holds every piece of the run and pickles to hundreds of MB, which the worker would hold
 once more (benchmarks/README.md, "Memory of the figure worker").
 """

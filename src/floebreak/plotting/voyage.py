@@ -1,4 +1,4 @@
-"""Figures of a voyage (issue 18 §4): load rates per level, exceedance per hour, timeline of the periods."""
+"""Figures of a voyage: load rates per level, exceedance per hour, timeline of the periods."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""Cusp tables (read by `floebreak.io.run_files.load_cusps`): validation, bounding-box volume classes, kinetic
+"""Cusp tables (read by `floebreak.output.run_files.load_cusps`): validation, bounding-box volume classes,
+kinetic
 energy.
 
 Volume classes and class means follow thesis §6.1.1 / Alg. 1 / Fig. 26: cuboidal bounding box of each cusp
@@ -9,6 +10,7 @@ Volume classes and class means follow thesis §6.1.1 / Alg. 1 / Fig. 26: cuboida
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -16,8 +18,11 @@ import pyarrow as pa
 
 from floebreak.constants import ICE_DENSITY_KG_M3
 from floebreak.errors import InputError
-from floebreak.io.run_files import CUSP_COLUMNS as REQUIRED_COLUMNS
-from floebreak.io.run_files import OPTIONAL_CUSP_COLUMNS as OPTIONAL_COLUMNS
+
+# the columns of a cusps table (a run directory's cusps.parquet)
+REQUIRED_COLUMNS = ("volume_m3", "bbox_length_m", "bbox_width_m", "thickness_m", "area_m2")
+# the bow at the cusp's making (transit order) and the centroid (the transport model); NaN if absent
+OPTIONAL_COLUMNS = ("bow_x_m", "centroid_x_m", "centroid_y_m")
 
 DEFAULT_CLASS_EDGES_M3 = (5.0, 8.0, 11.0, 14.0)
 
@@ -144,3 +149,21 @@ def kinetic_energy_j(
 ) -> np.ndarray:
     """E_kin = ½ ρ_ice V v² [J] (thesis Eqs. 27–28). An energy, reported apart from torque (erratum 25)."""
     return 0.5 * density_kg_m3 * np.asarray(volume_m3, dtype=float) * speed_m_s**2
+
+
+def cusp_geometry(columns: dict[str, np.ndarray], cusp_speed_m_s: float) -> dict[str, np.ndarray]:
+    """The per-cusp table's columns that need no load model: run, bow position, box, kinetic energy."""
+    longer, shorter, box_volume = box_dimensions(
+        columns["bbox_length_m"], columns["bbox_width_m"], columns["thickness_m"]
+    )
+    return {
+        "run_id": columns["run_id"],
+        "bow_x_m": columns.get("bow_x_m", np.full(columns["run_id"].size, math.nan)),
+        "area_m2": columns["area_m2"],
+        "thickness_m": columns["thickness_m"],
+        "volume_m3": columns["volume_m3"],
+        "bbox_longer_m": longer,
+        "bbox_shorter_m": shorter,
+        "box_volume_m3": box_volume,
+        "kinetic_energy_j": kinetic_energy_j(columns["volume_m3"], cusp_speed_m_s),
+    }

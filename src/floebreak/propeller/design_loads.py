@@ -1,4 +1,4 @@
-"""The design-load table of a propeller (issue 30 §1): per pitch, the design ice torque and blade force
+"""The design-load table of a propeller: per pitch, the design ice torque and blade force
 from the simulation, the ice-class rule's values, their ratio, the basis of every number and the number of
 loads over the operating profile against the rule's N_ice (pure; the summary, terminal and report show it).
 

@@ -1,46 +1,36 @@
-"""Which cusps load a propeller and with what (pure): the per-cusp load model ("milling": the blade milling
-model, `floebreak.propeller.milling`; "fem": the FEM tables) and the transport rule ("hull": the transport
-model, `floebreak.propeller.transport`, decides per cusp; "all": every cusp reaches, thesis §6.2), their
-defaults per scenario profile, and the out-of-range warnings (issue 33 item 5). docs/propeller.md §6–§8.
+"""Which cusps load a propeller (pure): the transport rule ("hull": the transport model,
+`floebreak.propeller.transport`, decides per cusp; "all": every cusp reaches, thesis §6.2), where a reaching
+cusp meets the blade, the drive's rated torque and the out-of-range warnings. The per-cusp load models are
+in `floebreak.propeller.loads`. docs/propeller.md §6–§8.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
 from floebreak.propeller.engagement import engaged_interval
-from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
+from floebreak.propeller.loads.milling import BladeGeometry
 from floebreak.propeller.rates import RunExposure
 from floebreak.propeller.spec import PropellerSpec
-from floebreak.propeller.spectra import pitch_label
 from floebreak.propeller.transport import (
     PATHS,
     CuspTransport,
     TransportSettings,
     transport_cusps,
 )
-from floebreak.shaft.line import AGULHAS_II
+from floebreak.ship.agulhas_ii import AGULHAS_II
 
-LOAD_MODELS = ("milling", "fem")
 TRANSPORTS = ("hull", "all")
 TRANSPORT_COLUMNS = ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")
-# the built-in Agulhas II line's rated power (shaft/line.py): rated torque P/(2π n) = 306.9 kN·m at 140 rpm
-DEFAULT_RATED_POWER_W = float(AGULHAS_II["rated_power_w"])
+# the Agulhas II's rated power: rated torque P/(2π n) = 306.9 kN·m at 140 rpm
+DEFAULT_RATED_POWER_W = float(AGULHAS_II.rated_power_w)
 RATED_TORQUE_FACTOR = 2.0  # warn when a per-cusp torque exceeds this many times the rated torque
 EXTRAPOLATION_FACTOR = 1.5  # warn when a rule-form x_max lies this far beyond the largest fitted load
-MILLING_PITCH_PERCENT = 0.0  # the milling model's pitches: 0 % and the spec's (those of the FEM tables)
 # shaft lines of 1 or more than 2 propellers: evenly over ±5.5 m (the Agulhas II's ASSUMED offsets)
-
-
-def profile_defaults(profile: str | None) -> tuple[str, str]:
-    """(load model, transport) of a scenario profile: thesis → FEM tables, every cusp reaches; otherwise
-    (default) → the milling model and the transport model."""
-    return ("fem", "all") if profile == "thesis" else ("milling", "hull")
 
 
 def check_choice(key: str, value: str, allowed: tuple[str, ...]) -> str:
@@ -55,37 +45,6 @@ def drive_rated_torque_n_m(spec: PropellerSpec, rated_torque: float | None = Non
     if rated_torque is not None:
         return require_range("rated_torque_n_m", rated_torque, low=0.0, unit="N m")
     return DEFAULT_RATED_POWER_W / (2.0 * math.pi * spec.revolutions_per_s)
-
-
-def milling_pitches(spec: PropellerSpec) -> tuple[float, ...]:
-    return tuple(sorted({MILLING_PITCH_PERCENT, float(spec.pitch_percent)}))
-
-
-def milling_loads(
-    longer_m,
-    shorter_m,
-    thickness_m,
-    spec: PropellerSpec,
-    advance_speed_m_s,
-    inner_radius_m=math.nan,
-    outer_radius_m=math.nan,
-) -> dict[str, np.ndarray]:
-    """Per pitch (`milling_pitches`): force [N] (|axial blade force| of one impact), torque [N·m] (signed
-    as the FEM tables: negative about the shaft axis, thesis §6.1.2), impacts to mill the cusp, and
-    `beyond_table` (all False: no table). Block = the cusp's box (`IceBlock.from_box`) on its engaged
-    interval (`engaged_intervals`; NaN: tip placement), blade = the spec at that pitch, rpm = the spec's,
-    advance speed = the ship speed (docs/propeller.md "Blade milling model")."""
-    block = IceBlock.from_box(longer_m, shorter_m, thickness_m, inner_radius_m, outer_radius_m)
-    out: dict[str, np.ndarray] = {}
-    for pitch in milling_pitches(spec):
-        blade = BladeGeometry.from_spec(replace(spec, pitch_percent=pitch))
-        loads = impact_loads(block, blade, spec.rpm, advance_speed_m_s)
-        label = pitch_label(pitch)
-        out[f"force_n_{label}"] = loads.force_n
-        out[f"torque_nm_{label}"] = -loads.torque_n_m
-        out[f"n_impacts_{label}"] = loads.n_impacts
-        out[f"beyond_table_{label}"] = np.zeros(block.thickness_m.size, dtype=bool)
-    return out
 
 
 PLACEMENT_ENGAGED = "engaged interval from the transport"
@@ -117,11 +76,12 @@ def engaged_intervals(
     return inner, outer
 
 
-def placement_text(load_model: str, modelled_runs: int, tip_runs: int) -> str | None:
-    """How the milling model places each cusp on the blade (summary.json `load_model.placement`): the
-    engaged interval for runs the transport moved, tip placement where no geometry is known (transport
-    "all" or a fraction reaching override). None for the FEM tables."""
-    if load_model != "milling":
+def placement_text(places_on_blade: bool, modelled_runs: int, tip_runs: int) -> str | None:
+    """How a load model that places loads on the blade (`LoadModel.places_on_blade`: the milling model)
+    places each cusp (summary.json `load_model.placement`): the engaged interval for runs the transport
+    moved, tip placement where no geometry is known (transport "all" or a fraction reaching override). None
+    for other models."""
+    if not places_on_blade:
         return None
     if not modelled_runs:
         return f"{PLACEMENT_TIP} (no cusp geometry at the disc with transport 'all' or a fraction override)"
@@ -153,7 +113,7 @@ def transport_of_runs(
         idx = np.flatnonzero(columns["run_id"] == run)
         basis = exposures[run].basis if run in exposures else None
         speed = basis.speed_m_s if basis else c.SHIP_SPEED_IN_ICE_M_S
-        n_prop = basis.n_propellers if basis else c.PROPELLER_COUNT
+        n_prop = basis.n_propellers if basis else AGULHAS_II.propeller_count
         cols = {k: columns[k][idx] for k in TRANSPORT_COLUMNS}
         out[run] = (
             idx,
@@ -219,7 +179,8 @@ def torque_warnings(table_info: dict[str, dict], rated_torque: float, rule_max_t
 def force_warnings(table_info: dict[str, dict], backward_force: float, forward_force: float) -> list[str]:
     """A warning per pitch whose largest per-cusp blade force |F| exceeds the rule's backward force F_b,
     and one where it exceeds the forward force F_f (both in N; `table_info`'s ranges in kN). The per-cusp
-    force is a magnitude (the FEM tables and `milling_loads` keep |F|), so both limits are checked."""
+    force is a magnitude (the FEM tables and `loads.milling.milling_loads` keep |F|), so both limits are
+    checked."""
     out = []
     for info in table_info.values():
         f_range = info.get("force_range_kn")

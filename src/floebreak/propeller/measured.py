@@ -10,17 +10,14 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from floebreak.errors import InputError
 from floebreak.io.delimiters import check_comma_separated
-from floebreak.io.text_files import package_data_path, read_text_file
-from floebreak.propeller.fem import _UNITS as _FEM_UNITS
-from floebreak.propeller.fem import split_name_unit, unit_factor
+from floebreak.propeller.loads.fem import _UNITS as _FEM_UNITS
+from floebreak.propeller.loads.fem import split_name_unit, unit_factor
 
 _TIME_UNITS = {"time": {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}}
 _TORQUE_UNITS = {"torque": _FEM_UNITS["torque"]}  # the same torque units as FEM tables
@@ -107,19 +104,3 @@ def parse_torque_csv(
         )
     q = np.asarray(torque) * (-1.0 if flip_sign else 1.0)
     return TorqueSeries(t, q, source)
-
-
-def read_torque_csv(
-    path: str | os.PathLike[str],
-    torque_unit: str | None = None,
-    time_unit: str | None = None,
-    flip_sign: bool = False,
-    field: str = "torque_csv",
-) -> TorqueSeries:
-    text = read_text_file(path, field)
-    return parse_torque_csv(text, str(Path(path)), torque_unit, time_unit, flip_sign, field)
-
-
-def synthetic_torque_path() -> Path:
-    """Path of the shipped SYNTHETIC example series (not measured data)."""
-    return package_data_path("synthetic_shaft_torque.csv")

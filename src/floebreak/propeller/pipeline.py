@@ -1,6 +1,6 @@
 """Propeller analysis of a run, study or voyage (pure): cusps → force/torque per cusp → spectra, rates,
 rule-form fits, comparison with a measured series, rule check. Returns a `PropellerResult`; writing is in
-`floebreak.io.propeller`, drawing in `floebreak.plotting.propeller`. See docs/propeller.md.
+`floebreak.output.propeller_files`, drawing in `floebreak.plotting.propeller`. See docs/propeller.md.
 """
 
 from __future__ import annotations
@@ -15,32 +15,28 @@ import numpy as np
 from floebreak.errors import InputError, require_range
 from floebreak.propeller.cusps import (
     DEFAULT_CLASS_EDGES_M3,
-    box_dimensions,
     check_class_edges,
     class_means,
     cusp_columns,
-    kinetic_energy_j,
     volume_class,
 )
-from floebreak.propeller.fem import FemTable, fem_table_dict
 from floebreak.propeller.iceclass import WEIBULL_SHAPE, IceClassLoads, check_polar_class, ur_i3_loads
-from floebreak.propeller.interpolation import check_options, table_interpolant
+from floebreak.propeller.interpolation import check_options
 from floebreak.propeller.load_models import (
-    LOAD_MODELS,
     TRANSPORTS,
     check_choice,
     drive_rated_torque_n_m,
     engaged_intervals,
     extrapolation_warnings,
     force_warnings,
-    milling_loads,
-    milling_pitches,
     override_warning,
     placement_text,
     torque_warnings,
     transport_of_runs,
     transport_summary,
 )
+from floebreak.propeller.loads import get_load_model, load_model_names
+from floebreak.propeller.loads.fem import DEFAULT_VOLUME_BASIS, VOLUME_BASES, FemTable, fem_table_dict
 from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.rates import RateBasis, RunExposure, check_exposures, weighted_exceedance
 from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
@@ -59,20 +55,11 @@ from floebreak.propeller.spectra import (
 from floebreak.propeller.summary import build_summary, finite_range
 from floebreak.propeller.transport import TransportSettings
 
-VOLUME_BASES = ("box", "actual")
-# The cusp's own volume (area × thickness) enters the FEM interpolation (thesis §6.1.3: the loads "are
-# interpolated with respect to the cusp volume"). Evidence from §6.2: at h = 0.4 m the neutral-pitch torques
-# end at 210 kN·m, which the quartic reaches at 2.59 m³ — the actual volume of the largest unbreakable cusp,
-# A_rotate(0.4 m) × 0.4 m = 6.79 m² × 0.4 m = 2.72 m³ (215 kN·m); its bounding box is larger (box/actual
-# 1.3–2 for broken pieces), and box volumes would end at 250–300 kN·m. "box" (Alg. 1's class volume) stays.
-DEFAULT_VOLUME_BASIS = "actual"
-
 __all__ = [
     "PropellerResult",
-    "analyse_propeller",
+    "analyse_cusp_loads",
     "load_spectra",
     "pitch_label",
-    "propeller_loads",
     "torque_ranges_above",
 ]
 
@@ -103,7 +90,7 @@ class MeasuredSpectrum:
 
 @dataclass(frozen=True)
 class PropellerResult:
-    """Everything `analyse_propeller` computes; nothing is written. `loads` is the per-cusp table in
+    """Everything `analyse_cusp_loads` computes; nothing is written. `loads` is the per-cusp table in
     transit order (run, then bow position); `spectra` the CF xarray Dataset (densities, counts and, with
     exposures, rates per hour and per km); `summary` the JSON-ready summary (without provenance)."""
 
@@ -139,58 +126,6 @@ class PropellerResult:
             self.loads[f"beyond_table_{label}"],
             self.loads["loads_per_propeller"],
         )
-
-
-def propeller_loads(
-    columns: dict[str, np.ndarray],
-    tables: dict[float, FemTable],
-    *,
-    interpolation: str = "newton",
-    beyond: str = "power_law",
-    volume_basis: str = DEFAULT_VOLUME_BASIS,
-    cusp_speed_m_s: float = 3.0,
-) -> dict[str, np.ndarray]:
-    """Per-cusp table (pure): box dimensions, class, kinetic energy, and per pitch force [N], torque [N·m]
-    and whether the cusp lies beyond the FEM table. `columns` as returned by `cusp_columns`."""
-    check_options(interpolation, beyond)
-    if volume_basis not in VOLUME_BASES:
-        raise InputError(
-            "volume_basis",
-            f"unknown value {volume_basis!r}",
-            value=volume_basis,
-            allowed=", ".join(VOLUME_BASES),
-        )
-    out = _cusp_geometry(columns, cusp_speed_m_s)
-    longer, shorter = out["bbox_longer_m"], out["bbox_shorter_m"]
-    volume = out["box_volume_m3"] if volume_basis == "box" else columns["volume_m3"]
-    coordinates = {"volume": volume, "thickness": columns["thickness_m"], "length": longer, "width": shorter}
-    coordinates["height"] = columns["thickness_m"]
-    for pitch, table in tables.items():
-        label = pitch_label(pitch)
-        f = table_interpolant(table, "force", interpolation, beyond)
-        q = table_interpolant(table, "torque", interpolation, beyond)
-        out[f"force_n_{label}"], beyond_f = f(coordinates)
-        out[f"torque_nm_{label}"], _ = q(coordinates)
-        out[f"beyond_table_{label}"] = beyond_f
-    return out
-
-
-def _cusp_geometry(columns: dict[str, np.ndarray], cusp_speed_m_s: float) -> dict[str, np.ndarray]:
-    """The per-cusp table's columns that need no load model: run, bow position, box, kinetic energy."""
-    longer, shorter, box_volume = box_dimensions(
-        columns["bbox_length_m"], columns["bbox_width_m"], columns["thickness_m"]
-    )
-    return {
-        "run_id": columns["run_id"],
-        "bow_x_m": columns.get("bow_x_m", np.full(columns["run_id"].size, math.nan)),
-        "area_m2": columns["area_m2"],
-        "thickness_m": columns["thickness_m"],
-        "volume_m3": columns["volume_m3"],
-        "bbox_longer_m": longer,
-        "bbox_shorter_m": shorter,
-        "box_volume_m3": box_volume,
-        "kinetic_energy_j": kinetic_energy_j(columns["volume_m3"], cusp_speed_m_s),
-    }
 
 
 def load_spectra(
@@ -313,22 +248,8 @@ def _cusp_loads(columns, tables, options, propeller, speed_m_s, engaged=None) ->
     loads per cusp on one propeller NaN until a time base is known (`_add_rates`). `engaged`: the milling
     model's engaged intervals (r_in, r_out) per cusp (`engaged_intervals`; NaN: tip placement), kept as
     the columns engaged_inner_radius_m, engaged_outer_radius_m."""
-    if options["load_model"] == "fem":
-        loads = propeller_loads(
-            columns,
-            tables,
-            interpolation=options["interpolation"],
-            beyond=options["beyond"],
-            volume_basis=options["volume_basis"],
-            cusp_speed_m_s=options["cusp_speed_m_s"],
-        )
-    else:
-        loads = _cusp_geometry(columns, options["cusp_speed_m_s"])
-        n = loads["run_id"].size
-        inner, outer = engaged if engaged is not None else (np.full(n, math.nan), np.full(n, math.nan))
-        loads["engaged_inner_radius_m"], loads["engaged_outer_radius_m"] = inner, outer
-        box = (loads["bbox_longer_m"], loads["bbox_shorter_m"], loads["thickness_m"])
-        loads.update(milling_loads(*box, propeller, speed_m_s, inner, outer))
+    model = get_load_model(options["load_model"])
+    loads = model.cusp_loads(columns, tables, options, propeller, speed_m_s, engaged)
     loads["volume_class"] = volume_class(loads["box_volume_m3"], options["volume_class_edges_m3"])
     loads["loads_per_propeller"] = np.full(loads["run_id"].size, math.nan)
     return loads
@@ -338,7 +259,8 @@ def _placed_loads(columns, tables, options, propeller, speed, transports) -> tup
     """The per-cusp table (`_cusp_loads`) with the milling model's blocks on their engaged intervals where
     the transport moved the run (`engaged_intervals`), and the placement's text (None for FEM)."""
     n_runs = len(set(columns["run_id"].tolist()))
-    placement = placement_text(options["load_model"], len(transports), n_runs - len(transports))
+    on_blade = get_load_model(options["load_model"]).places_on_blade
+    placement = placement_text(on_blade, len(transports), n_runs - len(transports))
     engaged = engaged_intervals(transports, columns["run_id"].size, propeller) if placement else None
     return _cusp_loads(columns, tables, options, propeller, speed, engaged), placement
 
@@ -398,7 +320,7 @@ def _unload_missed(loads: dict, pitches) -> None:
             loads[f"{column}_{pitch_label(pitch)}"][~loads["reaches_propeller"]] = math.nan
 
 
-def analyse_propeller(
+def analyse_cusp_loads(
     cusps,
     *,
     load_model: str = "milling",
@@ -479,7 +401,7 @@ def analyse_propeller(
     return result
 
 
-# the steps of `analyse_propeller` that its `progress` callback is told of, in order
+# the steps of `analyse_cusp_loads` that its `progress` callback is told of, in order
 ANALYSIS_STAGES = ("transport", "per-cusp loads", "spectra and rates", "summary")
 
 
@@ -495,15 +417,19 @@ def _load_tables(load_model, fem_tables, propeller, measured) -> tuple[str, dict
         raise InputError(
             "measured", f"{type(measured).__name__} is not a TorqueSeries", allowed="a TorqueSeries"
         )
-    load_model = "fem" if fem_tables is not None else check_choice("load_model", load_model, LOAD_MODELS)
-    if load_model == "milling":
-        return load_model, {}, milling_pitches(propeller)
+    # given tables select the FEM tables' model
+    load_model = (
+        "fem" if fem_tables is not None else check_choice("load_model", load_model, load_model_names())
+    )
+    model = get_load_model(load_model)
+    if not model.needs_tables:
+        return load_model, {}, model.pitches(propeller, {})
     if fem_tables is None:
         raise InputError(
             "fem_tables", "the FEM load model needs tables", allowed="FemTables, e.g. shipped_fem_tables()"
         )
     tables = fem_table_dict(fem_tables)
-    return load_model, tables, tuple(tables)
+    return load_model, tables, model.pitches(propeller, tables)
 
 
 def _speed(exposures: dict[str, RunExposure], run: str) -> float:
@@ -516,7 +442,7 @@ def _complete_summary(summary, transport_info, table_info, rated, rule, placemen
     options = summary["options"]
     summary["load_model"] = {
         "name": options["load_model"],
-        "description": LOAD_MODEL_TEXT[options["load_model"]],
+        "description": get_load_model(options["load_model"]).description,
         "rated_torque_knm": rated / 1e3,
     }
     if placement is not None:
@@ -535,11 +461,3 @@ def _complete_summary(summary, transport_info, table_info, rated, rule, placemen
     if rule is not None:
         warnings += force_warnings(table_info, rule.backward_force_n, rule.forward_force_n)
     warnings += extrapolation_warnings(summary.get("rule_form"))
-
-
-LOAD_MODEL_TEXT = {
-    "milling": "blade milling model (docs/propeller.md 'Blade milling model'): one blade impact on the "
-    "cusp's box at the spec's rpm and the ship speed, on the blade's engaged interval in the cusp where the "
-    "transport gives it (load_model.placement)",
-    "fem": "FEM tables (thesis Tables 10/11 or given), interpolated over the cusp volume",
-}

@@ -21,7 +21,7 @@ import numpy as np
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
-from floebreak.scenario import PROPELLER_COUNT, SPEED_M_S
+from floebreak.ship.agulhas_ii import AGULHAS_II
 
 SECONDS_PER_HOUR = 3600.0
 
@@ -33,18 +33,24 @@ class RateBasis:
 
     speed_m_s: float = c.SHIP_SPEED_IN_ICE_M_S
     fraction_reaching: float | None = None
-    n_propellers: int = c.PROPELLER_COUNT
+    n_propellers: int = AGULHAS_II.propeller_count
 
     def __post_init__(self) -> None:
-        require_range("ship.speed_m_s", self.speed_m_s, low=SPEED_M_S[0], high=SPEED_M_S[1], unit="m/s")
+        require_range(
+            "ship.speed_m_s",
+            self.speed_m_s,
+            low=c.SHIP_SPEED_RANGE_M_S[0],
+            high=c.SHIP_SPEED_RANGE_M_S[1],
+            unit="m/s",
+        )
         if self.fraction_reaching is not None:
             require_range("propeller.fraction_reaching", self.fraction_reaching, low=0.0, high=1.0)
         if (
             isinstance(self.n_propellers, bool)
             or int(self.n_propellers) != self.n_propellers
-            or not PROPELLER_COUNT[0] <= self.n_propellers <= PROPELLER_COUNT[1]
+            or not c.PROPELLER_COUNT_RANGE[0] <= self.n_propellers <= c.PROPELLER_COUNT_RANGE[1]
         ):
-            allowed = f"an integer in [{PROPELLER_COUNT[0]}, {PROPELLER_COUNT[1]}]"
+            allowed = "an integer in [{}, {}]".format(*c.PROPELLER_COUNT_RANGE)
             raise InputError(
                 "propeller.count",
                 f"{self.n_propellers!r} is not {allowed}",

@@ -33,7 +33,7 @@ from floebreak.errors import InputError, require_range
 
 EULER_GAMMA = 0.5772156649015329
 # the standard normal's 97.5 % quantile as scipy.stats.norm.ppf(0.975) gives it, to the last bit (a test
-# checks it): the summary's 95 % intervals without importing scipy.stats (benchmarks/README.md, issue 33)
+# checks it): the summary's 95 % intervals without importing scipy.stats (benchmarks/README.md)
 Z_95 = 1.959963984540054
 N_CLASS = {  # reference impacts per propeller speed [1/s]: UR I3 as recalled, verify against the rule text
     "PC1": 21e6,

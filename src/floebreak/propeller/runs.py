@@ -1,6 +1,6 @@
 """Run directories as propeller-analysis input: what each run stands for (transit distance, speed, fraction
 reaching, propellers) and the check that pooled runs describe the same conditions. Pure: the files are read
-by `floebreak.io.run_files`, and `floebreak.app.propeller.read_runs` combines the two.
+by `floebreak.output.run_files`, and `floebreak.app.propeller.read_runs` combines the two.
 
 Transit distance of a run (documented rule, docs/propeller.md §6): the length along x of the overlap of the
 stem's travel [x_start_m, x_start_m + (n_steps − 1) step_m] (``pieces.parquet`` metadata) with the field's

@@ -6,6 +6,13 @@ import math
 from dataclasses import dataclass
 
 from floebreak.errors import InputError, require_range
+from floebreak.ship.agulhas_ii import (
+    PROPELLER_BLADES,
+    PROPELLER_DIAMETER_M,
+    PROPELLER_MAX_PITCH_M,
+    PROPELLER_PITCH_PERCENT,
+    PROPELLER_RPM,
+)
 
 # propeller speeds: the Agulhas II's turns at 140 1/min (thesis §6.1.2); 1000 1/min is above any ice-going
 # ship's propeller, and bounds the samples of a shaft analysis (they grow with the speed)
@@ -26,11 +33,11 @@ class PropellerSpec:
     bollard condition; None uses the rule's fallback 0.7 × the maximum (free-running) pitch.
     """
 
-    radius_m: float = 2.15
-    max_pitch_m: float = 5.15
-    pitch_percent: float = 95.8551
-    rpm: float = 140.0
-    blades: int = 4
+    radius_m: float = PROPELLER_DIAMETER_M / 2.0
+    max_pitch_m: float = PROPELLER_MAX_PITCH_M
+    pitch_percent: float = PROPELLER_PITCH_PERCENT
+    rpm: float = PROPELLER_RPM
+    blades: int = PROPELLER_BLADES
     expanded_area_ratio: float = 0.55
     hub_ratio: float = 0.30
     blade_thickness_07_m: float = 0.105

@@ -1,5 +1,6 @@
 """The JSON-ready summary of a propeller analysis: counts, ranges, rates, rule-form fits and warnings
-(pure; `floebreak.propeller.pipeline.analyse_propeller` builds it, `floebreak.io.propeller` writes it)."""
+(pure; `floebreak.propeller.pipeline.analyse_cusp_loads` builds it, `floebreak.output.propeller_files` writes
+it)."""
 
 from __future__ import annotations
 

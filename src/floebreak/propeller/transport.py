@@ -42,7 +42,19 @@ import numpy as np
 
 from floebreak import constants as c
 from floebreak.errors import Bounds, InputError, check_bounds, require_range
-from floebreak.scenario import SPEED_M_S
+from floebreak.ship.agulhas_ii import (
+    BEAM_M,
+    BILGE_RADIUS_M,
+    BOW_LENGTH_M,
+    DISC_BOTTOM_ABOVE_BASE_M,
+    DRAUGHT_M,
+    PROPELLER_DIAMETER_M,
+    PROPELLER_PLANE_AFT_OF_STEM_M,
+    RUN_LENGTH_M,
+    SHAFT_DEPTH_M,
+    SHAFT_SPREAD_M,
+    TIP_CLEARANCE_M,
+)
 
 NO_PROPELLER: Final = -1
 # why a cusp reaches no propeller (`CuspTransport.path`)
@@ -55,18 +67,20 @@ class HullUnderwater:
     """The underwater hull as the transport sees it. Defaults: S.A. Agulhas II (docs/model.md, "Cusp
     transport under the hull", gives each value's source; ASSUMED values are marked there)."""
 
-    beam_m: Annotated[float, Bounds(1.0, 100.0, unit="m")] = 21.7
+    beam_m: Annotated[float, Bounds(1.0, 100.0, unit="m")] = BEAM_M
     """waterline beam B [m] (thesis §3)"""
-    draught_m: Annotated[float, Bounds(0.5, 30.0, unit="m")] = 7.65
+    draught_m: Annotated[float, Bounds(0.5, 30.0, unit="m")] = DRAUGHT_M
     """draught T [m], depth of the flat bottom (thesis §3)"""
-    bilge_radius_m: Annotated[float, Bounds(0.0, 50.0, unit="m")] = 2.5
+    bilge_radius_m: Annotated[float, Bounds(0.0, 50.0, unit="m")] = BILGE_RADIUS_M
     """bilge radius r_bilge [m]; flat-bottom half-width B/2 − r_bilge (ASSUMED)"""
-    bow_length_m: Annotated[float, Bounds(0.0, 500.0, low_inclusive=False, unit="m")] = 34.4
+    bow_length_m: Annotated[float, Bounds(0.0, 500.0, low_inclusive=False, unit="m")] = BOW_LENGTH_M
     """stem-to-shoulder length L_b [m] (the parametric Agulhas II bow, `ship.hulls.agulhas_ii`)"""
-    propeller_plane_aft_of_stem_m: Annotated[float, Bounds(1.0, 1000.0, unit="m")] = 115.0
+    propeller_plane_aft_of_stem_m: Annotated[float, Bounds(1.0, 1000.0, unit="m")] = (
+        PROPELLER_PLANE_AFT_OF_STEM_M
+    )
     """L_p, distance from the stem tip (ice waterline) aft to the propeller plane [m] (ASSUMED from
     L_pp ≈ 121.8 m)"""
-    run_length_m: Annotated[float, Bounds(0.0, 200.0, low_inclusive=False, unit="m")] = 15.0
+    run_length_m: Annotated[float, Bounds(0.0, 200.0, low_inclusive=False, unit="m")] = RUN_LENGTH_M
     """L_run, length of the stern run over which the hull rises from the flat bottom to above the discs
     [m] (ASSUMED)"""
 
@@ -92,9 +106,9 @@ class Propeller:
 
     offset_y_m: Annotated[float, Bounds(-50.0, 50.0, unit="m")]
     """y_s, lateral offset of the shaft line [m], positive to port"""
-    diameter_m: Annotated[float, Bounds(0.0, 20.0, low_inclusive=False, unit="m")] = 4.3
+    diameter_m: Annotated[float, Bounds(0.0, 20.0, low_inclusive=False, unit="m")] = PROPELLER_DIAMETER_M
     """D [m] (thesis Table 9: r = 2.15 m)"""
-    shaft_depth_m: Annotated[float, Bounds(0.0, 30.0, low_inclusive=False, unit="m")] = 5.25
+    shaft_depth_m: Annotated[float, Bounds(0.0, 30.0, low_inclusive=False, unit="m")] = SHAFT_DEPTH_M
     """z_s, immersion of the shaft axis below the waterline [m] (ASSUMED: disc bottom 0.25 m above the
     base line, T − R − 0.25 m)"""
 
@@ -110,8 +124,11 @@ class Propeller:
 class PropellerArrangement:
     """The propellers and the hull's clearance above their discs. Default: two shafts at ±5.5 m (ASSUMED)."""
 
-    propellers: tuple[Propeller, ...] = (Propeller(5.5), Propeller(-5.5))
-    tip_clearance_m: Annotated[float, Bounds(0.0, 10.0, unit="m")] = 0.86
+    propellers: tuple[Propeller, ...] = (
+        Propeller(SHAFT_SPREAD_M),
+        Propeller(-SHAFT_SPREAD_M),
+    )
+    tip_clearance_m: Annotated[float, Bounds(0.0, 10.0, unit="m")] = TIP_CLEARANCE_M
     """c_tip, vertical gap between the hull and the disc's top [m] (ASSUMED 0.2 D)"""
 
     def __post_init__(self) -> None:
@@ -243,7 +260,9 @@ def transport_cusps(
     Inputs per cusp (field frame, metres): the bow position when it was made, its centroid, area and
     thickness. `rng` is needed only for `params.lateral_spread_m` > 0.
     """
-    v = require_range("ship.speed_m_s", speed_m_s, low=SPEED_M_S[0], high=SPEED_M_S[1], unit="m/s")
+    v = require_range(
+        "ship.speed_m_s", speed_m_s, low=c.SHIP_SPEED_RANGE_M_S[0], high=c.SHIP_SPEED_RANGE_M_S[1], unit="m/s"
+    )
     cols = _checked_columns(
         {
             "bow_x_m": bow_x_m,
@@ -336,12 +355,6 @@ def loads_per_hour(n_loads: np.ndarray | float, transit_m: float, speed_m_s: flo
     return np.asarray(n_loads, dtype=float) / hours
 
 
-# ASSUMED (docs/model.md, "Parameters and their sources"): the shafts' lateral offset for two propellers (more
-# are spread evenly over ±SHAFT_SPREAD_M) and the discs' bottom above the base line
-SHAFT_SPREAD_M: Final = 5.5
-DISC_BOTTOM_ABOVE_BASE_M: Final = 0.25
-
-
 @dataclass(frozen=True)
 class TransportSettings:
     """The user-settable transport inputs: the hull, the parameters and the hull's clearance above the discs
@@ -349,7 +362,7 @@ class TransportSettings:
 
     hull: HullUnderwater = HullUnderwater()
     params: TransportParameters = TransportParameters()
-    tip_clearance_m: float = PropellerArrangement().tip_clearance_m
+    tip_clearance_m: float = TIP_CLEARANCE_M
 
     def __post_init__(self) -> None:
         PropellerArrangement(tip_clearance_m=self.tip_clearance_m)  # its bounds and the disc check

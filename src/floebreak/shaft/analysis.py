@@ -16,11 +16,10 @@ import numpy as np
 
 from floebreak.errors import InputError, require_range
 from floebreak.propeller.cusps import box_dimensions
-from floebreak.propeller.fem import fem_table_dict
 from floebreak.propeller.interpolation import check_options, table_interpolant
 from floebreak.propeller.load_models import PLACEMENT_ENGAGED, PLACEMENT_TIP, engaged_intervals
-from floebreak.propeller.milling import BladeGeometry, IceBlock, impact_loads
-from floebreak.propeller.pipeline import DEFAULT_VOLUME_BASIS, VOLUME_BASES
+from floebreak.propeller.loads.fem import DEFAULT_VOLUME_BASIS, VOLUME_BASES, fem_table_dict
+from floebreak.propeller.loads.milling import BladeGeometry, IceBlock, impact_loads
 from floebreak.propeller.ruleform import BasquinCurve
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
@@ -323,7 +322,7 @@ def resonance_summary(line: ShaftLine, blades: int) -> dict:
     }
 
 
-RAINFLOW_BIN_N_M = 10e3  # issue 30 §2: 10 kN·m range bins
+RAINFLOW_BIN_N_M = 10e3  # 10 kN·m range bins
 NO_SN_CURVE_NOTE = "no S–N curve given (--sn-curve torque,M,AMPLITUDE,CYCLES): no damage computed"
 
 

@@ -1,5 +1,5 @@
 """Fatigue of the shaft line: rainflow cycles of a torque series and Miner's damage against a Basquin S–N
-curve (issue 30 §2; docs/shaft.md "Fatigue of the shaft line").
+curve (docs/shaft.md "Fatigue of the shaft line").
 
 Counting: ASTM E1049-85 (2011) §5.4.4 rainflow counting, through the `rainflow` package
 (`rainflow.extract_cycles`): every cycle has a range (peak to valley), a mean and a count of 1.0, or 0.5

@@ -2,18 +2,19 @@
 
 The drive (`floebreak.shaft.drive`) asks for the torque of the cusp being milled at the rpm of each blade
 passage, one passage at a time: the rpm there follows from the impacts before it, so the impacts cannot be
-batched. `CuspTorques` computes each cusp's blade strips once (`floebreak.propeller.milling.block_strips`:
-what depends on the block alone) and calls `floebreak.propeller.milling.impact_torque_n_m`, the torque part
-of `impact_loads` (the same function computes it there), so the torque is `impact_loads`' own, to the bit
-(tests/shaft/test_impact_torque.py), without the block's motion, impact count and other quantities.
+batched. `CuspTorques` computes each cusp's blade strips once (`floebreak.propeller.loads.milling
+.block_strips`: what depends on the block alone) and calls `floebreak.propeller.loads.milling
+.impact_torque_n_m`, the torque part of `impact_loads` (the same function computes it there), so the
+torque is `impact_loads`' own, to the bit (tests/shaft/test_impact_torque.py), without the block's
+motion, impact count and other quantities.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from floebreak.propeller import milling
-from floebreak.propeller.milling import BladeGeometry, IceBlock, IceStrength
+from floebreak.propeller.loads import milling
+from floebreak.propeller.loads.milling import BladeGeometry, IceBlock, IceStrength
 
 
 @dataclass(frozen=True)

@@ -18,16 +18,21 @@ Natural frequencies and mode shapes are those of the free-free line (no controll
 from __future__ import annotations
 
 import math
-import os
-import tomllib
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 
 import numpy as np
 
 from floebreak.errors import InputError, require_range
-from floebreak.io.text_files import read_text_file
 from floebreak.propeller.spec import MAX_PROPELLER_RPM
+from floebreak.ship.agulhas_ii import (
+    INTERMEDIATE_SHAFT_M,
+    MOTOR_INERTIA_KG_M2,
+    PROPELLER_INERTIA_KG_M2,
+    PROPELLER_RPM,
+    PROPELLER_SHAFT_M,
+    RATED_POWER_W,
+    THRUST_BEARING_INERTIA_KG_M2,
+)
 
 BUILTIN_LINES = ("agulhas_ii",)
 G_STEEL_PA = 80e9  # shear modulus of shaft steel
@@ -41,8 +46,8 @@ def solid_shaft_stiffness_n_m_per_rad(diameter_m: float, length_m: float, shear_
 # Built-in PSRV S.A. Agulhas II port shaft line. Every value: its source, or "assumed" (docs/shaft.md table).
 AGULHAS_II = {
     "name": "agulhas_ii",
-    "rpm": 140.0,  # thesis §6.1.2
-    "rated_power_w": 4.5e6,  # ≈ 2 × 4.5 MW motors: physics-notes §6.1 [recalled, medium]
+    "rpm": PROPELLER_RPM,
+    "rated_power_w": RATED_POWER_W,
     "entrained_water_fraction": 0.25,  # assumed (typical 0.2-0.3 of the dry inertia for open CP propellers)
     "speed_control_bandwidth_hz": 0.5,  # assumed
     "speed_control_damping_ratio": 0.7,  # assumed
@@ -51,23 +56,21 @@ AGULHAS_II = {
     "elements": [
         {
             "name": "motor",
-            "inertia_kg_m2": 20000.0,  # assumed: rotor of a ≈ 4.5 MW, 140 rpm direct-drive motor
+            "inertia_kg_m2": MOTOR_INERTIA_KG_M2,
             "shaft": "intermediate_shaft",
-            # assumed: solid steel, d = 0.45 m, L = 15 m
-            "stiffness_n_m_per_rad": round(solid_shaft_stiffness_n_m_per_rad(0.45, 15.0), -3),
+            "stiffness_n_m_per_rad": round(solid_shaft_stiffness_n_m_per_rad(*INTERMEDIATE_SHAFT_M), -3),
             "damping_ratio": 0.02,  # assumed
         },
         {
             "name": "thrust_bearing",
-            "inertia_kg_m2": 1500.0,  # assumed: thrust collar, couplings and half of both shafts
+            "inertia_kg_m2": THRUST_BEARING_INERTIA_KG_M2,
             "shaft": "propeller_shaft",
-            # assumed: solid steel, d = 0.55 m, L = 12 m
-            "stiffness_n_m_per_rad": round(solid_shaft_stiffness_n_m_per_rad(0.55, 12.0), -3),
+            "stiffness_n_m_per_rad": round(solid_shaft_stiffness_n_m_per_rad(*PROPELLER_SHAFT_M), -3),
             "damping_ratio": 0.02,  # assumed
         },
         {
             "name": "propeller",
-            "inertia_kg_m2": 7500.0,  # assumed: dry CP propeller, D = 4.3 m (thesis), Z = 4 (notes §7.1)
+            "inertia_kg_m2": PROPELLER_INERTIA_KG_M2,
         },
     ],
 }
@@ -264,7 +267,7 @@ def builtin_shaft_line(name: str) -> dict:
     return {**AGULHAS_II, "elements": [dict(e) for e in AGULHAS_II["elements"]]}
 
 
-def _merge(base: dict, table: dict, key: str) -> dict:
+def merge_base(base: dict, table: dict, key: str) -> dict:
     """`table` over `base`; ``element_overrides.NAME`` changes keys of the named base element."""
     overrides = table.pop("element_overrides", {})
     merged = {**base, **table}
@@ -278,37 +281,6 @@ def _merge(base: dict, table: dict, key: str) -> dict:
         elements[names.index(name)].update(change)
     merged["elements"] = elements
     return merged
-
-
-def load_shaft_line(spec: str | os.PathLike[str]) -> ShaftLine:
-    """A built-in name (``agulhas_ii``) or a TOML file with a ``[shaft_line]`` table. The table may start
-    from a built-in line (``base = "agulhas_ii"``) and override its keys and, in
-    ``[shaft_line.element_overrides.NAME]``, keys of its elements."""
-    if str(spec) in BUILTIN_LINES:
-        return shaft_line_from_dict(builtin_shaft_line(str(spec)), source=f"built-in {spec}")
-    path = Path(spec)
-    if path.suffix.lower() != ".toml" or not path.is_file():
-        raise InputError(
-            "shaft_line",
-            f"{str(spec)!r} is neither a built-in line nor a TOML file",
-            value=str(spec),
-            allowed=", ".join(BUILTIN_LINES) + ", or FILE.toml",
-        )
-    text = read_text_file(path, "shaft_line", encoding="utf-8-sig")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise InputError("shaft_line", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
-    table = data.get("shaft_line")
-    if not isinstance(table, dict):
-        raise InputError("shaft_line", f"{str(path)!r} has no [shaft_line] table", value=str(path))
-    table = dict(table)
-    base = table.pop("base", None)
-    if base is not None:
-        table = _merge(builtin_shaft_line(str(base)), table, "shaft_line")
-    elif "element_overrides" in table:
-        raise InputError("shaft_line.element_overrides", "needs base = a built-in line")
-    return shaft_line_from_dict(table, source=str(path))
 
 
 def with_operating_point(line: ShaftLine, rpm: float | None = None, mean_torque_n_m: float | None = None):

@@ -15,6 +15,7 @@ import numpy as np
 
 from floebreak.constants import BOW_TIP_ANGLE_DEG
 from floebreak.errors import Bounds, InputError, require_range
+from floebreak.ship.agulhas_ii import BEAM_M, HALF_ENTRANCE_DEG, THESIS_STEM_ANGLE_DEG
 from floebreak.ship.bow import FRAME_ANGLE_DEG, Bow, ice_waterline_heights, mirror_lines
 
 # --- defaults (physics-notes §6.1–6.3); the "thesis" column of docs/_fragments/bow.md ---------------------
@@ -25,21 +26,22 @@ N_PANELS_PER_SIDE: Final = 30  # bow panels stem → shoulder per side (thesis: 
 MIDBODY_LENGTH_M: Final = 10.0  # modelled parallel midbody aft of the shoulder (closes H_u, H_l; §6.3)
 STEM_ANGLE_INTERPRETATIONS: Final = ("buttock", "panel_psi")  # physics-notes §6.2 (a) and (b)
 
-AGULHAS_II_BEAM_M: Final = 21.7  # thesis §3 / physics-notes §6.1
-AGULHAS_II_HALF_ENTRANCE_DEG: Final = BOW_TIP_ANGLE_DEG / 2.0  # 64.54°/2 = 32.27°, thesis Alg. 7 (§6.1)
-AGULHAS_II_THESIS_STEM_ANGLE_DEG: Final = 63.0  # ψ_AGU from the vertical, thesis ("from design drawings")
+AGULHAS_II_BEAM_M: Final = BEAM_M
+AGULHAS_II_HALF_ENTRANCE_DEG: Final = HALF_ENTRANCE_DEG
+AGULHAS_II_THESIS_STEM_ANGLE_DEG: Final = THESIS_STEM_ANGLE_DEG
 POLARSTERN_BEAM_M: Final = 25.0  # thesis / physics-notes §6.1
 POLARSTERN_HALF_ENTRANCE_DEG: Final = BOW_TIP_ANGLE_DEG / 2.0  # ASSUMED equal to Agulhas II (§6.3 table)
 POLARSTERN_THESIS_STEM_ANGLE_DEG: Final = 45.0  # ψ_PS from the vertical, thesis
 
 # The ranges of the parametric hull's parameters (`parametric_bow`, `stem_angle_from_thesis`), in this one
-# place (range checks, `floebreak.fuzz`). The bounds are physical: a beam of 1 m (a boat) to 100 m and a
+# place (range checks, `fuzz`). The bounds are physical: a beam of 1 m (a boat) to 100 m and a
 # midbody ≤ 500 m (the largest ships are ≈ 70 m wide and ≈ 460 m long), an ice thickness ≤ 10 m
-# (`floebreak.scenario.THICKNESS_M`), exponents ≤ 10 (p = 10 already makes the bow ten times as long as a
+# (`floebreak.config.scenario.THICKNESS_M`), exponents ≤ 10 (p = 10 already makes the bow ten times as long
+# as a
 # straight wedge of the same entrance angle), ≤ 1000 panels a side (finer than any step of the bow); a half
 # entrance angle and a stem angle of at least 5° (as `cracking.tip_angle_deg` ≥ 10°; ice-going bows have
 # 15–45° and stems 17–30° from the horizontal): a needle bow of 1e-300° is 1e300 m long (its nodes overflow)
-# and a flat stem's lower tip lies Δz / tan φ_s aft, at infinity for φ_s → 0 (fuzz campaign, issue 20).
+# and a flat stem's lower tip lies Δz / tan φ_s aft, at infinity for φ_s → 0 (fuzz campaign).
 HULL_PARAMETER_BOUNDS: Final[dict[str, Bounds]] = {
     "beam_m": Bounds(1.0, 100.0, unit="m"),
     "waterline_entrance_half_angle_deg": Bounds(5.0, 90.0, high_inclusive=False, unit="deg"),

@@ -43,7 +43,8 @@ def longitudinal_ice_force_n(
     """The longitudinal ice force on the bow at each step [N] (positive: against the ship's motion), on
     arrival and after the step's breaks (module docstring).
 
-    Rows are contact records (one per floe–panel pair of an evaluation: `floebreak.results.CONTACT_COLUMNS`);
+    Rows are contact records (one per floe–panel pair of an evaluation:
+    `floebreak.engine.records.CONTACT_COLUMNS`);
     `failed`: the row's evaluation broke the piece or took it out of the field; `parent_piece_id` per piece
     of the run (−1 for initial floes); `panel_normal_x`: x of each panel's outward unit normal.
     """

@@ -1,4 +1,4 @@
-"""Aggregation of a study: one table of all runs, thesis-style tables and figures (issue 6 §2–3).
+"""Aggregation of a study: one table of all runs, thesis-style tables and figures.
 
 `aggregate(study_dir)` reads `study.json` and every run's `summary.json` (and `cusps.parquet` for the
 spectra) and writes ``study_runs.parquet`` (one row per run and sweep group, with its swept parameters),

@@ -1,4 +1,4 @@
-"""Study designs: a base scenario, sweeps of parameters, Monte Carlo fields, one root seed (issue 6 §1).
+"""Study designs: a base scenario, sweeps of parameters, Monte Carlo fields, one root seed.
 
 A study file (TOML)::
 
@@ -33,8 +33,8 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from floebreak.config.scenario import REFERENCE_TOML, SEED_MAX, Scenario, allowed_interval
 from floebreak.errors import InputError
-from floebreak.scenario import REFERENCE_TOML, SEED_MAX, Scenario, allowed_interval
 
 # random fields per design point: the Monte Carlo error falls as 1/√n, to 1 % of one field's scatter at
 # 10 000; each field is a whole run

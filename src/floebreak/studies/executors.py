@@ -1,5 +1,5 @@
-"""One executor interface for studies: a local process pool, or a Dask distributed cluster (issue 6 §3;
-Dask is the optional extra ``floebreak[cluster]``).
+"""One executor interface for studies: a local process pool, or a Dask distributed cluster
+(Dask is the optional extra ``floebreak[cluster]``).
 
 `Executor.run(fn, items)` yields ``(item, result, error)`` as tasks finish, in completion order. `fn` must be
 a module-level function (picklable); it receives one item and returns a small result. Large outputs never
@@ -60,7 +60,7 @@ def one_thread_per_worker() -> None:
 
 
 # A worker whose parent died (SIGKILL, the out-of-memory killer) would otherwise live on, holding its
-# memory (≈ 370 MB with the modules a run imports; issue 31): it polls its parent and ends itself.
+# memory (≈ 370 MB with the modules a run imports): it polls its parent and ends itself.
 PARENT_POLL_S = 0.5
 EXIT_PARENT_GONE = 1
 

@@ -1,4 +1,4 @@
-"""The thesis' field length, inferred from its affected ice area (issue 16 §2; docs/validation.md).
+"""The thesis' field length, inferred from its affected ice area (docs/validation.md).
 
 The thesis gives no field size. It does give, per field (means over its four fields, §5.3.3), the area of
 all floes the bow affected at h = 1.0 m, A_aff = A_cusp^tot + A_flip^tot = 3446.38 m², the observation
@@ -32,8 +32,8 @@ import tomllib
 from collections.abc import Sequence
 from typing import Any
 
+from floebreak.config.scenario import REFERENCE_TOML, apply_overrides
 from floebreak.errors import InputError
-from floebreak.scenario import REFERENCE_TOML, apply_overrides
 
 THESIS_AFFECTED_AREA_M2 = 3446.38  # thesis §5.3.3, h = 1.0 m, mean over its four fields
 THESIS_BEAM_M = 21.7  # thesis §3.1, PSRV S.A. Agulhas II

@@ -1,4 +1,4 @@
-"""Running a study: one run directory per run, resume, failures recorded, progress (issue 6 §3).
+"""Running a study: one run directory per run, resume, failures recorded, progress.
 
 Layout of a study directory::
 
@@ -59,7 +59,7 @@ def run_identity(scenario: dict[str, Any]) -> tuple[str, str, str]:
     be reused. The event location is the resolved one: a profile's default is not in the scenario hash."""
     from floebreak.app.build import event_location
     from floebreak.app.run import build_model_for
-    from floebreak.scenario import Scenario
+    from floebreak.config.scenario import Scenario
 
     resolved = Scenario.from_dict(scenario).resolved()
     return resolved.hash(), build_model_for(resolved).fingerprint(), event_location(resolved)
@@ -98,7 +98,7 @@ def execute_run(task: dict[str, Any]) -> dict[str, Any]:
     """Run one scenario into its run directory; return its small summary (runs in a worker process)."""
     from floebreak.app.run import run, write_run_directory
     from floebreak.io.atomic import scratch_directory
-    from floebreak.io.field_files import load_field
+    from floebreak.output.field_files import load_field
 
     field_file = task.get("field_file")
     floe_field = load_field(field_file) if field_file else None
@@ -116,8 +116,8 @@ def generate_common_field(scenario: dict[str, Any], fields_dir: Path) -> str | N
     import numpy as np
 
     from floebreak.app.run import build_field, field_key
-    from floebreak.io.field_files import save_field
-    from floebreak.scenario import Scenario
+    from floebreak.config.scenario import Scenario
+    from floebreak.output.field_files import save_field
 
     resolved = Scenario.from_dict(scenario).resolved()
     key = field_key(resolved)

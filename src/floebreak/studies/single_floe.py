@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from floebreak.engine.loop import Model, SimulationParams, SimulationResult, simulate
 from floebreak.ice.field import FloeField, circle_polygons
-from floebreak.simulation import Model, SimulationParams, SimulationResult, simulate
 
 POSITIONS = ("a", "b", "c", "d", "e")
 POSITION_NAMES = {
@@ -98,12 +98,12 @@ def write_single_floe_matrix(out_dir: Path, overwrite: bool = False, profile: st
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
+    from floebreak.config.profiles import build_model
     from floebreak.io.atomic import atomic_directory
     from floebreak.io.figures import save_figure
     from floebreak.io.writers import rows_to_columns, write_csv
     from floebreak.plotting.common import CUSP_COLOUR, FLIPPED_COLOUR, UNTOUCHED_COLOUR
     from floebreak.plotting.pattern import plot_breaking_pattern
-    from floebreak.profiles import build_model
     from floebreak.ship.hulls import get_hull
 
     model = build_model(profile)

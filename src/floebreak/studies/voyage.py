@@ -1,6 +1,7 @@
-"""Voyages: an ice observation log → a study design, one point per period → pooled propeller loads (issue 18).
+"""Voyages: an ice observation log → a study design, one point per period → pooled propeller loads.
 
-Each period of the log (`floebreak.io.voyage_log`) becomes a user observation (concentration, mean thickness,
+Each period of the log (`floebreak.studies.voyage_log`) becomes a user observation (concentration, mean
+thickness,
 diameter classes) simulated on `n_fields` random fields; the periods are one zipped sweep of a study, so a
 voyage runs on the study machinery (`floebreak.studies.runner`: resumable, local pool or Dask). The rules,
 documented in docs/studies.md ("Voyages"):
@@ -33,10 +34,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from floebreak.config.scenario import (
+    FIELD_LENGTH_M,
+    REFERENCE_TOML,
+    SEED_MAX,
+    SPEED_M_S,
+    Scenario,
+    apply_overrides,
+)
 from floebreak.errors import InputError, require_range
-from floebreak.io.voyage_log import LogPeriod, VoyageLog
-from floebreak.scenario import FIELD_LENGTH_M, REFERENCE_TOML, SEED_MAX, SPEED_M_S, Scenario, apply_overrides
 from floebreak.studies.design import Membership, StudySpec, Sweep, check_n_fields, expand
+from floebreak.studies.voyage_log import LogPeriod, VoyageLog
 from floebreak.studies.voyage_results import FIELD_MARGIN_M, VoyageAnalysis
 
 DEFAULT_MAX_LENGTH_M = 400.0  # about the thesis' §5.3 field length (385–447 m inferred, docs/validation.md)

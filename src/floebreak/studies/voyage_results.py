@@ -1,4 +1,4 @@
-"""Results of a voyage: per-period table, time-weighted load and torque spectra, rates, figures (issue 18 §4).
+"""Results of a voyage: per-period table, time-weighted load and torque spectra, rates, figures.
 
 Pooling (docs/studies.md, "Voyages"). Period p lasts T_p hours and sails D_p = v_p T_p; n_p of its fields
 completed, each L_p long. One simulated cusp of p stands for
@@ -106,7 +106,7 @@ class VoyageAnalysis:
         RateBasis(**{k: v for k, v in overrides.items() if v is not None})
         transport_settings(self.transport)
         if self.shaft_line is not None:
-            from floebreak.shaft.line import load_shaft_line
+            from floebreak.app.inputs import load_shaft_line
 
             load_shaft_line(self.shaft_line)
         return self
@@ -447,7 +447,7 @@ def voyage_notes(document: dict[str, Any], rows: list[dict], model: dict[str, An
         f"propeller ({model['n_propellers']} propellers); rates per hour are per hour in ice (the periods' "
         "hours, not the gaps between them)",
         "operated case: each period at the load model's pitch nearest its logged pitch; logged rpm recorded "
-        f"only ({RPM_TEXT.get(model['load_model'], 'no runs')})",
+        f"only ({_rpm_text(model['load_model'])})",
     ]
     shares = [row["beyond_table_fraction"] for row in rows]
     beyond = max((share for share in shares if math.isfinite(share)), default=0.0)
@@ -467,7 +467,13 @@ def voyage_notes(document: dict[str, Any], rows: list[dict], model: dict[str, An
     return notes
 
 
-RPM_TEXT = {"fem": "FEM loads at 140 rpm, thesis §6.1.2", "milling": "milling at the propeller's rpm"}
+def _rpm_text(load_model: str) -> str:
+    """How the load model's loads depend on the propeller's speed (`LoadModel.rpm_text`)."""
+    from floebreak.propeller.loads import get_load_model, load_model_names
+
+    return get_load_model(load_model).rpm_text if load_model in load_model_names() else "no runs"
+
+
 TRANSPORT_TEXT = {
     "hull": "the transport model decides per cusp",
     "all": "every cusp reaches, thesis §6.2",
@@ -526,7 +532,7 @@ def load_model_record(result, analysis: VoyageAnalysis) -> dict[str, Any]:
 
 
 def voyage_warnings(model: dict[str, Any], rule_form: dict[str, Any]) -> list[str]:
-    """The out-of-range warnings of `floebreak propeller` (issue 33 item 5) on the voyage: a fraction
+    """The out-of-range warnings of `floebreak propeller` on the voyage: a fraction
     override, a per-cusp torque above 2 × the rated torque or the rule's Q_max, and a rule-form x_max more
     than 1.5 × beyond the largest fitted load."""
     from floebreak.propeller.load_models import extrapolation_warnings, override_warning, torque_warnings
@@ -736,7 +742,7 @@ VOYAGE_FIGURES = {
 
 def propeller_view(summary: dict[str, Any], rows: list[dict], loads: dict[str, Any]) -> dict[str, Any]:
     """The voyage's pooled loads in the shape of a propeller summary (warnings, rates, pitches per case,
-    the rule form of "operated") for `floebreak.report.propeller_parts`."""
+    the rule form of "operated") for `floebreak.output.report.propeller_parts`."""
     operated = summary["cases"]["operated"]
     propeller = summary["propeller"]
     pitches = {}
@@ -777,7 +783,7 @@ def propeller_view(summary: dict[str, Any], rows: list[dict], loads: dict[str, A
 
 
 def _write_report(temp: Path, summary: dict, rows: list[dict], spectra: dict, loads: dict) -> None:
-    from floebreak.report import render_voyage_report
+    from floebreak.output.report import render_voyage_report
 
     title = f"floebreak voyage {summary['provenance'].get('log', '')}"
     view = propeller_view(summary, rows, loads)
