@@ -27,6 +27,7 @@ import numpy as np
 
 from floebreak.errors import InputError, require_range
 from floebreak.io.text_files import read_text_file
+from floebreak.io.toml_text import loads_toml
 from floebreak.propeller.spec import MAX_PROPELLER_RPM
 
 BUILTIN_LINES = ("agulhas_ii",)
@@ -296,7 +297,7 @@ def load_shaft_line(spec: str | os.PathLike[str]) -> ShaftLine:
         )
     text = read_text_file(path, "shaft_line", encoding="utf-8-sig")
     try:
-        data = tomllib.loads(text)
+        data = loads_toml(text, "shaft_line", str(path))
     except tomllib.TOMLDecodeError as error:
         raise InputError("shaft_line", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
     table = data.get("shaft_line")
