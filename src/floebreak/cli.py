@@ -157,6 +157,7 @@ def field(
     overwrite: Annotated[bool, typer.Option("--overwrite", help="replace existing output files")] = False,
 ) -> None:
     """Generate a random floe field from an ice observation and save it as GeoParquet."""
+    from floebreak.ice.budget import FieldBudget
     from floebreak.ice.generation import generate_field
     from floebreak.io.field_files import export_geojson, save_field
 
@@ -179,6 +180,7 @@ def field(
             thickness_range_m=trange,
             seed=seed,
             progress=progress,
+            budget=FieldBudget(size_keys="--length/--width"),
         )
     save_field(floe_field, out, field="out")
     written = [str(out)]

@@ -21,7 +21,7 @@ def test_a_bug_in_any_command_ends_with_the_internal_error_line(cli, monkeypatch
         raise ValueError("`dydx` must contain only finite values.")
 
     monkeypatch.setattr(floebreak.scenario, "json_schema", broken)
-    code, out, err = cli("schema")
+    code, _, err = cli("schema")
     assert code == 1
     last = err.strip().splitlines()[-1]
     assert last.startswith("internal error: ValueError: `dydx` must contain only finite values.")
