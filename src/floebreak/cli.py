@@ -380,10 +380,12 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     """
     from floebreak.api import check_output_directory
     from floebreak.app.figure_process import figure_worker
+    from floebreak.io.output_lock import output_lock
 
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
-    with figure_worker() as worker:  # forked now, it imports matplotlib while the engine runs
+    # one writer per --out; the figure worker, forked now, imports matplotlib while the engine runs
+    with output_lock(out), figure_worker() as worker:
         return _run_and_write(resolved, out, overwrite, quiet, label, then, engine_loaded, worker)
 
 

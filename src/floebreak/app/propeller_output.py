@@ -13,6 +13,7 @@ from typing import Any
 
 from floebreak.app.propeller import write_propeller
 from floebreak.io.atomic import atomic_directory
+from floebreak.io.output_lock import output_lock
 from floebreak.io.storage import StorageError
 
 # below this much free space the HDF5 library (the shaft's netCDF files) may crash instead of reporting
@@ -44,7 +45,7 @@ def write_propeller_directory(
     if parent.is_dir():
         require_free_space(parent, out)
     mine, theirs = workers
-    with atomic_directory(out, overwrite=overwrite, field="out") as temp:
+    with output_lock(out), atomic_directory(out, overwrite=overwrite, field="out") as temp:
         with stage("writing") as progress:
             # replaces the empty temporary directory (so that the propeller files are complete in it)
             write_propeller(
