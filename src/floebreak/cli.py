@@ -642,8 +642,12 @@ def _design_load_tables(summary: dict) -> list[Table]:
         for row in entry["rows"]:
             table.add_column(f"pitch {row['pitch_percent']:g} %", justify="right", overflow="fold")
         table.add_column("unit", overflow="fold")
+        absent = summary.get("no_load_reason")  # zero loads for want of cusps: say so, not 0
         for label, key, spec, unit in _DESIGN_ROWS:
-            table.add_row(label, *(_fmt(row[key], spec) for row in entry["rows"]), unit)
+            cells = [
+                absent if absent and key in _SIMULATED else _fmt(row[key], spec) for row in entry["rows"]
+            ]
+            table.add_row(label, *cells, unit)
         origin = []
         for row in entry["rows"]:
             basis = row["basis"]["design Q"]
@@ -654,6 +658,7 @@ def _design_load_tables(summary: dict) -> list[Table]:
     return out
 
 
+_SIMULATED = {"design_torque_kn_m", "torque_ratio", "design_force_kn", "force_ratio", "loads_ratio"}
 _DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, format, unit
     ("design ice torque Q", "design_torque_kn_m", ".0f", "kN·m"),
     ("rule Q_max", "rule_max_torque_kn_m", ".0f", "kN·m"),

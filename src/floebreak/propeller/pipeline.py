@@ -43,6 +43,7 @@ from floebreak.propeller.load_models import (
 )
 from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.rates import RateBasis, RunExposure, check_exposures, weighted_exceedance
+from floebreak.propeller.reach_warnings import no_load_reason, no_load_warning
 from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
@@ -535,6 +536,10 @@ def _complete_summary(summary, transport_info, table_info, rated, rule, placemen
     if rule is not None:
         warnings += force_warnings(table_info, rule.backward_force_n, rule.forward_force_n)
     warnings += extrapolation_warnings(summary.get("rule_form"))
+    absent = no_load_warning(summary.get("n_cusps", 0), transport_info)
+    if absent is not None:
+        warnings.insert(0, absent)
+        summary["no_load_reason"] = no_load_reason(summary.get("n_cusps", 0), transport_info)
 
 
 LOAD_MODEL_TEXT = {
