@@ -44,7 +44,9 @@ class FieldBudget:
     @classmethod
     def of_run(cls, max_pieces: int | None, max_wall_s: float | None, length_m: float) -> FieldBudget:
         """A run's bounds: its ``simulation.max_pieces`` and ``simulation.max_wall_s`` (or their defaults)."""
-        pieces = max_pieces or DEFAULT_MAX_PIECES
+        # a small piece budget bounds the run's count (its own check), not the placement's memory: the
+        # memory bound is never below the default's
+        pieces = max(max_pieces or DEFAULT_MAX_PIECES, DEFAULT_MAX_PIECES)
         wall = (
             max_wall_s
             if max_wall_s is not None

@@ -1,8 +1,9 @@
 """One writer per output path: a command holds an exclusive lock (``fcntl.flock``) on a small file
-``.<name>.lock`` next to its output from its first check to its last write, so that a second command on the
-same ``--out`` (with or without ``--overwrite``) is refused at once instead of both printing "written" and
-one result silently replacing the other. The lock file is removed when the lock is released; a crashed
-process' lock is released by the operating system."""
+``.<name>.floebreak-lock`` next to its output from its first check to its last write, so that a second
+command on the same ``--out`` (with or without ``--overwrite``) is refused at once instead of both printing
+"written" and one result silently replacing the other. The lock file is removed when the lock is released;
+a killed process' lock is released by the operating system, and its file removed by the next command
+writing to that folder (`remove_stale_locks`, called by `floebreak.io.atomic.remove_dead_temporaries`)."""
 
 from __future__ import annotations
 
@@ -15,10 +16,12 @@ from pathlib import Path
 from floebreak.errors import InputError
 from floebreak.io.storage import as_storage_error
 
+LOCK_SUFFIX = ".floebreak-lock"
+
 
 def lock_path(out: str | os.PathLike[str]) -> Path:
     out = Path(out)
-    return out.parent / f".{out.name}.lock"
+    return out.parent / f".{out.name}{LOCK_SUFFIX}"
 
 
 def _open_locked(path: Path, out: Path, field: str) -> int:
@@ -64,3 +67,25 @@ def output_lock(out: str | os.PathLike[str], field: str = "out") -> Iterator[Non
         with contextlib.suppress(OSError):
             os.unlink(path)
         os.close(fd)
+
+
+def remove_stale_locks(folder: str | os.PathLike[str]) -> list[Path]:
+    """Remove the lock files in `folder` that no process holds (their process was killed); return them."""
+    removed = []
+    with contextlib.suppress(OSError), os.scandir(folder) as entries:
+        for entry in entries:
+            if not (entry.name.startswith(".") and entry.name.endswith(LOCK_SUFFIX)):
+                continue
+            try:
+                fd = os.open(entry.path, os.O_RDWR)
+            except OSError:
+                continue
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                os.unlink(entry.path)  # held by us: a waiting opener sees the file gone and re-creates it
+                removed.append(Path(entry.path))
+            except OSError:
+                pass  # held by a live process
+            finally:
+                os.close(fd)
+    return removed
