@@ -11,12 +11,17 @@ what a user's own files and policies can hold, valid or not, and expects each ru
   (kilometre) floes, the whole field offset by up to 10⁷ m (projected coordinates); ``floe_id`` unique,
   repeated, negative, huge, float or text; ``thickness_m`` valid, at the range's edges, zero, negative,
   NaN, huge or text; the ``domain_m`` metadata matching, inverted, text, or missing; a table of 0 rows;
+  one valid floe 10⁷ m across; the only floe on the bow's line 10⁷ m ahead (no ``x_end_m``);
 - **bow CSV files**: a built-in hull's waterlines with rows repeated, collinear nodes inserted, rows
   dropped down to two, the order reversed, the line scaled by 10⁻⁶ … 10⁶ or moved by up to 10⁷ m, a cell
   NaN or empty; stations (format b) with repeated or non-decreasing x;
 - **failure policies**: per failure class any list of registered modes (repeats, only ``none``, a class
   left to a mode that cannot handle it), per-region tables, an empty list, an unknown mode, on ice from
   1 cm to 10 m thick.
+
+Alongside, `deep_toml_text`, `fem_table_texts` and `torque_csv_texts` draw TOML nested thousands deep, FEM
+tables with finite extreme cells (1e-300 … 1e300) and measured torque files from no sample to more than the
+row bound, for the readers' own campaign (tests/campaign/test_fuzz_readers.py).
 
 A record has the shape of `fuzz.scenario_dicts`'s (the files under `fuzz.FILES`); a
 field file's recipe is ``{"adversarial_field": {...}}``, which `write_field_file` writes. Each run has the
@@ -100,7 +105,20 @@ def _thicknesses(rng: np.random.Generator, n: int, hostile: bool) -> list[Any]:
     return [special if i == n - 1 else 1.0 for i in range(n)]
 
 
-FIELD_HOSTILITIES = ("outline", "ids", "thickness", "domain", "offset", "overlap", "empty", "several")
+FIELD_HOSTILITIES = (
+    "outline",
+    "ids",
+    "thickness",
+    "domain",
+    "offset",
+    "overlap",
+    "empty",
+    "several",
+    "huge",
+    "far",
+)
+HUGE_RADIUS_M = 5.0e6  # a floe 10⁷ m across: past the largest floe class (`floebreak.ice.budget`)
+FAR_AHEAD_M = 1.0e7  # the only floe on the bow's line this far ahead: past the longest transit
 
 
 def field_recipes(rng: np.random.Generator) -> dict[str, Any]:
@@ -116,14 +134,21 @@ def field_recipes(rng: np.random.Generator) -> dict[str, Any]:
     if trait == "offset" or every:
         offset = (_pick(rng, OFFSETS_M), _pick(rng, OFFSETS_M))
     domain = _pick(rng, ["inverted", "text", "missing"]) if trait == "domain" or every else "match"
+    if trait == "far":  # one floe on the bow's line, far ahead
+        centres, offset = centres[:1], (FAR_AHEAD_M, -centres[0][1])
     hostile_outline = trait == "outline" or every
+    rings = [
+        _outline(rng, (x + offset[0], y + offset[1]), hostile_outline and bool(rng.integers(2)))
+        for x, y in centres
+    ]
+    if trait == "huge":  # one valid floe, 10⁷ m across, centred ahead of the bow
+        angles = np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False)
+        rings = [[[HUGE_RADIUS_M * (1.0 + np.cos(a)), HUGE_RADIUS_M * np.sin(a)] for a in angles]]
     return {
-        "rings": [
-            _outline(rng, (x + offset[0], y + offset[1]), hostile_outline and bool(rng.integers(2)))
-            for x, y in centres
-        ],
-        "floe_id": _ids(rng, n, trait == "ids" or every),
-        "thickness_m": _thicknesses(rng, n, trait == "thickness" or every),
+        "trait": trait,
+        "rings": rings,
+        "floe_id": _ids(rng, len(rings), trait == "ids" or every),
+        "thickness_m": _thicknesses(rng, len(rings), trait == "thickness" or every),
         "domain": domain,
     }
 
@@ -222,9 +247,12 @@ def adversarial_dicts(draw) -> dict[str, Any]:
         "ship": {"step_m": _pick(rng, [0.1, 0.25, 1.0])},
         "simulation": {"max_pieces": MAX_PIECES, "max_wall_s": MAX_WALL_S},
     }
+    far = False
     if bool(rng.integers(2)):
         data["field"] = {"file": "field.parquet"}
-        files["field.parquet"] = {"adversarial_field": field_recipes(rng)}
+        recipe = field_recipes(rng)
+        files["field.parquet"] = {"adversarial_field": recipe}
+        far = recipe["trait"] == "far"  # no x_end_m: the transit to the far floe must be refused
     else:
         data["field"] = {
             "floes": [
@@ -237,6 +265,33 @@ def adversarial_dicts(draw) -> dict[str, Any]:
         files["bow.csv"] = {"text": bow_csv_texts(rng)}
     if bool(rng.integers(2)):
         data["failure"] = {"policy": policies(rng)}
-    data["ship"]["x_end_m"] = 10.0 if thickness < 0.1 else MAX_TRANSIT_M
+    if not far:
+        data["ship"]["x_end_m"] = 10.0 if thickness < 0.1 else MAX_TRANSIT_M
     data[FILES] = files
     return data
+
+
+def deep_toml_text(rng: np.random.Generator) -> str:
+    """A scenario text with an array nested far deeper than any floebreak file (up to 5 000 levels)."""
+    depth = int(_pick(rng, [33, 100, 1000, 5000]))
+    return "[ice]\nthickness_m = " + "[" * depth + "]" * depth + "\n"
+
+
+def fem_table_texts(rng: np.random.Generator) -> str:
+    """A FEM table CSV with finite but extreme cells (1e-300 … 1e300 in any column), or a sane one."""
+    extremes = [1e-300, 1e-30, 1e-7, 1.0, 1e5, 1e12, 1e300, -1e300]
+    rows = [[0.0] * 6] + [[0.5 * k, 1.0, 1.0, 0.5 * k, 100.0 * k, -100.0 * k] for k in range(1, 5)]
+    for _ in range(int(rng.integers(0, 3, endpoint=True))):
+        rows[int(rng.integers(1, len(rows)))][int(rng.integers(0, 6))] = float(_pick(rng, extremes))
+    header = "# pitch_percent: 95\nvolume_m3,length_m,width_m,height_m,force_kN,torque_kNm\n"
+    return header + "".join(",".join(repr(v) for v in row) + "\n" for row in rows)
+
+
+def torque_csv_texts(rng: np.random.Generator, max_rows: int) -> str:
+    """A measured torque CSV: no rows, one sample, a few, or more than `max_rows`; values sane or beyond
+    any shaft (1e300 kN·m)."""
+    n = int(_pick(rng, [0, 1, 2, 10, max_rows + 1]))
+    value = float(_pick(rng, [300.0, -300.0, 1e5, 1e300]))
+    return "time_s,torque_kNm\n" + "".join(
+        f"{k * 1e-3:.3f},{value if k == n // 2 else 300.0}\n" for k in range(n)
+    )

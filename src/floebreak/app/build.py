@@ -18,6 +18,7 @@ from floebreak import constants as c
 from floebreak.config.scenario import Scenario
 from floebreak.engine.loop import MAX_PIECES_DEFAULT
 from floebreak.errors import InputError
+from floebreak.ice.budget import FieldBudget, check_floe_sizes
 from floebreak.ice.field import FloeField, circle_polygons, first_overlap
 
 if TYPE_CHECKING:
@@ -170,6 +171,9 @@ def build_field(scenario: Scenario, rng: np.random.Generator) -> FloeField:
                 clustering=spec.clustering,
                 seed=scenario.seed,
                 max_floes=scenario.simulation.max_pieces or MAX_PIECES_DEFAULT,
+                budget=FieldBudget.of_run(
+                    scenario.simulation.max_pieces, scenario.simulation.max_wall_s, spec.length_m
+                ),
             )
         except InputError as error:
             if error.field.startswith(("field.", "ice.")):
@@ -182,6 +186,7 @@ def build_field(scenario: Scenario, rng: np.random.Generator) -> FloeField:
         from floebreak.output.field_files import load_field
 
         floe_field = load_field(spec.file, field="field.file")
+        check_floe_sizes(floe_field.polygons, f"field.file: {str(spec.file)!r}")
     else:
         floe_field = _inline_field(scenario)
     if ice.thickness_m is not None:

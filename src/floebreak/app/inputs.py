@@ -11,6 +11,7 @@ from pathlib import Path
 
 from floebreak.errors import InputError, require_range
 from floebreak.io.text_files import package_data_path, read_package_data, read_text_file
+from floebreak.io.toml_text import loads_toml
 from floebreak.propeller.loads.fem import SHIPPED_TABLES, FemTable, fem_table_dict, parse_fem_table
 from floebreak.propeller.measured import TorqueSeries, parse_torque_csv
 from floebreak.shaft.line import (
@@ -116,7 +117,7 @@ def load_shaft_line(spec: str | os.PathLike[str]) -> ShaftLine:
         )
     text = read_text_file(path, "shaft_line", encoding="utf-8-sig")
     try:
-        data = tomllib.loads(text)
+        data = loads_toml(text, "shaft_line", str(path))
     except tomllib.TOMLDecodeError as error:
         raise InputError("shaft_line", f"cannot read {str(path)!r}: {error}", value=str(path)) from None
     table = data.get("shaft_line")

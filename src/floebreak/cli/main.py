@@ -129,6 +129,13 @@ def main(engine_loaded=None) -> None:
         sys.exit(EXIT_STORAGE)
     except KeyboardInterrupt:
         _report_interrupt()
+    except Exception as error:  # a bug, a machine's storage problem, or Ctrl-C inside a library
+        from floebreak.app.unexpected import report_unexpected
+
+        code = report_unexpected(error, err_console)
+        if code is None:
+            _report_interrupt()
+        sys.exit(code)
     except SystemExit as exit_:
         if exit_.code == EXIT_INTERRUPTED:  # typer turns a KeyboardInterrupt into exit code 130, silently
             _report_interrupt()

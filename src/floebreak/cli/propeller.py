@@ -215,31 +215,32 @@ def propeller(
 
 
 def _write_propeller_outputs(result, inputs, shaft, out: Path, overwrite: bool, quiet: bool, workers) -> None:
-    """Write the propeller analysis `result` of `inputs` and the prepared `shaft` analysis (if any) and
-    print their summaries; of the two figure `workers` (or None) the first draws the propeller's figures,
-    the second the shaft's."""
-    from floebreak.app.propeller import write_propeller
+    """Write the propeller analysis `result` of `inputs` and the prepared `shaft` analysis (if any) as one
+    atomic directory, then print their summaries; of the two figure `workers` (or None) the first draws
+    the propeller's figures, the second the shaft's."""
+    from floebreak.app.propeller_output import write_propeller_directory
 
     record = {"runs": sorted(inputs.run_dirs), "pooled_differing_keys": list(inputs.differing_keys)}
-    mine, theirs = workers
-    with stage_progress("writing", quiet) as progress:
-        written = write_propeller(
-            result, out, overwrite=overwrite, record=record, progress=progress, figure_worker=mine
-        )
+    written = write_propeller_directory(
+        result,
+        record,
+        shaft,
+        out,
+        overwrite=overwrite,
+        stage=lambda label: stage_progress(label, quiet),
+        workers=workers,
+    )
     print_pooling(inputs)
     print_propeller_summary(written_summary(written), written, quiet)
     if shaft is not None:
-        _write_shaft(shaft, Path(written) / "shaft", overwrite, quiet, theirs)
+        _print_shaft(shaft, Path(written) / "shaft")
 
 
-def _write_shaft(shaft, out: Path, overwrite: bool, quiet: bool = False, figure_worker=None) -> None:
-    """Write the prepared shaft analysis (with a progress bar; its figures drawn by `figure_worker` if
-    given); print the design tables (`shaft_tables`), the model's lines and warnings, and where it was
-    written."""
+def _print_shaft(shaft, shaft_dir: Path) -> None:
+    """Print the written shaft analysis: the design tables (`shaft_tables`), the model's lines and
+    warnings, and where it was written."""
     import json
 
-    with stage_progress("writing the shaft analysis", quiet) as progress:
-        shaft_dir = shaft.write(out, overwrite=overwrite, progress=progress, figure_worker=figure_worker)
     summary = json.loads((Path(shaft_dir) / "summary.json").read_text(encoding="utf-8"))
     for table in shaft_tables(summary):
         console.print(table)

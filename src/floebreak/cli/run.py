@@ -60,6 +60,7 @@ def field(
     overwrite: Annotated[bool, typer.Option("--overwrite", help="replace existing output files")] = False,
 ) -> None:
     """Generate a random floe field from an ice observation and save it as GeoParquet."""
+    from floebreak.ice.budget import FieldBudget
     from floebreak.ice.generation import generate_field
     from floebreak.output.field_files import export_geojson, save_field
 
@@ -82,6 +83,7 @@ def field(
             thickness_range_m=trange,
             seed=seed,
             progress=progress,
+            budget=FieldBudget(size_keys="--length/--width"),
         )
     save_field(floe_field, out, field="out")
     written = [str(out)]
@@ -260,11 +262,13 @@ def _execute(scenario, out: Path, overwrite: bool, quiet: bool, label: str, then
     engine is imported (`main`).
     """
     from floebreak.api import check_output_directory
+    from floebreak.io.output_lock import output_lock
     from floebreak.output.figure_process import figure_worker
 
     check_output_directory(out, overwrite)  # refuse before spending the run time
     resolved = scenario.resolved()
-    with figure_worker() as worker:  # forked now, it imports matplotlib while the engine runs
+    # one writer per --out; the figure worker, forked now, imports matplotlib while the engine runs
+    with output_lock(out), figure_worker() as worker:
         return _run_and_write(resolved, out, overwrite, quiet, label, then, engine_loaded, worker)
 
 

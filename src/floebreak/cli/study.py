@@ -17,6 +17,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
+from floebreak.app.study_output import prepare_study_directory
 from floebreak.cli.options import (
     FractionReachingOption,
     PolarClassOption,
@@ -60,11 +61,7 @@ def study(
         study_spec, base_dir = load_study(spec)
     runs, members = expand(study_spec, base_dir)  # validates every combination before anything runs
     out = out.absolute()  # the runs' directories reach workers, whose working directory may be another
-    if out.exists() and not (out / "study.json").exists() and any(out.iterdir()):
-        raise InputError(
-            "out", f"{str(out)!r} exists and is not a study directory", allowed="a new or study directory"
-        )
-    out.mkdir(parents=True, exist_ok=True)
+    prepare_study_directory(out)  # a file, a foreign directory: exit 2; read-only, full: exit 3
     executor = make_executor(workers, scheduler)
     console.print(f"study {study_spec.name!r}: {len(runs)} runs on {executor.description} → {out}")
     columns = (

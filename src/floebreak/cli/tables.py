@@ -116,8 +116,10 @@ def design_load_tables(summary: dict) -> list[Table]:
         for row in entry["rows"]:
             table.add_column(f"pitch {row['pitch_percent']:g} %", justify="right", overflow="fold")
         table.add_column("unit", overflow="fold")
+        absent = summary.get("no_load_reason")  # zero loads for want of cusps: say so, not 0
         for label, key, spec, unit in DESIGN_ROWS:
-            table.add_row(label, *(fmt(row[key], spec) for row in entry["rows"]), unit)
+            cells = [absent if absent and key in SIMULATED else fmt(row[key], spec) for row in entry["rows"]]
+            table.add_row(label, *cells, unit)
         origin = []
         for row in entry["rows"]:
             basis = row["basis"]["design Q"]
@@ -128,6 +130,7 @@ def design_load_tables(summary: dict) -> list[Table]:
     return out
 
 
+SIMULATED = {"design_torque_kn_m", "torque_ratio", "design_force_kn", "force_ratio", "loads_ratio"}
 DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, format, unit
     ("design ice torque Q", "design_torque_kn_m", ".0f", "kN·m"),
     ("rule Q_max", "rule_max_torque_kn_m", ".0f", "kN·m"),
@@ -225,7 +228,8 @@ def print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
 def print_pooling(inputs) -> None:
     n_runs = len(inputs.run_dirs)
     differing = f" (differing in {', '.join(inputs.differing_keys)})" if inputs.differing_keys else ""
-    console.print(f"pooled {n_runs} runs{differing}" if n_runs > 1 else "1 run", highlight=False)
+    if n_runs > 1:
+        console.print(f"pooled {n_runs} runs{differing}", highlight=False)
 
 
 def shaft_tables(summary: dict) -> tuple[Table, Table]:

@@ -52,6 +52,7 @@ from floebreak import constants as c
 from floebreak.engine.motion import BUILTIN as BUILTIN_ICE_MOTIONS
 from floebreak.engine.motion import ice_motion_names
 from floebreak.errors import InputError, field_bounds
+from floebreak.io.toml_text import loads_toml
 from floebreak.ship.agulhas_ii import AGULHAS_II
 from floebreak.ship.hulls import HULLS, hull_parameter_ranges
 from floebreak.ship.propulsion import SURGE_ADDED_MASS, Propulsion
@@ -830,7 +831,8 @@ class Scenario(_Section):
         cls, text: str, base_dir: str | Path | None = None, overrides: Iterable[str] = (), source: str = ""
     ) -> Scenario:
         try:
-            data = tomllib.loads(text.removeprefix("\ufeff"))  # a UTF-8 BOM (Windows editors) is no statement
+            # a UTF-8 BOM (Windows editors) is no statement
+            data = loads_toml(text.removeprefix("\ufeff"), "scenario", source)
         except tomllib.TOMLDecodeError as error:
             where = f"{source}: " if source else ""
             raise InputError("scenario", f"{where}malformed TOML: {error}", allowed="a TOML file") from None
@@ -945,7 +947,7 @@ def parse_override(expression: str) -> tuple[list[str], Any]:
             allowed="dotted.key=value, e.g. ice.thickness_m=0.8 or ship.hull=polarstern",
         )
     try:
-        value = tomllib.loads(f"v = {text}")["v"]
+        value = loads_toml(f"v = {text}", "--set", expression)["v"]
     except tomllib.TOMLDecodeError:
         if not _BARE.match(text):
             raise InputError(

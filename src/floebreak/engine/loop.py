@@ -40,6 +40,7 @@ from floebreak.failure import (
     resolve_failure,
 )
 from floebreak.failure.base import polygon_parts
+from floebreak.ice.budget import check_transit_length
 from floebreak.ice.field import FloeField
 from floebreak.ice.generation import GENERATORS
 from floebreak.mechanics.classify import Classification, ClassificationParams, classify
@@ -635,6 +636,11 @@ class _Run:
         self.n_steps = int(np.floor((self.x_end - params.x_start_m) / params.step_m + 1e-9)) + 1
         d = params.dist_bow_max_m
         require_floes_in_path(floe_field, self.hull_box, params.x_start_m, d)
+        given_end = params.x_end_m is not None
+        source = floe_field.metadata.get("source_file")
+        check_transit_length(
+            floe_field.polygons, floe_field.domain_m, source, params.x_start_m, self.x_end, given_end
+        )
         self.pieces = _Pieces(floe_field, (self.hull_box[1] - d, self.hull_box[3] + d), params.max_pieces)
         transit_km = max(self.x_end - params.x_start_m, 0.0) / 1000.0
         self.max_wall_s = (

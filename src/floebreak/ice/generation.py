@@ -33,6 +33,7 @@ import shapely
 
 from floebreak import constants as c
 from floebreak.errors import InputError, require_range
+from floebreak.ice.budget import FieldBudget, check_generation_budget
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.ice.observations import Observation
 from floebreak.ice.packing import Packing, relax_circles, sqp_circles
@@ -302,6 +303,7 @@ def _checked_floe_counts(
     clustering: float,
     floe_area_factor: float,
     max_floes: int | None,
+    budget: FieldBudget | None = None,
 ) -> FloeCounts:
     """The floe counts of the requested field, after checking that the request can be met.
 
@@ -324,6 +326,7 @@ def _checked_floe_counts(
             value=counts.total,
             allowed=f"≤ {max_floes:,} floes: a smaller field, or a larger budget",
         )
+    check_generation_budget(counts.total, length_m, width_m, budget or FieldBudget())
     present = [d for d, k in zip(counts.diameter_classes_m, counts.counts, strict=True) if k > 0]
     if generator != "voronoi" and present and max(present) > min(length_m, width_m):
         raise InputError(
@@ -412,18 +415,19 @@ def generate_field(
     seed: int | None = None,
     max_floes: int | None = None,
     progress: Callable[[str, int, int], None] | None = None,
+    budget: FieldBudget | None = None,
 ) -> FloeField:
     """A random floe field for `observation` in x ∈ [0, L], y ∈ [−W/2, W/2] (thesis §2.1).
 
     Thickness: `thickness_m` for every floe, or bounded random in `thickness_range_m` (thesis §5.3.3,
     Bates with `thickness_summands`), or the observation's mean thickness. `seed` is only recorded in the
-    metadata; the randomness comes from `rng`. Raises InputError (or its subclass ConcentrationError) when
-    the request cannot be met, or when the field would hold more than `max_floes` floes (checked before
-    anything is placed). `progress(stage, done, most)`, if given, is told what is being done: the placement
-    ("placing N floes", relaxation rounds done of at most `most`), then the polygons; for progress displays.
+    metadata; the randomness comes from `rng`. Raises InputError (or ConcentrationError) when the request
+    cannot be met, or, before anything is placed, past `max_floes` floes or `budget`'s memory or time bound
+    (default: a run's; `floebreak.ice.budget`). `progress(stage, done, most)`, if given, is told the stage:
+    the placement ("placing N floes", rounds done of at most `most`), then the polygons (progress displays).
     """
     counts = _checked_floe_counts(
-        observation, length_m, width_m, generator, clustering, floe_area_factor, max_floes
+        observation, length_m, width_m, generator, clustering, floe_area_factor, max_floes, budget
     )
     domain = (0.0, -width_m / 2.0, float(length_m), width_m / 2.0)
     stage = f"placing {counts.total:,} floes ({generator})"

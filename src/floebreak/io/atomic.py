@@ -28,6 +28,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from floebreak.errors import InputError
+from floebreak.io.output_lock import remove_stale_locks
 
 
 def _check_parent_writable(path: Path, field: str) -> None:
@@ -70,7 +71,7 @@ def remove_dead_temporaries(folder: str | os.PathLike[str]) -> list[Path]:
     """Remove the temporary files and directories in `folder` (module docstring) whose process on this
     host has died (SIGKILL, power loss, a killed worker); return them. Those of live processes and of other
     hosts are kept."""
-    removed: list[Path] = []
+    removed: list[Path] = remove_stale_locks(folder)
     host = _host_tag()
     with contextlib.suppress(OSError), os.scandir(folder) as entries:
         for entry in entries:

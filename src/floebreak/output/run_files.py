@@ -14,6 +14,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from floebreak.errors import InputError
+from floebreak.io.toml_text import loads_toml
 from floebreak.propeller.cusps import OPTIONAL_COLUMNS as OPTIONAL_CUSP_COLUMNS
 from floebreak.propeller.cusps import REQUIRED_COLUMNS as CUSP_COLUMNS
 
@@ -118,7 +119,7 @@ def read_resolved_scenario(run_dir: str | os.PathLike[str], *, strict: bool = Tr
     if not path.is_file():
         return None
     try:
-        return tomllib.loads(path.read_text(encoding="utf-8-sig"))
+        return loads_toml(path.read_text(encoding="utf-8-sig"), "run_or_study_dir", str(path))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as error:
         if not strict:
             return None

@@ -8,7 +8,6 @@ as `torque_unit`; then numeric rows. Time must increase strictly. `flip_sign` mu
 from __future__ import annotations
 
 import csv
-import io
 import math
 from dataclasses import dataclass
 
@@ -20,6 +19,12 @@ from floebreak.propeller.loads.fem import _UNITS as _FEM_UNITS
 from floebreak.propeller.loads.fem import split_name_unit, unit_factor
 
 _TIME_UNITS = {"time": {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}}
+# a measured series is compared as a whole in memory: at most a million rows (≈ 17 min at 1 kHz, ≈ 200 MB
+# while parsed); longer records are cut into pieces (or resampled) by the user
+MAX_TORQUE_ROWS = 1_000_000
+# the largest physical shaft torque: 100 MN·m, ≈ 30 × the rated torque of the largest ice-going ships'
+# shafts (Agulhas II ≈ 0.4 MN·m per shaft); beyond it a value is a unit or typing error
+MAX_TORQUE_NM = 1.0e8
 _TORQUE_UNITS = {"torque": _FEM_UNITS["torque"]}  # the same torque units as FEM tables
 
 
@@ -45,8 +50,15 @@ def parse_torque_csv(
     lines = [line for line in text.splitlines() if line.strip() and not line.strip().startswith("#")]
     if not lines:
         raise InputError(field, f"{source}: no header line", allowed="a header with time and torque columns")
-    rows = list(csv.reader(io.StringIO("\n".join(lines))))
-    header = rows[0]
+    if len(lines) - 1 > MAX_TORQUE_ROWS:
+        raise InputError(
+            field,
+            f"{source}: data row {MAX_TORQUE_ROWS + 1:,}: more than {MAX_TORQUE_ROWS:,} rows",
+            value=len(lines) - 1,
+            allowed=f"at most {MAX_TORQUE_ROWS:,} rows (cut a longer record into pieces, or resample it)",
+        )
+    rows = csv.reader(lines)
+    header = next(rows)
     check_comma_separated(f"{field}: {source}, header", header, lines[0])
     t_col = q_col = None
     t_unit = q_unit = None
@@ -69,7 +81,7 @@ def parse_torque_csv(
     q_factor = unit_factor("torque", q_unit, header[q_col], field, _TORQUE_UNITS, source)
     t_factor = unit_factor("time", t_unit, header[t_col], field, _TIME_UNITS, source)
     time, torque = [], []
-    for r, row in enumerate(rows[1:], start=1):
+    for r, row in enumerate(rows, start=1):
         cells = []
         for col in (t_col, q_col):
             cell = row[col].strip() if col < len(row) else ""
@@ -103,4 +115,27 @@ def parse_torque_csv(
             allowed="strictly increasing time",
         )
     q = np.asarray(torque) * (-1.0 if flip_sign else 1.0)
+    _check_series(t, q, source, field, header[q_col], q_factor)
     return TorqueSeries(t, q, source)
+
+
+def _check_series(t: np.ndarray, q: np.ndarray, source: str, field: str, column: str, factor: float) -> None:
+    """InputError for a series that cannot be compared: fewer than 2 samples (no duration), or a torque
+    beyond `MAX_TORQUE_NM` (naming the data row)."""
+    if t.size < 2:
+        raise InputError(
+            field,
+            f"{source}: {t.size} sample, a series of zero duration",
+            value=int(t.size),
+            allowed="at least 2 samples over a positive duration",
+        )
+    big = np.flatnonzero(np.abs(q) > MAX_TORQUE_NM)
+    if big.size:
+        raise InputError(
+            field,
+            f"{source}: data row {big[0] + 1}, column {column!r}: {q[big[0]] / factor:g} is beyond any "
+            f"shaft's torque (|Q| ≤ {MAX_TORQUE_NM / 1e3:g} kN·m; a unit or typing error?)",
+            value=float(q[big[0]] / factor),
+            allowed=f"|torque| ≤ {MAX_TORQUE_NM / 1e3:g} kN·m",
+        )
+

@@ -39,6 +39,7 @@ from floebreak.propeller.loads import get_load_model, load_model_names
 from floebreak.propeller.loads.fem import DEFAULT_VOLUME_BASIS, VOLUME_BASES, FemTable, fem_table_dict
 from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.rates import RateBasis, RunExposure, check_exposures, weighted_exceedance
+from floebreak.propeller.reach_warnings import no_load_reason, no_load_warning
 from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
@@ -461,3 +462,8 @@ def _complete_summary(summary, transport_info, table_info, rated, rule, placemen
     if rule is not None:
         warnings += force_warnings(table_info, rule.backward_force_n, rule.forward_force_n)
     warnings += extrapolation_warnings(summary.get("rule_form"))
+    absent = no_load_warning(summary.get("n_cusps", 0), transport_info)
+    if absent is not None:
+        warnings.insert(0, absent)
+        summary["no_load_reason"] = no_load_reason(summary.get("n_cusps", 0), transport_info)
+

@@ -35,6 +35,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from floebreak.config.scenario import REFERENCE_TOML, SEED_MAX, Scenario, allowed_interval
 from floebreak.errors import InputError
+from floebreak.io.toml_text import loads_toml
 
 # random fields per design point: the Monte Carlo error falls as 1/√n, to 1 % of one field's scatter at
 # 10 000; each field is a whole run
@@ -116,7 +117,7 @@ def check_n_fields(n_fields: Any) -> int:
 def load_study(path: str | Path) -> tuple[StudySpec, Path]:
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
+        data = loads_toml(path.read_text(encoding="utf-8-sig"), "study", str(path))
     except OSError as error:
         raise InputError(
             "study", f"cannot read {str(path)!r}: {error}", allowed="a readable TOML file"
@@ -145,7 +146,7 @@ def base_scenario_dict(spec: StudySpec, base_dir: Path | None) -> tuple[dict[str
     if isinstance(spec.base, str):
         path = Path(spec.base) if base_dir is None else base_dir / spec.base
         try:
-            return tomllib.loads(path.read_text(encoding="utf-8-sig")), path.parent
+            return loads_toml(path.read_text(encoding="utf-8-sig"), "base", str(path)), path.parent
         except (OSError, tomllib.TOMLDecodeError) as error:
             raise InputError(
                 "base", f"cannot read scenario {str(path)!r}: {error}", allowed="a scenario TOML"

@@ -11,6 +11,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import multiprocessing
 import os
+import sys
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
@@ -127,8 +128,10 @@ class ProcessPoolExecutor:
             initializer=prepare_worker,
             initargs=(os.getpid(),),
         )
+        before = set(multiprocessing.active_children())
         for _ in range(self.workers):  # the pool spawns a worker per submitted task: start them all now
             self._pool.submit(_worker_pid)
+        self._processes = [p for p in multiprocessing.active_children() if p not in before]
 
     def run(self, fn, items):
         futures = {self._pool.submit(fn, item): item for item in items}
@@ -138,6 +141,16 @@ class ProcessPoolExecutor:
             yield item, (None if error else future.result()), error
 
     def close(self) -> None:
+        """Shut the pool down: after the last run, wait for the workers to end; while Ctrl-C or SIGTERM
+        unwinds (this is called from a ``finally``), end them at once instead of letting each finish its
+        run (runs are written atomically: an ended run leaves nothing half-written, and is run again on
+        resume)."""
+        if isinstance(sys.exc_info()[1], KeyboardInterrupt):
+            for process in self._processes:
+                if process.is_alive():
+                    process.terminate()
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            return
         self._pool.shutdown(cancel_futures=True)
 
 

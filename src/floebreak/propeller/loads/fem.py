@@ -54,6 +54,17 @@ _UNITS = {
     },
 }
 COLUMNS = ("volume", "length", "width", "height", "force", "torque")
+# the physical range of a FEM table's cells (SI): the thesis' cusps are 0.1–10 m³ with loads of 0.1–3 MN and
+# MN·m; values many orders beyond are typing or unit errors, and extreme ones (1e-300 m³, 1e300 kN) overflow
+# the interpolation's slopes. Volume 0 is the origin row only.
+CELL_RANGES = {
+    "volume": (1e-6, 1e4, "m³"),
+    "length": (0.0, 1e3, "m"),
+    "width": (0.0, 1e3, "m"),
+    "height": (0.0, 1e3, "m"),
+    "force": (-1e9, 1e9, "N"),
+    "torque": (-1e9, 1e9, "N·m"),
+}
 DIMENSIONS = ("volume", "length", "width", "height")  # "thickness" is read as height
 
 
@@ -227,6 +238,28 @@ def _parse_dimensions(text: str, source: str, field: str) -> tuple[str, ...]:
     return tuple(names)
 
 
+def check_cell_ranges(arrays, source: str, field: str, name) -> None:
+    """InputError naming the file, row and column of the first cell outside `CELL_RANGES` (volume 0 allowed:
+    the origin row, checked by the caller); `name(c)` is column c's header."""
+    for c, (low, high, unit) in CELL_RANGES.items():
+        if c not in arrays:
+            continue
+        a = np.asarray(arrays[c], dtype=float)
+        outside = (a < low) | (a > high)
+        if c == "volume":
+            outside &= a > 0.0  # 0 (the origin row) and negative volumes: the callers' own checks
+        bad = np.flatnonzero(outside & np.isfinite(a))
+        if bad.size:
+            raise InputError(
+                field,
+                f"{source}: row {bad[0] + 1}, column {name(c)!r}: {a[bad[0]]:g} {unit} (SI) is outside the "
+                "physical range of a FEM cusp table",
+                value=float(a[bad[0]]),
+                allowed=f"[{low:g}, {high:g}] {unit}"
+                + (" (or 0 at the origin row)" if c == "volume" else ""),
+            )
+
+
 def grid_table_from_arrays(arrays, dimensions, pitch_percent, source, field, header, index) -> FemTable:
     """Validate an N-D table (see module docstring): finite cells, coordinates > 0, distinct points,
     at least dimensions + 1 points; columns not given become NaN."""
@@ -237,6 +270,7 @@ def grid_table_from_arrays(arrays, dimensions, pitch_percent, source, field, hea
             raise InputError(
                 field, f"{source}: row {bad[0] + 1}, column {header[index[c][0]]!r} is not finite"
             )
+    check_cell_ranges(arrays, source, field, lambda c: header[index[c][0]])
     for c in dimensions:
         bad = np.flatnonzero(arrays[c] <= 0.0)
         if bad.size:
@@ -285,6 +319,7 @@ def fem_table_from_arrays(
                 f"{source}: row {bad[0] + 1}, column {name(c)!r} is not finite",
                 allowed="finite numbers",
             )
+    check_cell_ranges(arrays, source, field, name)
     keep = np.ones(volume.size, dtype=bool)
     if volume.size and volume[0] == 0.0:
         if arrays["force"][0] != 0.0 or arrays["torque"][0] != 0.0:
