@@ -27,7 +27,7 @@ from floebreak.propeller.transport import (
 from floebreak.shaft.line import AGULHAS_II
 
 LOAD_MODELS = ("milling", "fem")
-TRANSPORTS = ("hull", "all")
+TRANSPORTS = ("flow", "hull", "all")  # flow: `floebreak.propeller.flow_transport`
 TRANSPORT_COLUMNS = ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")
 # the built-in Agulhas II line's rated power (shaft/line.py): rated torque P/(2π n) = 306.9 kN·m at 140 rpm
 DEFAULT_RATED_POWER_W = float(AGULHAS_II["rated_power_w"])
@@ -39,8 +39,8 @@ MILLING_PITCH_PERCENT = 0.0  # the milling model's pitches: 0 % and the spec's (
 
 def profile_defaults(profile: str | None) -> tuple[str, str]:
     """(load model, transport) of a scenario profile: thesis → FEM tables, every cusp reaches; otherwise
-    (default) → the milling model and the transport model."""
-    return ("fem", "all") if profile == "thesis" else ("milling", "hull")
+    (default) → the milling model and the flow transport (cusps followed under the hull)."""
+    return ("fem", "all") if profile == "thesis" else ("milling", "flow")
 
 
 def check_choice(key: str, value: str, allowed: tuple[str, ...]) -> str:
