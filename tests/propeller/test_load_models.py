@@ -49,13 +49,14 @@ def _cusps():
 
 
 EXPOSURE = {"r": RunExposure(300.0, RateBasis(3.0, None, 2))}  # 300 m at 3 m/s = 1/36 h
+KINEMATIC_NEVER = {"surfaced": 0, "stalled": 0}  # paths only the flow transport gives
 
 
 def test_transport_decides_which_cusps_load_and_count():
-    result = analyse_cusp_loads(_cusps(), exposures=EXPOSURE)
+    result = analyse_cusp_loads(_cusps(), exposures=EXPOSURE, transport="hull")
     transport = result.summary["transport"]
     assert transport["rule"] == "hull" and transport["n_reaching"] == 1
-    assert transport["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 1, "missed": 1}
+    assert transport["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 1, "missed": 1} | KINEMATIC_NEVER
     assert transport["fraction_reaching_per_propeller"] == pytest.approx([1 / 3, 0.0])
     # one load, shared by 2 propellers, in 1/36 h: 18 per hour and 1/0.3 km / 2 per km on one propeller
     assert result.summary["rates"]["loads_per_hour_per_propeller"] == pytest.approx(18.0)
@@ -87,7 +88,7 @@ def test_the_transport_discs_take_the_spec_radius():
     2.36 m above the axis (5.5, 4.9): engaged [2.36, 2.5] m. On the 4.3 m disc's axis (5.5, 5.25) the same
     blade would reach [2.01, 2.5] m, 0.35 m into the hull above it."""
     spec = replace(PropellerSpec(), radius_m=2.5)
-    result = analyse_cusp_loads(_cusps(), exposures=EXPOSURE, propeller=spec)
+    result = analyse_cusp_loads(_cusps(), exposures=EXPOSURE, propeller=spec, transport="hull")
     assert result.summary["transport"]["n_reaching"] == 1
     assert result.loads["engaged_inner_radius_m"][0] == pytest.approx(2.36)
     assert result.loads["engaged_outer_radius_m"][0] == pytest.approx(2.5)
@@ -123,12 +124,11 @@ def test_fem_tables_take_precedence_and_bad_choices():
             analyse_cusp_loads(_cusps(), **kwargs)
         assert info.value.field == key
     no_centroids = {k: v for k, v in _cusps().items() if not k.startswith("centroid")}
-    with pytest.raises(InputError, match="centroid_x_m, centroid_y_m"):
-        analyse_cusp_loads(no_centroids)
-    assert propeller_defaults("thesis") == ("fem", "all") and propeller_defaults("default") == (
-        "milling",
-        "hull",
-    )
+    for transport in ("hull", "flow"):
+        with pytest.raises(InputError, match="centroid_x_m, centroid_y_m"):
+            analyse_cusp_loads(no_centroids, transport=transport)
+    assert propeller_defaults("thesis") == ("fem", "all")
+    assert propeller_defaults("default") == ("milling", "flow")
 
 
 def test_rated_torque_and_torque_warnings_by_hand():
@@ -226,7 +226,7 @@ def test_bad_input_exits_2_and_writes_nothing(tmp_path, cli, args, key):
 
 
 @pytest.mark.parametrize(
-    ("profile", "model", "rule"), [("default", "milling", "hull"), ("thesis", "fem", "all")]
+    ("profile", "model", "rule"), [("default", "milling", "flow"), ("thesis", "fem", "all")]
 )
 def test_scenario_profile_chooses_the_path(tmp_path, cli, profile, model, rule):
     """A tiny reference run (60 m of field) per profile: the demo's propeller analysis follows it."""

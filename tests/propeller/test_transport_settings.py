@@ -56,10 +56,17 @@ def test_settings_from_text_keep_defaults_and_name_the_key():
 
 
 def test_bilge_radius_reaches_the_transport():
-    default = analyse_cusp_loads(_cusps())
-    assert default.summary["transport"]["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 1, "missed": 0}
-    flat = analyse_cusp_loads(_cusps(), transport_settings=transport_settings({"hull.bilge_radius_m": 0}))
-    assert flat.summary["transport"]["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 0, "missed": 1}
+    never = {"surfaced": 0, "stalled": 0}  # paths only the flow transport gives
+    default = analyse_cusp_loads(_cusps(), transport="hull")
+    assert (
+        default.summary["transport"]["paths"]
+        == {"propeller": 1, "shoulder": 0, "bilge": 1, "missed": 0} | never
+    )
+    settings = transport_settings({"hull.bilge_radius_m": 0})
+    flat = analyse_cusp_loads(_cusps(), transport_settings=settings, transport="hull")
+    assert (
+        flat.summary["transport"]["paths"] == {"propeller": 1, "shoulder": 0, "bilge": 0, "missed": 1} | never
+    )
     assert flat.summary["transport"]["settings"]["hull.bilge_radius_m"] == 0.0
 
 
@@ -68,7 +75,14 @@ def test_propeller_command_takes_transport_parameters(tmp_path, cli):
     run.mkdir()
     pq.write_table(pa.table({k: v for k, v in _cusps().items() if k != "run_id"}), run / "cusps.parquet")
     code, _, err = cli(
-        "propeller", run, "--out", tmp_path / "p", "--transport-parameter", "hull.bilge_radius_m=0"
+        "propeller",
+        run,
+        "--out",
+        tmp_path / "p",
+        "--transport",
+        "hull",
+        "--transport-parameter",
+        "hull.bilge_radius_m=0",
     )
     assert code == 0, err
     summary = json.loads((tmp_path / "p" / "summary.json").read_text(encoding="utf-8"))

@@ -229,9 +229,16 @@ def test_default_profile_mills_the_port_cusps_with_the_drive(tmp_path, cli):
     assert {"rpm_case1", "rpm_case3", "motor_torque_knm_case1"} <= set(header)
     with xr.open_dataset(shaft / "shaft_series.nc") as ds:
         assert ds.attrs["shaft_model"] == "drive" and ds["rpm"].attrs["units"] == "1/min"
-        # steady running before the first cusp (arrives at 2 s): the measured-level mean torque
+        # steady running before the first cusp (arrives at 2 s): the model's mean torque, the open-water
+        # torque at 95.86 % pitch exceeding the rated P/(2π n), held there by the pitch control; the
+        # measured 105 kN·m is only compared
         quiet = ds["shaft_torque"].sel(case=1).where(ds["time"] < 1.5, drop=True)
-        assert float(quiet.mean()) == pytest.approx(105.0, rel=1e-3)
+        rated_knm = 4.5e6 / (2 * np.pi * 140 / 60) / 1e3
+        assert float(quiet.mean()) == pytest.approx(rated_knm, rel=1e-3)
+    point = summary["propeller_operating_point"]
+    assert point["torque_limited"] and point["measured_mean_torque_knm"] == 105.0
+    assert point["measured_over_model"] == pytest.approx(105.0 / rated_knm, rel=1e-3)
+    assert 0.5 <= point["identified_pitch_ratio"] < point["pitch_ratio"] < point["set_pitch_ratio"]
 
 
 def test_resonance_warning_of_the_built_in_line(tmp_path, cli):

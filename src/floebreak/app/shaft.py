@@ -252,14 +252,21 @@ def _drive_response(
     cases,
     transport_settings,
     progress=None,
+    wake_fraction=None,
 ):
     """The drive model on the cusps the transport (`transport_settings`) sends to the port propeller
     (`milled_cusps`)."""
+    from floebreak.propeller.operating import shaft_operating_point  # scipy.optimize: only when run
+
+    # the propeller's own operating point: its mean torque is the model's, a measured one only compared
+    point, comparison = shaft_operating_point(line, speed_m_s, mean_torque_n_m, wake_fraction)
     milled = milled_cusps(
         read_run_cusps(run_dir, MILLING_INPUT_COLUMNS),
         speed_m_s=speed_m_s,
         transport_settings=transport_settings,
+        flow_point=point,
     )
+    mean_torque_n_m = None if point.torque_limited else point.point.torque_n_m
     result = shaft_drive_response(
         milled.arrival_s,
         milled.n_impacts,
@@ -278,6 +285,7 @@ def _drive_response(
     extra = {
         "torque_model": "milling (propeller.milling.impact_loads at the rpm of each blade passage)",
         "transport": milled.counts,
+        "propeller_operating_point": point.as_dict() | comparison,
     }
     return result, extra
 
@@ -302,6 +310,7 @@ def shaft_analysis_of_run(
     sn_curve: BasquinCurve | None = None,
     transport_settings: TransportSettings | None = None,
     progress: Callable[[str, int, int], None] | None = None,
+    wake_fraction: float | None = None,
 ) -> PreparedShaftAnalysis:
     """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is
     written (write with ``.write(out_dir)``). The ship speed: `speed_m_s`, else the run's resolved
@@ -335,7 +344,8 @@ def shaft_analysis_of_run(
     extra = {"run_dir": Path(run_dir).name, "measured_source": None if measured is None else measured.source}
     if model == "drive":
         drive_args = (rpm, mean_torque_n_m, torque_limit_knm, station, cases, transport_settings)
-        result, more = _drive_response(run_dir, line, speed_m_s, *drive_args, progress=progress)
+        more_args = {"progress": progress, "wake_fraction": wake_fraction}
+        result, more = _drive_response(run_dir, line, speed_m_s, *drive_args, **more_args)
         return PreparedShaftAnalysis(result, measured, extra | more, sn_curve)
     cusps = run_cusp_inputs(
         run_dir, fem_table=fem_table, pitch_percent=pitch_percent, interpolation=interpolation, beyond=beyond

@@ -169,7 +169,7 @@ def model_line(summary: dict) -> str:
     rule = transport.get("rule")
     fraction = transport.get("fraction_reaching")
     reach = "–" if fraction is None else f"{fraction:.3g}"
-    if rule == "hull":
+    if rule in ("hull", "flow"):
         per = ", ".join(f"{f:.3g}" for f in transport.get("fraction_reaching_per_propeller", []))
         reach = f"{reach} (transport model; per propeller {per})"
     elif rule == "override":

@@ -6,5 +6,6 @@ from __future__ import annotations
 
 def propeller_defaults(profile: str | None) -> tuple[str, str]:
     """(load model, transport) of the propeller analysis under a scenario profile: thesis → the FEM tables,
-    every cusp reaches; otherwise (default) → the milling model and the transport model."""
-    return ("fem", "all") if profile == "thesis" else ("milling", "hull")
+    every cusp reaches; otherwise (default) → the milling model and the flow transport (cusps followed under
+    the hull, `propeller.flow_transport`)."""
+    return ("fem", "all") if profile == "thesis" else ("milling", "flow")

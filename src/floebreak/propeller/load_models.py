@@ -24,7 +24,7 @@ from floebreak.propeller.transport import (
 )
 from floebreak.ship.agulhas_ii import AGULHAS_II
 
-TRANSPORTS = ("hull", "all")
+TRANSPORTS = ("flow", "hull", "all")  # flow: `floebreak.propeller.flow_transport`
 TRANSPORT_COLUMNS = ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")
 # the Agulhas II's rated power: rated torque P/(2π n) = 306.9 kN·m at 140 rpm
 DEFAULT_RATED_POWER_W = float(AGULHAS_II.rated_power_w)

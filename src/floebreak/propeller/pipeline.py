@@ -20,6 +20,7 @@ from floebreak.propeller.cusps import (
     cusp_columns,
     volume_class,
 )
+from floebreak.propeller.flow_transport import flow_of_runs
 from floebreak.propeller.iceclass import WEIBULL_SHAPE, IceClassLoads, check_polar_class, ur_i3_loads
 from floebreak.propeller.interpolation import check_options
 from floebreak.propeller.load_models import (
@@ -266,7 +267,9 @@ def _placed_loads(columns, tables, options, propeller, speed, transports) -> tup
     return _cusp_loads(columns, tables, options, propeller, speed, engaged), placement
 
 
-def _reaching(columns, exposures, transport: str, settings, spec: PropellerSpec) -> tuple[dict, dict, dict]:
+def _reaching(
+    columns, exposures, transport: str, settings, spec: PropellerSpec, rated_torque_n_m: float
+) -> tuple[dict, dict, dict]:
     """Which cusps reach a propeller: per cusp `reaches_propeller`, `propeller_index` (−1: none or not
     modelled) and `arrival_time_s`, the summary's "transport" entry and the transports of the modelled
     runs (`transport_of_runs`, on discs of `spec`'s radius). Runs with an explicit fraction reaching (an
@@ -283,13 +286,19 @@ def _reaching(columns, exposures, transport: str, settings, spec: PropellerSpec)
         "arrival_time_s": np.full(n, math.nan),
     }
     settings = settings or TransportSettings()
-    transports = transport_of_runs(columns, exposures, modelled, settings, spec.radius_m)
+    points = {}
+    if transport == "flow":  # the cusps followed under the hull (floebreak.propeller.flow_transport)
+        transports, points = flow_of_runs(columns, exposures, modelled, settings, spec, rated_torque_n_m)
+    else:
+        transports = transport_of_runs(columns, exposures, modelled, settings, spec.radius_m)
     for idx, t in transports.values():
         out["reaches_propeller"][idx] = t.propeller_index >= 0
         out["propeller_index"][idx] = t.propeller_index
         out["arrival_time_s"][idx] = t.arrival_time_s
     rule = "override" if override else transport
     summary: dict[str, Any] = {"rule": rule, "fraction_overrides": override, "settings": settings.as_dict()}
+    if points:
+        summary["operating_points"] = points
     if modelled:
         summary.update(transport_summary(transports, n))
     else:
@@ -325,7 +334,7 @@ def analyse_cusp_loads(
     cusps,
     *,
     load_model: str = "milling",
-    transport: str = "hull",
+    transport: str = "flow",
     fem_tables=None,
     measured: TorqueSeries | None = None,
     polar_class: str | None = None,
@@ -348,8 +357,8 @@ def analyse_cusp_loads(
 ) -> PropellerResult:
     """The propeller analysis of `cusps` (dict of arrays or pyarrow.Table, `cusp_columns`), pure. `load_model`
     "milling" | "fem" (needs `fem_tables`: FemTables or {pitch: FemTable}; given tables take precedence),
-    `transport` "hull" (`transport_settings`) | "all"; an exposure's fraction reaching overrides the
-    transport; `exposures` add rates, exceedance and rule-form fits; `measured` (a `TorqueSeries`) is
+    `transport` "flow" | "hull" (both with `transport_settings`) | "all"; an exposure's fraction reaching
+    overrides the transport; `exposures` add rates, exceedance and rule-form fits; `measured` is
     compared; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning. Files are read by
     `floebreak.app.propeller.analyse_propeller`. `progress(stage, done, total)`, if given, is called after
     each of the ANALYSIS_STAGES. docs/propeller.md §2, §6–§8."""
@@ -377,7 +386,8 @@ def analyse_cusp_loads(
     order = transit_order(columns)
     columns = {k: v[order] for k, v in columns.items()}
     speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
-    reaching, reach_info, transports = _reaching(columns, exposures, transport, transport_settings, propeller)
+    reach_args = (exposures, transport, transport_settings, propeller, rated)
+    reaching, reach_info, transports = _reaching(columns, *reach_args)
     _report(progress, "transport")
     loads, placement = _placed_loads(columns, tables, options, propeller, speed, transports)
     loads.update(reaching)

@@ -57,8 +57,9 @@ from floebreak.ship.agulhas_ii import (
 )
 
 NO_PROPELLER: Final = -1
-# why a cusp reaches no propeller (`CuspTransport.path`)
-PATHS: Final = ("propeller", "shoulder", "bilge", "missed")
+# why a cusp reaches no propeller (`CuspTransport.path`); "surfaced" and "stalled" come from the flow
+# transport (`floebreak.propeller.flow_transport`)
+PATHS: Final = ("propeller", "shoulder", "bilge", "missed", "surfaced", "stalled")
 PATH_PROPELLER, PATH_SHOULDER, PATH_BILGE, PATH_MISSED = range(4)
 
 

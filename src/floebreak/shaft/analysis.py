@@ -451,6 +451,7 @@ def milled_cusps(
     transport: bool = True,
     transport_settings: TransportSettings | None = None,
     engaged: bool = True,
+    flow_point=None,
 ) -> MilledCusps:
     """The cusps of a run's `columns` (MILLING_INPUT_COLUMNS) that reach the port propeller, at their
     arrival times (`propeller.transport.transport_cusps` with the hull, parameters and tip clearance of
@@ -462,19 +463,15 @@ def milled_cusps(
     (`propeller.load_models.engaged_intervals`, as the propeller analysis); `engaged=False` puts every
     block at the tip (tip placement, docs/propeller.md §10 choice 5). `transport=False`: every cusp, at the
     linear model's arrival times, tip placement. counts: "placement", and "engaged_zero_length", the port
-    cusps whose interval has zero length (milled with zero torque)."""
+    cusps whose interval has zero length (milled with zero torque). `flow_point` (an
+    `operating.ControlledPoint`): the flow transport (`propeller.flow_transport`) at that operating point
+    instead of the kinematic one, seeded with (0, 0) as the propeller analysis' first run."""
     col, spec = columns, PropellerSpec() if spec is None else spec
     inner = outer = np.full(col["bow_x_m"].size, np.nan)
     if transport:
         settings = TransportSettings() if transport_settings is None else transport_settings
         arrangement = settings.arrangement(2, spec.radius_m)
-        moved = transport_cusps(
-            *(col[k] for k in TRANSPORT_INPUT_COLUMNS),
-            speed_m_s=speed_m_s,
-            hull=settings.hull,
-            arrangement=arrangement,
-            params=settings.params,
-        )
+        moved = _moved(col, speed_m_s, settings, arrangement, spec, flow_point)
         port = port_propeller_index(arrangement)
         chosen = np.flatnonzero(moved.propeller_index == port)
         arrival = moved.arrival_time_s[chosen]
@@ -510,6 +507,30 @@ def milled_cusps(
         counts=counts,
         run_index=chosen,
         bow_x_m=np.asarray(col["bow_x_m"], dtype=float)[chosen],
+    )
+
+
+def _moved(col, speed_m_s, settings, arrangement, spec, flow_point):
+    """The transport of `milled_cusps`: the flow transport at `flow_point`, else the kinematic one."""
+    if flow_point is None:
+        return transport_cusps(
+            *(col[k] for k in TRANSPORT_INPUT_COLUMNS),
+            speed_m_s=speed_m_s,
+            hull=settings.hull,
+            arrangement=arrangement,
+            params=settings.params,
+        )
+    from floebreak.propeller.flow_transport import flow_transport_cusps
+
+    return flow_transport_cusps(
+        *(col[k] for k in TRANSPORT_INPUT_COLUMNS),
+        speed_m_s=speed_m_s,
+        induced_velocity_m_s=flow_point.point.induced_velocity_m_s,
+        wake_fraction=flow_point.wake_fraction,
+        rng=np.random.default_rng([0, 0]),
+        hull=settings.hull,
+        arrangement=arrangement,
+        params=settings.params,
     )
 
 

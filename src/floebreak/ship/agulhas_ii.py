@@ -16,9 +16,11 @@ THESIS_STEM_ANGLE_DEG: Final = 63.0  # ψ_AGU from the vertical, thesis ("from d
 
 # --- underwater hull (propeller.transport.HullUnderwater) -------------------------------------------------
 DRAUGHT_M: Final = 7.65  # T, depth of the flat bottom (thesis §3)
+LENGTH_M: Final = 121.8  # L_pp (physics-notes §6.1)
+BLOCK_COEFFICIENT: Final = 0.65  # C_B, ASSUMED: a full-bodied twin-screw polar vessel
 BILGE_RADIUS_M: Final = 2.5  # ASSUMED
 BOW_LENGTH_M: Final = 34.4  # stem-to-shoulder length L_b of the parametric bow
-PROPELLER_PLANE_AFT_OF_STEM_M: Final = 115.0  # ASSUMED from L_pp ≈ 121.8 m
+PROPELLER_PLANE_AFT_OF_STEM_M: Final = 115.0  # ASSUMED from L_pp
 RUN_LENGTH_M: Final = 15.0  # ASSUMED: the stern run over which the hull rises above the discs
 
 # --- propellers (propeller.spec.PropellerSpec, propeller.transport) ---------------------------------------
