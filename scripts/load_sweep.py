@@ -7,7 +7,8 @@ the thickness and speed set, then `floebreak propeller RUN --shaft-line agulhas_
 table rows are loads per hour per propeller, max |Q| per cusp at the spec's pitch and the shaft's Q_peak of
 excitation case 1. The sensitivity rows set each transport parameter to ±10 % on the h = 0.4 m, 3 m/s run.
 
-    python scripts/load_sweep.py --out sweep_dir [--length-m 120] [--part thickness|speed|sensitivity]
+    python scripts/load_sweep.py --out DIR [--length-m 120] [--part thickness|speed|sensitivity]
+        [--transport hull|flow]
 """
 
 from __future__ import annotations
@@ -95,29 +96,37 @@ def main(argv=None) -> None:
     parser.add_argument("--out", type=Path, required=True)
     parser.add_argument("--length-m", type=float, default=120.0)
     parser.add_argument("--part", choices=("thickness", "speed", "sensitivity", "all"), default="all")
+    parser.add_argument("--transport", choices=("hull", "flow"), default="hull")
     args = parser.parse_args(argv)
+    transport = ("--transport", args.transport)
     args.out.mkdir(parents=True, exist_ok=True)
     if args.part in ("thickness", "all"):
         print(HEADER.format("h [m] at 3 m/s"))
         for h in THICKNESSES_M:
-            print(_row(h, _loads(_run(args.out, h, 3.0, args.length_m), 3.0, "base")), flush=True)
+            print(
+                _row(h, _loads(_run(args.out, h, 3.0, args.length_m), 3.0, args.transport, *transport)),
+                flush=True,
+            )
     if args.part in ("speed", "all"):
         for h in (0.4, 1.0):
             print(HEADER.format(f"V [m/s] at h = {h} m"))
             for v in SPEEDS_M_S:
-                print(_row(v, _loads(_run(args.out, h, v, args.length_m), v, "base")), flush=True)
+                print(
+                    _row(v, _loads(_run(args.out, h, v, args.length_m), v, args.transport, *transport)),
+                    flush=True,
+                )
     if args.part in ("sensitivity", "all"):
         run = _run(args.out, 0.4, 3.0, args.length_m)
         print(HEADER.format("parameter at h = 0.4 m, 3 m/s"))
-        print(_row("default", _loads(run, 3.0, "base")), flush=True)
+        print(_row("default", _loads(run, 3.0, args.transport, *transport)), flush=True)
         for key, value in SENSITIVITY.items():
             for factor in (0.9, 1.1):
                 new = min(value * factor, 1.0) if key == "slip_factor" else value * factor
-                tag = f"{key}_{factor:g}"
+                tag = f"{args.transport}_{key}_{factor:g}"
                 print(
                     _row(
                         f"{key} × {factor:g}",
-                        _loads(run, 3.0, tag, "--transport-parameter", f"{key}={new:g}"),
+                        _loads(run, 3.0, tag, *transport, "--transport-parameter", f"{key}={new:g}"),
                     ),
                     flush=True,
                 )

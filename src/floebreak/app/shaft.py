@@ -263,8 +263,7 @@ def _drive_response(
     milled = milled_cusps(
         read_run_cusps(run_dir, MILLING_INPUT_COLUMNS),
         speed_m_s=speed_m_s,
-        transport_settings=transport_settings,
-        flow_point=point,
+        transport_settings=transport_settings,  # the default profile's kinematic transport
     )
     mean_torque_n_m = None if point.torque_limited else point.point.torque_n_m
     result = shaft_drive_response(

@@ -283,7 +283,7 @@ def design_load_tables(result: PropellerResult) -> list[DesignLoadTable]:
     hours_in_ice = rates.get("hours_in_ice")
     profile = (summary.get("rule_form") or {}).get("operating_profile") or {}
     index = result.loads.get("propeller_index")
-    per_propeller = (summary.get("transport") or {}).get("rule") == "hull" and index is not None
+    per_propeller = (summary.get("transport") or {}).get("rule") in ("hull", "flow") and index is not None
     groups: dict[str, np.ndarray | None] = {"one propeller (mean)": None}
     if per_propeller:
         n = max(len(summary["transport"].get("fraction_reaching_per_propeller") or []), int(index.max()) + 1)

@@ -475,7 +475,8 @@ def _rpm_text(load_model: str) -> str:
 
 
 TRANSPORT_TEXT = {
-    "hull": "the transport model decides per cusp",
+    "hull": "the kinematic transport model decides per cusp",
+    "flow": "each cusp is followed under the hull to the propeller plane (buoyancy, friction, drag, suction)",
     "all": "every cusp reaches, thesis §6.2",
     "override": "--fraction-reaching / propeller.fraction_reaching, every cusp loads with that weight",
 }
