@@ -42,7 +42,7 @@ import numpy as np
 from floebreak.app.run import run
 from floebreak.dynamics import IceMotionEngine
 from floebreak.mechanics import compile_kernels
-from floebreak.output.surge import recorded_ice_force_series_n
+from floebreak.output.surge_file import recorded_ice_force_series_n
 
 REFERENCE = Path(__file__).resolve().parents[1] / "examples" / "reference.toml"
 AT_LIMIT = 0.999  # transmitted / |F| at or above this: the joint was at its limit throughout

@@ -13,7 +13,8 @@ alone changes. Per run:
 - cusps reaching a propeller per km: the kinematic transport model (`floebreak.propeller.transport`,
   docs/model.md §13) with its defaults, on the run's cusps;
 - mean ice resistance: the longitudinal ice force on the ship averaged over the transit at the prescribed
-  speed, in kN, as `floebreak.ship.surge` integrates it (`floebreak.output.surge.ice_force_series_n`): under
+  speed, in kN, as `floebreak.ship.surge` integrates it
+  (`floebreak.output.surge_file.ice_force_series_n`): under
   `static` the contact records' crushing force (trapezoid of the force after the breaks at one search and on
   arrival at the next), under `dynamic` the force the hull passed to the ice over each search interval
   (`SimulationResult.hull_force_on_ice_xy_n`, docs/model.md "The force the hull passes on");
@@ -37,7 +38,7 @@ import numpy as np
 
 from floebreak.app.run import run
 from floebreak.mechanics import compile_kernels
-from floebreak.output.surge import ice_force_series_n, recorded_ice_force_series_n
+from floebreak.output.surge_file import ice_force_series_n, recorded_ice_force_series_n
 from floebreak.propeller.transport import transport_cusp_table
 
 # (concentration, generator): circles reach ≈ 0.76 at 100 m width, voronoi any concentration

@@ -1,4 +1,4 @@
-"""The pose recorder of a run that stops stuck (`floebreak.output.poses.PoseRecorder.finish`): such a run
+"""The pose recorder of a run that stops stuck (`floebreak.output.pose_file.PoseRecorder.finish`): such a run
 ends before its planned last step, after one more interval of ice motion, and poses.parquet must
 end where the ice ended (the outlines of pieces.parquet), not at the last multiple of the pose interval."""
 

@@ -12,7 +12,7 @@ import pytest
 
 import floebreak
 from floebreak.engine.loop import ContactEvaluated
-from floebreak.output.surge import SURGE_FILE, surge_of
+from floebreak.output.surge_file import SURGE_FILE, surge_of
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "single_floe.toml"
 PROPULSION = [

@@ -27,7 +27,7 @@ from floebreak.engine.records import ContactRecorder
 from floebreak.errors import InputError
 from floebreak.ice.field import FloeField, circle_polygons
 from floebreak.mechanics.contact import BowContactGeometry, evaluate_contact
-from floebreak.output.surge import SURGE_FILE, recorded_ice_force_series_n
+from floebreak.output.surge_file import SURGE_FILE, recorded_ice_force_series_n
 from floebreak.ship.hulls import agulhas_ii
 from floebreak.ship.propulsion import Propulsion, juva_riska_net_thrust_n
 

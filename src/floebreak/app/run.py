@@ -49,7 +49,7 @@ from floebreak.ice.field import FloeField, diameter_classes_m
 from floebreak.io.contacts import ContactFile, read_contacts
 from floebreak.io.provenance import floebreak_version, provenance
 from floebreak.output.figure_process import FigureCall, FigureWorker, draw_figure
-from floebreak.output.poses import PoseRecorder, check_pose_interval
+from floebreak.output.pose_file import PoseRecorder, check_pose_interval
 from floebreak.output.run_directory import CONTACTS_FILE, pieces_table, write_run_directory
 from floebreak.output.run_directory import FIGURES as FIGURES
 from floebreak.output.run_directory import PIECE_FILES as PIECE_FILES
@@ -57,7 +57,7 @@ from floebreak.output.run_directory import PIECES_FILE as PIECES_FILE
 from floebreak.output.run_directory import check_output_directory as check_output_directory
 from floebreak.output.run_directory import field_table as field_table
 from floebreak.output.run_directory import file_checksums as file_checksums
-from floebreak.output.surge import surge_summary
+from floebreak.output.surge_file import surge_summary
 from floebreak.plotting.pattern_data import breaking_pattern
 
 # the run directory's figures of a longer field or transit show its first this many metres: its whole length

@@ -216,7 +216,7 @@ class StepDone:
     n_cusps: int
     n_flipped: int
     # the run's ice motion where pieces move (`IceMotion.moves`), to be read, not changed (the pieces' poses,
-    # recorded by `floebreak.output.poses`); None for static ice
+    # recorded by `floebreak.output.pose_file`); None for static ice
     ice_motion: IceMotion | None = None
 
 

@@ -16,7 +16,7 @@ from floebreak.output.figure_process import FigureCall
 
 
 class PoseTables(Protocol):
-    """The moved pieces' poses of a run (`floebreak.output.poses.PoseRecorder`)."""
+    """The moved pieces' poses of a run (`floebreak.output.pose_file.PoseRecorder`)."""
 
     @property
     def interval_steps(self) -> int: ...

@@ -22,8 +22,8 @@ BUILTIN = {
     "fates": "floebreak.output.run_directory:write_fate_files",  # cusps, flipped, remaining .parquet
     "contacts": "floebreak.output.run_directory:write_contacts_file",  # contacts.parquet
     "pieces": "floebreak.output.run_directory:write_pieces_file",  # pieces.parquet
-    "surge": "floebreak.output.surge:write_surge_file",  # surge.csv, only with ship.propulsion
-    "poses": "floebreak.output.poses:write_poses_file",  # poses.parquet, only with recorded poses
+    "surge": "floebreak.output.surge_file:write_surge_file",  # surge.csv, only with ship.propulsion
+    "poses": "floebreak.output.pose_file:write_poses_file",  # poses.parquet, only with recorded poses
     "summary": "floebreak.output.run_directory:write_summary_file",  # summary.json (checksums added last)
     "scenario": "floebreak.output.run_directory:write_scenario_file",  # scenario.resolved.toml
 }

@@ -17,7 +17,8 @@ run leaves no half directory):
   ``x_start_m``, ``step_m``, ``n_steps`` (bow x at step s = x_start_m + s·step_m). Enough to replay the
   transit (``floebreak animate``);
 - ``poses.parquet`` (a `dynamic` run with ``simulation.pose_interval_steps``): the poses of the pieces the
-  ice motion moved, every that many steps (`floebreak.output.poses`, `floebreak.io.poses`), for the animation;
+  ice motion moved, every that many steps (`floebreak.output.pose_file`, `floebreak.io.poses`), for the
+  animation;
 - ``scenario.resolved.toml`` (every default filled in), ``figures/*.png``, ``report.html``.
 
 Every file carries provenance (floebreak and library versions, the resolved scenario, its hash, the seed).

@@ -26,7 +26,7 @@ BUILTIN = {
 class IceMotion(Protocol):
     """The ice motion of one run, made by its class from the run (`engine.loop._Run`)."""
 
-    moves: bool  # whether pieces move (their poses are then recorded by `output.poses.PoseRecorder`)
+    moves: bool  # whether pieces move (their poses are then recorded by `output.pose_file.PoseRecorder`)
     last_contact_x_m: dict[int, float]  # bow x of each piece's last contact (pieces that moved only)
 
     @property
