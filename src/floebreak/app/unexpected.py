@@ -14,7 +14,7 @@ from floebreak.io.storage import as_storage_error
 EXIT_BUG = 1
 
 
-def _interrupted(error: BaseException | None) -> bool:
+def interrupted(error: BaseException | None) -> bool:
     """Whether `error` is, or was raised while handling, a KeyboardInterrupt (Ctrl-C inside a numba kernel
     surfaces as ``SystemError: … returned a result with an exception set``)."""
     seen: set[int] = set()
@@ -29,7 +29,7 @@ def _interrupted(error: BaseException | None) -> bool:
 def report_unexpected(error: Exception, console) -> int | None:
     """Print what `error` means on the rich `console` (standard error) and return the exit code; None if it
     is an interruption, which the caller reports with its own line and code."""
-    if _interrupted(error):
+    if interrupted(error):
         return None
     storage = as_storage_error(error, getattr(error, "filename", None) or "the output")
     if storage is not None:

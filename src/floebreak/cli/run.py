@@ -13,6 +13,7 @@ import typer.core
 from rich.markup import escape
 
 from floebreak import constants as c
+from floebreak.app.unexpected import interrupted
 from floebreak.cli.common import console, err_console, parse_floats, stage_progress
 from floebreak.cli.options import (
     GeneratorName,
@@ -217,23 +218,11 @@ def _save_failed_scenario(out: Path, scenario, error: BaseException) -> Path | N
     return path
 
 
-def _interrupted(error: BaseException) -> bool:
-    """Whether `error` is, or was raised while handling, a KeyboardInterrupt (Ctrl-C inside a numba kernel
-    surfaces as ``SystemError: CPUDispatcher(...) returned a result with an exception set``)."""
-    seen: set[int] = set()
-    while error is not None and id(error) not in seen:
-        if isinstance(error, KeyboardInterrupt):
-            return True
-        seen.add(id(error))
-        error = error.__cause__ or error.__context__
-    return False
-
-
 def _not_a_bug(error: BaseException, out: Path) -> BaseException | None:
     """What to report instead of an internal error: Ctrl-C, or a problem of the machine (StorageError)."""
     from floebreak.io.storage import as_storage_error
 
-    if _interrupted(error):
+    if interrupted(error):
         return KeyboardInterrupt()
     return as_storage_error(error, out)
 
