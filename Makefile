@@ -48,16 +48,17 @@ bytecode:
 bench: $(STAMP) bytecode
 	@for script in $(filter-out benchmarks/compare.py,$(wildcard benchmarks/*.py)); do echo "== $$script"; OMP_NUM_THREADS=1 $(BIN)/python $$script || exit 1; done
 
-# fuzz campaigns: N random valid scenarios from SEED, then N adversarial ones (hostile field
-# files, bow CSVs and policies: fuzz.adversarial), checked for internal errors, area balance, valid
-# polygons, peak memory and wall time; violations saved in fuzz-report/{valid,adversarial}/
-# (benchmarks/README.md, fuzz)
+# fuzz campaigns (tools/fuzz): N random valid scenarios from SEED, then N adversarial ones (hostile field
+# files, huge and far floes, bow CSVs and policies), checked for internal errors, area balance, valid
+# polygons, peak memory and wall time; then N hostile texts per reader (deep TOML, extreme FEM tables, tiny
+# and huge torque files), each read or refused by name; violations saved in fuzz-report/*/
 N ?= 200
 SEED ?= 1
 JOBS ?= 1
 fuzz: $(STAMP)
 	OMP_NUM_THREADS=1 PYTHONPATH=tools $(BIN)/python -m fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --generator valid --out fuzz-report/valid
 	OMP_NUM_THREADS=1 PYTHONPATH=tools $(BIN)/python -m fuzz --n $(N) --seed $(SEED) --jobs $(JOBS) --generator adversarial --out fuzz-report/adversarial
+	OMP_NUM_THREADS=1 PYTHONPATH=tools $(BIN)/python -m fuzz.readers --n $(N) --seed $(SEED) --out fuzz-report/readers
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache

@@ -4,6 +4,8 @@ text is read or refused with an InputError naming the file — never another exc
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -59,3 +61,20 @@ def test_measured_files_are_read_or_refused_naming_the_file(seed, monkeypatch):
 def test_the_field_generator_draws_huge_and_far_floes():
     traits = {field_recipes(np.random.default_rng(seed))["trait"] for seed in range(200)}
     assert {"huge", "far"} <= traits
+
+
+def test_the_readers_campaign_counts_and_keeps_violations(tmp_path):
+    from fuzz import readers
+
+    assert readers.main(["--n", "3", "--seed", "7", "--out", str(tmp_path)]) == 0
+    counts = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    assert set(counts) == {"scenario", "fem_table", "torque_csv"}
+    assert all(sum(c.values()) == 3 for c in counts.values()) and counts["scenario"]["refused"] == 3
+    assert (tmp_path / "violations.jsonl").read_text(encoding="utf-8") == ""
+    # a reader that breaks is a violation, not a crash of the campaign
+    readers.READERS["broken"] = (lambda rng: "x", lambda text: 1 / 0)
+    readers.SOURCES["broken"] = "b.txt"
+    try:
+        assert readers.check_text("broken", 1)["outcome"] == "violation"
+    finally:
+        del readers.READERS["broken"], readers.SOURCES["broken"]
