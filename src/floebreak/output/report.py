@@ -224,7 +224,7 @@ def _propeller_rows(summary: dict) -> list[str]:
     rows = [
         "<table><tr><th>pitch [%]</th><th>beyond FEM table</th><th>max |Q| [kN·m]</th>"
         "<th>fit k (95 % CI)</th><th>rule k</th><th>|Q| max per hour [kN·m] (95 % CI)</th>"
-        "<th>|Q| max over the profile [kN·m]</th></tr>"
+        "<th>|Q| max over the profile, all cusps, mean propeller [kN·m]</th></tr>"
     ]
     for label, info in summary.get("pitches", {}).items():
         fit = ((summary.get("rule_form") or {}).get(label) or {}).get("torque_knm") or {}
@@ -250,7 +250,7 @@ def _propeller_rows(summary: dict) -> list[str]:
 
 
 _DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, unit
-    ("design ice torque Q", "design_torque_kn_m", "kN·m"),
+    ("design ice torque Q, this propeller", "design_torque_kn_m", "kN·m"),
     ("rule Q_max", "rule_max_torque_kn_m", "kN·m"),
     ("Q / Q_max", "torque_ratio", "–"),
     ("design blade force F", "design_force_kn", "kN"),
@@ -262,6 +262,13 @@ _DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, unit
     ("loads over the operating profile", "n_loads_profile", "–"),
     ("rule N_ice", "rule_n_ice", "–"),
     ("loads / N_ice", "loads_ratio", "–"),
+)
+
+
+WHICH_DESIGN_TORQUE = (
+    "Which design torque is which: the per-pitch table's |Q| max over the profile is the rule-form fit "
+    "to all cusps at the mean propeller's rate; each design-load table's design ice torque Q is that "
+    "propeller's own (its cusps and rate: x_max over the profile, else its largest simulated load)"
 )
 
 
@@ -346,6 +353,8 @@ def propeller_parts(
     parts += _propeller_rows(summary)
     if "design_loads" in summary:  # a propeller analysis' (a voyage's pooled loads have none)
         parts += design_load_parts(summary["design_loads"])
+        if summary["design_loads"]:
+            parts.append(f"<p>{esc(WHICH_DESIGN_TORQUE)}.</p>")
     rule = summary.get("rule_form") or {}
     if rule.get("rule_n_ice") is not None:
         parts.append(
