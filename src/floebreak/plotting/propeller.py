@@ -92,8 +92,10 @@ def plot_spectrum(curves: SpectrumCurves, log: bool = False) -> Figure:
     ax.set_xlabel(f"{name} [{unit}]")
     ax.set_ylabel(f"probability density [1/{unit}]")
     what = "Load" if quantity == "force" else "Torque"
-    ax.set_title(f"{what} spectrum (mean over {curves.n_runs} run(s))")
+    bins = f"; {len(curves.edges) - 1} bins of {np.diff(curves.edges)[0]:.3g} {unit}" if any_data else ""
+    ax.set_title(f"{what} spectrum (mean over {curves.n_runs} run(s){bins})")
     if any_data:
+        ax.set_xlim(curves.edges[0], curves.edges[-1])  # the data's range, not from 0
         ax.legend()
     return figure
 
