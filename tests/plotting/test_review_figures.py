@@ -60,3 +60,22 @@ def test_the_propeller_load_is_drawn_over_the_shaft_torque():
         load, shaft = ax.get_lines()[:2]
         assert load.get_zorder() > shaft.get_zorder()
         assert shaft.get_alpha() < 1.0 and load.get_alpha() in (None, 1.0)
+
+
+def test_an_analysis_with_zero_loads_draws_its_figures_without_a_warning(recwarn):
+    """No cusps: every figure is drawn, none passes matplotlib an empty log axis (its UserWarning)."""
+    import warnings
+
+    from floebreak.app.propeller import analyse_propeller, propeller_figures
+    from floebreak.propeller.runs import RateBasis, RunExposure
+
+    columns = ("volume_m3", "bbox_length_m", "bbox_width_m", "thickness_m", "area_m2", "bow_x_m")
+    cusps = {name: np.zeros(0) for name in (*columns, "centroid_x_m", "centroid_y_m")}
+    cusps["run_id"] = np.array([], dtype=str)
+    exposures = {"r": RunExposure(300.0, RateBasis(3.0, None, 2))}
+    result = analyse_propeller(cusps, exposures=exposures, polar_class="PC5")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        figures = propeller_figures(result)
+    texts = [t.get_text() for t in figures["rule_form.png"].axes[1].texts]
+    assert texts == ["no loads"]  # a time base, but nothing to count
