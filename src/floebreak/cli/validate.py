@@ -204,6 +204,8 @@ def thesis_command(
     settings = ValidationSettings(command, field["length_m"], field["width_m"],
                                   thesis_field_length_m(field["width_m"]), n_fields, seed, tuple(sets), base,
                                   sample, holdout_base, sample_name or "")  # fmt: skip
+    for line in _sample_lines(samples, n_fields, seed, field):
+        console.print(line, soft_wrap=True, highlight=False)
     started = time.perf_counter()
 
     def finish(failures):
@@ -213,6 +215,19 @@ def thesis_command(
         console.print(f"written: {out}/scoreboard.md, scoreboard.csv, fields.csv, figures/", soft_wrap=True)
 
     _run(out, specs, workers, scheduler, finish)
+
+
+def _sample_lines(samples: Path, n_fields: int, seed: int, field: dict) -> list[str]:
+    """`sample_lines` of a call, against the registry `samples` where it can be read (a checkout's
+    validation/samples.toml; an installed package run elsewhere has none, then the size alone)."""
+    from floebreak.validation.validate import parse_samples, sample_lines
+
+    try:
+        registry = parse_samples(samples.read_text(encoding="utf-8"), f"--samples {samples}")
+    except (OSError, InputError):
+        registry = {}
+    observation = str(field.get("observation"))
+    return sample_lines(n_fields, seed, observation, field["length_m"], field["width_m"], registry)
 
 
 def _one_config(profile: str, length_m: float | None, sets: list[str] | None):
