@@ -267,3 +267,25 @@ def test_resolved_toml_is_valid_toml_without_nulls():
     data = tomllib.loads(Scenario.reference().resolved().to_toml())
     assert data["ice"]["thickness_summands"] == 12
     assert "x_end_m" not in data["ship"]  # unset optional keys are omitted, not written as null
+
+
+@pytest.mark.parametrize("text", ["", "\n\n", "# only a comment\n", "\ufeff"])
+def test_an_empty_scenario_file_is_refused_naming_it(tmp_path, text):
+    path = tmp_path / "empty.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InputError) as caught:
+        Scenario.from_toml(path)
+    message = str(caught.value)
+    assert "empty.toml" in message and "empty scenario" in message and "examples/reference.toml" in message
+
+
+def test_the_cli_refuses_an_empty_scenario_with_exit_2(tmp_path):
+    import subprocess
+    import sys
+
+    (tmp_path / "empty.toml").write_text("", encoding="utf-8")
+    done = subprocess.run(
+        [sys.executable, "-m", "floebreak", "run", "empty.toml", "--out", "out"],
+        capture_output=True, text=True, cwd=tmp_path, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 2 and "empty.toml" in done.stderr and not (tmp_path / "out").exists()

@@ -13,7 +13,7 @@ from floebreak.app.propeller import design_load_summary, propeller_figures
 from floebreak.cli.tables import design_basis_lines as _design_basis_lines
 from floebreak.cli.tables import design_load_tables as _design_load_tables
 from floebreak.output.propeller_files import write_propeller_files
-from floebreak.output.report import render_report
+from floebreak.output.report import propeller_section, render_report
 
 from .test_design_loads import N_ICE, _analysed, _table
 
@@ -76,3 +76,31 @@ def test_report_without_a_polar_class_says_how_to_get_the_table(tmp_path):
     write_propeller_files(result, run / "propeller", {}, extra_summary={"design_loads": None})
     (run / "summary.json").write_text(json.dumps({"n_cusps": 1}), encoding="utf-8")
     assert "<code>--polar-class</code>" in render_report(run)
+
+
+def test_the_three_design_torques_of_a_pitch_say_which_is_which(tmp_path, monkeypatch):
+    """With cusps assigned to two propellers, the rule-form table's q_max (all cusps, the mean propeller's
+    rate) and each propeller's design Q (its own cusps and rate) differ; each is labelled with its basis,
+    in the terminal and in the report."""
+    import floebreak.cli.tables as tables
+
+    result = _analysed("hull")
+    write_propeller_files(
+        result, tmp_path / "p", {}, extra_summary={"design_loads": design_load_summary(result)}
+    )
+    summary = json.loads((tmp_path / "p" / "summary.json").read_text(encoding="utf-8"))
+    fit = summary["rule_form"]["p0"]["torque_knm"]["x_max_lifetime"]
+    per_propeller = [t["rows"][0]["design_torque_kn_m"] for t in summary["design_loads"]]
+    assert len({round(fit), *(round(q) for q in per_propeller)}) == 3  # three numbers for one pitch
+
+    buffer = io.StringIO()
+    monkeypatch.setattr(tables, "console", Console(file=buffer, width=100, force_terminal=False))
+    tables.print_propeller_summary(summary, tmp_path / "p", quiet=False)
+    text = " ".join(buffer.getvalue().split())
+    assert "mean propeller" in text and "all cusps" in text  # the rule-form table's title and column
+    assert text.count("x_max over profile, this") >= 2  # both design tables (folded before "propeller")
+    assert "q_max profile (rule-form table): the fit to all cusps at the mean propeller's rate" in text
+
+    page = "\n".join(propeller_section(tmp_path / "p"))
+    assert "|Q| max over the profile, all cusps, mean propeller [kN·m]" in page
+    assert "design ice torque Q, this propeller" in page and "Which design torque is which" in page

@@ -24,7 +24,7 @@ from floebreak.propeller.loads import get_load_model, load_model_names
 from floebreak.propeller.pipeline import PropellerResult
 from floebreak.propeller.ruleform import rule_n_ice
 from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
-from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, spectrum_curves
+from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, figure_curves, spectrum_curves
 
 
 def run_transit_distance_m(run_dir: str | os.PathLike[str]) -> float | None:
@@ -146,9 +146,10 @@ def propeller_figure_calls(result: PropellerResult) -> dict[str, Any]:
     # the spectra as plain arrays: a figure process then imports no xarray (nor dask, where installed)
     curves = {quantity: spectrum_curves(result.spectra, quantity) for quantity in ("force", "torque")}
     for quantity, name in (("force", "load"), ("torque", "torque")):
+        shown = figure_curves(quantity, _magnitudes_per_run(result, quantity))  # bins from the data
         for log in (False, True):
             scale = "log" if log else "linear"
-            out[f"{name}_spectrum_{scale}.png"] = call("plot_spectrum", curves[quantity], log)
+            out[f"{name}_spectrum_{scale}.png"] = call("plot_spectrum", shown, log)
     torque = {p: result.amplitudes(p).torque_nm for p in result.pitches}
     out["rule_form.png"] = call("plot_rule_form", torque, result.exceedance, WEIBULL_SHAPE[o["weibull"]])
     if result.measured is not None:
@@ -167,6 +168,19 @@ def propeller_figure_calls(result: PropellerResult) -> dict[str, Any]:
             (force, torque, result.rule, WEIBULL_SHAPE[o["weibull"]]),
             {"n_ice": n_ice},
         )
+    return out
+
+
+def _magnitudes_per_run(result: PropellerResult, quantity: str) -> dict[float, dict[str, Any]]:
+    """{pitch: {run_id: |F| [kN] or |Q| [kN·m]}} of the result's cusps, as the spectra files count them."""
+    import numpy as np
+
+    run_id = np.asarray(result.loads["run_id"])
+    out = {}
+    for pitch in result.pitches:
+        amp = result.amplitudes(pitch)
+        values = np.abs(np.asarray(amp.force_n if quantity == "force" else amp.torque_nm, dtype=float)) / 1e3
+        out[float(pitch)] = {str(r): values[run_id == r] for r in np.unique(run_id)}
     return out
 
 

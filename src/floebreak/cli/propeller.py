@@ -231,9 +231,12 @@ def _write_propeller_outputs(result, inputs, shaft, out: Path, overwrite: bool, 
         workers=workers,
     )
     print_pooling(inputs)
-    print_propeller_summary(written_summary(written), written, quiet)
+    print_propeller_summary(written_summary(written.folder), written.folder, quiet)
     if shaft is not None:
-        _print_shaft(shaft, Path(written) / "shaft")
+        _print_shaft(shaft, written.folder / "shaft")
+    console.print(f"report: {written.report}", highlight=False, soft_wrap=True)
+    if written.run_report is not None:
+        console.print(f"updated the run's report: {written.run_report}", highlight=False, soft_wrap=True)
 
 
 def _print_shaft(shaft, shaft_dir: Path) -> None:

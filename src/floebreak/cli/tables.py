@@ -78,14 +78,14 @@ def rule_form_table(summary: dict) -> Table | None:
     """Per pitch: the rule-form fit of |Q| (k with 95 % interval against the rule's k) and the expected
     largest |Q| per hour and over the operating profile (notes §7.3)."""
     rule_form = summary.get("rule_form") or {}
-    table = Table(title="rule form P(Q ≥ q) = exp(−(q/q_max)^k ln N) fitted to |Q|, one propeller")
+    table = Table(title=f"rule form P(Q ≥ q) = exp(−(q/q_max)^k ln N) fitted to |Q|, {MEAN_PROPELLER}")
     for name in (
         r"pitch \[%]",
         "k (95 % CI)",
         "rule k",
         r"fitted |Q| \[kN·m]",
         r"q_max per h \[kN·m]",
-        r"q_max profile \[kN·m]",
+        r"q_max profile, mean propeller \[kN·m]",
     ):
         table.add_column(name, justify="right")
     rows = 0
@@ -103,6 +103,14 @@ def rule_form_table(summary: dict) -> Table | None:
             fmt(fit.get("x_max_lifetime"), ".0f"),
         )
     return table if rows else None
+
+
+MEAN_PROPELLER = "all cusps, mean propeller"
+WHICH_DESIGN_TORQUE = (
+    "q_max profile (rule-form table): the fit to all cusps at the mean propeller's rate; design ice torque Q "
+    "(design-load tables): per propeller, its own cusps and rate (x_max over the profile), else its largest "
+    "simulated load"
+)
 
 
 def design_load_tables(summary: dict) -> list[Table]:
@@ -124,7 +132,11 @@ def design_load_tables(summary: dict) -> list[Table]:
         for row in entry["rows"]:
             basis = row["basis"]["design Q"]
             n_sim = basis.split(" simulated loads")[0].rsplit(" ", 1)[-1]
-            origin.append("x_max over profile" if basis.startswith("rule-form") else f"largest of {n_sim}")
+            origin.append(
+                "x_max over profile, this propeller"
+                if basis.startswith("rule-form")
+                else f"largest of {n_sim}"
+            )
         table.add_row("design values from", *origin, "")
         out.append(table)
     return out
@@ -194,6 +206,8 @@ def print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
             console.print(table)
         for line in design_basis_lines(summary):
             console.print(f"  {line}", highlight=False, soft_wrap=True)
+        if rule_table is not None and summary.get("design_loads"):
+            console.print(f"  {WHICH_DESIGN_TORQUE}", highlight=False, soft_wrap=True)
         if summary.get("ice_class") is None:
             console.print("design-load table: add --polar-class (e.g. PC5)", highlight=False)
         console.print(model_line(summary), highlight=False, soft_wrap=True)

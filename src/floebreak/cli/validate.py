@@ -174,12 +174,7 @@ def thesis_command(
 
     from floebreak.studies.field_size import thesis_field_length_m, thesis_scenario
     from floebreak.validation.scoreboard import tally_text
-    from floebreak.validation.validate import (
-        HOLDOUT_SAMPLE,
-        make_configs,
-        single_floe_spec,
-        thesis_validation_spec,
-    )
+    from floebreak.validation.validate import HOLDOUT_SAMPLE, make_configs, thesis_validation_spec
     from floebreak.validation.validation_report import ValidationSettings, write_outputs
 
     profile, n_fields, seed, length_m, sets, options = _thesis_inputs(
@@ -188,10 +183,7 @@ def thesis_command(
     _check(n_fields, workers, length_m)
     configs = make_configs(profile, list(variants or []))
     base = thesis_scenario(sets, length_m)
-    specs = {
-        "single_floe": single_floe_spec(configs, base),
-        "study": thesis_validation_spec(configs, base, n_fields, seed),
-    }
+    specs = _thesis_specs(configs, base, n_fields, seed)
     options += [("--variant", v) for v in variants or []]
     sample, holdout_base = None, {}
     if holdout:  # the holdout's observation after the user's --set: it is what defines the sample
@@ -204,6 +196,7 @@ def thesis_command(
     settings = ValidationSettings(command, field["length_m"], field["width_m"],
                                   thesis_field_length_m(field["width_m"]), n_fields, seed, tuple(sets), base,
                                   sample, holdout_base, sample_name or "")  # fmt: skip
+    console.print("\n".join(_sample_lines(samples, n_fields, seed, field)), soft_wrap=True, highlight=False)
     started = time.perf_counter()
 
     def finish(failures):
@@ -213,6 +206,29 @@ def thesis_command(
         console.print(f"written: {out}/scoreboard.md, scoreboard.csv, fields.csv, figures/", soft_wrap=True)
 
     _run(out, specs, workers, scheduler, finish)
+
+
+def _thesis_specs(configs, base: dict, n_fields: int, seed: int) -> dict:
+    """The single-floe cases and the study of `validate thesis` (the holdout is added to them)."""
+    from floebreak.validation.validate import single_floe_spec, thesis_validation_spec
+
+    return {
+        "single_floe": single_floe_spec(configs, base),
+        "study": thesis_validation_spec(configs, base, n_fields, seed),
+    }
+
+
+def _sample_lines(samples: Path, n_fields: int, seed: int, field: dict) -> list[str]:
+    """`sample_lines` of a call, against the registry `samples` where it can be read (a checkout's
+    validation/samples.toml; an installed package run elsewhere has none, then the size alone)."""
+    from floebreak.validation.validate import parse_samples, sample_lines
+
+    try:
+        registry = parse_samples(samples.read_text(encoding="utf-8"), f"--samples {samples}")
+    except (OSError, InputError):
+        registry = {}
+    observation = str(field.get("observation"))
+    return sample_lines(n_fields, seed, observation, field["length_m"], field["width_m"], registry)
 
 
 def _one_config(profile: str, length_m: float | None, sets: list[str] | None):

@@ -848,6 +848,12 @@ class Scenario(_Section):
             raise InputError(
                 "scenario", f"cannot read {str(path)!r}: {error}", allowed="a readable TOML file"
             ) from None
+        if _holds_no_key(text, str(path)):  # the defaults are not the reference scenario: say so
+            raise InputError(
+                "scenario",
+                f"{str(path)!r} is an empty scenario (no keys)",
+                allowed="a scenario with its keys; start from examples/reference.toml",
+            )
         return cls.from_toml_text(text, base_dir=path.parent, overrides=overrides, source=str(path))
 
     @classmethod
@@ -905,6 +911,15 @@ class Scenario(_Section):
     def hash(self) -> str:
         """SHA-256 of the canonical JSON of this scenario (hash the resolved scenario for a run id)."""
         return hashlib.sha256(json.dumps(self.to_dict(), sort_keys=True).encode()).hexdigest()
+
+
+def _holds_no_key(text: str, source: str) -> bool:
+    """Whether TOML `text` parses to no key at all (empty, blank or comments only); malformed text is left
+    to `Scenario.from_toml_text`'s message."""
+    try:
+        return loads_toml(text.removeprefix("\ufeff"), "scenario", source) == {}
+    except tomllib.TOMLDecodeError:
+        return False
 
 
 def json_schema() -> dict[str, Any]:

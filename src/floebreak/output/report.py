@@ -73,12 +73,19 @@ def _page_head(title: str) -> list[str]:
     ]
 
 
-def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = None) -> str:
+def render_report(
+    run_dir: str | os.PathLike[str],
+    directory_name: str | None = None,
+    analyses: dict[str, Path] | None = None,
+) -> str:
     """The HTML text of the report of run directory `run_dir` (InputError if it is not a run directory).
 
     `directory_name` is the name shown for the run directory (default: its current name; a run being
-    written in a temporary directory passes its final name)."""
+    written in a temporary directory passes its final name). `analyses`: the propeller analyses shown,
+    their path relative to the run directory → the folder to read (default `analysis_folders(run_dir)`;
+    an analysis being written passes its temporary folder under its final name)."""
     run_dir = Path(run_dir)
+    analyses = analysis_folders(run_dir) if analyses is None else analyses
     summary_path = run_dir / "summary.json"
     if not summary_path.is_file():
         raise InputError(
@@ -131,37 +138,61 @@ def render_report(run_dir: str | os.PathLike[str], directory_name: str | None = 
         )
     if not order:
         parts.append("<p>(no figures)</p>")
-    parts += propeller_section(run_dir / "propeller")
-    parts += shaft_section(run_dir / "propeller" / "shaft")
+    for name, folder in analyses.items():
+        parts += propeller_section(folder, name)
+        parts += shaft_section(folder / "shaft", name)
     parts += [
         "<h2>Scenario (resolved)</h2>",
         f"<details><summary>scenario.resolved.toml</summary><pre>{esc(scenario_text)}</pre></details>",
-        *_provenance_parts(run_dir, hashes, provenance),
+        *_provenance_parts(hashes, provenance, analyses),
         "</body></html>",
     ]
     return "\n".join(parts) + "\n"
 
 
-def _provenance_parts(run_dir: Path, hashes: dict, provenance: dict) -> list[str]:
-    """The page's last section, collapsed: the run's hashes and provenance, and the provenance of its
-    propeller and shaft analyses where present."""
+def analysis_folders(run_dir: Path) -> dict[str, Path]:
+    """The propeller analyses inside run directory `run_dir` (folders up to three levels down whose
+    summary.json is a propeller analysis'), by their path relative to it, "propeller" (the demo's) first;
+    temporary folders (hidden names) are left out."""
+    found = {}
+    for depth in ("*", "*/*", "*/*/*"):
+        for path in sorted(Path(run_dir).glob(f"{depth}/summary.json")):
+            relative = path.parent.relative_to(run_dir)
+            if any(part.startswith(".") for part in relative.parts):
+                continue
+            summary = _section_summary(path.parent)
+            if summary is not None and "pitches" in summary and "options" in summary:
+                found[relative.as_posix()] = path.parent
+    return dict(sorted(found.items(), key=lambda item: (item[0] != "propeller", item[0])))
+
+
+def _titled(title: str, name: str | None) -> str:
+    """A section's title; an analysis folder other than the demo's "propeller" is named in it."""
+    return title if name in (None, "propeller") else f"{title} ({name}/)"
+
+
+def _provenance_parts(hashes: dict | None, provenance: dict | None, analyses: dict[str, Path]) -> list[str]:
+    """The page's last section, collapsed: the run's hashes and provenance (none on an analysis' own page:
+    None), and the provenance of its propeller and shaft `analyses` where present."""
     esc = html.escape
 
     def block(title: str, *records: dict) -> str:
         pre = "".join(f"<pre>{esc(json.dumps(r, indent=2, sort_keys=True))}</pre>" for r in records)
         return f"<details><summary>{esc(title)}</summary>{pre}</details>"
 
-    parts = [
-        "<h2>Provenance</h2>",
-        block("Hashes of the run's files, scenario and model; library versions", hashes, provenance),
-    ]
-    for folder, title in (
-        (run_dir / "propeller", "Provenance of the propeller files"),
-        (run_dir / "propeller" / "shaft", "Provenance of the shaft files"),
-    ):
-        summary = _section_summary(folder)
-        if summary is not None:
-            parts.append(block(title, summary.get("provenance", {})))
+    parts = ["<h2>Provenance</h2>"]
+    if hashes is not None and provenance is not None:
+        parts.append(
+            block("Hashes of the run's files, scenario and model; library versions", hashes, provenance)
+        )
+    for name, folder in analyses.items():
+        for where, title in (
+            (folder, "Provenance of the propeller files"),
+            (folder / "shaft", "Provenance of the shaft files"),
+        ):
+            summary = _section_summary(where)
+            if summary is not None:
+                parts.append(block(_titled(title, name), summary.get("provenance", {})))
     return parts
 
 
@@ -193,7 +224,7 @@ def _propeller_rows(summary: dict) -> list[str]:
     rows = [
         "<table><tr><th>pitch [%]</th><th>beyond FEM table</th><th>max |Q| [kN·m]</th>"
         "<th>fit k (95 % CI)</th><th>rule k</th><th>|Q| max per hour [kN·m] (95 % CI)</th>"
-        "<th>|Q| max over the profile [kN·m]</th></tr>"
+        "<th>|Q| max over the profile, all cusps, mean propeller [kN·m]</th></tr>"
     ]
     for label, info in summary.get("pitches", {}).items():
         fit = ((summary.get("rule_form") or {}).get(label) or {}).get("torque_knm") or {}
@@ -219,7 +250,7 @@ def _propeller_rows(summary: dict) -> list[str]:
 
 
 _DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, unit
-    ("design ice torque Q", "design_torque_kn_m", "kN·m"),
+    ("design ice torque Q, this propeller", "design_torque_kn_m", "kN·m"),
     ("rule Q_max", "rule_max_torque_kn_m", "kN·m"),
     ("Q / Q_max", "torque_ratio", "–"),
     ("design blade force F", "design_force_kn", "kN"),
@@ -231,6 +262,13 @@ _DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, unit
     ("loads over the operating profile", "n_loads_profile", "–"),
     ("rule N_ice", "rule_n_ice", "–"),
     ("loads / N_ice", "loads_ratio", "–"),
+)
+
+
+WHICH_DESIGN_TORQUE = (
+    "Which design torque is which: the per-pitch table's |Q| max over the profile is the rule-form fit "
+    "to all cusps at the mean propeller's rate; each design-load table's design ice torque Q is that "
+    "propeller's own (its cusps and rate: x_max over the profile, else its largest simulated load)"
 )
 
 
@@ -274,19 +312,26 @@ def _section_summary(folder: Path) -> dict | None:
         raise InputError("run_dir", f"{str(path)!r} is not readable JSON ({error})") from None
 
 
-def propeller_section(folder: Path) -> list[str]:
+def propeller_section(folder: Path, name: str | None = None) -> list[str]:
     """HTML parts of the propeller section when `folder` holds a propeller analysis (summary.json):
-    warnings, rates, the per-pitch table and the figures; nothing otherwise."""
+    warnings, rates, the per-pitch table and the figures; nothing otherwise. `name`: the folder's name
+    in the heading (none for the demo's "propeller")."""
     summary = _section_summary(folder)
-    return [] if summary is None else propeller_parts(summary, folder / "figures")
+    return (
+        []
+        if summary is None
+        else propeller_parts(summary, folder / "figures", title=_titled("Propeller loads", name))
+    )
 
 
-def propeller_parts(summary: dict, figures: Path, captions: dict[str, str] | None = None) -> list[str]:
+def propeller_parts(
+    summary: dict, figures: Path, captions: dict[str, str] | None = None, title: str = "Propeller loads"
+) -> list[str]:
     """HTML parts of a propeller section from a summary in the shape `analyse_propeller` writes (warnings,
     rates, pitches, rule_form): warnings, time base, per-pitch table, and the `captions`' figures found in
     `figures` (default: the propeller analysis' figures)."""
     esc = html.escape
-    parts = ["<h2>Propeller loads</h2>"]
+    parts = [f"<h2>{esc(title)}</h2>"]
     parts += [f"<p style='color:#a00'><b>Warning:</b> {esc(w)}</p>" for w in summary.get("warnings", [])]
     rates = summary.get("rates")
     if rates:
@@ -308,6 +353,8 @@ def propeller_parts(summary: dict, figures: Path, captions: dict[str, str] | Non
     parts += _propeller_rows(summary)
     if "design_loads" in summary:  # a propeller analysis' (a voyage's pooled loads have none)
         parts += design_load_parts(summary["design_loads"])
+        if summary["design_loads"]:
+            parts.append(f"<p>{esc(WHICH_DESIGN_TORQUE)}.</p>")
     rule = summary.get("rule_form") or {}
     if rule.get("rule_n_ice") is not None:
         parts.append(
@@ -386,16 +433,17 @@ def _shaft_rows(summary: dict) -> list[str]:
     return parts
 
 
-def shaft_section(folder: Path) -> list[str]:
+def shaft_section(folder: Path, name: str | None = None) -> list[str]:
     """HTML parts of the "Shaft line" section when `folder` holds a shaft analysis (summary.json): the
     warnings, the design numbers (`_shaft_rows`), the fatigue note and the figures (the shaft files'
-    provenance: the page's last section); nothing otherwise."""
+    provenance: the page's last section); nothing otherwise. `name`: the propeller analysis' folder in
+    the heading, as `propeller_section`."""
     summary = _section_summary(folder)
     if summary is None:
         return []
     esc = html.escape
     parts = [
-        "<h2>Shaft line</h2>",
+        f"<h2>{esc(_titled('Shaft line', name))}</h2>",
         f"<p>Line <b>{esc(summary['shaft_line']['name'])}</b>, station <b>{esc(summary['station'])}</b>, "
         f"{esc(summary['shaft_model'])} model"
         + (
@@ -429,13 +477,54 @@ def render_voyage_report(
     return "\n".join(parts) + "\n"
 
 
+def render_analysis_report(folder: str | os.PathLike[str], directory_name: str | None = None) -> str:
+    """The HTML text of the report of a propeller analysis `folder` (`floebreak propeller --out`): the
+    runs it analysed, its propeller and design-load section, its shaft section (folder/shaft: shaft
+    line, excitation cases, Campbell and rainflow) and the provenance. `directory_name` as
+    `render_report`'s."""
+    folder = Path(folder)
+    summary = _section_summary(folder)
+    if summary is None or "pitches" not in summary:
+        raise InputError(
+            "out",
+            f"{str(folder)!r} has no propeller summary.json",
+            allowed="a directory written by `floebreak propeller`",
+        )
+    esc = html.escape
+    name = directory_name or folder.name
+    runs = (summary.get("provenance") or {}).get("runs") or []
+    shown = ", ".join(str(r) for r in runs[:5]) + (f" and {len(runs) - 5} more" if len(runs) > 5 else "")
+    parts = [
+        *_page_head(f"floebreak propeller analysis {name}"),
+        f"<p>directory <code>{esc(name)}</code>; {len(runs)} run(s) analysed"
+        + (f": <code>{esc(shown)}</code>" if runs else "")
+        + f"; floebreak {esc(str((summary.get('provenance') or {}).get('floebreak_version')))}</p>",
+        *propeller_parts(summary, folder / "figures"),
+        *shaft_section(folder / "shaft"),
+        *_provenance_parts(None, None, {"propeller": folder}),
+        "</body></html>",
+    ]
+    return "\n".join(parts) + "\n"
+
+
+def write_text_report(text: str, path: str | os.PathLike[str]) -> Path:
+    """Write a rendered report `text` to `path` atomically."""
+    path = Path(path)
+    with atomic_path(path, field="out") as temp:
+        temp.write_text(text, encoding="utf-8")
+    return path
+
+
 def write_report(
     run_dir: str | os.PathLike[str],
     out: str | os.PathLike[str] | None = None,
     directory_name: str | None = None,
 ) -> Path:
-    """Write the report of `run_dir` to `out` (default ``run_dir/report.html``) atomically."""
-    text = render_report(run_dir, directory_name)
+    """Write the report of `run_dir` to `out` (default ``run_dir/report.html``) atomically; of a propeller
+    analysis' directory (`floebreak propeller --out`), its `render_analysis_report`."""
+    summary = _section_summary(Path(run_dir))
+    analysis = summary is not None and "pitches" in summary
+    text = (render_analysis_report if analysis else render_report)(run_dir, directory_name)
     path = Path(out) if out is not None else Path(run_dir) / "report.html"
     with atomic_path(path, field="out") as temp:
         temp.write_text(text, encoding="utf-8")

@@ -92,8 +92,10 @@ def plot_spectrum(curves: SpectrumCurves, log: bool = False) -> Figure:
     ax.set_xlabel(f"{name} [{unit}]")
     ax.set_ylabel(f"probability density [1/{unit}]")
     what = "Load" if quantity == "force" else "Torque"
-    ax.set_title(f"{what} spectrum (mean over {curves.n_runs} run(s))")
+    bins = f"; {len(curves.edges) - 1} bins of {np.diff(curves.edges)[0]:.3g} {unit}" if any_data else ""
+    ax.set_title(f"{what} spectrum (mean over {curves.n_runs} run(s){bins})")
     if any_data:
+        ax.set_xlim(curves.edges[0], curves.edges[-1])  # the data's range, not from 0
         ax.legend()
     return figure
 
@@ -215,7 +217,8 @@ def _draw_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float, weigh
         name = pitch if isinstance(pitch, str) else f"P = {pitch:g} %"
         key = pitch if isinstance(pitch, str) else pitch_label(float(pitch))
         table = exceedance.get(f"torque_{key}")
-        if table is not None:  # the counted rates need no fit
+        # the counted rates need no fit; a table of zero rates (no loads) has nothing to draw on a log axis
+        if table is not None and np.any(np.asarray(table["per_hour"], dtype=float) > 0):
             axes[1].step(table["level"], table["per_hour"], where="post", color=_colour(i), label=name)
         if v.size < 10 or np.ptp(v) <= 0:
             continue
@@ -243,8 +246,8 @@ def _draw_rule_form(amplitudes: dict, exceedance: dict, rule_shape: float, weigh
         axes[1].set_yscale("log")
         add_legend(axes[1])
     else:
-        axes[1].text(
-            0.5, 0.5, "no time base (transit distance unknown)", transform=axes[1].transAxes, ha="center"
-        )
+        timed = any(key.startswith("torque_") for key in exceedance)
+        text = "no loads" if timed else "no time base (transit distance unknown)"
+        axes[1].text(0.5, 0.5, text, transform=axes[1].transAxes, ha="center")
     figure.suptitle("Torque exceedance against the rule form (fitted by maximum likelihood)")
     return figure

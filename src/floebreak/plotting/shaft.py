@@ -43,10 +43,14 @@ def _draw_series(time_s, series_knm: dict[str, np.ndarray], title: str, zoom_s: 
     last = np.asarray(list(series_knm.values())[-1])
     centre = time_s[int(np.argmax(last))] if last.size else 0.0
     window = (time_s >= centre - zoom_s / 2) & (time_s <= centre + zoom_s / 2)
+    n = len(series_knm)
     for i, (label, y) in enumerate(series_knm.items()):
         y = np.asarray(y)
-        full.plot(*decimated(time_s, y), color=f"C{i}", lw=0.6, label=label)
-        zoom.plot(time_s[window], y[window], color=f"C{i}", lw=0.9, label=label)
+        # the first series (the propeller load, the narrower signal) on top, the later ones translucent
+        # beneath it: the shaft's wider swing would otherwise hide it
+        style = {"color": f"C{i}", "label": label, "zorder": 2 + n - i, "alpha": 1.0 if i == 0 else 0.6}
+        full.plot(*decimated(time_s, y), lw=0.8 if i == 0 else 0.6, **style)
+        zoom.plot(time_s[window], y[window], lw=1.2 if i == 0 else 0.9, **style)
     for ax in (full, zoom):
         ax.set_xlabel("time t [s]")
         ax.set_ylabel("torque [kN m]")
@@ -63,6 +67,7 @@ def plot_densities(edges_knm, densities: dict[str, np.ndarray], log: bool, thres
         values = np.nan_to_num(np.asarray(dens, dtype=float))
         ax.stairs(values, edges_knm, color=f"C{i}", label=label, lw=1.0)
     ax.axhline(threshold, color="0.4", lw=0.7, ls=":", label="0.1 % per kN m")
+    ax.set_xlim(*_occupied(edges_knm, densities.values()))
     if log:
         ax.set_yscale("log")
         positive = [d[d > 0] for d in (np.nan_to_num(np.asarray(v)) for v in densities.values())]
@@ -73,6 +78,19 @@ def plot_densities(edges_knm, densities: dict[str, np.ndarray], log: bool, thres
     ax.set_title(title, fontsize=9)
     add_legend(ax)
     return figure
+
+
+def _occupied(edges, densities) -> tuple[float, float]:
+    """(lower, upper) edge of the bins where any density is > 0, one bin of margin each side; all the edges
+    when none is."""
+    edges = np.asarray(edges, dtype=float)
+    occupied = np.zeros(edges.size - 1, dtype=bool)
+    for dens in densities:
+        occupied |= np.nan_to_num(np.asarray(dens, dtype=float)) > 0
+    if not occupied.any():
+        return float(edges[0]), float(edges[-1])
+    first, last = np.flatnonzero(occupied)[[0, -1]]
+    return float(edges[max(first - 1, 0)]), float(edges[min(last + 2, edges.size - 1)])
 
 
 def plot_modes(element_names, frequency_hz, shapes) -> Figure:

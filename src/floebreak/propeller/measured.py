@@ -138,4 +138,3 @@ def _check_series(t: np.ndarray, q: np.ndarray, source: str, field: str, column:
             value=float(q[big[0]] / factor),
             allowed=f"|torque| ≤ {MAX_TORQUE_NM / 1e3:g} kN·m",
         )
-

@@ -476,4 +476,3 @@ def _complete_summary(summary, transport_info, table_info, rated, rule, placemen
     if absent is not None:
         warnings.insert(0, absent)
         summary["no_load_reason"] = no_load_reason(summary.get("n_cusps", 0), transport_info)
-

@@ -143,6 +143,39 @@ def spectrum_curves(ds, quantity: str) -> SpectrumCurves:
     )
 
 
+FIGURE_MIN_BINS = 8  # a figure's histogram shows a shape, not one or two bars
+FIGURE_MAX_BINS = 120  # about 5 pixels per bar at the figures' width
+
+
+def figure_edges(values, min_bins: int = FIGURE_MIN_BINS, max_bins: int = FIGURE_MAX_BINS) -> np.ndarray:
+    """Bin edges for a figure of the finite `values`, chosen from the data: numpy's "auto" rule (the
+    smaller of the Sturges and Freedman–Diaconis widths) over [min, max], with at least `min_bins` and at
+    most `max_bins` bins; [0, 1] without values. The spectra files keep their fixed widths (`bin_edges`),
+    whose densities the thesis' 0.1 % threshold is read on."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return np.array([0.0, 1.0])
+    lo, hi = float(values.min()), float(values.max())
+    if hi <= lo:  # one value (or all equal): a bar of unit width around it
+        return np.linspace(lo - 0.5, hi + 0.5, min_bins + 1)
+    edges = np.histogram_bin_edges(values, bins="auto")
+    n = min(max(edges.size - 1, min_bins), max_bins)
+    return edges if n == edges.size - 1 else np.linspace(lo, hi, n + 1)
+
+
+def figure_curves(quantity: str, values: dict[float, dict[str, np.ndarray]]) -> SpectrumCurves:
+    """The run-averaged density of |F| [kN] ("force") or |Q| [kN·m] ("torque") per pitch on `figure_edges`
+    of all pitches' values, every run weighted equally as in the spectra files. values: {pitch_percent:
+    {run_id: magnitudes}}."""
+    pitches = sorted(values)
+    runs = sorted({r for per_run in values.values() for r in per_run})
+    every = [np.asarray(v, dtype=float) for per_run in values.values() for v in per_run.values()]
+    edges = figure_edges(np.concatenate(every) if every else np.zeros(0))
+    _, _, mean, _ = _run_densities(values, pitches, runs, edges)
+    return SpectrumCurves(quantity, edges, np.asarray(pitches, dtype=float), mean, len(runs))
+
+
 _BIN = {"force": "force_kn", "torque": "torque_knm"}
 _UNITS = {"force": "kN", "torque": "kN m"}
 _DENSITY_UNITS = {"force": "kN-1", "torque": "kN-1 m-1"}

@@ -242,3 +242,33 @@ def split_group(group: str) -> tuple[str, str]:
     """``"thesis+perwedge | K120"`` → ("thesis+perwedge", "K120")."""
     config, _, point = group.partition(GROUP_SEPARATOR)
     return config, point
+
+
+def sample_lines(
+    n_fields: int, seed: int, observation: str, length_m: float, width_m: float, registry: dict
+) -> list[str]:
+    """What a `validate thesis` call scores and which committed tally it compares with: its sample size
+    (fields, root seed, observation, field size) and the registered sample (`parse_samples`) it is, or,
+    where it is none, the registered sample of the same seed and observation (else the first) whose
+    committed tally it would need to match, with what differs."""
+    lines = [
+        f"sample: {n_fields} field(s) per design point, root seed {seed}, observation {observation}, "
+        f"field {length_m:g} m × {width_m:g} m"
+    ]
+    mine = {"n_fields": n_fields, "seed": seed, "observation": observation, "length_m": float(length_m),
+            "width_m": float(width_m)}  # fmt: skip
+    for sample in registry.values():
+        if all(getattr(sample, key) == value for key, value in mine.items()):
+            lines.append(f"this is the registered sample {sample.name!r}: compare with its committed tally")
+            return lines
+    if registry:
+        same = [s for s in registry.values() if (s.seed, s.observation) == (seed, observation)]
+        ref = (same or list(registry.values()))[0]
+        differs = ", ".join(f"{key} {value!r} (its {getattr(ref, key)!r})" for key, value in mine.items()
+                            if getattr(ref, key) != value)  # fmt: skip
+        lines.append(
+            f"not a registered sample: the committed tallies are of registered samples, e.g. {ref.name!r} "
+            f"with {ref.n_fields} fields; this differs in {differs}, so its tally is not comparable "
+            f"(--sample {ref.name} scores that one)"
+        )
+    return lines
