@@ -155,10 +155,8 @@ def _boundary_hits(x0, y0, x1, y1, px, py, n, hits):
     for i in range(n):
         j = i + 1 if i + 1 < n else 0
         if (
-            min(px[i], px[j]) > s_x1
-            or max(px[i], px[j]) < s_x0
-            or min(py[i], py[j]) > s_y1
-            or max(py[i], py[j]) < s_y0
+            min(px[i], px[j]) > s_x1 or max(px[i], px[j]) < s_x0
+            or min(py[i], py[j]) > s_y1 or max(py[i], py[j]) < s_y0
         ):
             continue  # boxes apart: no hit, no overlap
         t, u, kind = _line_parameters(x0, y0, dx, dy, px[i], py[i], px[j] - px[i], py[j] - py[i])
@@ -207,10 +205,8 @@ def _crossings(px, py, n, hx, hy, m):
         for a in range(m):
             b = a + 1 if a + 1 < m else 0
             if (
-                min(hx[a], hx[b]) > e_x1
-                or max(hx[a], hx[b]) < e_x0
-                or min(hy[a], hy[b]) > e_y1
-                or max(hy[a], hy[b]) < e_y0
+                min(hx[a], hx[b]) > e_x1 or max(hx[a], hx[b]) < e_x0
+                or min(hy[a], hy[b]) > e_y1 or max(hy[a], hy[b]) < e_y0
             ):
                 continue  # the two edges' boxes are apart: they cannot meet
             t, u, kind = _line_parameters(x0, y0, dx, dy, hx[a], hy[a], hx[b] - hx[a], hy[b] - hy[a])
@@ -416,10 +412,8 @@ def _panel_rows(zx, zy, k, zone, quad_x, quad_y, quad_bounds, min_overlap, scrat
     z_y0, z_y1 = zy[:k].min(), zy[:k].max()
     for p in range(quad_x.shape[0]):
         if (
-            quad_bounds[p, 0] > z_x1
-            or quad_bounds[p, 2] < z_x0
-            or quad_bounds[p, 1] > z_y1
-            or quad_bounds[p, 3] < z_y0
+            quad_bounds[p, 0] > z_x1 or quad_bounds[p, 2] < z_x0
+            or quad_bounds[p, 1] > z_y1 or quad_bounds[p, 3] < z_y0
         ):
             continue
         kq = _clip_convex(zx, zy, k, quad_x[p], quad_y[p], 4, qx, qy, tx, ty, capacity)
@@ -466,11 +460,8 @@ def contact_batch(
     status = np.zeros(n_floes, dtype=np.int8)
     a_u, centre, centre_panel = np.zeros(n_floes), np.zeros((n_floes, 2)), np.zeros(n_floes, dtype=np.int64)
     floe_area, extent = np.zeros(n_floes), np.zeros((n_floes, 2))
-    rows = (
-        np.empty(n_floes * n_panels, dtype=np.int64),
-        np.empty(n_floes * n_panels, dtype=np.int64),
-        np.empty(n_floes * n_panels),
-    )
+    rows = (np.empty(n_floes * n_panels, dtype=np.int64), np.empty(n_floes * n_panels, dtype=np.int64),
+            np.empty(n_floes * n_panels))
     row_overlap = np.empty(n_floes * n_panels)
     scratch = _batch_scratch(max_n, hull_x.shape[0], n_panels)
     ring_x, ring_y = np.empty(max_n), np.empty(max_n)
@@ -512,19 +503,8 @@ def contact_batch(
             row_overlap[r] = seg_overlap[rows[1][r]]
     owner = np.flatnonzero(status == CONTACT)
     row_zone = _zone_of_rows(status, owner, rows[0], n_rows)
-    return (
-        status,
-        owner,
-        a_u[owner],
-        centre[owner],
-        centre_panel[owner],
-        floe_area[owner],
-        extent[owner],
-        row_zone,
-        rows[1][:n_rows],
-        rows[2][:n_rows],
-        row_overlap[:n_rows],
-    )
+    return (status, owner, a_u[owner], centre[owner], centre_panel[owner], floe_area[owner], extent[owner],
+            row_zone, rows[1][:n_rows], rows[2][:n_rows], row_overlap[:n_rows])
 
 
 @numba.njit(cache=True, nogil=True)
@@ -534,16 +514,9 @@ def _batch_scratch(max_n, m, n_panels):
     floe that would exceed it goes to GEOS."""
     capacity = 4 * (max_n + m) + 16
     return (
-        np.empty(capacity),
-        np.empty(capacity),
-        np.empty(capacity),
-        np.empty(capacity),
-        np.empty(capacity),
-        np.empty(capacity),
-        np.empty(max_n + 1),
-        np.empty(n_panels * (max_n + 2)),
-        np.empty(n_panels * (max_n + 2)),
-        np.empty(n_panels),
+        np.empty(capacity), np.empty(capacity), np.empty(capacity), np.empty(capacity),
+        np.empty(capacity), np.empty(capacity), np.empty(max_n + 1),
+        np.empty(n_panels * (max_n + 2)), np.empty(n_panels * (max_n + 2)), np.empty(n_panels),
     )
 
 
@@ -638,20 +611,8 @@ def _longest_part_of_zone(
 
 @numba.njit(cache=True, nogil=True)
 def zone_rows(
-    zone_coords,
-    zone_index,
-    n_zones,
-    zone_floe,
-    floe_coords,
-    floe_index,
-    n_floes,
-    quad_x,
-    quad_y,
-    quad_bounds,
-    waterline_xy,
-    node_distance,
-    min_overlap,
-    on_boundary,
+    zone_coords, zone_index, n_zones, zone_floe, floe_coords, floe_index, n_floes, quad_x, quad_y,
+    quad_bounds, waterline_xy, node_distance, min_overlap, on_boundary,
 ):
     """Panel rows and centres of zones found by GEOS (the connected parts of F ∩ H_u of floes with several).
 
@@ -709,16 +670,8 @@ def zone_rows(
         for r in range(first_row, n_rows):
             row_overlap[r] = seg_overlap[f, row_panel[r]]
         best_length, best_from, best_to = _longest_part_of_zone(
-            zx,
-            zy,
-            k,
-            zones_of_floe[f] > 1,
-            part_from[f],
-            part_to[f],
-            n_parts[f],
-            waterline_xy,
-            node_distance,
-            limit,
+            zx, zy, k, zones_of_floe[f] > 1, part_from[f], part_to[f], n_parts[f], waterline_xy,
+            node_distance, limit,
         )
         if best_length > 0.0:
             centre[z, 0], centre[z, 1], centre_panel[z] = _waterline_point(
@@ -726,14 +679,8 @@ def zone_rows(
             )
             centre_found[z] = True
     return (
-        ok,
-        row_zone[:n_rows],
-        row_panel[:n_rows],
-        row_a_h[:n_rows],
-        row_overlap[:n_rows],
-        centre,
-        centre_panel,
-        centre_found,
+        ok, row_zone[:n_rows], row_panel[:n_rows], row_a_h[:n_rows], row_overlap[:n_rows], centre,
+        centre_panel, centre_found,
     )
 
 
@@ -765,22 +712,8 @@ def panel_forces(contact_area, sin_psi, cos_psi, crushing_pa, mu, force_signs):
 
 @numba.njit(cache=True, nogil=True)
 def zone_forces(
-    row_zone,
-    row_panel,
-    row_a_h,
-    overlap,
-    thickness,
-    a_u,
-    centre_panel,
-    single_psi,
-    panel_sin,
-    panel_cos,
-    panel_normals,
-    crushing_pa,
-    mu,
-    sin_psi_min,
-    near_vertical,
-    force_signs,
+    row_zone, row_panel, row_a_h, overlap, thickness, a_u, centre_panel, single_psi, panel_sin, panel_cos,
+    panel_normals, crushing_pa, mu, sin_psi_min, near_vertical, force_signs,
 ):
     """A_l, contact areas and forces of every zone and row (thesis Eqs. 6–10, Alg. 3).
 
@@ -851,37 +784,13 @@ def compile_now() -> None:
     quad_x, quad_y = square_x[None, :] - 0.5, square_y[None, :] - 0.5
     waterline = np.array([[-0.5, -0.5], [0.5, -0.5]])
     contact_batch(
-        ring,
-        np.zeros(5, dtype=np.int64),
-        1,
-        square_x - 0.5,
-        square_y - 0.5,
-        quad_x,
-        quad_y,
-        np.array([[-0.5, -0.5, 0.5, 0.5]]),
-        waterline,
-        np.array([0.0, 1.0]),
-        np.array([[0.0, -1.0]]),
-        1e-12,
+        ring, np.zeros(5, dtype=np.int64), 1, square_x - 0.5, square_y - 0.5, quad_x, quad_y,
+        np.array([[-0.5, -0.5, 0.5, 0.5]]), waterline, np.array([0.0, 1.0]), np.array([[0.0, -1.0]]), 1e-12,
     )
     _is_convex(square_x, square_y, 4, 1.0)
     one, index = np.ones(1), np.zeros(1, dtype=np.int64)
     for single_psi in (False, True):
         zone_forces(
-            index,
-            index,
-            one,
-            one,
-            one,
-            one,
-            index,
-            single_psi,
-            one,
-            one,
-            np.array([[0.0, -1.0]]),
-            1.0,
-            0.1,
-            0.1,
-            0,
-            0,
+            index, index, one, one, one, one, index, single_psi, one, one, np.array([[0.0, -1.0]]), 1.0, 0.1,
+            0.1, 0, 0,
         )
