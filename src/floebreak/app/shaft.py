@@ -187,6 +187,11 @@ def shaft_figure_calls(result: ShaftResult, series, edges, densities, measured: 
     return out
 
 
+NO_ICE_LOAD = (
+    "no cusp reached the port propeller: the shaft torque is the mean torque alone, and Q_peak and the "
+    "dynamic amplification describe no ice load"
+)
+
 @dataclass(frozen=True)
 class PreparedShaftAnalysis:
     """A computed shaft analysis, validated and ready to write (`write`)."""
@@ -205,6 +210,8 @@ class PreparedShaftAnalysis:
             lines.append(
                 f"cusps milled by the port propeller: {self.extra_summary['transport']['reaching_port']}"
             )
+        if "no_ice_load" in self.extra_summary:
+            lines.append(f"warning: {self.extra_summary['no_ice_load']}")
         for c, d in zip(r.cases, r.drive_summaries, strict=False):
             lines.append(
                 f"case {c}: min {d['min_rpm']:.1f} rpm, peak motor torque "
@@ -286,6 +293,8 @@ def _drive_response(
         "transport": milled.counts,
         "propeller_operating_point": point.as_dict() | comparison,
     }
+    if milled.counts.get("reaching_port", 0) == 0:  # zero ice load must be said, not shown as a result
+        extra["no_ice_load"] = NO_ICE_LOAD
     return result, extra
 
 

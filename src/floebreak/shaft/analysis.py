@@ -641,16 +641,16 @@ def shaft_summary(result: ShaftResult, densities: dict[str, dict], extra: dict |
         },
         "density_threshold_per_knm": DENSITY_THRESHOLD_PER_KNM,
         "thesis_measured": THESIS_MEASURED,
-        **_model_summary(result),
+        **_model_summary(result, (extra or {}).get("no_ice_load")),
         **(extra or {}),
     }
 
 
-def _model_summary(result: ShaftResult) -> dict:
+def _model_summary(result: ShaftResult, no_ice_load: str | None = None) -> dict:
     """The shaft model, the drive's outcome per case (drive model) and the resonance margin, with the
-    warnings (resonance, stall)."""
+    warnings (no ice load, resonance, stall)."""
     resonance = resonance_summary(result.line, result.blades)
-    warnings = list(resonance["warnings"])
+    warnings = ([no_ice_load] if no_ice_load else []) + list(resonance["warnings"])
     out: dict = {"shaft_model": result.model, "resonance": resonance}
     if result.model == "drive":
         out["drive"] = {
