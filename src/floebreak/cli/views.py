@@ -14,6 +14,7 @@ from floebreak.cli.common import console, err_console
 from floebreak.cli.options import (
     QuietOption,
 )
+from floebreak.errors import InputError
 from floebreak.ice.observations import thesis_observations
 
 
@@ -32,13 +33,43 @@ def observations() -> None:
     console.print(table)
 
 
-def schema() -> None:
-    """Print the JSON schema of scenario files (units in the descriptions)."""
+def schema(
+    format_: Annotated[
+        str,
+        typer.Option(
+            "--format", help="json (the JSON schema), table (every key on screen) or markdown (a key table)"
+        ),
+    ] = "json",
+) -> None:
+    """Print every scenario key with its unit, range and default (JSON schema, a table or Markdown)."""
     import json
 
-    from floebreak.config.scenario import json_schema
+    from floebreak.config.scenario import json_schema, schema_rows
 
-    typer.echo(json.dumps(json_schema(), indent=2, ensure_ascii=False))
+    if format_ not in SCHEMA_FORMATS:
+        raise InputError(
+            "format", f"unknown value {format_!r}", value=format_, allowed=", ".join(SCHEMA_FORMATS)
+        )
+    schema_ = json_schema()
+    if format_ == "json":
+        typer.echo(json.dumps(schema_, indent=2, ensure_ascii=False))
+        return
+    rows = schema_rows(schema_)
+    columns = ("key", "type", "default", "allowed", "description")
+    if format_ == "markdown":
+        lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+        lines += ["| " + " | ".join(r[c].replace("|", "\\|") for c in columns) + " |" for r in rows]
+        typer.echo("\n".join(lines))
+        return
+    table = Table(title="scenario keys (the unit in each description's brackets; --format json: the schema)")
+    for column in columns:
+        table.add_column(column, overflow="fold")
+    for row in rows:
+        table.add_row(*(row[c] for c in columns))
+    console.print(table)
+
+
+SCHEMA_FORMATS = ("json", "table", "markdown")
 
 
 def report(

@@ -941,7 +941,63 @@ def json_schema() -> dict[str, Any]:
             "description": f"deprecated: the same as {mode}.{setting} (the earlier spelling)",
             "deprecated": True,
         }
+    from floebreak.dynamics.settings import IceMotionSettings
+
+    motion = settings_table_model(IceMotionSettings, "ice_motion").model_json_schema()
+    motion["description"] = schema["properties"]["ice_motion"]["description"]
+    schema["properties"]["ice_motion"] = motion
     return schema
+
+
+def schema_rows(schema: Mapping[str, Any]) -> list[dict[str, str]]:
+    """Every key of a scenario's JSON schema (`json_schema`) as a row: dotted key, type, default, allowed
+    range and description (whose brackets give the unit), in the schema's order."""
+    defs = schema.get("$defs", {})
+    rows: list[dict[str, str]] = []
+
+    def resolve(node: Mapping[str, Any]) -> Mapping[str, Any]:
+        while "$ref" in node:
+            node = defs[node["$ref"].rsplit("/", 1)[-1]]
+        for option in node.get("anyOf", []):
+            if option.get("type") != "null":
+                return {**resolve(option), **{k: v for k, v in node.items() if k != "anyOf"}}
+        return node
+
+    def walk(node: Mapping[str, Any], prefix: str) -> None:
+        for name, child in resolve(node).get("properties", {}).items():
+            child = resolve(child)
+            key = f"{prefix}{name}"
+            if "properties" in child:
+                walk(child, f"{key}.")
+                continue
+            rows.append(_schema_row(key, child))
+
+    walk(schema, "")
+    return rows
+
+
+def _schema_row(key: str, node: Mapping[str, Any]) -> dict[str, str]:
+    """One `schema_rows` row of a leaf key."""
+    low = node.get("minimum", node.get("exclusiveMinimum"))
+    high = node.get("maximum", node.get("exclusiveMaximum"))
+    if "enum" in node:
+        allowed = ", ".join(map(str, node["enum"]))
+    elif low is not None or high is not None:
+        left = "(" if "exclusiveMinimum" in node else "["
+        right = ")" if "exclusiveMaximum" in node else "]"
+        allowed = (
+            f"{left}{'-inf' if low is None else f'{low:g}'}, {'inf' if high is None else f'{high:g}'}{right}"
+        )
+    else:
+        allowed = ""
+    default = node.get("default", "")
+    return {
+        "key": key,
+        "type": str(node.get("type", "")),
+        "default": "" if default is None else json.dumps(default, ensure_ascii=False),
+        "allowed": allowed,
+        "description": " ".join(str(node.get("description", "")).split()),
+    }
 
 
 # --- overrides ----------------------------------------------------------------------------------------
