@@ -32,3 +32,27 @@ def test_rule_form_table_keeps_units_and_whole_numbers_at_80_columns(monkeypatch
     text = screen.getvalue()
     assert "…" not in text
     assert "[kN]" in text and "[kN·m]" in text
+
+
+def _voyage(load_model: str) -> dict:
+    case = {"loads_per_hour": 4290.0, "loads_per_km": 397.2, "max_force_kn": 341.9, "max_torque_knm": 527.5}
+    return {
+        "hours_in_ice": 3.0,
+        "distance_km": 32.4,
+        "load_model": {"load_model": load_model},
+        "cases": {"operated": {**case, "beyond_table_fraction": 0.0}},
+    }
+
+
+def test_the_cases_table_shows_the_fem_share_only_with_fem_tables(monkeypatch):
+    for model, shown in (("milling", False), ("fem", True)):
+        screen = io.StringIO()
+        monkeypatch.setattr(studies_cli, "console", Console(file=screen, width=100, color_system=None))
+        monkeypatch.setattr(studies_cli, "voyage_model_line", lambda summary: "")
+        monkeypatch.setattr(studies_cli, "_print_rule_form", lambda fits: None)
+        summary = _voyage(model) | {"n_periods_simulated": 1, "n_periods": 1, "rule_form": {}}
+        summary |= {"generators": {}, "notes": [], "failures": []}
+        studies_cli._print_voyage(summary, studies_cli.Path("v"))
+        text = screen.getvalue()
+        assert ("beyond FEM table" in text) is shown
+        assert "…" not in text and max(len(line) for line in text.splitlines()) <= 100

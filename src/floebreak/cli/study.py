@@ -208,29 +208,30 @@ def _fmt(value, spec: str) -> str:
     return "–" if value is None else format(value, spec)
 
 
+def _load_model_name(summary: dict) -> str | None:
+    model = summary.get("load_model") or {}
+    return model.get("load_model") or model.get("name")
+
+
 def _print_voyage(summary: dict, out: Path) -> None:
     from rich.markup import escape
     from rich.table import Table
 
     table = Table(title=f"voyage: {summary['hours_in_ice']:.3g} h in ice, {summary['distance_km']:.3g} km")
-    for column in (
-        "case",
-        "loads per hour per propeller",
-        "per km",
-        "max |F| [kN]",
-        "max |Q| [kN·m]",
-        "beyond FEM table",
-    ):  # escaped: rich would take "[kN]" for markup and drop it; folded: piped output is 80 columns wide
+    fem = _load_model_name(summary) == "fem"  # the beyond-table share means something only with FEM tables
+    columns = ["case", "loads/h per propeller", "per km", "max |F| [kN]", "max |Q| [kN·m]"]
+    for column in columns + (["beyond FEM table"] if fem else []):
+        # escaped: rich would take "[kN]" for markup and drop it; folded: piped output is 80 columns wide
         table.add_column(escape(column), justify="right", overflow="fold")
     for case, values in summary["cases"].items():
-        table.add_row(
+        cells = [
             case,
             _fmt(values["loads_per_hour"], ".0f"),
             _fmt(values["loads_per_km"], ".1f"),
             _fmt(values["max_force_kn"], ".0f"),
             _fmt(values["max_torque_knm"], ".0f"),
-            _fmt(values["beyond_table_fraction"], ".0%"),
-        )
+        ]
+        table.add_row(*cells, *([_fmt(values["beyond_table_fraction"], ".0%")] if fem else []))
     console.print(table)
     console.print(
         f"periods simulated {summary['n_periods_simulated']} of {summary['n_periods']}; "
