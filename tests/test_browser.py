@@ -111,3 +111,28 @@ def test_report_renders_every_section_in_a_headless_browser(demo_report, tmp_pat
         for k, ((text, top), (_, bottom)) in enumerate(itertools.pairwise(tops)):
             name = re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_")
             image.crop((0, max(0, top - 20), WIDTH_PX, bottom)).save(out / f"section_{k:02d}_{name}.png")
+
+
+@pytest.mark.skipif(BROWSER is None, reason=NO_BROWSER)
+def test_the_propeller_analysis_has_its_own_report(demo_report, tmp_path):
+    """`floebreak propeller RUN --out P` writes P/report.html: the propeller loads, the design loads against
+    the rule, the shaft torque with its Campbell and rainflow figures, each figure decoded."""
+    from PIL import Image
+
+    report = demo_report.parent / "propeller" / "report.html"
+    layout = _layout(report, tmp_path)
+    assert layout["broken"] == [], f"figures the browser could not decode: {layout['broken']}"
+    assert layout["width"] <= WIDTH_PX, "the page scrolls sideways"
+    heads = " | ".join(text for _, text, _ in layout["heads"])
+    for part in ("Propeller loads", "Design loads", "Shaft"):
+        assert part in heads, f"{part!r} missing: {heads}"
+    html = report.read_text(encoding="utf-8")
+    assert "campbell" in html.lower() and "rainflow" in html.lower()
+    out = Path(os.environ.get("FLOEBREAK_SCREENSHOTS", "build/screenshots"))
+    out.mkdir(parents=True, exist_ok=True)
+    page = out / "propeller_report_full.png"
+    _browser(
+        f"--window-size={WIDTH_PX},{layout['height']}", f"--screenshot={page.resolve()}", report.as_uri()
+    )
+    with Image.open(page) as image:
+        assert len(image.convert("L").getcolors(1 << 16) or ()) > 16  # drawn, not a blank page
