@@ -46,9 +46,13 @@ import numpy as np
 from floebreak.ice.generation import generate_field
 from floebreak.ice.observations import get_observation
 from floebreak.mechanics import compile_kernels
-from floebreak.config.profiles import build_model
 from floebreak.ship.hulls import agulhas_ii
-from floebreak.engine.loop import SimulationParams, simulate
+try:  # the package layout since config/ and engine/; a revision before them has the flat modules
+    from floebreak.config.profiles import build_model
+    from floebreak.engine.loop import SimulationParams, simulate
+except ImportError:
+    from floebreak.profiles import build_model
+    from floebreak.simulation import SimulationParams, simulate
 compile_kernels()
 gc.freeze()  # as the CLI does after loading the engine
 length_m, width_m, runs, profile = float(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3]), sys.argv[5]
