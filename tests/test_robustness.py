@@ -80,7 +80,11 @@ def _schema_numbers(node, defs, path=()):
 
 
 SCHEMA = json_schema()
-NUMBERS = list(_schema_numbers(SCHEMA, SCHEMA["$defs"]))
+# [ice_motion] is range-checked by its settings dataclass (`validated_ice_motion`, tests/dynamics), whose
+# positive coefficients have no upper bound; the schema lists them for `floebreak schema`
+NUMBERS = [
+    (key, node) for key, node in _schema_numbers(SCHEMA, SCHEMA["$defs"]) if not key.startswith("ice_motion.")
+]
 # ship.hull_parameters is a table of keyword overrides of any name: each is range-checked by the hull
 # (test_new_upper_bounds_exit_2 below), so the schema gives the names and ranges in its description only
 FREE = ("ship.hull_parameters.*",)
