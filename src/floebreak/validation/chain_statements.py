@@ -71,9 +71,9 @@ def chain_6_2_metrics(run_dir: Path) -> dict[str, float]:
     """The §6.2 chain of the default profile on one run's cusps (transport → port propeller, milling
     torque at the current rpm, drive model; Agulhas II line at 105 kN·m, 3 m/s, case 1): the
     `shaft_range_measures` of its station torque."""
+    from floebreak.app.inputs import load_shaft_line
     from floebreak.output.run_files import read_run_cusps
     from floebreak.shaft.analysis import MILLING_INPUT_COLUMNS, milled_cusps, shaft_drive_response
-    from floebreak.shaft.line import load_shaft_line
 
     columns = read_run_cusps(run_dir, MILLING_INPUT_COLUMNS)
     port = milled_cusps(columns, speed_m_s=CHAIN_SPEED_M_S)
@@ -92,10 +92,10 @@ def chain_6_2_metrics(run_dir: Path) -> dict[str, float]:
 def pc5_metrics(run_dir: Path) -> dict[str, float]:
     """The propeller analysis of one run at PC5 over the README's operating profile (load model and
     transport of the run's profile): lifetime max / Q_max and blade loads per hour / the rule's rate."""
+    from floebreak.app.inputs import shipped_fem_tables
+    from floebreak.config.analysis import propeller_defaults
     from floebreak.output.run_files import load_cusps, parquet_metadata, read_resolved_scenario
-    from floebreak.propeller.load_models import profile_defaults
-    from floebreak.propeller.loads.fem import shipped_fem_tables
-    from floebreak.propeller.pipeline import analyse_propeller
+    from floebreak.propeller.pipeline import analyse_cusp_loads
     from floebreak.propeller.ruleform import OperatingProfile
     from floebreak.propeller.runs import run_inputs, transit_distance_m
     from floebreak.propeller.spectra import pitch_label
@@ -107,9 +107,9 @@ def pc5_metrics(run_dir: Path) -> dict[str, float]:
     )
     cusps = load_cusps(run_dir)
     inputs = run_inputs(run_dir, cusps, {run_dir.name: (run_dir, scenario, transit)})
-    load_model, transport = profile_defaults(inputs.profile)
+    load_model, transport = propeller_defaults(inputs.profile)
     profile = OperatingProfile(hours_in_ice_per_year=OPERATING_HOURS_PER_YEAR, years=OPERATING_YEARS)
-    result = analyse_propeller(
+    result = analyse_cusp_loads(
         inputs.cusps,
         load_model=load_model,
         fem_tables=shipped_fem_tables() if load_model == "fem" else None,

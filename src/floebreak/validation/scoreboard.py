@@ -105,9 +105,9 @@ def bending_force_metrics(forces_kn: np.ndarray) -> dict[str, float]:
 def torque_metrics(cusps) -> dict[str, float]:
     """Largest and smallest |Q| [kN·m] per pitch of one run's cusps (thesis §6.2; `floebreak.propeller`
     with the defaults of `floebreak propeller`: Tables 10/11, Newton interpolation in the box volume)."""
+    from floebreak.app.inputs import shipped_fem_tables
     from floebreak.propeller.cusps import cusp_columns
-    from floebreak.propeller.loads.fem import shipped_fem_tables
-    from floebreak.propeller.pipeline import propeller_loads
+    from floebreak.propeller.loads.fem import propeller_loads
 
     columns = cusp_columns(cusps)
     loads = propeller_loads(columns, shipped_fem_tables())
