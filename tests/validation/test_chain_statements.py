@@ -87,3 +87,53 @@ def test_pc5_rows():
     assert rate == pytest.approx(10 * 3 / 4 / 0.01)
     assert judge("PC5.rate", 2.9) == "pass" and judge("PC5.rate", 0.34) == "pass"
     assert judge("PC5.rate", 3.1) == "fail" and judge("PC5.rate", 0.3) == "fail"
+
+
+def _small_default_run(path):
+    """Six 0.4 m cusps of a `default`-profile run at 3 m/s, three on the port shaft's line (y = 5.5 m)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path.mkdir()
+    length = np.array([3.7, 6.5, 2.0, 9.4, 1.0, 3.0])
+    bow_x = np.array([1.0, 5.0, 5.0, 12.0, 20.0, 31.0])
+    columns = {
+        "area_m2": 0.8 * length,
+        "thickness_m": np.full(6, 0.4),
+        "volume_m3": 0.8 * length * 0.4,
+        "bbox_length_m": length,
+        "bbox_width_m": np.ones(6),
+        "step": np.arange(6),
+        "bow_x_m": bow_x,
+        "centroid_x_m": bow_x - 2.0,
+        "centroid_y_m": np.array([5.5, -5.5, 5.5, 0.0, -5.5, 5.5]),
+    }
+    pq.write_table(pa.table(columns), path / "cusps.parquet")
+    text = 'profile = "default"\n[ship]\nspeed_m_s = 3.0\n'
+    (path / "scenario.resolved.toml").write_text(text, encoding="utf-8")
+    return path
+
+
+def test_the_chain_takes_the_propellers_own_mean_torque_and_the_numbers_of_floebreak_propeller(tmp_path, cli):
+    """The §6.2 chain is the command's shaft analysis: the same Q_peak and range as `floebreak propeller
+    --shaft-line agulhas_ii --speed-m-s 3` writes, on the propeller's own mean torque. Its open-water torque
+    at the set pitch exceeds the motor's rating, so the controller holds the rated torque: 4.5 MW at 140 rpm,
+    4.5e6 / (2π · 140/60) = 306.9 kN·m (physics-notes §7.2), not the measured 105 kN·m."""
+    import json
+
+    from floebreak.validation.chain_statements import chain_6_2_metrics
+
+    run = _small_default_run(tmp_path / "run")
+    metrics = chain_6_2_metrics(run)
+    rated_knm = 4.5e6 / (2.0 * math.pi * 140.0 / 60.0) / 1e3
+    assert metrics["chain_model_mean_torque_knm"] == pytest.approx(rated_knm, abs=0.5)
+    assert 0.0 < metrics["chain_identified_pitch_ratio"] < 1.0  # 105 kN·m needs a lower pitch
+    code, _, _ = cli(
+        "propeller", run, "--out", tmp_path / "p", "--shaft-line", "agulhas_ii", "--speed-m-s", "3",
+        "--excitation-cases", "1", "--mean-torque-knm", "105", "--quiet",
+    )  # fmt: skip
+    assert code == 0
+    summary = json.loads((tmp_path / "p" / "shaft" / "summary.json").read_text(encoding="utf-8"))
+    assert metrics["chain_shaft_max_knm"] == pytest.approx(summary["q_peak_knm"]["1"]["q_peak_knm"])
+    envelope = summary["spectra_above_threshold_knm"]["shaft_case1"]["envelope"]
+    assert [metrics["chain_range_start_knm"], metrics["chain_range_end_knm"]] == pytest.approx(envelope)

@@ -27,7 +27,9 @@ import numpy as np
 
 # thesis §6.2 / Fig. 35: the measured range with density above 0.1 %/(kN·m); the rows' limits are data
 MEASURED_ABOVE_KNM = (58.0, 152.0)
-CHAIN_SPEED_M_S, CHAIN_MEAN_TORQUE_N_M, CHAIN_CASE = 3.0, 105e3, 1  # thesis Eq. 28; measured mean; default
+CHAIN_SPEED_M_S, CHAIN_CASE = 3.0, 1  # thesis Eq. 28; the default excitation case
+# thesis §6.2: the measured mean shaft torque; compared with the model's own mean, never used as it
+MEASURED_MEAN_TORQUE_N_M = 105e3
 OPERATING_HOURS_PER_YEAR, OPERATING_YEARS, POLAR_CLASS = 1000.0, 25.0, "PC5"  # the README's profile
 
 PC5_METRICS = ("pc5_lifetime_max_over_q_max", "pc5_blade_loads_over_rule_rate")
@@ -68,25 +70,27 @@ def blade_load_rate(loads_per_propeller, n_impacts, blades: int, hours_in_ice: f
 
 
 def chain_6_2_metrics(run_dir: Path) -> dict[str, float]:
-    """The §6.2 chain of the default profile on one run's cusps (transport → port propeller, milling
-    torque at the current rpm, drive model; Agulhas II line at 105 kN·m, 3 m/s, case 1): the
-    `shaft_range_measures` of its station torque."""
-    from floebreak.app.inputs import load_shaft_line
-    from floebreak.output.run_files import read_run_cusps
-    from floebreak.shaft.analysis import MILLING_INPUT_COLUMNS, milled_cusps, shaft_drive_response
+    """The §6.2 chain of the default profile on one run's cusps, exactly as `floebreak propeller RUN
+    --shaft-line agulhas_ii --speed-m-s 3` computes it (`app.shaft.shaft_analysis_of_run`: transport →
+    port propeller, milling torque at the current rpm, drive model, excitation case 1). The mean torque is
+    the propeller's own operating point (`propeller.operating`: open-water curves at the rated torque);
+    the measured 105 kN·m is only compared with. Returns the `shaft_range_measures` of the station torque,
+    the model's mean torque and the pitch ratio the measured mean identifies."""
+    from floebreak.app.shaft import shaft_analysis_of_run
 
-    columns = read_run_cusps(run_dir, MILLING_INPUT_COLUMNS)
-    port = milled_cusps(columns, speed_m_s=CHAIN_SPEED_M_S)
-    result = shaft_drive_response(
-        port.arrival_s,
-        port.n_impacts,
-        port.impact_torque_n_m,
-        load_shaft_line("agulhas_ii"),
+    prepared = shaft_analysis_of_run(
+        run_dir,
+        "agulhas_ii",
         speed_m_s=CHAIN_SPEED_M_S,
-        mean_torque_n_m=CHAIN_MEAN_TORQUE_N_M,
+        mean_torque_knm=MEASURED_MEAN_TORQUE_N_M / 1e3,
         cases=(CHAIN_CASE,),
     )
-    return shaft_range_measures(result.shaft_torque_n_m[0] / 1e3)
+    point = prepared.extra_summary["propeller_operating_point"]
+    identified = point.get("identified_pitch_ratio")
+    return shaft_range_measures(prepared.result.shaft_torque_n_m[0] / 1e3) | {
+        "chain_model_mean_torque_knm": float(point["model_mean_torque_knm"]),
+        "chain_identified_pitch_ratio": math.nan if identified is None else float(identified),
+    }
 
 
 def pc5_metrics(run_dir: Path) -> dict[str, float]:
