@@ -65,3 +65,18 @@ def test_a_malformed_sample_is_refused_naming_it(change, message):
     assert message in str(caught.value)
     with pytest.raises(InputError, match="registered twice"):
         parse_samples(ENTRY + ENTRY)
+
+
+def test_a_sample_may_name_its_field_generator_and_its_fields_are_made_by_it(tmp_path):
+    from floebreak.cli.validate import _thesis_inputs
+
+    assert parse_samples(ENTRY)["tiny"].generator == "circles"  # without the key: the default generator
+    path = tmp_path / "samples.toml"
+    path.write_text(ENTRY + 'generator = "voronoi"\n', encoding="utf-8")
+    assert parse_samples(path.read_text(encoding="utf-8"))["tiny"].generator == "voronoi"
+    *_, sets, _ = _thesis_inputs("tiny", path, None, None, None, None, [], False, None)
+    assert 'field.generator="voronoi"' in sets
+    *_, sets, _ = _thesis_inputs("fresh-0710", REGISTRY, None, None, None, None, [], False, None)
+    assert not any(s.startswith("field.generator") for s in sets)  # a circles sample sets nothing
+    with pytest.raises(InputError, match="sample 'tiny'.generator"):
+        parse_samples(ENTRY + 'generator = "squares"\n')

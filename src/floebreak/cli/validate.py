@@ -122,6 +122,7 @@ def _thesis_inputs(sample_name, samples: Path, profile, n_fields, seed, length_m
             *sets,
             f'field.observation="{registered.observation}"',
             f"field.width_m={registered.width_m:g}",
+            *([f'field.generator="{registered.generator}"'] if registered.generator != "circles" else []),
         ]
     return (
         "both" if profile is None else profile,

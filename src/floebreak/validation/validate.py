@@ -79,12 +79,14 @@ class RegisteredSample:
     registered: datetime.date
     run_before_registration: bool = False
     note: str = ""
+    generator: str = "circles"  # the field generator (`field.generator`) of its fields
 
 
 SAMPLE_KEYS = {"name": str, "seed": int, "observation": str, "n_fields": int, "length_m": float,
                "width_m": float, "profiles": list, "registered": datetime.date,
-               "run_before_registration": bool, "note": str}  # fmt: skip
-OPTIONAL_SAMPLE_KEYS = ("run_before_registration", "note")
+               "run_before_registration": bool, "note": str, "generator": str}  # fmt: skip
+OPTIONAL_SAMPLE_KEYS = ("run_before_registration", "note", "generator")
+SAMPLE_GENERATORS = ("circles", "voronoi", "sqp")
 
 
 def _registered_sample(entry: dict[str, Any], where: str) -> RegisteredSample:
@@ -109,6 +111,8 @@ def _registered_sample(entry: dict[str, Any], where: str) -> RegisteredSample:
                          allowed=f"observations {', '.join(observations)}")  # fmt: skip
     if not entry["profiles"] or not set(entry["profiles"]) <= set(PROFILES):
         raise InputError(f"{where}.profiles", f"{entry['profiles']!r}", allowed=", ".join(PROFILES))
+    if entry.get("generator", "circles") not in SAMPLE_GENERATORS:
+        raise InputError(f"{where}.generator", f"{entry['generator']!r}", allowed=", ".join(SAMPLE_GENERATORS))
     values = {key: entry[key] for key in SAMPLE_KEYS if key in entry}
     values.update(profiles=tuple(entry["profiles"]), length_m=float(entry["length_m"]),
                   width_m=float(entry["width_m"]))  # fmt: skip
