@@ -78,5 +78,5 @@ def test_a_sample_may_name_its_field_generator_and_its_fields_are_made_by_it(tmp
     assert 'field.generator="voronoi"' in sets
     *_, sets, _ = _thesis_inputs("fresh-0710", REGISTRY, None, None, None, None, [], False, None)
     assert not any(s.startswith("field.generator") for s in sets)  # a circles sample sets nothing
-    with pytest.raises(InputError, match="sample 'tiny'.generator"):
+    with pytest.raises(InputError, match=r"sample 'tiny'\.generator"):
         parse_samples(ENTRY + 'generator = "squares"\n')

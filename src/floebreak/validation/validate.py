@@ -112,7 +112,8 @@ def _registered_sample(entry: dict[str, Any], where: str) -> RegisteredSample:
     if not entry["profiles"] or not set(entry["profiles"]) <= set(PROFILES):
         raise InputError(f"{where}.profiles", f"{entry['profiles']!r}", allowed=", ".join(PROFILES))
     if entry.get("generator", "circles") not in SAMPLE_GENERATORS:
-        raise InputError(f"{where}.generator", f"{entry['generator']!r}", allowed=", ".join(SAMPLE_GENERATORS))
+        generator = entry["generator"]
+        raise InputError(f"{where}.generator", f"{generator!r}", allowed=", ".join(SAMPLE_GENERATORS))
     values = {key: entry[key] for key in SAMPLE_KEYS if key in entry}
     values.update(profiles=tuple(entry["profiles"]), length_m=float(entry["length_m"]),
                   width_m=float(entry["width_m"]))  # fmt: skip
