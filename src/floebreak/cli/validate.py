@@ -110,14 +110,17 @@ def _thesis_inputs(sample_name, samples: Path, profile, n_fields, seed, length_m
         )
     options = [("--profile", profile), ("--n-fields", n_fields), ("--seed", seed), ("--length-m", length_m)]
     options += [("--set", s) for s in sets]
+    from floebreak.validation.validate import SCOREBOARD_STEPPING
+
+    user_sets, sets = sets, [*SCOREBOARD_STEPPING, *sets]  # the user's --set after the scoreboard's stepping
     if sample_name is not None:
         given = {"--profile": profile, "--n-fields": n_fields, "--seed": seed, "--length-m": length_m,
                  "--holdout": holdout, "--holdout-n-fields": holdout_n_fields,
-                 "--set field.*": [s for s in sets if s.strip().startswith("field.")]}  # fmt: skip
+                 "--set field.*": [s for s in user_sets if s.strip().startswith("field.")]}  # fmt: skip
         registered = _registered(samples, sample_name, given)
         profile = "both" if len(registered.profiles) > 1 else registered.profiles[0]
         n_fields, seed, length_m = registered.n_fields, registered.seed, registered.length_m
-        options = [("--samples", samples), ("--sample", sample_name)] + [("--set", s) for s in sets]
+        options = [("--samples", samples), ("--sample", sample_name)] + [("--set", s) for s in user_sets]
         sets = [
             *sets,
             f'field.observation="{registered.observation}"',
@@ -234,13 +237,13 @@ def _sample_lines(samples: Path, n_fields: int, seed: int, field: dict) -> list[
 
 def _one_config(profile: str, length_m: float | None, sets: list[str] | None):
     from floebreak.studies.field_size import thesis_scenario
-    from floebreak.validation.validate import Config
+    from floebreak.validation.validate import SCOREBOARD_STEPPING, Config
 
     if profile not in ("default", "thesis"):
         raise InputError(
             "--profile", f"unknown profile {profile!r}", value=profile, allowed="default, thesis"
         )
-    return Config(profile), thesis_scenario(sets or [], length_m)
+    return Config(profile), thesis_scenario([*SCOREBOARD_STEPPING, *(sets or [])], length_m)
 
 
 def _csv_text(rows: list[dict], columns: list[str]) -> str:
