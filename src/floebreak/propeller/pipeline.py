@@ -41,7 +41,7 @@ from floebreak.propeller.loads.fem import DEFAULT_VOLUME_BASIS, VOLUME_BASES, Fe
 from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.rates import RateBasis, RunExposure, check_exposures, weighted_exceedance
 from floebreak.propeller.reach_warnings import no_load_reason, no_load_warning
-from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
+from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile, RuleArrangement
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
     DENSITY_THRESHOLD_PER_KNM,
@@ -351,7 +351,7 @@ def analyse_cusp_loads(
     exposures: dict[str, RunExposure] | None = None,
     operating_profile: OperatingProfile | None = None,
     sn_curve: BasquinCurve | None = None,
-    rule_factor: float = 1.0,
+    rule_arrangement: RuleArrangement | None = None,
     transport_settings: TransportSettings | None = None,
     progress: Callable[[str, int, int], None] | None = None,
 ) -> PropellerResult:
@@ -359,9 +359,11 @@ def analyse_cusp_loads(
     "milling" | "fem" (needs `fem_tables`: FemTables or {pitch: FemTable}; given tables take precedence),
     `transport` "flow" | "hull" (both with `transport_settings`) | "all"; an exposure's fraction reaching
     overrides the transport; `exposures` add rates, exceedance and rule-form fits; `measured` is
-    compared; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning. Files are read by
-    `floebreak.app.propeller.analyse_propeller`. `progress(stage, done, total)`, if given, is called after
-    each of the ANALYSIS_STAGES. docs/propeller.md §2, §6–§8."""
+    compared; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning; `rule_arrangement`
+    (default the Agulhas II's wing propellers) gives the rule's N_ice factors k_1–k_3
+    (`ruleform.rule_load_count`). Files are read by `floebreak.app.propeller.analyse_propeller`.
+    `progress(stage, done, total)`, if given, is called after each of the ANALYSIS_STAGES.
+    docs/propeller.md §2, §6–§8."""
     columns = cusp_columns(cusps)
     if not isinstance(propeller, PropellerSpec):
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
@@ -369,7 +371,9 @@ def analyse_cusp_loads(
     load_model, tables, pitches = _load_tables(load_model, fem_tables, propeller, measured)
     check_choice("transport", transport, TRANSPORTS)
     rated = drive_rated_torque_n_m(propeller, rated_torque_n_m)
-    require_range("rule_factor", rule_factor, low=0.0)
+    arrangement = RuleArrangement() if rule_arrangement is None else rule_arrangement
+    if not isinstance(arrangement, RuleArrangement):
+        raise InputError("rule_arrangement", f"{type(arrangement).__name__} is not a RuleArrangement")
     edges_m3 = check_class_edges(volume_class_edges_m3)
     rule = ur_i3_loads(propeller, check_polar_class(polar_class)) if polar_class is not None else None
     exposures = check_exposures(exposures, set(columns["run_id"].tolist())) if exposures is not None else {}
@@ -381,7 +385,7 @@ def analyse_cusp_loads(
         **dict(interpolation=interpolation, beyond=beyond, volume_basis=volume_basis),
         **dict(volume_class_edges_m3=edges_m3, cusp_speed_m_s=cusp_speed_m_s),
         **dict(density_threshold_per_knm=DENSITY_THRESHOLD_PER_KNM, polar_class=polar_class),
-        **dict(weibull=weibull, rule_factor=rule_factor),
+        **dict(weibull=weibull, rule_arrangement=dict(arrangement.__dict__)),
     }
     order = transit_order(columns)
     columns = {k: v[order] for k, v in columns.items()}
