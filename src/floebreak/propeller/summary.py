@@ -203,7 +203,10 @@ def build_summary(
     return {
         "options": dict(result.options),
         "propeller": {
-            **result.propeller.__dict__,
+            **{k: v for k, v in result.propeller.__dict__.items() if k != "open_water_table"},
+            "open_water_curves": "B-series (Oosterveld & van Oossanen 1975)"
+            if result.propeller.open_water_table is None
+            else f"table {result.propeller.open_water_table.source}",
             "pitch_m": result.propeller.pitch_m,
             "pitch_angle_07R_deg": propeller_pitch_angle_deg(result.propeller, "r07"),
             "pitch_angle_thesis_deg": propeller_pitch_angle_deg(result.propeller, "thesis_r_prop"),
