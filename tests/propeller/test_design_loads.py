@@ -12,7 +12,7 @@ from floebreak.errors import InputError
 from floebreak.propeller.design_loads import SimulatedLoads, design_load_tables, design_loads, simulated_loads
 from floebreak.propeller.pipeline import analyse_cusp_loads
 from floebreak.propeller.rates import RateBasis, RunExposure
-from floebreak.propeller.ruleform import OperatingProfile
+from floebreak.propeller.ruleform import OperatingProfile, RuleArrangement
 from floebreak.propeller.spec import PropellerSpec
 
 # Agulhas II at PC5 with EAR 0.45 and t_0.7 = 0.08 m (as tests/propeller/test_iceclass.py), by hand:
@@ -21,7 +21,11 @@ D, ND, H = 4.3, 140 / 60 * 4.3, 2.0
 F_B = 23 * 1.1 * ND**0.7 * (0.45 / 4) ** 0.3 * D * H**1.4 * 1e3  # [N], branch D > 0.85 H^1.4
 F_F = 250 * (0.45 / 4) * D**2 * 1e3  # [N]
 Q_MAX = 202 * 0.7 * 1.15 * H**1.1 * (0.7 * 5.15 / D) ** 0.16 * (0.08 / D) ** 0.6 * ND**0.17 * D**1.9 * 1e3
-N_ICE = 6e6 * 140 / 60  # N_class(PC5) · n, k1…k4 = 1
+# N_ice per blade of the default arrangement (two wing propellers, centreline 5.25 m deep), notes §7.4:
+# f = (5.25 − 2)/(4.3/2) − 1 = 0.5116, so k2 = 0.8 − 0.4 f; k1 = 1.35 (low) or 2 (high); k3 = k4 = 1
+K2 = 0.8 - 0.4 * ((5.25 - 2.0) / 2.15 - 1.0)
+N_ICE = 1.35 * K2 * 11e6 * 140 / 60
+N_ICE_HIGH = 2.0 * K2 * 11e6 * 140 / 60
 
 
 def _table():
@@ -37,6 +41,8 @@ def _table():
                 x_max_torque_n_m=880e3,
                 x_max_force_n=1.2e6,
                 fit_range_torque_n_m=(3e3, 420e3),
+                blade_impacts_per_hour=400.0,
+                profile_hours=25_000.0,
             ),
             0.0: SimulatedLoads(max_abs_torque_n_m=50e3, max_abs_force_n=300e3, n_simulated=511),
         },
@@ -53,26 +59,30 @@ def test_rows_by_hand():
     assert full.design_torque_n_m == 880e3 and full.design_force_n == 1.2e6
     assert full.torque_ratio == pytest.approx(880e3 / Q_MAX, rel=1e-12)
     assert full.force_ratio == pytest.approx(1.2e6 / F_B, rel=1e-12)
-    assert full.loads_ratio == pytest.approx(2.8e6 / 14e6, rel=1e-12)
-    # without: design = the largest simulated load, no loads ratio
+    # blade impacts against N_ice, both per blade: 400/h × 25 000 h = 1e7
+    assert full.blade_impacts_profile == pytest.approx(1e7)
+    assert full.impacts_ratio() == pytest.approx((1e7 / N_ICE, 1e7 / N_ICE_HIGH), rel=1e-12)
+    assert full.rule_cycles_per_hour() == pytest.approx((N_ICE / 25e3, N_ICE_HIGH / 25e3), rel=1e-12)
+    # without: design = the largest simulated load, no impacts ratio
     assert zero.design_torque_n_m == 50e3 and zero.design_force_n == 300e3
     assert zero.torque_ratio == pytest.approx(50e3 / Q_MAX, rel=1e-12)
-    assert zero.loads_ratio is None
+    assert zero.impacts_ratio() is None and zero.rule_cycles_per_hour() is None
 
 
 def test_to_rows_has_units_in_every_header():
     rows = _table().to_rows()
     assert len(rows) == 2
-    units = ("[%]", "[kN·m]", "[kN]", "[-]")
+    units = ("[%]", "[kN·m]", "[kN]", "[-]", "[1/h]")
     assert all(key == "propeller" or key.endswith(units) for key in rows[0])
     full = rows[1]
     assert full["max |Q| [kN·m]"] == pytest.approx(420.0)
     assert full["rule Q_max [kN·m]"] == pytest.approx(Q_MAX / 1e3, rel=1e-12)
     assert full["rule F_b [kN]"] == pytest.approx(F_B / 1e3, rel=1e-12)
     assert full["design F [kN]"] == pytest.approx(1200.0)
-    assert full["rule N_ice [-]"] == pytest.approx(14e6)
-    assert full["loads / N_ice [-]"] == pytest.approx(0.2)
-    assert rows[0]["loads over profile [-]"] is None
+    assert full["rule N_ice per blade, k1 low [-]"] == pytest.approx(N_ICE, rel=1e-12)
+    assert full["rule N_ice per blade, k1 high [-]"] == pytest.approx(N_ICE_HIGH, rel=1e-12)
+    assert full["blade impacts per hour [1/h]"] == 400.0
+    assert rows[0]["blade impacts over profile [-]"] is None
 
 
 def test_basis_of_each_number():
@@ -84,6 +94,8 @@ def test_basis_of_each_number():
     assert "UR I3" in full.basis["rule Q_max"] and "D > 1.8 H_ice" in full.basis["rule Q_max"]
     assert f"F_f = {F_F / 1e3:.4g} kN" in full.basis["rule F_b"]
     assert zero.basis["loads over profile"].startswith("not given")
+    assert zero.basis["blade impacts"].startswith("not given")
+    assert "wing propeller" in full.basis["rule N_ice"] and "1.35/2" in full.basis["rule N_ice"]
     basis_rows = table.basis_rows()
     assert len(basis_rows) == 2 * len(full.basis)
     assert set(basis_rows[0]) == {"propeller", "pitch [%]", "number", "basis"}
@@ -95,12 +107,18 @@ def test_as_dict_is_json_ready_in_kn():
     full = out["rows"][1]
     assert full["rule_max_torque_kn_m"] == pytest.approx(Q_MAX / 1e3, rel=1e-12)
     assert full["rule_forward_force_kn"] == pytest.approx(F_F / 1e3, rel=1e-12)
-    assert full["loads_ratio"] == pytest.approx(0.2)
+    assert full["impacts_ratio_low"] == pytest.approx(1e7 / N_ICE, rel=1e-12)
+    assert full["rule_n_ice_high"] == pytest.approx(N_ICE_HIGH, rel=1e-12)
+    assert out["rule_n_ice_inputs"]["k1_low_high"] == [1.35, 2.0]
 
 
-def test_rule_factor_scales_n_ice_and_bad_inputs_are_named():
-    table = design_loads(SPEC, "pc5", {50.0: SimulatedLoads(1.0, 1.0)}, rule_factor=0.5)
-    assert table.rule_n_ice == pytest.approx(0.5 * N_ICE)
+def test_arrangement_sets_n_ice_and_bad_inputs_are_named():
+    # a centre azimuthing propeller with its centreline 6.3 m deep: f = (6.3 − 2)/2.15 − 1 = 1, k2 = 0.4
+    centre = RuleArrangement("centre", 6.3, "azimuthing")
+    table = design_loads(SPEC, "pc5", {50.0: SimulatedLoads(1.0, 1.0)}, arrangement=centre)
+    expected = 1.0 * 0.4 * 1.2 * 11e6 * 140 / 60
+    assert table.rule_count.n_ice_low == pytest.approx(expected, rel=1e-12)
+    assert table.rule_count.n_ice_high == pytest.approx(expected, rel=1e-12)
     with pytest.raises(InputError) as info:
         SimulatedLoads(max_abs_torque_n_m=-1.0, max_abs_force_n=1.0)
     assert info.value.field == "max_abs_torque_n_m"
@@ -178,7 +196,12 @@ def test_design_load_tables_per_propeller_of_the_transport():
             assert row.max_abs_torque_n_m == np.nanmax(np.abs(amp.torque_nm[mine]))
             # every cusp reaching propeller k loads it once: count / (1/36 h) × 1 000 h
             assert row.n_loads_profile == pytest.approx(mine.sum() * 36.0 * 1000.0)
-            assert row.rule_n_ice == pytest.approx(N_ICE)
+            assert row.rule_count.n_ice_low == pytest.approx(N_ICE)
+            # blade impacts: Z·N_Q = max(1, round(4 · 2h)) per cusp on the propeller, over Z = 4 blades
+            thickness = result.loads["thickness_m"][mine]
+            per_blade = np.sum(np.maximum(1.0, np.rint(8.0 * thickness))) / 4.0
+            assert row.blade_impacts_per_hour == pytest.approx(per_blade * 36.0)
+            assert row.impacts_ratio()[1] == pytest.approx(per_blade * 36.0 * 1000.0 / N_ICE_HIGH)
             assert row.design_torque_n_m >= row.max_abs_torque_n_m  # x_max over ≥ 3e5 loads
             assert row.basis["design Q"].startswith("rule-form x_max")
 

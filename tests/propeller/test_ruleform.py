@@ -11,10 +11,14 @@ from floebreak.errors import InputError
 from floebreak.propeller.ruleform import (
     BasquinCurve,
     OperatingProfile,
+    RuleArrangement,
     fit_rule_form,
     miner_damage,
+    rule_load_count,
     rule_n_ice,
+    submersion_factor,
 )
+from floebreak.propeller.spec import PropellerSpec
 
 
 @pytest.mark.parametrize(("k", "scale"), [(0.75, 300.0e3), (1.0, 50.0), (2.2, 1.0e6)])
@@ -74,11 +78,44 @@ def test_fit_refuses_too_few_or_equal_samples():
 
 
 def test_rule_n_ice_as_recalled():
-    # N_ice = k1 k2 k3 k4 N_class n: PC5 N_class = 6·10⁶, Agulhas II 140 rpm = 2.333 1/s
-    assert rule_n_ice("pc5", 140 / 60) == pytest.approx(6e6 * 140 / 60)
-    assert rule_n_ice("PC1", 2.0, rule_factor=2.0) == pytest.approx(2 * 21e6 * 2)
+    # physics-notes §7.4's worked number: PC5, 140 rpm, all k = 1 → 2.57e7 cycles per blade
+    assert rule_n_ice("pc5", 140 / 60) == pytest.approx(2.57e7, rel=2e-3)
+    # the class table, PC1..PC7 = 21, 17, 15, 13, 11, 9, 6 × 10⁶ per unit speed
+    classes = ("PC1", "PC2", "PC3", "PC4", "PC5", "PC6", "PC7")
+    for cls, n_class in zip(classes, (21, 17, 15, 13, 11, 9, 6), strict=True):
+        assert rule_n_ice(cls, 1.0) == pytest.approx(n_class * 1e6)
+    assert rule_n_ice("PC1", 2.0, k1=2.0, k2=0.5, k3=1.2) == pytest.approx(2 * 0.5 * 1.2 * 21e6 * 2)
     with pytest.raises(InputError, match="polar_class"):
         rule_n_ice("PC8", 2.0)
+    with pytest.raises(InputError, match=r"rule\.k2"):
+        rule_n_ice("PC5", 2.0, k2=-0.1)
+
+
+@pytest.mark.parametrize(
+    ("f", "k2"),
+    [(-0.5, 1.3), (0.0, 0.8), (0.25, 0.7), (1.0, 0.4), (1.5, 0.3), (2.5, 0.1), (3.0, 0.1)],
+)
+def test_submersion_factor_branches(f, k2):
+    assert submersion_factor(f) == pytest.approx(k2)
+
+
+def test_rule_load_count_of_the_agulhas_ii():
+    # wing propeller, centreline 5.25 m deep, D = 4.3 m, PC5 (H_ice 2 m): f = 3.25/2.15 − 1
+    f = 3.25 / 2.15 - 1.0
+    count = rule_load_count("PC5", PropellerSpec())
+    assert count.submersion_f == pytest.approx(f)
+    assert count.k2 == pytest.approx(0.8 - 0.4 * f)
+    assert count.n_ice_low == pytest.approx(1.35 * (0.8 - 0.4 * f) * 11e6 * 140 / 60)
+    assert count.n_ice_high == pytest.approx(2.0 * (0.8 - 0.4 * f) * 11e6 * 140 / 60)
+    assert count.as_dict()["k4_note"].startswith("k_4 = 1: not recalled")
+    # a shallow centre propeller: h0 = 3 m under 2 m of ice, f = 1/2.15 − 1 < 0, k2 = 0.8 − f
+    shallow = rule_load_count("PC5", PropellerSpec(), RuleArrangement("centre", 3.0))
+    assert shallow.k2 == pytest.approx(0.8 - (1.0 / 2.15 - 1.0))
+    assert shallow.n_ice_low == shallow.n_ice_high
+    with pytest.raises(InputError, match=r"rule\.location"):
+        RuleArrangement("stern")
+    with pytest.raises(InputError, match=r"rule\.machinery"):
+        RuleArrangement(machinery="ducted")
 
 
 def test_miner_damage_by_hand():

@@ -96,6 +96,13 @@ def read_torque_csv(
     return parse_torque_csv(text, str(Path(path)), torque_unit, time_unit, flip_sign, field)
 
 
+def read_open_water_table(path: str | os.PathLike[str], field: str = "open_water_table"):
+    """The open-water curves of a CSV file (`floebreak.propeller.open_water.parse_open_water_table`)."""
+    from floebreak.propeller.open_water import parse_open_water_table
+
+    return parse_open_water_table(read_text_file(path, field), str(Path(path)), field)
+
+
 def synthetic_torque_path() -> Path:
     """Path of the shipped SYNTHETIC example series (not measured data)."""
     return package_data_path("synthetic_shaft_torque.csv")

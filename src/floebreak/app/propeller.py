@@ -22,7 +22,7 @@ from floebreak.propeller.iceclass import WEIBULL_SHAPE
 from floebreak.propeller.load_models import check_choice
 from floebreak.propeller.loads import get_load_model, load_model_names
 from floebreak.propeller.pipeline import PropellerResult
-from floebreak.propeller.ruleform import rule_n_ice
+from floebreak.propeller.ruleform import result_load_count
 from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, figure_curves, spectrum_curves
 
@@ -161,7 +161,7 @@ def propeller_figure_calls(result: PropellerResult) -> dict[str, Any]:
             )
     if result.rule is not None:
         force = {p: result.amplitudes(p).force_n for p in result.pitches}
-        n_ice = rule_n_ice(result.rule.polar_class, result.propeller.revolutions_per_s, o["rule_factor"])
+        n_ice = result_load_count(result).n_ice_low
         out["ice_class_exceedance.png"] = (
             "propeller",
             "plot_rule_exceedance",

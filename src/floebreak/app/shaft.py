@@ -192,6 +192,7 @@ NO_ICE_LOAD = (
     "dynamic amplification describe no ice load"
 )
 
+
 @dataclass(frozen=True)
 class PreparedShaftAnalysis:
     """A computed shaft analysis, validated and ready to write (`write`)."""
@@ -227,6 +228,8 @@ class PreparedShaftAnalysis:
             f"required {resonance['required_margin_note']})"
         )
         lines += [f"warning: {w}" for w in resonance["warnings"]]
+        if "rule_excitation" in self.extra_summary:
+            lines += rule_lines(self.extra_summary["rule_excitation"])
         return lines
 
     def write(
@@ -260,13 +263,16 @@ def _drive_response(
     transport_settings,
     progress=None,
     wake_fraction=None,
+    open_water_table=None,
 ):
     """The drive model on the cusps the transport (`transport_settings`) sends to the port propeller
     (`milled_cusps`)."""
     from floebreak.propeller.operating import shaft_operating_point  # scipy.optimize: only when run
 
     # the propeller's own operating point: its mean torque is the model's, a measured one only compared
-    point, comparison = shaft_operating_point(line, speed_m_s, mean_torque_n_m, wake_fraction)
+    point, comparison = shaft_operating_point(
+        line, speed_m_s, mean_torque_n_m, wake_fraction, open_water_table=open_water_table
+    )
     milled = milled_cusps(
         read_run_cusps(run_dir, MILLING_INPUT_COLUMNS),
         speed_m_s=speed_m_s,
@@ -319,6 +325,9 @@ def shaft_analysis_of_run(
     transport_settings: TransportSettings | None = None,
     progress: Callable[[str, int, int], None] | None = None,
     wake_fraction: float | None = None,
+    excitation: str = "simulation",
+    polar_class: str | None = None,
+    open_water_table=None,
 ) -> PreparedShaftAnalysis:
     """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is
     written (write with ``.write(out_dir)``). The ship speed: `speed_m_s`, else the run's resolved
@@ -328,8 +337,49 @@ def shaft_analysis_of_run(
     S–N curve for Miner's damage of the shaft torque's rainflow cycles (`shaft_fatigue`). `torque_csv`: a
     path or a `TorqueSeries`. `transport_settings`: the transport's hull and parameters for the drive model
     (those of the propeller analysis, `--transport-parameter`; default `TransportSettings()`).
-    `progress(stage, done, total)` is told of each excitation case computed."""
+    `progress(stage, done, total)` is told of each excitation case computed. `excitation` "rule": the rule's
+    four excitation cases and their resonance sweep beside the simulation (`rule_baseline`; `polar_class`
+    default PC5 for the built-in Agulhas II line, required for another). `wake_fraction` and
+    `open_water_table` (`propeller.open_water.OpenWaterTable`) set the open-water operating point."""
     model = shaft_model_of_run(run_dir, shaft_model)
+    rule_class = rule_polar_class(excitation, polar_class, shaft_line)
+    _check_torque_limit(torque_limit_knm, model)
+    line = load_shaft_line(shaft_line)
+    speed_m_s = _speed_of_run(run_dir, speed_m_s)
+    measured = measured_series(torque_csv)
+    mean_torque_n_m = None if mean_torque_knm is None else 1e3 * mean_torque_knm
+    extra = {"run_dir": Path(run_dir).name, "measured_source": None if measured is None else measured.source}
+    curves = {"wake_fraction": wake_fraction, "open_water_table": open_water_table}
+    if model == "drive":
+        drive_args = (rpm, mean_torque_n_m, torque_limit_knm, station, cases, transport_settings)
+        result, more = _drive_response(run_dir, line, speed_m_s, *drive_args, progress=progress, **curves)
+        extra |= more
+    else:
+        fem = {"fem_table": fem_table, "pitch_percent": pitch_percent, "interpolation": interpolation}
+        cusps = run_cusp_inputs(run_dir, beyond=beyond, **fem)
+        result = shaft_response(
+            cusps["bow_x_m"],
+            cusps["torque_n_m"],
+            cusps["thickness_m"],
+            line,
+            speed_m_s=speed_m_s,
+            rpm=rpm,
+            station=station,
+            cases=tuple(cases or ()),
+            mean_torque_n_m=mean_torque_n_m,
+            samples_per_blade_passage=samples_per_blade_passage,
+            progress=progress,
+        )
+        extra |= {"torque_model": "fem", "fem_pitch_percent": cusps["pitch_percent"]}
+        extra |= {"interpolation": interpolation, "beyond": beyond}
+    if rule_class is not None:
+        limit = None if torque_limit_knm is None or model != "drive" else 1e3 * torque_limit_knm
+        args = (rpm, mean_torque_n_m, station, cases, limit)
+        extra["rule_excitation"] = rule_baseline(result, line, rule_class, speed_m_s, *args, **curves)
+    return PreparedShaftAnalysis(result, measured, extra, sn_curve)
+
+
+def _check_torque_limit(torque_limit_knm: float | None, model: str) -> None:
     if torque_limit_knm is not None:
         require_range("torque_limit_knm", torque_limit_knm, low=0.0, unit="kN m")
         if model != "drive":
@@ -338,7 +388,10 @@ def shaft_analysis_of_run(
                 "applies to the drive model only",
                 allowed='shaft_model="drive" (--shaft-model drive)',
             )
-    line = load_shaft_line(shaft_line)
+
+
+def _speed_of_run(run_dir, speed_m_s: float | None) -> float:
+    """`speed_m_s`, else the run's scenario's ``ship.speed_m_s``, else an InputError asking for it."""
     if speed_m_s is None:
         speed_m_s = run_ship_speed_m_s(run_dir)
         if speed_m_s is None:
@@ -347,34 +400,99 @@ def shaft_analysis_of_run(
                 f"not given, and {str(run_dir)!r} has no ship.speed_m_s in scenario.resolved.toml",
                 allowed="speed_m_s > 0 m/s (--speed-m-s)",
             )
-    measured = measured_series(torque_csv)
-    mean_torque_n_m = None if mean_torque_knm is None else 1e3 * mean_torque_knm
-    extra = {"run_dir": Path(run_dir).name, "measured_source": None if measured is None else measured.source}
-    if model == "drive":
-        drive_args = (rpm, mean_torque_n_m, torque_limit_knm, station, cases, transport_settings)
-        more_args = {"progress": progress, "wake_fraction": wake_fraction}
-        result, more = _drive_response(run_dir, line, speed_m_s, *drive_args, **more_args)
-        return PreparedShaftAnalysis(result, measured, extra | more, sn_curve)
-    cusps = run_cusp_inputs(
-        run_dir, fem_table=fem_table, pitch_percent=pitch_percent, interpolation=interpolation, beyond=beyond
+    return speed_m_s
+
+
+def rule_lines(rule: dict) -> list[str]:
+    """The rule baseline for the terminal: its sequence, Q_peak per case beside the simulation's, and the
+    largest Q_peak of each case over the resonance sweep."""
+    e = rule["excitation"]
+    lines = [
+        f"rule excitation ({e['polar_class']}, as recalled): Q_max {e['q_max_knm']:.0f} kN·m, {e['impacts']} "
+        f"impacts over N_Q = {e['revolutions_n_q']:g} revolutions, on the open-water mean torque "
+        f"{rule['mean_torque_knm']:.0f} kN·m ({rule['shaft_model']} model)"
+    ]
+    for case, p in rule["cases"].items():
+        sim = p["simulation_q_peak_knm"]
+        stalled = ", propeller stopped" if p.get("stalled") else ""
+        lines.append(
+            f"  case {case}: Q_peak rule {p['q_peak_knm']:.0f} kN·m, simulation "
+            f"{'–' if sim is None else f'{sim:.0f}'} kN·m (rule load peak {p['load_peak_knm']:.0f}{stalled})"
+        )
+    sweep = rule["resonance_sweep"]
+    crossings = ", ".join(
+        f"order {c['order']} × mode {c['mode']} at {c['rpm']:.1f}" for c in sweep["crossings"]
     )
-    result = shaft_response(
-        cusps["bow_x_m"],
-        cusps["torque_n_m"],
-        cusps["thickness_m"],
-        line,
-        speed_m_s=speed_m_s,
-        rpm=rpm,
-        station=station,
-        cases=tuple(cases or ()),
-        mean_torque_n_m=mean_torque_n_m,
-        samples_per_blade_passage=samples_per_blade_passage,
-        progress=progress,
+    lines.append(
+        f"  resonance sweep over {len(sweep['points'])} set speeds (crossings: {crossings or 'none'} rpm):"
     )
-    extra |= {
-        "torque_model": "fem",
-        "fem_pitch_percent": cusps["pitch_percent"],
-        "interpolation": interpolation,
-        "beyond": beyond,
+    for case in rule["cases"]:
+        top = max(sweep["points"], key=lambda row: row["cases"][case]["q_peak_knm"])
+        peak = top["cases"][case]["q_peak_knm"]
+        lines.append(f"    case {case}: largest Q_peak {peak:.0f} kN·m at {top['rpm']:.1f} rpm")
+    return lines
+
+
+def rule_polar_class(excitation: str, polar_class: str | None, shaft_line) -> str | None:
+    """The polar class of the rule's excitation; None for the simulation alone. Without `polar_class`
+    the built-in Agulhas II line is PC5 (physics-notes §7.2), another line needs one."""
+    from floebreak.propeller.iceclass import check_polar_class
+    from floebreak.shaft.rule_excitation import EXCITATIONS
+
+    if excitation not in EXCITATIONS:
+        raise InputError(
+            "excitation", f"unknown {excitation!r}", value=excitation, allowed=", ".join(EXCITATIONS)
+        )
+    if excitation == "simulation":
+        return None
+    if polar_class is not None:
+        return check_polar_class(polar_class)
+    if str(shaft_line) == "agulhas_ii":
+        return "PC5"
+    raise InputError(
+        "polar_class",
+        "the rule's excitation needs a polar class for this shaft line",
+        allowed="--polar-class PC1…PC7",
+    )
+
+
+def rule_baseline(
+    result, line, polar_class, speed_m_s, rpm, measured_n_m, station, cases, limit, **curves
+) -> dict:
+    """The rule's four excitation cases on the open-water mean torque, with the simulation's Q_peak beside
+    each, and the resonance sweep (`floebreak.shaft.rule_excitation`), for the summary. `curves`:
+    `wake_fraction` and `open_water_table` of the operating point."""
+    from floebreak.propeller.operating import shaft_operating_point
+    from floebreak.propeller.spec import PropellerSpec
+    from floebreak.shaft.rule_excitation import (
+        case_peaks,
+        rule_excitation,
+        rule_resonance_sweep,
+        rule_response,
+    )
+
+    point, _ = shaft_operating_point(line, speed_m_s, measured_n_m, **curves)
+    mean = point.point.torque_n_m
+    spec = PropellerSpec(rpm=line.rpm)
+    excitation = rule_excitation(spec, polar_class)
+    common = {
+        "model": result.model,
+        "mean_torque_n_m": mean,
+        "speed_m_s": speed_m_s,
+        "station": result.station,
     }
-    return PreparedShaftAnalysis(result, measured, extra, sn_curve)
+    common |= {"cases": tuple(cases or (1, 2, 3, 4)), "torque_limit_n_m": limit}
+    rule = case_peaks(rule_response(excitation, line, rpm=rpm, **common))
+    simulated = result.peaks()
+    for case, entry in rule.items():
+        sim = simulated.get(case)
+        entry["simulation_q_peak_knm"] = None if sim is None else sim["q_peak_n_m"] / 1e3
+    return {
+        "excitation": excitation.as_dict(),
+        "mean_torque_knm": mean / 1e3,
+        "mean_torque_source": "open-water operating point (propeller.operating), not a measured mean",
+        "shaft_model": result.model,
+        "station": result.station,
+        "cases": rule,
+        "resonance_sweep": rule_resonance_sweep(excitation, line, **common),
+    }

@@ -175,6 +175,25 @@ TorqueLimitOption = Annotated[
     typer.Option("--torque-limit-knm", help="motor torque limit [kN m] (drive model; default 1.6 × rated)"),
 ]
 
+ExcitationOption = Annotated[
+    str,
+    typer.Option(
+        "--excitation",
+        help="simulation (the cusps) | rule (also the ice-class rule's four cases and their resonance sweep "
+        "beside it; shaft)",
+    ),
+]
+WakeFractionOption = Annotated[
+    float | None,
+    typer.Option("--wake-fraction", help="wake fraction w in [0, 1) (default: Holtrop & Mennen's; shaft)"),
+]
+OpenWaterTableOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--open-water-table",
+        help="open-water curves CSV: columns pitch_ratio, J, K_T, K_Q (or 10K_Q) (default: the B-series)",
+    ),
+]
 ExcitationCasesOption = Annotated[
     str, typer.Option("--excitation-cases", help="ice excitation cases, first plotted, e.g. 1,2,3,4")
 ]

@@ -13,12 +13,14 @@ from floebreak.cli.common import console, parse_floats, stage_progress
 from floebreak.cli.options import (
     BeyondOption,
     ExcitationCasesOption,
+    ExcitationOption,
     FemTableOption,
     FractionReachingOption,
     GeometryOption,
     HoursPerYearOption,
     LoadModelOption,
     MeanTorqueOption,
+    OpenWaterTableOption,
     OverwriteOption,
     PolarClassOption,
     PoolOption,
@@ -34,6 +36,7 @@ from floebreak.cli.options import (
     TorqueLimitOption,
     TransportOption,
     TransportParameterOption,
+    WakeFractionOption,
     YearsOption,
     operating_profile,
     transport_option,
@@ -104,7 +107,7 @@ def _propeller_spec(items: list[str] | None):
 
     from floebreak.propeller.spec import PropellerSpec
 
-    keys = [f.name for f in fields(PropellerSpec)]
+    keys = [f.name for f in fields(PropellerSpec) if f.name != "open_water_table"]
     values: dict = {}
     for item in items or ():
         key, sep, text = item.partition("=")
@@ -117,6 +120,29 @@ def _propeller_spec(items: list[str] | None):
         except ValueError:
             raise InputError(f"propeller.{key}", f"{text!r} is not a number", value=text) from None
     return PropellerSpec(**values)
+
+
+def _operating_point_options(wake_fraction: float | None, open_water_table: Path | None) -> dict:
+    """`--wake-fraction` checked and `--open-water-table` read, before anything is written."""
+    if wake_fraction is not None:
+        require_range(
+            "--wake-fraction", wake_fraction, low=0.0, high=1.0, low_inclusive=True, high_inclusive=False
+        )
+    table = None
+    if open_water_table is not None:
+        from floebreak.app.inputs import read_open_water_table
+
+        table = read_open_water_table(open_water_table, "--open-water-table")
+    return {"wake_fraction": wake_fraction, "open_water_table": table}
+
+
+def _with_table(models: dict, point: dict) -> dict:
+    """The propeller analysis' options with the open-water table on its propeller spec."""
+    from dataclasses import replace
+
+    if point["open_water_table"] is None:
+        return models
+    return models | {"propeller": replace(models["propeller"], open_water_table=point["open_water_table"])}
 
 
 def _sn_curve(text: str):
@@ -163,6 +189,9 @@ def propeller(
     cases: ExcitationCasesOption = "1,2,3,4",
     shaft_model: ShaftModelOption = None,
     torque_limit_knm: TorqueLimitOption = None,
+    excitation: ExcitationOption = "simulation",
+    wake_fraction: WakeFractionOption = None,
+    open_water_table: OpenWaterTableOption = None,
 ) -> None:
     """Propeller–ice force and torque spectra, rates and rule-form fit of the cusps of a run or study
     (thesis chapter 6; docs/propeller.md); with --shaft-line also the shaft torque at a measurement
@@ -171,27 +200,19 @@ def propeller(
     from floebreak.output.figure_process import figure_worker
 
     models = _load_options(load_model, transport, rated_torque_knm, geometry, transport_parameters)
+    point = _operating_point_options(wake_fraction, open_water_table)
     profile = operating_profile(hours_per_year, years)
     curve = None if sn_curve is None else _sn_curve(sn_curve)
     tables = _fem_tables(fem_table)
+    shaft_options = dict(
+        station=station, rpm=rpm, speed_m_s=speed, mean_torque_knm=mean_torque_knm, cases=cases
+    )
+    shaft_options |= dict(tables=tables, torque_csv=torque_csv, interpolation=interpolation, beyond=beyond)
+    shaft_options |= dict(shaft_model=shaft_model, torque_limit_knm=torque_limit_knm, sn_curve=curve)
+    shaft_options |= dict(transport_settings=transport_option(transport_parameters), excitation=excitation)
     with stage_progress("shaft", quiet) as progress:
         shaft = _shaft_analysis(
-            run_or_study_dir,
-            shaft_line,
-            station,
-            rpm,
-            speed,
-            mean_torque_knm,
-            cases,
-            tables,
-            torque_csv,
-            interpolation,
-            beyond,
-            shaft_model,
-            torque_limit_knm,
-            sn_curve=curve,
-            transport_settings=transport_option(transport_parameters),
-            progress=progress,
+            run_or_study_dir, shaft_line, progress=progress, polar_class=polar_class, **shaft_options, **point
         )
     # forked after the shaft analysis, whose openTorsion imports matplotlib: the workers inherit it; one
     # for the propeller's figures, one for the shaft's
@@ -201,7 +222,7 @@ def propeller(
         with stage_progress("propeller analysis", quiet) as progress:
             result = analyse_runs(
                 inputs,
-                **models(inputs.profile),
+                **_with_table(models(inputs.profile), point),
                 fem_table=tables,
                 torque_csv=torque_csv,
                 polar_class=polar_class,
@@ -210,6 +231,7 @@ def propeller(
                 operating_profile=profile,
                 sn_curve=curve,
                 progress=progress,
+                wake_fraction=wake_fraction,
             )
         _write_propeller_outputs(result, inputs, shaft, out, overwrite, quiet, (first, second))
 
@@ -260,6 +282,7 @@ def _print_shaft(shaft, shaft_dir: Path) -> None:
 def _shaft_analysis(
     run_dir,
     shaft_line,
+    *,
     station,
     rpm,
     speed_m_s,
@@ -274,6 +297,10 @@ def _shaft_analysis(
     sn_curve=None,
     transport_settings=None,
     progress=None,
+    excitation="simulation",
+    polar_class=None,
+    wake_fraction=None,
+    open_water_table=None,
 ):
     """The `propeller` command's shaft analysis, computed (not written) before anything is written; None
     without --shaft-line (then its own options are refused)."""
@@ -284,6 +311,7 @@ def _shaft_analysis(
             "--mean-torque-knm": mean_torque_knm,
             "--shaft-model": shaft_model,
             "--torque-limit-knm": torque_limit_knm,
+            "--excitation": None if excitation == "simulation" else excitation,
         }
         for name, value in given.items():
             if value is not None:
@@ -310,6 +338,10 @@ def _shaft_analysis(
         sn_curve=sn_curve,
         transport_settings=transport_settings,
         progress=progress,
+        excitation=excitation,
+        polar_class=polar_class,
+        wake_fraction=wake_fraction,
+        open_water_table=open_water_table,
     )
 
 

@@ -115,7 +115,7 @@ WHICH_DESIGN_TORQUE = (
 
 def design_load_tables(summary: dict) -> list[Table]:
     """Per propeller, one column per pitch: the design ice torque and blade force against the rule's
-    Q_max and F_b, their ratios and the loads over the profile against N_ice (the basis of each number:
+    Q_max and F_b, their ratios and the simulated blade impacts against N_ice, both per blade (the basis:
     `design_basis_lines`). Quantities as rows, so that the table fits 80 columns."""
     out = []
     for entry in summary.get("design_loads") or []:
@@ -142,7 +142,16 @@ def design_load_tables(summary: dict) -> list[Table]:
     return out
 
 
-SIMULATED = {"design_torque_kn_m", "torque_ratio", "design_force_kn", "force_ratio", "loads_ratio"}
+SIMULATED = {
+    "design_torque_kn_m",
+    "torque_ratio",
+    "design_force_kn",
+    "force_ratio",
+    "blade_impacts_per_hour",
+    "blade_impacts_profile",
+    "impacts_ratio_low",
+    "impacts_ratio_high",
+}
 DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, format, unit
     ("design ice torque Q", "design_torque_kn_m", ".0f", "kN·m"),
     ("rule Q_max", "rule_max_torque_kn_m", ".0f", "kN·m"),
@@ -150,9 +159,14 @@ DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, format, unit
     ("design blade force F", "design_force_kn", ".0f", "kN"),
     ("rule F_b (backward)", "rule_backward_force_kn", ".0f", "kN"),
     ("F / F_b", "force_ratio", ".2f", "-"),
-    ("loads over the profile", "n_loads_profile", ".3g", "-"),
-    ("rule N_ice", "rule_n_ice", ".3g", "-"),
-    ("loads / N_ice", "loads_ratio", ".2f", "-"),
+    ("blade impacts per hour", "blade_impacts_per_hour", ".0f", "1/h per blade"),
+    ("rule cycles per hour, k1 low", "rule_blade_cycles_per_hour_low", ".0f", "1/h per blade"),
+    ("rule cycles per hour, k1 high", "rule_blade_cycles_per_hour_high", ".0f", "1/h per blade"),
+    ("blade impacts over profile", "blade_impacts_profile", ".3g", "per blade"),
+    ("rule N_ice, k1 low", "rule_n_ice", ".3g", "per blade"),
+    ("rule N_ice, k1 high", "rule_n_ice_high", ".3g", "per blade"),
+    ("impacts / N_ice, k1 low", "impacts_ratio_low", ".2f", "-"),
+    ("impacts / N_ice, k1 high", "impacts_ratio_high", ".2f", "-"),
 )
 
 
@@ -162,7 +176,7 @@ def design_basis_lines(summary: dict) -> list[str]:
     seen: dict[str, None] = {}
     for entry in summary.get("design_loads") or []:
         for row in entry["rows"]:
-            for key in ("rule Q_max", "rule F_b", "rule N_ice", "loads over profile"):
+            for key in ("rule Q_max", "rule F_b", "rule N_ice", "blade impacts"):
                 seen.setdefault(f"{key}: {row['basis'][key]}", None)
             for key in ("design Q", "design F"):
                 text = row["basis"][key]

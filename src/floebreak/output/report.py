@@ -259,9 +259,15 @@ _DESIGN_ROWS = (  # label, key of summary.json's design_loads rows, unit
     ("F / F_b", "force_ratio", "–"),
     ("largest simulated |Q|", "max_abs_torque_kn_m", "kN·m"),
     ("largest simulated |F|", "max_abs_force_kn", "kN"),
-    ("loads over the operating profile", "n_loads_profile", "–"),
-    ("rule N_ice", "rule_n_ice", "–"),
-    ("loads / N_ice", "loads_ratio", "–"),
+    ("cusps over the operating profile (this propeller)", "n_loads_profile", "–"),
+    ("simulated impacts per hour on one blade", "blade_impacts_per_hour", "1/h"),
+    ("rule load cycles per hour on one blade, k₁ low", "rule_blade_cycles_per_hour_low", "1/h"),
+    ("rule load cycles per hour on one blade, k₁ high", "rule_blade_cycles_per_hour_high", "1/h"),
+    ("simulated impacts on one blade over the profile", "blade_impacts_profile", "–"),
+    ("rule N_ice per blade, k₁ low", "rule_n_ice", "–"),
+    ("rule N_ice per blade, k₁ high", "rule_n_ice_high", "–"),
+    ("impacts / N_ice, k₁ low", "impacts_ratio_low", "–"),
+    ("impacts / N_ice, k₁ high", "impacts_ratio_high", "–"),
 )
 
 
@@ -358,7 +364,9 @@ def propeller_parts(
     rule = summary.get("rule_form") or {}
     if rule.get("rule_n_ice") is not None:
         parts.append(
-            f"<p>Rule N_ice = {rule['rule_n_ice']:.4g} ({esc(_format(rule['rule_n_ice_inputs']))}; "
+            f"<p>Rule N_ice = {rule['rule_n_ice']:.4g} to "
+            f"{rule.get('rule_n_ice_high') or rule['rule_n_ice']:.4g}"
+            f" load cycles per blade ({esc(_format(rule['rule_n_ice_inputs']))}; "
             "UR I3 as recalled, verify against the rule text).</p>"
         )
     for name, caption in (_PROPELLER_FIGURES if captions is None else captions).items():

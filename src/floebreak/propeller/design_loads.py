@@ -1,13 +1,16 @@
 """The design-load table of a propeller: per pitch, the design ice torque and blade force
-from the simulation, the ice-class rule's values, their ratio, the basis of every number and the number of
-loads over the operating profile against the rule's N_ice (pure; the summary, terminal and report show it).
+from the simulation, the ice-class rule's values, their ratio, the basis of every number and the simulated
+blade impacts against the rule's N_ice in the same unit, load cycles on one blade, per hour and over the
+operating profile (pure; the summary, terminal and report show it).
 
 Design value: the rule-form extrapolation x_max over the operating profile's number of loads
 (`floebreak.propeller.ruleform.RuleFormFit.x_max`, notes §7.3) where the caller has it, else the largest
 simulated load (not extrapolated). Rule values: IACS UR I3 Q_max and the backward blade force F_b
 (`floebreak.propeller.iceclass.ur_i3_loads`, notes §7.2, as recalled); the simulated |F| has no direction,
 and is compared with F_b as in the summary's rule form (the forward force F_f is listed beside it). Rule
-N_ice: `floebreak.propeller.ruleform.rule_n_ice`.
+N_ice per blade: `floebreak.propeller.ruleform.rule_load_count` (k_1 of a wing propeller low and high).
+Simulated blade impacts on one blade: Σ over the cusps reaching the propeller of Z·N_Q impacts per cusp
+(N_Q = 2 h revolutions, `ruleform.rule_impacts_per_cusp`, as the shaft's excitation), divided by Z.
 """
 
 from __future__ import annotations
@@ -21,7 +24,13 @@ import numpy as np
 
 from floebreak.errors import InputError
 from floebreak.propeller.iceclass import IceClassLoads, ur_i3_loads
-from floebreak.propeller.ruleform import fit_rule_form, rule_n_ice
+from floebreak.propeller.ruleform import (
+    RuleArrangement,
+    RuleLoadCount,
+    fit_rule_form,
+    rule_impacts_per_cusp,
+    rule_load_count,
+)
 from floebreak.propeller.spec import PropellerSpec
 
 if TYPE_CHECKING:
@@ -34,7 +43,8 @@ RULE_SOURCE = "IACS UR I3 (2006/Rev.1, as recalled: physics-notes §7.2; verify 
 class SimulatedLoads:
     """One pitch's simulated loads on one propeller (SI): the largest |Q| and |F| over the runs, and, where
     available, the rule-form x_max over the operating profile, the number of loads over the profile, the
-    number of simulated loads and the range of the fitted amplitudes."""
+    number of simulated loads, the range of the fitted amplitudes, the blade impacts per hour on one blade
+    and the operating profile's hours."""
 
     max_abs_torque_n_m: float
     max_abs_force_n: float
@@ -45,9 +55,11 @@ class SimulatedLoads:
     fit_range_torque_n_m: tuple[float, float] | None = None
     fit_range_force_n: tuple[float, float] | None = None
     no_fit_reason: str | None = None
+    blade_impacts_per_hour: float | None = None
+    profile_hours: float | None = None
 
     def __post_init__(self) -> None:
-        quantities = ("max_abs_torque_n_m", "max_abs_force_n", "n_loads_profile")
+        quantities = ("max_abs_torque_n_m", "max_abs_force_n", "n_loads_profile", "blade_impacts_per_hour")
         for name in (*quantities, "x_max_torque_n_m", "x_max_force_n"):
             _check_non_negative(name, getattr(self, name))
 
@@ -71,8 +83,10 @@ class DesignLoadRow:
     rule_backward_force_n: float
     rule_forward_force_n: float
     n_loads_profile: float | None
-    rule_n_ice: float
+    rule_count: RuleLoadCount
     basis: dict[str, str]
+    blade_impacts_per_hour: float | None = None
+    profile_hours: float | None = None
 
     @property
     def torque_ratio(self) -> float:
@@ -85,9 +99,27 @@ class DesignLoadRow:
         return self.design_force_n / self.rule_backward_force_n
 
     @property
-    def loads_ratio(self) -> float | None:
-        """Loads over the profile / N_ice (None without a profile)."""
-        return None if self.n_loads_profile is None else self.n_loads_profile / self.rule_n_ice
+    def blade_impacts_profile(self) -> float | None:
+        """Simulated impacts on one blade over the operating profile (None without a time base or profile)."""
+        if self.blade_impacts_per_hour is None or self.profile_hours is None:
+            return None
+        return self.blade_impacts_per_hour * self.profile_hours
+
+    def rule_cycles_per_hour(self) -> tuple[float, float] | None:
+        """The rule's N_ice per blade spread over the profile's hours (k_1 low, high), None without one."""
+        if not self.profile_hours:
+            return None
+        return (
+            self.rule_count.n_ice_low / self.profile_hours,
+            self.rule_count.n_ice_high / self.profile_hours,
+        )
+
+    def impacts_ratio(self) -> tuple[float, float] | None:
+        """Simulated blade impacts over the profile / N_ice per blade (k_1 low, high)."""
+        n = self.blade_impacts_profile
+        if n is None:
+            return None
+        return (n / self.rule_count.n_ice_low, n / self.rule_count.n_ice_high)
 
     def as_dict(self) -> dict:
         """JSON-ready, in kN and kN·m, units in the keys."""
@@ -104,9 +136,22 @@ class DesignLoadRow:
             "rule_forward_force_kn": self.rule_forward_force_n / 1e3,
             "force_ratio": self.force_ratio,
             "n_loads_profile": self.n_loads_profile,
-            "rule_n_ice": self.rule_n_ice,
-            "loads_ratio": self.loads_ratio,
+            **self._count_dict(),
             "basis": dict(self.basis),
+        }
+
+    def _count_dict(self) -> dict:
+        """Blade impacts against N_ice, both per blade (per hour and over the profile; k_1 low and high)."""
+        per_hour, ratio = self.rule_cycles_per_hour(), self.impacts_ratio()
+        return {
+            "blade_impacts_per_hour": self.blade_impacts_per_hour,
+            "rule_blade_cycles_per_hour_low": None if per_hour is None else per_hour[0],
+            "rule_blade_cycles_per_hour_high": None if per_hour is None else per_hour[1],
+            "blade_impacts_profile": self.blade_impacts_profile,
+            "rule_n_ice": self.rule_count.n_ice_low,
+            "rule_n_ice_high": self.rule_count.n_ice_high,
+            "impacts_ratio_low": None if ratio is None else ratio[0],
+            "impacts_ratio_high": None if ratio is None else ratio[1],
         }
 
 
@@ -116,14 +161,21 @@ class DesignLoadTable:
 
     propeller: str
     rule: IceClassLoads
-    rule_n_ice: float
+    rule_count: RuleLoadCount
     rows: tuple[DesignLoadRow, ...]
+
+    @property
+    def rule_n_ice(self) -> float:
+        """N_ice per blade at the lower k_1."""
+        return self.rule_count.n_ice_low
 
     def as_dict(self) -> dict:
         return {
             "propeller": self.propeller,
             "polar_class": self.rule.polar_class,
-            "rule_n_ice": self.rule_n_ice,
+            "rule_n_ice": self.rule_count.n_ice_low,
+            "rule_n_ice_high": self.rule_count.n_ice_high,
+            "rule_n_ice_inputs": self.rule_count.as_dict(),
             "rows": [row.as_dict() for row in self.rows],
         }
 
@@ -141,9 +193,10 @@ class DesignLoadTable:
                 "design F [kN]": row.design_force_n / 1e3,
                 "rule F_b [kN]": row.rule_backward_force_n / 1e3,
                 "F / F_b [-]": row.force_ratio,
-                "loads over profile [-]": row.n_loads_profile,
-                "rule N_ice [-]": row.rule_n_ice,
-                "loads / N_ice [-]": row.loads_ratio,
+                "blade impacts per hour [1/h]": row.blade_impacts_per_hour,
+                "blade impacts over profile [-]": row.blade_impacts_profile,
+                "rule N_ice per blade, k1 low [-]": row.rule_count.n_ice_low,
+                "rule N_ice per blade, k1 high [-]": row.rule_count.n_ice_high,
             }
             for row in self.rows
         ]
@@ -181,18 +234,33 @@ def _design_value(sim: SimulatedLoads, quantity: str) -> tuple[float, str]:
     )
 
 
+def _count_basis(count: RuleLoadCount, sim: SimulatedLoads) -> dict[str, str]:
+    """The basis of the rule's N_ice and of the simulated blade impacts."""
+    k1 = "/".join(f"{k:g}" for k in sorted(set(count.k1)))
+    return {
+        "rule N_ice": f"N_ice per blade = k1 k2 k3 k4 N_class n = {k1} × {count.k2:.3g} × {count.k3:g} × "
+        f"{count.k4:g} × {count.n_class:.3g} × {count.revolutions_per_s:.4g} 1/s ({count.location} "
+        f"propeller, k1 low/high; k2 at f = {count.submersion_f:.3g}; k4 not recalled: 1; notes §7.4, as "
+        "recalled)",
+        "blade impacts": "not given (no time base)"
+        if sim.blade_impacts_per_hour is None
+        else "cusps reaching this propeller × Z·N_Q impacts each (N_Q = 2 h revolutions, notes §7.3) / Z, "
+        "per hour in ice",
+    }
+
+
 def design_loads(
     spec: PropellerSpec,
     polar_class: str,
     simulated: Mapping[float, SimulatedLoads],
     *,
     propeller: str = "propeller",
-    rule_factor: float = 1.0,
+    arrangement: RuleArrangement | None = None,
 ) -> DesignLoadTable:
     """The design-load table of one propeller: `simulated` maps pitch [%] → `SimulatedLoads`; the rule's
-    loads and N_ice follow from `spec`, `polar_class` and `rule_factor` (k_1 k_2 k_3 k_4; see the module)."""
+    loads and N_ice per blade follow from `spec`, `polar_class` and `arrangement` (k_1–k_3; the module)."""
     rule = ur_i3_loads(spec, polar_class)
-    n_ice = rule_n_ice(polar_class, spec.revolutions_per_s, rule_factor)
+    count = rule_load_count(polar_class, spec, arrangement)
     rows = []
     for pitch in sorted(simulated):
         sim = simulated[pitch]
@@ -204,11 +272,10 @@ def design_loads(
             "rule Q_max": f"{RULE_SOURCE}, {rule.polar_class}, branch {rule.torque_branch}",
             "rule F_b": f"{RULE_SOURCE}, {rule.polar_class}, branch {rule.backward_branch}; "
             f"|F| compared with the backward force (F_f = {rule.forward_force_n / 1e3:.4g} kN)",
-            "rule N_ice": f"N_ice = k1 k2 k3 k4 N_class n = {rule_factor:g} × N_class({rule.polar_class}) × "
-            f"{spec.revolutions_per_s:.4g} 1/s (notes §7, as recalled)",
+            **_count_basis(count, sim),
             "loads over profile": "not given (no time base or operating profile)"
             if sim.n_loads_profile is None
-            else "loads per hour on this propeller × operating-profile hours",
+            else "cusps per hour on this propeller × operating-profile hours",
         }
         rows.append(
             DesignLoadRow(
@@ -222,11 +289,13 @@ def design_loads(
                 rule.backward_force_n,
                 rule.forward_force_n,
                 sim.n_loads_profile,
-                n_ice,
+                count,
                 basis,
+                sim.blade_impacts_per_hour,
+                sim.profile_hours,
             )
         )
-    return DesignLoadTable(propeller, rule, n_ice, tuple(rows))
+    return DesignLoadTable(propeller, rule, count, tuple(rows))
 
 
 def simulated_loads(
@@ -235,11 +304,13 @@ def simulated_loads(
     weights=None,
     loads_per_hour: float | None = None,
     profile_hours: float | None = None,
+    blade_impacts_per_hour: float | None = None,
 ) -> SimulatedLoads:
     """One propeller's and pitch's `SimulatedLoads` from its per-cusp |F| [N] and |Q| [N·m] (NaN: no
     load; `weights`: loads per cusp on that propeller, 0 for cusps that do not reach it). With
     `loads_per_hour` and `profile_hours` the number of loads over the profile N = rate × hours and, where
-    the rule form fits (`fit_rule_form`, weighted), x_max(N) of each quantity (notes §7.3)."""
+    the rule form fits (`fit_rule_form`, weighted), x_max(N) of each quantity (notes §7.3).
+    `blade_impacts_per_hour`: simulated impacts on one blade per hour in ice (for the N_ice comparison)."""
     f, q = np.abs(np.asarray(force_n, dtype=float)), np.abs(np.asarray(torque_n_m, dtype=float))
     w = np.ones(f.shape) if weights is None else np.asarray(weights, dtype=float)
     loaded = (w > 0.0) & np.isfinite(f) & np.isfinite(q)
@@ -251,6 +322,8 @@ def simulated_loads(
         "max_abs_torque_n_m": float(q[loaded].max()) if loaded.any() else 0.0,
         "n_simulated": int(loaded.sum()),
         "n_loads_profile": n_profile,
+        "blade_impacts_per_hour": blade_impacts_per_hour,
+        "profile_hours": profile_hours,
     }
     if n_profile is None or n_profile <= 1.0:
         out["no_fit_reason"] = "no operating profile or time base"
@@ -275,7 +348,8 @@ def design_load_tables(result: PropellerResult) -> list[DesignLoadTable]:
     """The design-load tables of a `PropellerResult` with a polar class (none without): one per
     propeller where the transport model assigns cusps to propellers ("propeller 1", "propeller 2", … in
     the arrangement's order; default 1 = port, 2 = starboard), else one for the mean propeller (loads per
-    cusp f / n_p). Loads per hour from the result's time base, hours from its operating profile."""
+    cusp f / n_p). Loads per hour from the result's time base, hours from its operating profile; blade
+    impacts per hour: the module docstring's count over the same cusps."""
     if result.rule is None:
         return []
     summary = result.summary
@@ -288,6 +362,9 @@ def design_load_tables(result: PropellerResult) -> list[DesignLoadTable]:
     if per_propeller:
         n = max(len(summary["transport"].get("fraction_reaching_per_propeller") or []), int(index.max()) + 1)
         groups = {f"propeller {k + 1}": index == k for k in range(n)}
+    blades = result.propeller.blades
+    per_blade = rule_impacts_per_cusp(result.loads["thickness_m"], blades) / blades  # N_Q per cusp
+    arrangement = RuleArrangement(**result.options.get("rule_arrangement", {}))
     tables = []
     for name, members in groups.items():
         simulated = {}
@@ -295,20 +372,22 @@ def design_load_tables(result: PropellerResult) -> list[DesignLoadTable]:
             amp = result.amplitudes(pitch)
             if members is None:
                 weights = amp.weight if np.isfinite(amp.weight).all() else None
-                total = None if weights is None else float(np.sum(weights))
             else:
-                weights, total = members.astype(float), float(members.sum())
+                weights = members.astype(float)
+            total = None if weights is None else float(np.sum(weights))
             per_hour = None if total is None or not hours_in_ice else total / hours_in_ice
+            impacts = None if weights is None or not hours_in_ice else float(np.sum(weights * per_blade))
             simulated[pitch] = simulated_loads(
-                amp.force_n, amp.torque_nm, weights, per_hour, profile.get("hours")
+                amp.force_n,
+                amp.torque_nm,
+                weights,
+                per_hour,
+                profile.get("hours"),
+                None if impacts is None else impacts / hours_in_ice,
             )
         tables.append(
             design_loads(
-                result.propeller,
-                result.rule.polar_class,
-                simulated,
-                propeller=name,
-                rule_factor=result.options["rule_factor"],
+                result.propeller, result.rule.polar_class, simulated, propeller=name, arrangement=arrangement
             )
         )
     return tables

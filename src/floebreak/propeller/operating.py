@@ -6,7 +6,8 @@
   at Re = V L/ν. Agulhas II: L = 121.8 m (L_pp, physics-notes §6.1), B = 21.7 m, T = 7.65 m (thesis §3),
   D = 4.3 m; C_B = 0.65, 1 + k = 1.2 and C_A = 0.0004 ASSUMED (typical of a full-bodied twin-screw
   polar vessel; docs/explanation/cusp-flow.md). It gives w ≈ 0.14 at 3 m/s.
-- **Open-water point**: `open_water.operating_point` at the spec's P/D, area ratio, blades and rpm.
+- **Open-water point**: `open_water.operating_point` at the spec's P/D, area ratio, blades and rpm, on the
+  B-series polynomials or, where the spec has one (`PropellerSpec.open_water_table`), on a given table.
 - **Constant-rpm pitch control**: a controllable-pitch propeller run at constant speed has its pitch
   reduced by the controller when the open-water torque at the set pitch exceeds the motor's rated torque,
   to the pitch that gives the rated torque (the combinator/load-control principle, Carlton, "Marine
@@ -24,11 +25,12 @@ from typing import Final
 
 from floebreak.errors import InputError, require_range
 from floebreak.propeller.open_water import (
-    PITCH_RATIO_RANGE,
     BSeriesPropeller,
     OperatingPoint,
+    TabulatedPropeller,
     operating_point,
     pitch_ratio_for_torque,
+    pitch_ratio_range,
 )
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.ship.agulhas_ii import BEAM_M, BLOCK_COEFFICIENT, DRAUGHT_M, LENGTH_M
@@ -53,9 +55,12 @@ def holtrop_wake_fraction(speed_m_s: float, diameter_m: float) -> float:
     return min(max(w, 0.0), 0.5)
 
 
-def b_series(spec: PropellerSpec, pitch_ratio: float | None = None) -> BSeriesPropeller:
-    """The spec as a B-series propeller (P/D = the spec's pitch over D unless `pitch_ratio` is given)."""
+def b_series(spec: PropellerSpec, pitch_ratio: float | None = None) -> BSeriesPropeller | TabulatedPropeller:
+    """The spec as a B-series propeller, or on its open-water table where it has one (P/D = the spec's pitch
+    over D unless `pitch_ratio` is given)."""
     ratio = spec.pitch_m / spec.diameter_m if pitch_ratio is None else pitch_ratio
+    if spec.open_water_table is not None:
+        return TabulatedPropeller(spec.diameter_m, ratio, spec.open_water_table)
     return BSeriesPropeller(spec.diameter_m, ratio, spec.expanded_area_ratio, int(spec.blades))
 
 
@@ -100,9 +105,10 @@ def controlled_point(
     point = operating_point(propeller, speed_m_s, w, spec.rpm)
     if point.torque_n_m <= rated_torque_n_m:
         return ControlledPoint(point, propeller.pitch_ratio, propeller.pitch_ratio, False, w)
-    low = operating_point(b_series(spec, PITCH_RATIO_RANGE[0]), speed_m_s, w, spec.rpm)
-    if low.torque_n_m >= rated_torque_n_m:  # the fit's lowest pitch already exceeds it: hold that pitch
-        return ControlledPoint(low, PITCH_RATIO_RANGE[0], propeller.pitch_ratio, True, w)
+    lowest = pitch_ratio_range(propeller)[0]
+    low = operating_point(b_series(spec, lowest), speed_m_s, w, spec.rpm)
+    if low.torque_n_m >= rated_torque_n_m:  # the curves' lowest pitch already exceeds it: hold that pitch
+        return ControlledPoint(low, lowest, propeller.pitch_ratio, True, w)
     ratio = pitch_ratio_for_torque(rated_torque_n_m, propeller, speed_m_s, w, spec.rpm)
     limited = operating_point(b_series(spec, ratio), speed_m_s, w, spec.rpm)
     return ControlledPoint(limited, ratio, propeller.pitch_ratio, True, w)
@@ -129,11 +135,13 @@ def mean_torque_comparison(
     return out
 
 
-def shaft_operating_point(line, speed_m_s: float, measured_n_m: float | None, wake_fraction=None):
-    """The controlled point of the default propeller spec at the shaft `line`'s rpm, its rated torque the
-    line's (`ShaftLine.mean_torque` without a given mean: P/(2π n)), and the comparison with a measured mean
-    torque [N·m] (`mean_torque_comparison`)."""
-    spec = PropellerSpec(rpm=line.rpm)
+def shaft_operating_point(
+    line, speed_m_s: float, measured_n_m: float | None, wake_fraction=None, open_water_table=None
+):
+    """The controlled point of the default propeller spec (on `open_water_table` where given) at the shaft
+    `line`'s rpm, its rated torque the line's (`ShaftLine.mean_torque` without a given mean: P/(2π n)), and
+    the comparison with a measured mean torque [N·m] (`mean_torque_comparison`)."""
+    spec = PropellerSpec(rpm=line.rpm, open_water_table=open_water_table)
     rated = (
         float(line.rated_power_w) / (2.0 * math.pi * line.rpm / 60.0)
         if line.rated_power_w

@@ -41,7 +41,7 @@ from floebreak.propeller.loads.fem import DEFAULT_VOLUME_BASIS, VOLUME_BASES, Fe
 from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.rates import RateBasis, RunExposure, check_exposures, weighted_exceedance
 from floebreak.propeller.reach_warnings import no_load_reason, no_load_warning
-from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile
+from floebreak.propeller.ruleform import BasquinCurve, OperatingProfile, RuleArrangement
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.spectra import (
     DENSITY_THRESHOLD_PER_KNM,
@@ -268,12 +268,13 @@ def _placed_loads(columns, tables, options, propeller, speed, transports) -> tup
 
 
 def _reaching(
-    columns, exposures, transport: str, settings, spec: PropellerSpec, rated_torque_n_m: float
+    columns, exposures, transport: str, settings, spec: PropellerSpec, rated_torque_n_m: float, wake=None
 ) -> tuple[dict, dict, dict]:
     """Which cusps reach a propeller: per cusp `reaches_propeller`, `propeller_index` (−1: none or not
     modelled) and `arrival_time_s`, the summary's "transport" entry and the transports of the modelled
     runs (`transport_of_runs`, on discs of `spec`'s radius). Runs with an explicit fraction reaching (an
-    override) and `transport="all"` load every cusp; otherwise the transport model decides."""
+    override) and `transport="all"` load every cusp; otherwise the transport model decides (the flow
+    transport at the wake fraction `wake`, None: Holtrop's)."""
     n = columns["run_id"].size
     runs = sorted(set(columns["run_id"].tolist()))
     override = {
@@ -288,7 +289,9 @@ def _reaching(
     settings = settings or TransportSettings()
     points = {}
     if transport == "flow":  # the cusps followed under the hull (floebreak.propeller.flow_transport)
-        transports, points = flow_of_runs(columns, exposures, modelled, settings, spec, rated_torque_n_m)
+        transports, points = flow_of_runs(
+            columns, exposures, modelled, settings, spec, rated_torque_n_m, wake_fraction=wake
+        )
     else:
         transports = transport_of_runs(columns, exposures, modelled, settings, spec.radius_m)
     for idx, t in transports.values():
@@ -308,6 +311,23 @@ def _reaching(
         r: override.get(r, float(np.mean(out["reaches_propeller"][columns["run_id"] == r]))) for r in runs
     }
     return out, summary, transports
+
+
+def _check_spec(propeller) -> None:
+    if not isinstance(propeller, PropellerSpec):
+        raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
+
+
+def _rule_arrangement_and_wake(rule_arrangement, wake_fraction) -> RuleArrangement:
+    """The rule's arrangement (default the Agulhas II's) after checking it and the wake fraction."""
+    arrangement = RuleArrangement() if rule_arrangement is None else rule_arrangement
+    if not isinstance(arrangement, RuleArrangement):
+        raise InputError("rule_arrangement", f"{type(arrangement).__name__} is not a RuleArrangement")
+    if wake_fraction is not None:
+        require_range(
+            "wake_fraction", wake_fraction, low=0.0, high=1.0, low_inclusive=True, high_inclusive=False
+        )
+    return arrangement
 
 
 def _check_options(
@@ -351,25 +371,25 @@ def analyse_cusp_loads(
     exposures: dict[str, RunExposure] | None = None,
     operating_profile: OperatingProfile | None = None,
     sn_curve: BasquinCurve | None = None,
-    rule_factor: float = 1.0,
+    rule_arrangement: RuleArrangement | None = None,
     transport_settings: TransportSettings | None = None,
     progress: Callable[[str, int, int], None] | None = None,
+    wake_fraction: float | None = None,
 ) -> PropellerResult:
     """The propeller analysis of `cusps` (dict of arrays or pyarrow.Table, `cusp_columns`), pure. `load_model`
     "milling" | "fem" (needs `fem_tables`: FemTables or {pitch: FemTable}; given tables take precedence),
     `transport` "flow" | "hull" (both with `transport_settings`) | "all"; an exposure's fraction reaching
     overrides the transport; `exposures` add rates, exceedance and rule-form fits; `measured` is
-    compared; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning. Files are read by
-    `floebreak.app.propeller.analyse_propeller`. `progress(stage, done, total)`, if given, is called after
-    each of the ANALYSIS_STAGES. docs/propeller.md §2, §6–§8."""
+    compared; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning; `rule_arrangement`: the
+    rule's N_ice factors (`ruleform.rule_load_count`); `wake_fraction`: the flow transport's w (None:
+    Holtrop's). `progress(stage, done, total)` is told of each of the ANALYSIS_STAGES. docs/propeller.md."""
     columns = cusp_columns(cusps)
-    if not isinstance(propeller, PropellerSpec):
-        raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
+    _check_spec(propeller)
     _check_options(interpolation, beyond, volume_basis, cusp_speed_m_s, force_bin_kn, torque_bin_knm, weibull)
     load_model, tables, pitches = _load_tables(load_model, fem_tables, propeller, measured)
     check_choice("transport", transport, TRANSPORTS)
     rated = drive_rated_torque_n_m(propeller, rated_torque_n_m)
-    require_range("rule_factor", rule_factor, low=0.0)
+    arrangement = _rule_arrangement_and_wake(rule_arrangement, wake_fraction)
     edges_m3 = check_class_edges(volume_class_edges_m3)
     rule = ur_i3_loads(propeller, check_polar_class(polar_class)) if polar_class is not None else None
     exposures = check_exposures(exposures, set(columns["run_id"].tolist())) if exposures is not None else {}
@@ -381,12 +401,12 @@ def analyse_cusp_loads(
         **dict(interpolation=interpolation, beyond=beyond, volume_basis=volume_basis),
         **dict(volume_class_edges_m3=edges_m3, cusp_speed_m_s=cusp_speed_m_s),
         **dict(density_threshold_per_knm=DENSITY_THRESHOLD_PER_KNM, polar_class=polar_class),
-        **dict(weibull=weibull, rule_factor=rule_factor),
+        **dict(weibull=weibull, rule_arrangement=dict(arrangement.__dict__), wake_fraction=wake_fraction),
     }
     order = transit_order(columns)
     columns = {k: v[order] for k, v in columns.items()}
     speed = np.array([_speed(exposures, r) for r in columns["run_id"].tolist()])
-    reach_args = (exposures, transport, transport_settings, propeller, rated)
+    reach_args = (exposures, transport, transport_settings, propeller, rated, wake_fraction)
     reaching, reach_info, transports = _reaching(columns, *reach_args)
     _report(progress, "transport")
     loads, placement = _placed_loads(columns, tables, options, propeller, speed, transports)

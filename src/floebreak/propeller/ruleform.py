@@ -16,10 +16,15 @@ as the number of independent loads; the weights only rescale how often the few s
 the intervals use the Kish effective sample size n_eff = (Σ w)² / Σ w² instead (n_eff = n for equal
 weights). The weights' scale does not change the fit.
 
-Rule N_ice (UR I3 2006/Rev.1 as recalled, notes §7; verify against the rule text):
-N_ice = k_1 k_2 k_3 k_4 · N_class · n with N_class the reference number of impacts per unit propeller speed
-(`N_CLASS`), n the propeller speed [1/s] and k_1…k_4 the location, duct, azimuthing and submersion factors
-(one combined `rule_factor`, default 1).
+Rule N_ice (UR I3 2006/Rev.1 *as recalled*, physics-notes §7.4; verify against the rule text): the load
+cycles on **one blade** over the ship's life (Z · N_ice on the propeller),
+
+    N_ice = k_1 k_2 k_3 k_4 · N_class · n,   n the nominal propeller speed [1/s],
+
+N_class per class in `N_CLASS`. k_1 (location): 1 for a centre propeller, more for a wing propeller, where
+the two recollections disagree (1.35 or 2): both are kept (`RuleLoadCount.n_ice_low`, `.n_ice_high`). k_2
+(submersion, `submersion_factor`) from f = (h_0 − H_ice)/(D/2) − 1, h_0 the depth of the propeller centreline
+at the lowest ballast waterline. k_3 (machinery): fixed 1, azimuthing 1.2. k_4 was not recalled: 1.
 """
 
 from __future__ import annotations
@@ -30,20 +35,27 @@ from dataclasses import dataclass
 import numpy as np
 
 from floebreak.errors import InputError, require_range
+from floebreak.propeller.iceclass import POLAR_CLASSES, check_polar_class
+from floebreak.propeller.spec import PropellerSpec
+from floebreak.ship.agulhas_ii import SHAFT_DEPTH_M
 
 EULER_GAMMA = 0.5772156649015329
 # the standard normal's 97.5 % quantile as scipy.stats.norm.ppf(0.975) gives it, to the last bit (a test
 # checks it): the summary's 95 % intervals without importing scipy.stats (benchmarks/README.md)
 Z_95 = 1.959963984540054
-N_CLASS = {  # reference impacts per propeller speed [1/s]: UR I3 as recalled, verify against the rule text
+N_CLASS = {  # load cycles per blade per unit propeller speed [1/s]: UR I3 as recalled (physics-notes §7.4)
     "PC1": 21e6,
     "PC2": 17e6,
-    "PC3": 10e6,
-    "PC4": 9e6,
-    "PC5": 6e6,
-    "PC6": 5e6,
-    "PC7": 3e6,
+    "PC3": 15e6,
+    "PC4": 13e6,
+    "PC5": 11e6,
+    "PC6": 9e6,
+    "PC7": 6e6,
 }
+# k_1 by propeller location (notes §7.4, as recalled): a wing propeller's two recollections, low and high
+LOCATION_FACTORS = {"centre": (1.0, 1.0), "wing": (1.35, 2.0)}
+MACHINERY_FACTORS = {"fixed": 1.0, "azimuthing": 1.2}  # k_3
+K4_NOTE = "k_4 = 1: not recalled (physics-notes §7.4)"
 MIN_SAMPLES = 10
 
 
@@ -149,13 +161,145 @@ def fit_rule_form(amplitudes, field: str = "amplitudes", weights=None) -> RuleFo
     )
 
 
-def rule_n_ice(polar_class: str, revolutions_per_s: float, rule_factor: float = 1.0) -> float:
-    """N_ice = k_1 k_2 k_3 k_4 N_class n (UR I3 as recalled; verify against the rule text)."""
+def rule_n_ice(
+    polar_class: str,
+    revolutions_per_s: float,
+    k1: float = 1.0,
+    k2: float = 1.0,
+    k3: float = 1.0,
+    k4: float = 1.0,
+) -> float:
+    """N_ice = k_1 k_2 k_3 k_4 N_class n: load cycles per blade (UR I3 as recalled, notes §7.4)."""
     key = str(polar_class).strip().upper()
     if key not in N_CLASS:
         raise InputError("polar_class", f"unknown polar class {polar_class!r}", allowed=", ".join(N_CLASS))
-    require_range("rule_factor", rule_factor, low=0.0)
-    return rule_factor * N_CLASS[key] * revolutions_per_s
+    require_range("revolutions_per_s", revolutions_per_s, low=0.0, low_inclusive=True, unit="1/s")
+    for name, k in (("k1", k1), ("k2", k2), ("k3", k3), ("k4", k4)):
+        require_range(f"rule.{name}", k, low=0.0)
+    return k1 * k2 * k3 * k4 * N_CLASS[key] * revolutions_per_s
+
+
+def submersion_parameter(shaft_depth_m: float, ice_thickness_m: float, diameter_m: float) -> float:
+    """f = (h_0 − H_ice)/(D/2) − 1 (notes §7.4): h_0 the propeller centreline's depth [m]."""
+    require_range("rule.shaft_depth_m", shaft_depth_m, low=0.0, unit="m")
+    require_range("propeller.diameter_m", diameter_m, low=0.0, unit="m")
+    return (shaft_depth_m - ice_thickness_m) / (0.5 * diameter_m) - 1.0
+
+
+def submersion_factor(f: float) -> float:
+    """k_2 of the submersion parameter f (notes §7.4, as recalled): 0.8 − f (f < 0), 0.8 − 0.4 f
+    (0 ≤ f ≤ 1), 0.6 − 0.2 f (1 < f ≤ 2.5), 0.1 (f > 2.5)."""
+    if not math.isfinite(f):
+        raise InputError("rule.submersion_f", f"{f!r}", value=f, allowed="finite")
+    if f < 0.0:
+        return 0.8 - f
+    if f <= 1.0:
+        return 0.8 - 0.4 * f
+    if f <= 2.5:
+        return 0.6 - 0.2 * f
+    return 0.1
+
+
+@dataclass(frozen=True)
+class RuleArrangement:
+    """Where the propeller sits, for the rule's N_ice: location ("centre" or "wing", k_1), the depth of its
+    centreline [m] (k_2) and the machinery ("fixed" or "azimuthing", k_3). Default: the Agulhas II, two wing
+    propellers on fixed shafts at 5.25 m (assumed, `floebreak.ship.agulhas_ii.SHAFT_DEPTH_M`)."""
+
+    location: str = "wing"
+    shaft_depth_m: float = SHAFT_DEPTH_M
+    machinery: str = "fixed"
+
+    def __post_init__(self) -> None:
+        if self.location not in LOCATION_FACTORS:
+            raise InputError("rule.location", f"{self.location!r}", allowed=", ".join(LOCATION_FACTORS))
+        if self.machinery not in MACHINERY_FACTORS:
+            raise InputError("rule.machinery", f"{self.machinery!r}", allowed=", ".join(MACHINERY_FACTORS))
+        require_range("rule.shaft_depth_m", self.shaft_depth_m, low=0.0, unit="m")
+
+
+@dataclass(frozen=True)
+class RuleLoadCount:
+    """The rule's N_ice per blade with its factors; low and high differ only by k_1 of a wing propeller."""
+
+    polar_class: str
+    n_class: float
+    revolutions_per_s: float
+    blades: int
+    location: str
+    k1: tuple[float, float]
+    submersion_f: float
+    k2: float
+    k3: float
+    k4: float
+
+    def n_ice(self, k1: float) -> float:
+        return rule_n_ice(self.polar_class, self.revolutions_per_s, k1, self.k2, self.k3, self.k4)
+
+    @property
+    def n_ice_low(self) -> float:
+        """Load cycles per blade over the life at the lower k_1."""
+        return self.n_ice(self.k1[0])
+
+    @property
+    def n_ice_high(self) -> float:
+        return self.n_ice(self.k1[1])
+
+    def as_dict(self) -> dict:
+        return {
+            "unit": "load cycles per blade over the ship's life (Z × on one propeller)",
+            "polar_class": self.polar_class,
+            "n_class": self.n_class,
+            "revolutions_per_s": self.revolutions_per_s,
+            "blades": self.blades,
+            "location": self.location,
+            "k1_low_high": list(self.k1),
+            "submersion_f": self.submersion_f,
+            "k2": self.k2,
+            "k3": self.k3,
+            "k4": self.k4,
+            "k4_note": K4_NOTE,
+            "n_ice_per_blade_low": self.n_ice_low,
+            "n_ice_per_blade_high": self.n_ice_high,
+            "source": "IACS UR I3 as recalled (physics-notes §7.4); verify against the rule text",
+        }
+
+
+def rule_load_count(
+    polar_class: str, spec: PropellerSpec, arrangement: RuleArrangement | None = None
+) -> RuleLoadCount:
+    """The rule's N_ice of the propeller `spec` in `arrangement` (module docstring)."""
+    key = check_polar_class(polar_class)
+    where = RuleArrangement() if arrangement is None else arrangement
+    f = submersion_parameter(where.shaft_depth_m, POLAR_CLASSES[key][0], spec.diameter_m)
+    return RuleLoadCount(
+        key,
+        N_CLASS[key],
+        spec.revolutions_per_s,
+        int(spec.blades),
+        where.location,
+        LOCATION_FACTORS[where.location],
+        f,
+        submersion_factor(f),
+        MACHINERY_FACTORS[where.machinery],
+        1.0,
+    )
+
+
+def result_load_count(result) -> RuleLoadCount | None:
+    """The rule's N_ice of a propeller analysis' result (its polar class, propeller and the arrangement in its
+    options), None without a polar class."""
+    if result.rule is None:
+        return None
+    where = RuleArrangement(**result.options.get("rule_arrangement", {}))
+    return rule_load_count(result.rule.polar_class, result.propeller, where)
+
+
+def rule_impacts_per_cusp(thickness_m, blades: int) -> np.ndarray:
+    """Z·N_Q blade impacts on the propeller per cusp milled, N_Q = 2 h revolutions (h in m; notes §7.3),
+    at least 1."""
+    h = np.asarray(thickness_m, dtype=float)
+    return np.maximum(1, np.rint(blades * 2.0 * h)).astype(np.int64)
 
 
 @dataclass(frozen=True)

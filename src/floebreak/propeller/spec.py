@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from floebreak.errors import InputError, require_range
 from floebreak.ship.agulhas_ii import (
@@ -18,6 +19,9 @@ from floebreak.ship.agulhas_ii import (
 # ship's propeller, and bounds the samples of a shaft analysis (they grow with the speed)
 MAX_PROPELLER_RPM = 1000.0
 
+if TYPE_CHECKING:
+    from floebreak.propeller.open_water import OpenWaterTable
+
 PITCH_ANGLE_RADII = ("r07", "thesis_r_prop")
 
 
@@ -31,6 +35,8 @@ class PropellerSpec:
     (notes §7.1): blades Z = 4, expanded area ratio EAR = 0.55 (0.45–0.65), hub ratio d/D = 0.30,
     blade thickness at 0.7R t_0.7 = 0.105 m (0.08–0.13 m). `bollard_pitch_m` is the UR I3 P_0.7 at MCR
     bollard condition; None uses the rule's fallback 0.7 × the maximum (free-running) pitch.
+    `open_water_table`: the propeller's open-water curves as a table (`open_water.OpenWaterTable`, e.g. from
+    `--open-water-table CSV`); None uses the Wageningen B-series (`propeller.operating`).
     """
 
     radius_m: float = PROPELLER_DIAMETER_M / 2.0
@@ -42,6 +48,8 @@ class PropellerSpec:
     hub_ratio: float = 0.30
     blade_thickness_07_m: float = 0.105
     bollard_pitch_m: float | None = None
+    # the open-water curves (None: the B-series polynomials, `propeller.open_water`)
+    open_water_table: OpenWaterTable | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         require_range("propeller.radius_m", self.radius_m, low=0.0, unit="m")

@@ -16,7 +16,7 @@ from floebreak.propeller.ruleform import (
     OperatingProfile,
     fit_rule_form,
     miner_damage,
-    rule_n_ice,
+    result_load_count,
 )
 from floebreak.propeller.spec import propeller_pitch_angle_deg
 from floebreak.propeller.spectra import envelope, pitch_label, torque_ranges_above
@@ -141,23 +141,14 @@ def _rule_form(result, rates, profile: OperatingProfile | None, sn_curve: Basqui
     """Per pitch and quantity: the rule-form fit (`rule_form_entry`) and, with `sn_curve`, Miner's sum."""
     shape_rule = WEIBULL_SHAPE[result.options["weibull"]]
     rule = result.rule
-    rule_n = None
-    if rule is not None:
-        rule_n = rule_n_ice(
-            rule.polar_class, result.propeller.revolutions_per_s, result.options["rule_factor"]
-        )
+    count = result_load_count(result)
+    rule_n = None if count is None else count.n_ice_low
     per_hour = rates["loads_per_hour_per_propeller"] if rates else None
     out: dict[str, Any] = {
         "form": "P(X >= x) = exp(-(x/x_max)^k ln N) (notes §7.3, as recalled, verify against the rule text)",
-        "rule_n_ice": rule_n,
-        "rule_n_ice_inputs": None
-        if rule is None
-        else {
-            "polar_class": rule.polar_class,
-            "n_class": rule_n / result.options["rule_factor"] / result.propeller.revolutions_per_s,
-            "revolutions_per_s": result.propeller.revolutions_per_s,
-            "rule_factor_k1k2k3k4": result.options["rule_factor"],
-        },
+        "rule_n_ice": rule_n,  # per blade, the lower k_1 of a wing propeller
+        "rule_n_ice_high": None if count is None else count.n_ice_high,
+        "rule_n_ice_inputs": None if count is None else count.as_dict(),
         "operating_profile": None
         if profile is None
         else {
@@ -212,7 +203,10 @@ def build_summary(
     return {
         "options": dict(result.options),
         "propeller": {
-            **result.propeller.__dict__,
+            **{k: v for k, v in result.propeller.__dict__.items() if k != "open_water_table"},
+            "open_water_curves": "B-series (Oosterveld & van Oossanen 1975)"
+            if result.propeller.open_water_table is None
+            else f"table {result.propeller.open_water_table.source}",
             "pitch_m": result.propeller.pitch_m,
             "pitch_angle_07R_deg": propeller_pitch_angle_deg(result.propeller, "r07"),
             "pitch_angle_thesis_deg": propeller_pitch_angle_deg(result.propeller, "thesis_r_prop"),

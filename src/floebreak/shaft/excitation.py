@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from floebreak.errors import InputError, require_range
+from floebreak.propeller.ruleform import rule_impacts_per_cusp
 from floebreak.propeller.spec import MAX_PROPELLER_RPM
 
 MIN_SAMPLES_PER_BLADE_PASSAGE = 20
@@ -77,8 +78,7 @@ def arrival_times_s(bow_x_m, speed_m_s: float, lead_s: float = 2.0) -> np.ndarra
 
 def impacts_per_cusp(thickness_m, blades: int) -> np.ndarray:
     """Z·N_Q blade impacts with N_Q = 2 h revolutions (h in m; physics-notes §7.3), at least 1."""
-    h = np.asarray(thickness_m, dtype=float)
-    return np.maximum(1, np.rint(blades * 2.0 * h)).astype(np.int64)
+    return rule_impacts_per_cusp(thickness_m, blades)
 
 
 def milling_starts(first_passage, n_impacts) -> np.ndarray:

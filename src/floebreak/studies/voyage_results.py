@@ -491,7 +491,7 @@ def load_model_record(result, analysis: VoyageAnalysis) -> dict[str, Any]:
     """The load model, transport (fraction reaching), rule and options of the voyage's propeller analysis
     (`voyage_propeller`'s result, or None without runs: the defaults)."""
     from floebreak.propeller.rates import RateBasis
-    from floebreak.propeller.ruleform import rule_n_ice
+    from floebreak.propeller.ruleform import result_load_count
     from floebreak.propeller.spec import PropellerSpec
 
     n_propellers = analysis.n_propellers or RateBasis().n_propellers
@@ -514,7 +514,7 @@ def load_model_record(result, analysis: VoyageAnalysis) -> dict[str, Any]:
             **result.rule.as_dict(),
             "force_kn": result.rule.backward_force_n / 1e3,
             "torque_knm": result.rule.max_torque_nm / 1e3,
-            "n_ice": rule_n_ice(result.rule.polar_class, result.propeller.revolutions_per_s),
+            "n_ice": result_load_count(result).n_ice_low,  # per blade, the lower k_1 of a wing propeller
         }
     per_run = {e.basis.n_propellers for e in result.exposures.values()}
     transport = {k: v for k, v in summary["transport"].items() if k != "by_run"}
