@@ -191,6 +191,7 @@ def propeller(
             torque_limit_knm,
             sn_curve=curve,
             transport_settings=transport_option(transport_parameters),
+            transport=transport,
             progress=progress,
         )
     # forked after the shaft analysis, whose openTorsion imports matplotlib: the workers inherit it; one
@@ -273,6 +274,7 @@ def _shaft_analysis(
     torque_limit_knm=None,
     sn_curve=None,
     transport_settings=None,
+    transport=None,
     progress=None,
 ):
     """The `propeller` command's shaft analysis, computed (not written) before anything is written; None
@@ -309,6 +311,7 @@ def _shaft_analysis(
         torque_limit_knm=torque_limit_knm,
         sn_curve=sn_curve,
         transport_settings=transport_settings,
+        transport=transport,
         progress=progress,
     )
 
