@@ -9,10 +9,11 @@ loads per hour per propeller, the design ice torque of propeller 1 at the spec's
 Q_peak of excitation case 1, each as the analysis' own value and the median with its 5–95 % band over the
 flow transport's parameter draws (summary.json "spread", shaft/summary.json "q_peak_spread"). The
 sensitivity rows set each transport parameter to ±10 % on the h = 0.4 m, 3 m/s run (a range: both ends).
-`--csv FILE` also writes every row (part, label, the numbers).
+`--csv FILE` also writes every row (part, label, the numbers); `--reuse` keeps a point's propeller output
+where one was written (to finish an interrupted sweep).
 
     python scripts/load_sweep.py --out DIR [--length-m 120] [--part thickness|speed|sensitivity|all]
-        [--transport flow|hull] [--csv FILE]
+        [--transport flow|hull] [--csv FILE] [--reuse]
 """
 
 from __future__ import annotations
@@ -72,12 +73,14 @@ def _run(out: Path, thickness: float, speed: float, length: float) -> Path:
     return run
 
 
-def _loads(run: Path, speed: float, tag: str, *extra) -> dict:
+def _loads(run: Path, speed: float, tag: str, *extra, reuse: bool = False) -> dict:
     out = run / f"p_{tag}"
-    _floebreak(
-        "propeller", run, "--out", out, "--overwrite", "--quiet", "--shaft-line", "agulhas_ii",
-        "--speed-m-s", speed, *DESIGN_ARGS, *extra,
-    )  # fmt: skip
+    done = (out / "summary.json").exists() and (out / "shaft" / "summary.json").exists()
+    if not (reuse and done):
+        _floebreak(
+            "propeller", run, "--out", out, "--overwrite", "--quiet", "--shaft-line", "agulhas_ii",
+            "--speed-m-s", speed, *DESIGN_ARGS, *extra,
+        )  # fmt: skip
     summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
     shaft = json.loads((out / "shaft" / "summary.json").read_text(encoding="utf-8"))
     spread = summary.get("spread") or {}
@@ -158,6 +161,7 @@ def main(argv=None) -> None:
     parser.add_argument("--part", choices=("thickness", "speed", "sensitivity", "all"), default="all")
     parser.add_argument("--transport", choices=("hull", "flow"), default="flow")
     parser.add_argument("--csv", type=Path, default=None)
+    parser.add_argument("--reuse", action="store_true", help="keep a point's propeller output if written")
     args = parser.parse_args(argv)
     transport, rows = ("--transport", args.transport), []
     args.out.mkdir(parents=True, exist_ok=True)
@@ -165,21 +169,26 @@ def main(argv=None) -> None:
         print(HEADER.format("h [m] at 3 m/s"))
         for h in THICKNESSES_M:
             run = _run(args.out, h, 3.0, args.length_m)
-            _emit(rows, "thickness", h, _loads(run, 3.0, args.transport, *transport))
+            _emit(rows, "thickness", h, _loads(run, 3.0, args.transport, *transport, reuse=args.reuse))
     if args.part in ("speed", "all"):
         for h in (0.4, 1.0):
             print(HEADER.format(f"V [m/s] at h = {h} m"))
             for v in SPEEDS_M_S:
                 run = _run(args.out, h, v, args.length_m)
-                _emit(rows, f"speed_h{h:g}", v, _loads(run, v, args.transport, *transport))
+                _emit(rows, f"speed_h{h:g}", v, _loads(run, v, args.transport, *transport, reuse=args.reuse))
     if args.part in ("sensitivity", "all"):
         run = _run(args.out, 0.4, 3.0, args.length_m)
         print(HEADER.format("parameter at h = 0.4 m, 3 m/s"))
-        _emit(rows, "sensitivity", "default", _loads(run, 3.0, f"{args.transport}_default", *transport))
+        _emit(
+            rows,
+            "sensitivity",
+            "default",
+            _loads(run, 3.0, f"{args.transport}_default", *transport, reuse=args.reuse),
+        )
         for key, value in SENSITIVITY.items():
             for factor in (0.9, 1.1):
                 tag = f"{args.transport}_{key}_{factor:g}"
-                result = _loads(run, 3.0, tag, *transport, *_settings(key, value, factor))
+                result = _loads(run, 3.0, tag, *transport, *_settings(key, value, factor), reuse=args.reuse)
                 _emit(rows, "sensitivity", f"{key} × {factor:g}", result)
     if args.csv is not None and rows:
         _write_csv(args.csv, rows)

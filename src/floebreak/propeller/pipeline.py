@@ -408,15 +408,17 @@ def analyse_cusp_loads(
     result.summary.update(build_summary(result, table_info, operating_profile, sn_curve))
     _complete_summary(result.summary, reach_info, table_info, rated, rule, placement)
     spread_args = (exposures, transport, transport_settings, rated, speed, n_draws)
-    result.summary |= {"spread": _spread(result, columns, transports, *spread_args)} if transports else {}
+    result.summary.update(_spread(result, columns, transports, *spread_args))
     _report(progress, "summary")
     return result
 
 
 def _spread(result, columns, transports, exposures, transport, settings, rated, speed, n_draws) -> dict:
-    """The summary's "spread" (`spread.load_spread`): each transported run's own draw and, for the flow
-    transport, `n_draws − 1` more; the per-cusp loads of a draw from the analysis' load model on that draw's
-    engaged intervals."""
+    """{"spread": …} (`spread.load_spread`; {} without transported runs): each transported run's own draw
+    and, for the flow transport, `n_draws − 1` more; the per-cusp loads of a draw from the analysis' load
+    model on that draw's engaged intervals."""
+    if not transports:
+        return {}
     spec, options = result.propeller, result.options
     settings = settings or TransportSettings()
     extra = {}
@@ -451,7 +453,7 @@ def _spread(result, columns, transports, exposures, transport, settings, rated, 
         profile_hours=profile.get("hours"),
     )
     spread["transport"] = transport
-    return spread
+    return {"spread": spread}
 
 
 # the steps of `analyse_cusp_loads` that its `progress` callback is told of, in order
