@@ -10,15 +10,18 @@ Q_peak of excitation case 1, each as the analysis' own value and the median with
 flow transport's parameter draws (summary.json "spread", shaft/summary.json "q_peak_spread"). The
 sensitivity rows set each transport parameter to ±10 % on the h = 0.4 m, 3 m/s run (a range: both ends).
 `--csv FILE` also writes every row (part, label, the numbers); `--reuse` keeps a point's propeller output
-where one was written (to finish an interrupted sweep).
+where one was written (to finish an interrupted sweep); `--check` prints the sweep's checks (`checks`) from
+written CSVs.
 
     python scripts/load_sweep.py --out DIR [--length-m 120] [--part thickness|speed|sensitivity|all]
         [--transport flow|hull] [--csv FILE] [--reuse]
+    python scripts/load_sweep.py --out DIR --check FILE.csv [FILE.csv …]
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import subprocess
 import sys
@@ -154,6 +157,72 @@ def _write_csv(path: Path, rows: list) -> None:
         writer.writerows(rows)
 
 
+def _verdict(ok: bool) -> str:
+    return "PASS" if ok else "FAIL"
+
+
+def _ratio(a: float, b: float) -> float:
+    return max(a, b) / min(a, b) if min(a, b) > 0 else float("inf")
+
+
+def checks(rows: list[dict]) -> list[str]:
+    """The sweep's checks on the CSV rows (medians; numbers as text): loads per hour > 0 at every thickness
+    and speed; the design torque's median at no thickness below the 5 % end of a thinner point's band;
+    neighbouring thickness or speed points within 2× in loads per hour and shaft Q_peak; each sensitivity
+    row within 2× of the default in all three outputs. One line per check: PASS or FAIL, with the worst
+    case."""
+    out = []
+    by_part: dict[str, list[dict]] = {}
+    for r in rows:
+        by_part.setdefault(r["part"], []).append(r)
+    sweeps = {k: v for k, v in by_part.items() if k != "sensitivity"}
+    lowest = min(
+        (float(r["loads_per_hour_median"]), r["part"], r["label"]) for v in sweeps.values() for r in v
+    )
+    out.append(
+        f"{_verdict(lowest[0] > 0)} loads per hour > 0: lowest median {lowest[0]:.0f} "
+        f"({lowest[1]} {lowest[2]})"
+    )
+    thick = by_part.get("thickness", [])
+    falls = [
+        (float(b["design_q_median_knm"]), float(a["design_q_p5_knm"]), a["label"], b["label"])
+        for i, a in enumerate(thick)
+        for b in thick[i + 1 :]
+        if float(b["design_q_median_knm"]) < float(a["design_q_p5_knm"])
+    ]
+    worst = min(falls, key=lambda f: f[0] / f[1]) if falls else None
+    out.append(
+        "PASS design torque does not fall with thickness beyond its band"
+        if not falls
+        else f"FAIL design torque falls with thickness beyond its band at {len(falls)} pairs; worst: median "
+        f"{worst[0]:.0f} kN·m at h = {worst[3]} m < 5 % end {worst[1]:.0f} kN·m at h = {worst[2]} m"
+    )
+    for key, name in (
+        ("loads_per_hour_median", "loads per hour"),
+        ("shaft_q_peak_median_knm", "shaft Q_peak"),
+    ):
+        pairs = [
+            (_ratio(float(a[key]), float(b[key])), part, a["label"], b["label"])
+            for part, v in sweeps.items()
+            for a, b in itertools.pairwise(v)
+        ]
+        r = max(pairs)
+        out.append(
+            f"{_verdict(r[0] <= 2.0)} neighbours within 2× in {name}: largest {r[0]:.2f} "
+            f"({r[1]} {r[2]}→{r[3]})"
+        )
+    sens = by_part.get("sensitivity", [])
+    if sens:
+        base = sens[0]
+        keys = ("loads_per_hour_median", "design_q_median_knm", "shaft_q_peak_median_knm")
+        moves = [(_ratio(float(r[k]), float(base[k])), r["label"], k) for r in sens[1:] for k in keys]
+        m = max(moves)
+        out.append(
+            f"{_verdict(m[0] <= 2.0)} no sensitivity output moves > 2×: largest {m[0]:.2f} ({m[1]}, {m[2]})"
+        )
+    return out
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, required=True)
@@ -162,7 +231,18 @@ def main(argv=None) -> None:
     parser.add_argument("--transport", choices=("hull", "flow"), default="flow")
     parser.add_argument("--csv", type=Path, default=None)
     parser.add_argument("--reuse", action="store_true", help="keep a point's propeller output if written")
+    parser.add_argument("--check", type=Path, nargs="+", default=None, help="only check these CSVs")
     args = parser.parse_args(argv)
+    if args.check:
+        import csv
+
+        rows = [
+            r
+            for path in args.check
+            for r in csv.DictReader(line for line in path.open(encoding="utf-8") if not line.startswith("#"))
+        ]
+        print("\n".join(checks(rows)))
+        return
     transport, rows = ("--transport", args.transport), []
     args.out.mkdir(parents=True, exist_ok=True)
     if args.part in ("thickness", "all"):
