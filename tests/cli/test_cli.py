@@ -184,7 +184,7 @@ def check_demo_propeller(out: Path, n_cusps: int, stdout: str) -> None:
     summary = json.loads((prop / "summary.json").read_text())
     # the default profile: the blade milling model at 0 % and the spec's pitch, the transport model decides
     # which cusps reach a propeller; those that do not carry no load
-    assert summary["load_model"]["name"] == "milling" and summary["transport"]["rule"] == "hull"
+    assert summary["load_model"]["name"] == "milling" and summary["transport"]["rule"] == "flow"
     n_reaching = summary["transport"]["n_reaching"]
     assert 0 < n_reaching < n_cusps
     assert len(summary["transport"]["fraction_reaching_per_propeller"]) == 2

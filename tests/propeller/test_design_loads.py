@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from floebreak.errors import InputError
-from floebreak.propeller.design_loads import SimulatedLoads, design_load_tables, design_loads, simulated_loads
+from floebreak.propeller.design_loads import design_load_tables, design_loads
+from floebreak.propeller.design_values import SimulatedLoads, simulated_loads
 from floebreak.propeller.pipeline import analyse_cusp_loads
 from floebreak.propeller.rates import RateBasis, RunExposure
 from floebreak.propeller.ruleform import OperatingProfile, RuleArrangement

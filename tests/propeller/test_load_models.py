@@ -128,7 +128,7 @@ def test_fem_tables_take_precedence_and_bad_choices():
         with pytest.raises(InputError, match="centroid_x_m, centroid_y_m"):
             analyse_cusp_loads(no_centroids, transport=transport)
     assert propeller_defaults("thesis") == ("fem", "all")
-    assert propeller_defaults("default") == ("milling", "hull")
+    assert propeller_defaults("default") == ("milling", "flow")
 
 
 def test_rated_torque_and_torque_warnings_by_hand():
@@ -226,7 +226,7 @@ def test_bad_input_exits_2_and_writes_nothing(tmp_path, cli, args, key):
 
 
 @pytest.mark.parametrize(
-    ("profile", "model", "rule"), [("default", "milling", "hull"), ("thesis", "fem", "all")]
+    ("profile", "model", "rule"), [("default", "milling", "flow"), ("thesis", "fem", "all")]
 )
 def test_scenario_profile_chooses_the_path(tmp_path, cli, profile, model, rule):
     """A tiny reference run (60 m of field) per profile: the demo's propeller analysis follows it."""

@@ -31,6 +31,9 @@ def test_overflowing_horizon_is_null_and_never():
     }
     assert json.loads(json.dumps(out))["hours_until_rule_maximum"] is None
     assert horizon_text(out["hours_until_rule_maximum"], out["rule_maximum_never"]) == "never"
+    # nearly equal loads give a steep fit (k ≈ 215): (rule max / λ)^k itself overflows a float
+    steep = rule_maximum_horizon(795e3, 59.2, 214.6, per_hour=198.0)  # (1.3e4)^214.6 ≈ 10^885
+    assert steep["rule_maximum_never"] is True and steep["loads_until_rule_maximum"] is None
 
 
 def test_horizon_beyond_a_million_years_is_never():

@@ -59,16 +59,19 @@ def _run(path):
 def test_transport_parameter_reaches_the_shaft_run(tmp_path, cli):
     run = _run(tmp_path / "run")
     summaries = {}
+    # the kinematic transport (`--transport hull`, for the drive model too): the bilge geometry above
     for name, extra in (("default", []), ("bilge", ["--transport-parameter", "hull.bilge_radius_m=6"])):
         out = tmp_path / name
         code, _, err = cli(
-            "propeller", run, "--out", out, "--shaft-line", "agulhas_ii", "--speed-m-s", "3", *extra
-        )
+            "propeller", run, "--out", out, "--shaft-line", "agulhas_ii", "--speed-m-s", "3",
+            "--transport", "hull", *extra,
+        )  # fmt: skip
         assert code == 0, err
         summaries[name] = json.loads((out / "shaft" / "summary.json").read_text())
     assert summaries["default"]["transport"]["reaching_port"] == Y_M.size
     assert summaries["bilge"]["transport"]["reaching_port"] == int(INBOARD.sum())
     assert summaries["bilge"]["transport"]["settings"]["hull.bilge_radius_m"] == 6.0
+    assert summaries["default"]["transport"]["rule"] == "hull"
     impacts = [summaries[n]["drive"]["cases"]["1"]["impacts"] for n in ("default", "bilge")]
     assert impacts[1] < impacts[0]  # fewer cusps milled, fewer blade impacts
 
@@ -104,3 +107,26 @@ def test_milled_blocks_lie_on_the_engaged_interval_of_their_cross_section():
     tip = milled_cusps(_columns(), speed_m_s=3.0, engaged=False)
     assert np.isnan(tip.block.inner_radius_m).all() and tip.counts["placement"] == "tip placement"
     assert engaged.impact_torque_n_m(0, 140.0) != tip.impact_torque_n_m(0, 140.0)
+
+
+def test_drive_model_follows_the_default_flow_transport(tmp_path, cli):
+    """The default profile's drive model mills the cusps the flow transport sends to the port propeller
+    at the line's operating point (as `milled_cusps(flow_point=)`), and gives the first case's Q_peak over
+    the transport's draws, the analysis' own draw first."""
+    from floebreak.app.inputs import load_shaft_line
+    from floebreak.propeller.operating import shaft_operating_point
+
+    run = _run(tmp_path / "run")
+    out = tmp_path / "p"
+    code, stdout, err = cli("propeller", run, "--out", out, "--shaft-line", "agulhas_ii", "--speed-m-s", "3")
+    assert code == 0, err
+    summary = json.loads((out / "shaft" / "summary.json").read_text())
+    point = shaft_operating_point(load_shaft_line("agulhas_ii"), 3.0, None)[0]
+    expected = milled_cusps(_columns(), speed_m_s=3.0, flow_point=point)
+    assert summary["transport"]["rule"] == "flow"
+    assert summary["transport"]["reaching_port"] == expected.arrival_s.size
+    spread = summary["q_peak_spread"]
+    assert spread["case"] == 1 and spread["n_draws"] == len(spread["samples_knm"]) == 3
+    assert spread["samples_knm"][0] == pytest.approx(summary["q_peak_knm"]["1"]["q_peak_knm"])
+    assert spread["q_peak_knm"]["p5"] <= spread["q_peak_knm"]["median"] <= spread["q_peak_knm"]["p95"]
+    assert "over 3 draws of the flow transport" in stdout

@@ -126,18 +126,36 @@ TINY_LOG = (
 )
 
 
-def _reaching(run_dir, speed_m_s, settings=None):
-    """Cusps of a run that reach a propeller: the transport model on its cusps.parquet (two shafts)."""
+def _reaching(run_dirs, speeds, settings=None, n_propellers=2):
+    """Cusps of each run that reach a propeller: the flow transport on its cusps.parquet (`n_propellers`
+    discs), each run at its speed's controlled operating point, its Generator seeded with (0, its rank among
+    the runs' names), as the pooled propeller analysis of the default profile does."""
     import pyarrow.parquet as pq
 
-    from floebreak.propeller.transport import TransportSettings, transport_cusp_table
+    from floebreak.propeller.flow_transport import flow_transport_cusps
+    from floebreak.propeller.load_models import drive_rated_torque_n_m
+    from floebreak.propeller.operating import controlled_point
+    from floebreak.propeller.transport import TransportSettings
 
-    settings = settings or TransportSettings()
-    columns = {
-        k: v.to_numpy() for k, v in zip(*_columns(pq.read_table(run_dir / "cusps.parquet")), strict=True)
-    }
-    moved = transport_cusp_table(columns, speed_m_s=speed_m_s, hull=settings.hull, params=settings.params)
-    return int(np.sum(moved.propeller_index >= 0))
+    settings, spec = settings or TransportSettings(), PropellerSpec()
+    names = sorted(d.name for d in run_dirs)
+    out = []
+    for run_dir, speed in zip(run_dirs, speeds, strict=True):
+        columns = [c.to_numpy() for c in _columns(pq.read_table(run_dir / "cusps.parquet"))[1]]
+        order = np.argsort(columns[0], kind="stable")  # the analysis follows a run's cusps by bow position
+        point = controlled_point(spec, speed, drive_rated_torque_n_m(spec))
+        moved = flow_transport_cusps(
+            *(c[order] for c in columns),
+            speed_m_s=speed,
+            induced_velocity_m_s=point.point.induced_velocity_m_s,
+            wake_fraction=point.wake_fraction,
+            rng=np.random.default_rng([0, names.index(run_dir.name)]),
+            hull=settings.hull,
+            arrangement=settings.arrangement(n_propellers, spec.radius_m),
+            params=settings.params,
+        )
+        out.append(int(np.sum(moved.propeller_index >= 0)))
+    return out
 
 
 def _columns(table):
@@ -159,9 +177,9 @@ def test_tiny_voyage_end_to_end_and_resume(tmp_path, cli):
     assert summary["cusps_voyage"] == pytest.approx(expected)
     hours = 4 / 60
     assert summary["cusps_per_hour"] == pytest.approx(expected / hours)
-    # default profile: the milling model and the hull transport, as `floebreak propeller`
-    assert summary["load_model"]["load_model"] == "milling" and summary["transport"]["rule"] == "hull"
-    reaching = [_reaching(d, v) for d, v in zip(run_dirs, (0.25, 0.5), strict=True)]
+    # default profile: the milling model and the flow transport, as `floebreak propeller`
+    assert summary["load_model"]["load_model"] == "milling" and summary["transport"]["rule"] == "flow"
+    reaching = _reaching(run_dirs, (0.25, 0.5))
     assert 0 < sum(reaching) < runs[0]["n_cusps"] + runs[1]["n_cusps"]
     per_propeller = (reaching[0] * weights[0] + reaching[1] * weights[1]) / 2  # two shafts, one load each
     for case in summary["cases"]:
@@ -209,7 +227,11 @@ def _check_analysis_options(out, default, runs, reaching, weights, run_dirs):
     assert any("is an override" in w for w in override["warnings"])
     # --propellers 1 alone: the transport still decides, one propeller takes every cusp that reaches
     one = write_voyage_results(out, None, VoyageAnalysis(n_propellers=1))
-    assert one["transport"]["rule"] == "hull" and one["cases"]["operated"]["loads_per_hour"] > 0
+    alone = _reaching(run_dirs, (0.25, 0.5), n_propellers=1)
+    assert one["transport"]["rule"] == "flow" and one["transport"]["n_reaching"] == sum(alone)
+    assert one["cases"]["operated"]["loads_per_hour"] == pytest.approx(
+        (alone[0] * weights[0] + alone[1] * weights[1]) / hours
+    )
     # --polar-class PC5: the rule's Q_max, F_b and N_ice in the summary and the rule-form entries
     rule = ur_i3_loads(PropellerSpec(), "PC5")
     pc5 = write_voyage_results(out, None, VoyageAnalysis(polar_class="PC5"))
@@ -221,8 +243,8 @@ def _check_analysis_options(out, default, runs, reaching, weights, run_dirs):
     # --transport-parameter shoulder_cusps_submerge=true: shoulder cusps go under the hull too
     values = {"shoulder_cusps_submerge": "true", "slip_factor": "0.8"}
     moved = write_voyage_results(out, None, VoyageAnalysis(transport=values))
-    now = [_reaching(d, v, transport_settings(values)) for d, v in zip(run_dirs, (0.25, 0.5), strict=True)]
-    assert moved["transport"]["n_reaching"] == sum(now) >= sum(reaching)
+    now = _reaching(run_dirs, (0.25, 0.5), transport_settings(values))
+    assert moved["transport"]["n_reaching"] == sum(now)
     assert moved["transport"]["settings"]["slip_factor"] == 0.8
     # --shaft-line: the shaft analysis of each period's runs, pooled by time
     shaft = write_voyage_results(out, None, VoyageAnalysis(shaft_line="agulhas_ii"))["shaft"]

@@ -25,6 +25,7 @@ from floebreak.propeller.pipeline import PropellerResult
 from floebreak.propeller.ruleform import result_load_count
 from floebreak.propeller.runs import RunInputs, run_inputs, transit_distance_m
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM, figure_curves, spectrum_curves
+from floebreak.propeller.spread import BAND_KEYS
 
 
 def run_transit_distance_m(run_dir: str | os.PathLike[str]) -> float | None:
@@ -124,7 +125,19 @@ def design_load_summary(result: PropellerResult) -> list[dict] | None:
     """The summary's "design_loads" entry: per propeller the design-load table with the basis of every
     number (`floebreak.propeller.design_loads.design_load_tables`); None without a polar class."""
     tables = design_load_tables(result)
-    return [table.as_dict() for table in tables] if tables else None
+    if not tables:
+        return None
+    bands = {
+        (b["propeller"], b["pitch_percent"]): b
+        for b in (result.summary.get("spread") or {}).get("design_torque_kn_m", [])
+        if "median" in b
+    }
+    out = [table.as_dict() for table in tables]
+    for entry in out:  # the design torque's median and 5–95 % band over the transport's draws and fields
+        for row in entry["rows"]:
+            found = bands.get((entry["propeller"], row["pitch_percent"]))
+            row["design_torque_band_kn_m"] = None if found is None else [found[k] for k in BAND_KEYS]
+    return out
 
 
 def propeller_figures(result: PropellerResult) -> dict[str, Any]:

@@ -10,6 +10,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from floebreak.app.figure_calls import drawn, figures_in_worker
 from floebreak.app.inputs import load_shaft_line, measured_series, resolve_fem_tables
 from floebreak.errors import InputError, require_range
@@ -19,12 +21,14 @@ from floebreak.propeller.loads.fem import DEFAULT_VOLUME_BASIS
 from floebreak.propeller.measured import TorqueSeries
 from floebreak.propeller.ruleform import BasquinCurve
 from floebreak.propeller.spectra import DENSITY_THRESHOLD_PER_KNM
+from floebreak.propeller.spread import SPREAD_DRAWS, band_text
 from floebreak.propeller.transport import TransportSettings
 from floebreak.shaft.analysis import (
     CUSP_INPUT_COLUMNS,
     MILLING_INPUT_COLUMNS,
     PROFILE_SHAFT_MODEL,
     SHAFT_MODELS,
+    TRANSPORT_INPUT_COLUMNS,
     ShaftResult,
     cusp_torque_inputs,
     milled_cusps,
@@ -213,6 +217,12 @@ class PreparedShaftAnalysis:
             )
         if "no_ice_load" in self.extra_summary:
             lines.append(f"warning: {self.extra_summary['no_ice_load']}")
+        spread = self.extra_summary.get("q_peak_spread")
+        if spread:
+            lines.append(
+                f"shaft Q_peak, case {spread['case']}, over {spread['n_draws']} draws of the flow transport: "
+                f"median {band_text(spread['q_peak_knm'])} kN·m"
+            )
         for c, d in zip(r.cases, r.drive_summaries, strict=False):
             lines.append(
                 f"case {c}: min {d['min_rpm']:.1f} rpm, peak motor torque "
@@ -264,44 +274,101 @@ def _drive_response(
     progress=None,
     wake_fraction=None,
     open_water_table=None,
+    transport=None,
 ):
-    """The drive model on the cusps the transport (`transport_settings`) sends to the port propeller
-    (`milled_cusps`)."""
+    """The drive model on the cusps the transport (`transport`, default the run's profile's:
+    `config.analysis.propeller_defaults`; with `transport_settings`) sends to the port propeller
+    (`milled_cusps`); "flow" at the propeller's operating point, "all": every cusp."""
+    from floebreak.config.analysis import propeller_defaults
+    from floebreak.propeller.load_models import TRANSPORTS, check_choice
     from floebreak.propeller.operating import shaft_operating_point  # scipy.optimize: only when run
 
+    if transport is None:
+        transport = propeller_defaults(run_profile(run_dir))[1]
+    check_choice("transport", transport, TRANSPORTS)
     # the propeller's own operating point: its mean torque is the model's, a measured one only compared
     point, comparison = shaft_operating_point(
         line, speed_m_s, mean_torque_n_m, wake_fraction, open_water_table=open_water_table
     )
+    columns = read_run_cusps(run_dir, MILLING_INPUT_COLUMNS)
     milled = milled_cusps(
-        read_run_cusps(run_dir, MILLING_INPUT_COLUMNS),
+        columns,
         speed_m_s=speed_m_s,
-        transport_settings=transport_settings,  # the default profile's kinematic transport
+        transport=transport != "all",
+        transport_settings=transport_settings,
+        flow_point=point if transport == "flow" else None,  # the cusps followed at this operating point
     )
     mean_torque_n_m = None if point.torque_limited else point.point.torque_n_m
+    drive = {
+        "rpm": rpm,
+        "mean_torque_n_m": mean_torque_n_m,
+        "torque_limit_n_m": None if torque_limit_knm is None else 1e3 * torque_limit_knm,
+        "station": station,
+    }
     result = shaft_drive_response(
         milled.arrival_s,
         milled.n_impacts,
         milled.impact_torque_n_m,
         line,
         speed_m_s=speed_m_s,
-        rpm=rpm,
-        mean_torque_n_m=mean_torque_n_m,
-        torque_limit_n_m=None if torque_limit_knm is None else 1e3 * torque_limit_knm,
-        station=station,
         cases=tuple(cases or ()),
         n_cusps=milled.n_cusps_run,
         progress=progress,
+        **drive,
     )
     result = with_stall_positions(result, milled)
     extra = {
         "torque_model": "milling (propeller.milling.impact_loads at the rpm of each blade passage)",
-        "transport": milled.counts,
+        "transport": milled.counts | {"rule": transport},
         "propeller_operating_point": point.as_dict() | comparison,
     }
+    if transport == "flow" and result.cases:
+        spread = (columns, speed_m_s, transport_settings, point, line, result, SPREAD_DRAWS)
+        extra["q_peak_spread"] = _q_peak_spread(*spread, **drive)
     if milled.counts.get("reaching_port", 0) == 0:  # zero ice load must be said, not shown as a result
         extra["no_ice_load"] = NO_ICE_LOAD
     return result, extra
+
+
+def _q_peak_spread(columns, speed_m_s, settings, point, line, result, n_draws, **drive) -> dict:
+    """Q_peak of the first excitation case over `n_draws` draws of the flow transport: the analysis' own and
+    `n_draws − 1` more (`flow_transport.flow_draws`, seeded (0, 0, 1) as the propeller analysis' further
+    draws of its first run), each milled and run through the drive model as the first; its median and
+    5–95 % band (`propeller.spread.band`)."""
+    from floebreak.propeller.flow_transport import flow_draws
+    from floebreak.propeller.spec import PropellerSpec
+    from floebreak.propeller.spread import band
+
+    case, settings, spec = result.cases[0], settings or TransportSettings(), PropellerSpec()
+    peaks = [result.peaks()[case]["q_peak_n_m"] / 1e3]
+    draws = flow_draws(
+        [columns[k] for k in TRANSPORT_INPUT_COLUMNS],
+        n_draws - 1,
+        np.random.default_rng([0, 0, 1]),
+        speed_m_s=speed_m_s,
+        induced_velocity_m_s=point.point.induced_velocity_m_s,
+        wake_fraction=point.wake_fraction,
+        hull=settings.hull,
+        arrangement=settings.arrangement(2, spec.radius_m),
+        params=settings.params,
+        flow=settings.flow,
+    )
+    for moved in draws:
+        milled = milled_cusps(
+            columns, speed_m_s=speed_m_s, transport_settings=settings, flow_point=point, moved=moved
+        )
+        again = shaft_drive_response(
+            milled.arrival_s,
+            milled.n_impacts,
+            milled.impact_torque_n_m,
+            line,
+            speed_m_s=speed_m_s,
+            cases=(case,),
+            n_cusps=milled.n_cusps_run,
+            **drive,
+        )
+        peaks.append(again.peaks()[case]["q_peak_n_m"] / 1e3)
+    return {"case": case, "n_draws": n_draws, "q_peak_knm": band(peaks), "samples_knm": peaks}
 
 
 def shaft_analysis_of_run(
@@ -328,6 +395,7 @@ def shaft_analysis_of_run(
     excitation: str = "simulation",
     polar_class: str | None = None,
     open_water_table=None,
+    transport: str | None = None,
 ) -> PreparedShaftAnalysis:
     """Read a run's cusps, the shaft line and the measured series; compute the shaft analysis. Nothing is
     written (write with ``.write(out_dir)``). The ship speed: `speed_m_s`, else the run's resolved
@@ -335,11 +403,11 @@ def shaft_analysis_of_run(
     transport sends to the port propeller, milled by the drive model) or "linear" (every cusp, FEM torque,
     constant rpm); default: the run's profile's (default → drive, thesis → linear). `sn_curve`: a torque
     S–N curve for Miner's damage of the shaft torque's rainflow cycles (`shaft_fatigue`). `torque_csv`: a
-    path or a `TorqueSeries`. `transport_settings`: the transport's hull and parameters for the drive model
-    (those of the propeller analysis, `--transport-parameter`; default `TransportSettings()`).
-    `progress(stage, done, total)` is told of each excitation case computed. `excitation` "rule": the rule's
-    four excitation cases and their resonance sweep beside the simulation (`rule_baseline`; `polar_class`
-    default PC5 for the built-in Agulhas II line, required for another). `wake_fraction` and
+    path or a `TorqueSeries`. `transport` ("flow" | "hull" | "all", default the run's profile's) and its
+    `transport_settings` (`--transport-parameter`): the drive model's. `progress(stage, done, total)` is
+    told of each excitation case computed. `excitation` "rule": the rule's four excitation cases and their
+    resonance sweep beside the simulation (`rule_baseline`; `polar_class` default PC5 for the built-in
+    Agulhas II line, required for another). `wake_fraction` and
     `open_water_table` (`propeller.open_water.OpenWaterTable`) set the open-water operating point."""
     model = shaft_model_of_run(run_dir, shaft_model)
     rule_class = rule_polar_class(excitation, polar_class, shaft_line)
@@ -352,7 +420,8 @@ def shaft_analysis_of_run(
     curves = {"wake_fraction": wake_fraction, "open_water_table": open_water_table}
     if model == "drive":
         drive_args = (rpm, mean_torque_n_m, torque_limit_knm, station, cases, transport_settings)
-        result, more = _drive_response(run_dir, line, speed_m_s, *drive_args, progress=progress, **curves)
+        more_args = {"progress": progress, "transport": transport}
+        result, more = _drive_response(run_dir, line, speed_m_s, *drive_args, **more_args, **curves)
         extra |= more
     else:
         fem = {"fem_table": fem_table, "pitch_percent": pitch_percent, "interpolation": interpolation}

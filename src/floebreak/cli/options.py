@@ -113,8 +113,9 @@ TransportOption = Annotated[
     str | None,
     typer.Option(
         "--transport",
-        help="which cusps reach a propeller: hull (transport model) | all (every cusp); default: the runs' "
-        "profile (default → hull, thesis → all); --fraction-reaching overrides both",
+        help="which cusps reach a propeller: flow (cusps followed under the hull) | hull (kinematic "
+        "transport) | all (every cusp); default: the runs' profile (default → flow, thesis → all); also the "
+        "shaft's drive model; --fraction-reaching overrides them",
     ),
 ]
 

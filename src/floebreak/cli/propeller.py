@@ -210,6 +210,7 @@ def propeller(
     shaft_options |= dict(tables=tables, torque_csv=torque_csv, interpolation=interpolation, beyond=beyond)
     shaft_options |= dict(shaft_model=shaft_model, torque_limit_knm=torque_limit_knm, sn_curve=curve)
     shaft_options |= dict(transport_settings=transport_option(transport_parameters), excitation=excitation)
+    shaft_options |= dict(transport=transport)
     with stage_progress("shaft", quiet) as progress:
         shaft = _shaft_analysis(
             run_or_study_dir, shaft_line, progress=progress, polar_class=polar_class, **shaft_options, **point
@@ -296,6 +297,7 @@ def _shaft_analysis(
     torque_limit_knm=None,
     sn_curve=None,
     transport_settings=None,
+    transport=None,
     progress=None,
     excitation="simulation",
     polar_class=None,
@@ -337,6 +339,7 @@ def _shaft_analysis(
         torque_limit_knm=torque_limit_knm,
         sn_curve=sn_curve,
         transport_settings=transport_settings,
+        transport=transport,
         progress=progress,
         excitation=excitation,
         polar_class=polar_class,

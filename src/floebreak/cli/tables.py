@@ -128,6 +128,9 @@ def design_load_tables(summary: dict) -> list[Table]:
         for label, key, spec, unit in DESIGN_ROWS:
             cells = [absent if absent and key in SIMULATED else fmt(row[key], spec) for row in entry["rows"]]
             table.add_row(label, *cells, unit)
+            if key == "design_torque_kn_m" and any(r.get("design_torque_band_kn_m") for r in entry["rows"]):
+                bands = [band_cell(r.get("design_torque_band_kn_m")) for r in entry["rows"]]
+                table.add_row("  median (5–95 %)", *bands, unit)
         origin = []
         for row in entry["rows"]:
             basis = row["basis"]["design Q"]
@@ -140,6 +143,25 @@ def design_load_tables(summary: dict) -> list[Table]:
         table.add_row("design values from", *origin, "")
         out.append(table)
     return out
+
+
+def band_cell(band) -> str:
+    """[p5, median, p95] as "median (p5–p95)", "–" without."""
+    return "–" if not band else f"{band[1]:.0f} ({band[0]:.0f}–{band[2]:.0f})"
+
+
+def spread_line(summary: dict) -> str | None:
+    """Loads per hour on one propeller as median and 5–95 % band (summary.json "spread"), None without."""
+    spread = summary.get("spread") or {}
+    rate = spread.get("loads_per_hour_per_propeller")
+    if not rate:
+        return None
+    draws = "draws of the flow transport's parameters" if spread.get("transport") == "flow" else "draw"
+    return (
+        f"loads per hour on one propeller over {spread['n_runs']} field(s) × {spread['n_draws_per_run']} "
+        f"{draws}: median {rate['median']:.0f}, 5–95 % {rate['p5']:.0f}–{rate['p95']:.0f} "
+        f"({rate['n_samples']} samples)"
+    )
 
 
 SIMULATED = {
@@ -233,6 +255,8 @@ def print_propeller_summary(summary: dict, folder: Path, quiet: bool) -> None:
                 f"{rates['loads_per_km_per_propeller']:.0f} per km on one propeller",
                 highlight=False,
             )
+        if spread_line(summary):
+            console.print(spread_line(summary), highlight=False, soft_wrap=True)
         for label, info in (summary.get("rule_form") or {}).items():
             miner = info.get("miner") if isinstance(info, dict) else None
             if miner:

@@ -6,6 +6,6 @@ from __future__ import annotations
 
 def propeller_defaults(profile: str | None) -> tuple[str, str]:
     """(load model, transport) of the propeller analysis under a scenario profile: thesis → the FEM tables,
-    every cusp reaches; otherwise (default) → the milling model and the kinematic transport model ("flow",
-    the cusps followed under the hull, is chosen with `--transport flow` until its sweep is checked)."""
-    return ("fem", "all") if profile == "thesis" else ("milling", "hull")
+    every cusp reaches; otherwise (default) → the milling model and the flow transport (the cusps followed
+    under the hull; the kinematic transport "hull" is chosen with `--transport hull`)."""
+    return ("fem", "all") if profile == "thesis" else ("milling", "flow")

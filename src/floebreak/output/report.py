@@ -278,6 +278,25 @@ WHICH_DESIGN_TORQUE = (
 )
 
 
+def _band(band) -> str:
+    """[p5, median, p95] as "median (p5–p95)", "–" without."""
+    return "–" if not band else f"{band[1]:.4g} ({band[0]:.4g}–{band[2]:.4g})"
+
+
+def _spread_part(summary: dict) -> list[str]:
+    """Loads per hour on one propeller as median and 5–95 % band (summary.json "spread")."""
+    spread = summary.get("spread") or {}
+    rate = spread.get("loads_per_hour_per_propeller")
+    if not rate:
+        return []
+    draws = "draws of the flow transport's parameters" if spread.get("transport") == "flow" else "draw"
+    return [
+        f"<p>Loads per hour on one propeller over {spread['n_runs']} field(s) × {spread['n_draws_per_run']} "
+        f"{html.escape(draws)}: median <b>{rate['median']:.4g}</b>, 5–95 % band {rate['p5']:.4g}–"
+        f"{rate['p95']:.4g} ({rate['n_samples']} samples).</p>"
+    ]
+
+
 def design_load_parts(design_loads: list[dict] | None) -> list[str]:
     """HTML of the design-load tables (summary.json "design_loads", one per propeller; quantities as rows,
     one column per pitch) and the basis of every number; a hint without a polar class (None)."""
@@ -299,6 +318,13 @@ def design_load_parts(design_loads: list[dict] | None) -> list[str]:
         for label, key, unit in _DESIGN_ROWS:
             cells = "".join(f"<td class='num'>{esc(_format(row[key]))}</td>" for row in rows)
             parts.append(f"<tr><td>{esc(label)}</td>{cells}<td>{esc(unit)}</td></tr>")
+            if key == "design_torque_kn_m" and any(r.get("design_torque_band_kn_m") for r in rows):
+                cells = "".join(
+                    f"<td class='num'>{esc(_band(r.get('design_torque_band_kn_m')))}</td>" for r in rows
+                )
+                parts.append(
+                    f"<tr><td>design ice torque Q, median (5–95 %)</td>{cells}<td>{esc(unit)}</td></tr>"
+                )
         parts.append("</table><details><summary>Basis of each number</summary><ul>")
         for row in rows:
             for number, text in row["basis"].items():
@@ -355,6 +381,7 @@ def propeller_parts(
         )
     else:
         parts.append("<p>No time base (transit distance unknown): densities only, no rates.</p>")
+    parts += _spread_part(summary)
     parts += _load_model_part(summary.get("load_model") or {})
     parts += _propeller_rows(summary)
     if "design_loads" in summary:  # a propeller analysis' (a voyage's pooled loads have none)
@@ -438,6 +465,14 @@ def _shaft_rows(summary: dict) -> list[str]:
         ]
         parts.append("<tr>" + "".join(f"<td class='num'>{esc(_format(c))}</td>" for c in cells) + "</tr>")
     parts.append("</table>")
+    spread = summary.get("q_peak_spread")
+    if spread and spread.get("q_peak_knm"):
+        q = spread["q_peak_knm"]
+        parts.append(
+            f"<p>Q_peak of case {esc(str(spread['case']))} over {spread['n_draws']} draws of the flow "
+            f"transport's parameters: median <b>{q['median']:.4g}</b> kN·m, 5–95 % band {q['p5']:.4g}–"
+            f"{q['p95']:.4g} kN·m.</p>"
+        )
     return parts
 
 

@@ -141,7 +141,14 @@ def _forces(bodies, masses, areas, buoyancy, hull, field, pos, vel):
 
 def step(bodies: CuspBodies, hull: HullSurface, field: FlowField, pos, vel, dt: float):
     """One semi-implicit step of every cusp (module docstring): new (pos, vel, contact)."""
-    masses, areas, buoyancy = bodies.masses_kg(), bodies.drag_areas_m2(), bodies.net_buoyancy_n()
+    derived = (bodies.masses_kg(), bodies.drag_areas_m2(), bodies.net_buoyancy_n())
+    return _step(bodies, derived, hull, field, pos, vel, dt)[:3]
+
+
+def _step(bodies: CuspBodies, derived, hull: HullSurface, field: FlowField, pos, vel, dt: float):
+    """`step` with the bodies' (masses, drag areas, net buoyancy) given, also returning the hull's normal
+    under the new positions."""
+    masses, areas, buoyancy = derived
     f0, c_d, c_f, u, contact, normal = _forces(bodies, masses, areas, buoyancy, hull, field, pos, vel)
     vel = (masses * vel + dt * (f0 + c_d * u)) / (masses + dt * (c_d + c_f[:, None]))
     into = np.minimum(np.sum(vel * normal, axis=1), 0.0)
@@ -153,7 +160,7 @@ def step(bodies: CuspBodies, hull: HullSurface, field: FlowField, pos, vel, dt: 
     normal = hull.normal(pos[:, 0], pos[:, 1])
     into = np.minimum(np.sum(vel * normal, axis=1), 0.0)
     vel = vel - np.where(above, into, 0.0)[:, None] * normal
-    return pos, vel, contact | above
+    return pos, vel, contact | above, normal
 
 
 @dataclass(frozen=True)
@@ -167,15 +174,14 @@ class FlowResult:
     velocity_m_s: np.ndarray
 
 
-def _held(bodies, field, pos, vel, contact, hull) -> np.ndarray:
-    """At rest on the flat part of the hull where the flow's drag cannot overcome static friction."""
+def _held(bodies, field, pos, vel, contact, normal, areas, buoyancy) -> np.ndarray:
+    """At rest on the flat part of the hull (`normal` under `pos`) where the flow's drag cannot overcome
+    static friction."""
     u = field.velocity(pos)
-    drag = (
-        0.5 * c.SEAWATER_DENSITY_KG_M3 * bodies.drag_coefficient * bodies.drag_areas_m2()[:, 0] * u[:, 0] ** 2
-    )
-    flat = hull.normal(pos[:, 0], pos[:, 1])[:, 2] > 0.999
+    drag = 0.5 * c.SEAWATER_DENSITY_KG_M3 * bodies.drag_coefficient * areas[:, 0] * u[:, 0] ** 2
+    flat = normal[:, 2] > 0.999
     resting = np.linalg.norm(vel, axis=1) < FRICTION_SLIP_M_S
-    return contact & flat & resting & (drag <= bodies.friction_coefficient * bodies.net_buoyancy_n())
+    return contact & flat & resting & (drag <= bodies.friction_coefficient * buoyancy)
 
 
 def follow(
@@ -199,14 +205,16 @@ def follow(
     active = np.arange(n)
     pos, vel = pos_out.copy(), vel_out.copy()
     plane = field.discs.plane_m if field.discs is not None else hull.propeller_plane_m
-    t = 0.0
+    t, sub = 0.0, None
     while active.size and t < max_time_s:
-        sub = _subset(bodies, active)
-        pos, vel, contact = step(sub, hull, field, pos, vel, time_step_s)
+        if sub is None:  # the running cusps' bodies, derived once per change of the running set
+            sub = _subset(bodies, active)
+            derived = (sub.masses_kg(), sub.drag_areas_m2(), sub.net_buoyancy_n())
+            half = 0.5 * sub.extent_m
+        pos, vel, contact, normal = _step(sub, derived, hull, field, pos, vel, time_step_s)
         t += time_step_s
-        half = 0.5 * sub.extent_m
         ended = np.full(active.size, RUNNING, dtype=np.int8)
-        ended[_held(sub, field, pos, vel, contact, hull)] = STALLED
+        ended[_held(sub, field, pos, vel, contact, normal, *derived[1:])] = STALLED
         ended[pos[:, 2] <= 0.0] = SURFACED
         ended[np.abs(pos[:, 1]) >= 0.5 * hull.beam_m] = BILGE  # its centre beside the hull
         ended[pos[:, 0] + half >= plane] = REACHED  # decided at the plane (`disc_contact`)
@@ -214,7 +222,8 @@ def follow(
         idx = active[done]
         outcome[idx], time[idx] = ended[done], t
         pos_out[idx], vel_out[idx] = pos[done], vel[done]
-        active, pos, vel = active[~done], pos[~done], vel[~done]
+        if done.any():
+            active, pos, vel, sub = active[~done], pos[~done], vel[~done], None
     outcome[active], time[active] = STALLED, t
     pos_out[active], vel_out[active] = pos, vel
     return FlowResult(outcome, time, pos_out, vel_out)

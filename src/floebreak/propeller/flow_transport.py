@@ -20,18 +20,17 @@ Per cusp (docs/explanation/cusp-flow.md):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Annotated
 
 import numpy as np
 
-from floebreak.errors import Bounds, InputError, check_bounds
+from floebreak.errors import InputError
 from floebreak.propeller import cusp_flow as cf
 from floebreak.propeller.hull_surface import HullSurface
 from floebreak.propeller.transport import (
     NO_PROPELLER,
     PATHS,
     CuspTransport,
+    FlowParameters,
     HullUnderwater,
     PropellerArrangement,
     TransportParameters,
@@ -46,34 +45,6 @@ OUTCOME_PATH = {
     cf.MISSED: PATHS.index("missed"),
     cf.STALLED: PATHS.index("stalled"),
 }
-
-
-@dataclass(frozen=True)
-class FlowParameters:
-    """The flow transport's own parameters (docs/explanation/cusp-flow.md gives each source)."""
-
-    drag_coefficient_range: tuple[float, float] = (0.5, 1.5)
-    """C_D of a cusp, sampled uniformly per cusp [-] (bluff plates and blocks, Hoerner 1965)"""
-    friction_range: tuple[float, float] = (0.05, 0.15)
-    """μ of ice on the hull, sampled uniformly per cusp [-] (Tatinclaux & Murdey 1985; ATTC 1995)"""
-    stem_angle_deg: Annotated[float, Bounds(5.0, 90.0, unit="deg")] = 27.0
-    """φ_s, stem angle from the horizontal [deg] (physics-notes §6.2, interpretation a)"""
-    time_step_s: Annotated[float, Bounds(0.001, 1.0, unit="s")] = 0.1
-    """integration step [s] (docs/explanation/cusp-flow.md, "Step")"""
-
-    def __post_init__(self) -> None:
-        check_bounds(self, "transport.flow")
-        for key, (low, high), allowed in (
-            ("drag_coefficient_range", self.drag_coefficient_range, (0.1, 3.0)),
-            ("friction_range", self.friction_range, (0.0, 1.0)),
-        ):
-            if not allowed[0] <= low <= high <= allowed[1]:
-                raise InputError(
-                    f"transport.flow.{key}",
-                    f"({low:g}, {high:g}) is not an ordered range within [{allowed[0]:g}, {allowed[1]:g}]",
-                    value=[low, high],
-                    allowed=f"low ≤ high within [{allowed[0]:g}, {allowed[1]:g}]",
-                )
 
 
 def hull_surface(
@@ -149,7 +120,7 @@ def flow_transport_cusps(
     hull: HullUnderwater = HullUnderwater(),  # noqa: B008 - frozen dataclasses, immutable defaults
     arrangement: PropellerArrangement = PropellerArrangement(),  # noqa: B008
     params: TransportParameters = TransportParameters(),  # noqa: B008
-    flow: FlowParameters = FlowParameters(),
+    flow: FlowParameters = FlowParameters(),  # noqa: B008
 ) -> CuspTransport:
     """Which propeller each cusp reaches, when, and where it enters the disc (module docstring, steps 1–6).
 
@@ -224,17 +195,49 @@ def _at_plane(n, idx, result, discs, bodies, thickness):
     return index, radius, angle, section, outcome
 
 
-def flow_of_runs(
-    columns, exposures, runs, settings, spec, rated_torque_n_m: float, *, wake_fraction=None, seed=0
-):
-    """The flow transport of the cusps of each of `runs` (as `load_models.transport_of_runs`), each run at
-    its speed's controlled operating point (`operating.controlled_point`) with its own Generator seeded by
-    (seed, the run's rank in sorted order): run → (indices into `columns`, CuspTransport), and run → the
-    operating point's dict."""
+def flow_draws(columns, n_draws: int, rng: np.random.Generator, **kw) -> list[CuspTransport]:
+    """`n_draws` independent draws of the flow transport of one cusp set (`columns`: the five per-cusp
+    inputs of `flow_transport_cusps`; `kw`: its keywords but `rng`): the cusps repeated `n_draws` times in
+    one call, so that each copy draws its own tumble, C_D and μ from `rng`, then split per draw."""
+    cols = [np.asarray(c, dtype=float) for c in columns]
+    n = cols[0].size
+    moved = flow_transport_cusps(*(np.tile(c, n_draws) for c in cols), rng=rng, **kw)
+    return [_draw(moved, slice(k * n, (k + 1) * n)) for k in range(n_draws)]
+
+
+def _draw(moved: CuspTransport, rows: slice) -> CuspTransport:
+    section = None if moved.cross_section_m is None else tuple(a[rows] for a in moved.cross_section_m)
+    arrays = ("propeller_index", "arrival_time_s", "entry_radius_fraction", "entry_angle_deg", "region")
+    return CuspTransport(
+        *(getattr(moved, name)[rows] for name in arrays), moved.path[rows], moved.n_propellers, section
+    )
+
+
+def _run_inputs(columns, exposures, run, settings, spec, rated_torque_n_m, wake_fraction):
+    """One run's rows, cusp inputs, operating point and the transport's keywords (but `rng`)."""
     from floebreak import constants as c
     from floebreak.propeller.operating import controlled_point
     from floebreak.ship.agulhas_ii import AGULHAS_II
 
+    idx = np.flatnonzero(columns["run_id"] == run)
+    basis = exposures[run].basis if run in exposures else None
+    speed = basis.speed_m_s if basis else c.SHIP_SPEED_IN_ICE_M_S
+    n_prop = basis.n_propellers if basis else AGULHAS_II.propeller_count
+    point = controlled_point(spec, speed, rated_torque_n_m, wake_fraction)
+    cols = [columns[k][idx] for k in ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")]
+    kw = {
+        "speed_m_s": speed,
+        "induced_velocity_m_s": point.point.induced_velocity_m_s,
+        "wake_fraction": point.wake_fraction,
+        "hull": settings.hull,
+        "arrangement": settings.arrangement(n_prop, spec.radius_m),
+        "params": settings.params,
+        "flow": settings.flow,
+    }
+    return idx, cols, kw, point
+
+
+def _check_inputs(columns, runs) -> None:
     needed = ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")
     rows = np.isin(columns["run_id"], list(runs))
     missing = [k for k in needed if k not in columns or not np.all(np.isfinite(columns[k][rows]))]
@@ -244,25 +247,46 @@ def flow_of_runs(
             f"the transport needs column(s) {', '.join(missing)} (cusps.parquet of a current run has them)",
             allowed="cusps with these columns, or transport 'all' / a fraction reaching",
         )
+
+
+def flow_of_runs(
+    columns, exposures, runs, settings, spec, rated_torque_n_m: float, *, wake_fraction=None, seed=0
+):
+    """The flow transport of the cusps of each of `runs` (as `load_models.transport_of_runs`), each run at
+    its speed's controlled operating point (`operating.controlled_point`) with its own Generator seeded by
+    (seed, the run's rank in sorted order): run → (indices into `columns`, CuspTransport), and run → the
+    operating point's dict."""
+    _check_inputs(columns, runs)
     out, points = {}, {}
     for rank, run in enumerate(sorted(runs)):
-        idx = np.flatnonzero(columns["run_id"] == run)
-        basis = exposures[run].basis if run in exposures else None
-        speed = basis.speed_m_s if basis else c.SHIP_SPEED_IN_ICE_M_S
-        n_prop = basis.n_propellers if basis else AGULHAS_II.propeller_count
-        point = controlled_point(spec, speed, rated_torque_n_m, wake_fraction)
-        cols = [
-            columns[k][idx] for k in ("bow_x_m", "centroid_x_m", "centroid_y_m", "area_m2", "thickness_m")
-        ]
-        transport = flow_transport_cusps(
-            *cols,
-            speed_m_s=speed,
-            induced_velocity_m_s=point.point.induced_velocity_m_s,
-            wake_fraction=point.wake_fraction,
-            rng=np.random.default_rng([seed, rank]),
-            hull=settings.hull,
-            arrangement=settings.arrangement(n_prop, spec.radius_m),
-            params=settings.params,
+        idx, cols, kw, point = _run_inputs(
+            columns, exposures, run, settings, spec, rated_torque_n_m, wake_fraction
         )
+        transport = flow_transport_cusps(*cols, rng=np.random.default_rng([seed, rank]), **kw)
         out[run], points[run] = (idx, transport), point.as_dict()
     return out, points
+
+
+def flow_draws_of_runs(
+    columns,
+    exposures,
+    runs,
+    settings,
+    spec,
+    rated_torque_n_m: float,
+    n_draws: int,
+    *,
+    wake_fraction=None,
+    seed=0,
+):
+    """`n_draws` further draws of each run's flow transport (`flow_draws`, seeded by (seed, the run's rank,
+    1), apart from `flow_of_runs`' draw): run → [(indices into `columns`, CuspTransport)] per draw."""
+    _check_inputs(columns, runs)
+    out = {}
+    for rank, run in enumerate(sorted(runs)):
+        idx, cols, kw, _ = _run_inputs(
+            columns, exposures, run, settings, spec, rated_torque_n_m, wake_fraction
+        )
+        draws = flow_draws(cols, n_draws, np.random.default_rng([seed, rank, 1]), **kw) if n_draws else []
+        out[run] = [(idx, t) for t in draws]
+    return out

@@ -20,7 +20,7 @@ from floebreak.propeller.cusps import (
     cusp_columns,
     volume_class,
 )
-from floebreak.propeller.flow_transport import flow_of_runs
+from floebreak.propeller.flow_transport import flow_draws_of_runs, flow_of_runs
 from floebreak.propeller.iceclass import WEIBULL_SHAPE, IceClassLoads, check_polar_class, ur_i3_loads
 from floebreak.propeller.interpolation import check_options
 from floebreak.propeller.load_models import (
@@ -54,6 +54,7 @@ from floebreak.propeller.spectra import (
     spectrum_edges,
     torque_ranges_above,
 )
+from floebreak.propeller.spread import SPREAD_DRAWS, check_draws, load_spread
 from floebreak.propeller.summary import build_summary, finite_range
 from floebreak.propeller.transport import TransportSettings
 
@@ -318,8 +319,11 @@ def _check_spec(propeller) -> None:
         raise InputError("propeller", f"{type(propeller).__name__} is not a PropellerSpec")
 
 
-def _rule_arrangement_and_wake(rule_arrangement, wake_fraction) -> RuleArrangement:
-    """The rule's arrangement (default the Agulhas II's) after checking it and the wake fraction."""
+def _checked_arrangement_wake_draws(
+    rule_arrangement, wake_fraction, spread_draws
+) -> tuple[RuleArrangement, int]:
+    """The rule's arrangement (default the Agulhas II's) and the spread's draws per run, after checking them
+    and the wake fraction."""
     arrangement = RuleArrangement() if rule_arrangement is None else rule_arrangement
     if not isinstance(arrangement, RuleArrangement):
         raise InputError("rule_arrangement", f"{type(arrangement).__name__} is not a RuleArrangement")
@@ -327,7 +331,7 @@ def _rule_arrangement_and_wake(rule_arrangement, wake_fraction) -> RuleArrangeme
         require_range(
             "wake_fraction", wake_fraction, low=0.0, high=1.0, low_inclusive=True, high_inclusive=False
         )
-    return arrangement
+    return arrangement, check_draws(spread_draws)
 
 
 def _check_options(
@@ -375,6 +379,7 @@ def analyse_cusp_loads(
     transport_settings: TransportSettings | None = None,
     progress: Callable[[str, int, int], None] | None = None,
     wake_fraction: float | None = None,
+    spread_draws: int = SPREAD_DRAWS,
 ) -> PropellerResult:
     """The propeller analysis of `cusps` (dict of arrays or pyarrow.Table, `cusp_columns`), pure. `load_model`
     "milling" | "fem" (needs `fem_tables`: FemTables or {pitch: FemTable}; given tables take precedence),
@@ -382,22 +387,19 @@ def analyse_cusp_loads(
     overrides the transport; `exposures` add rates, exceedance and rule-form fits; `measured` is
     compared; `rated_torque_n_m` (default: the Agulhas II line's) sets a warning; `rule_arrangement`: the
     rule's N_ice factors (`ruleform.rule_load_count`); `wake_fraction`: the flow transport's w (None:
-    Holtrop's). `progress(stage, done, total)` is told of each of the ANALYSIS_STAGES. docs/propeller.md."""
+    Holtrop's); `spread_draws`: samples per run (`propeller.spread`); `progress`: told of each stage."""
     columns = cusp_columns(cusps)
     _check_spec(propeller)
     _check_options(interpolation, beyond, volume_basis, cusp_speed_m_s, force_bin_kn, torque_bin_knm, weibull)
     load_model, tables, pitches = _load_tables(load_model, fem_tables, propeller, measured)
     check_choice("transport", transport, TRANSPORTS)
     rated = drive_rated_torque_n_m(propeller, rated_torque_n_m)
-    arrangement = _rule_arrangement_and_wake(rule_arrangement, wake_fraction)
+    arrangement, n_draws = _checked_arrangement_wake_draws(rule_arrangement, wake_fraction, spread_draws)
     edges_m3 = check_class_edges(volume_class_edges_m3)
     rule = ur_i3_loads(propeller, check_polar_class(polar_class)) if polar_class is not None else None
     exposures = check_exposures(exposures, set(columns["run_id"].tolist())) if exposures is not None else {}
     options = {
-        "load_model": load_model,
-        "transport": transport,
-        "pitches": list(pitches),
-        "rated_torque_n_m": rated,
+        **dict(load_model=load_model, transport=transport, pitches=list(pitches), rated_torque_n_m=rated),
         **dict(interpolation=interpolation, beyond=beyond, volume_basis=volume_basis),
         **dict(volume_class_edges_m3=edges_m3, cusp_speed_m_s=cusp_speed_m_s),
         **dict(density_threshold_per_knm=DENSITY_THRESHOLD_PER_KNM, polar_class=polar_class),
@@ -428,8 +430,57 @@ def analyse_cusp_loads(
     )
     result.summary.update(build_summary(result, table_info, operating_profile, sn_curve))
     _complete_summary(result.summary, reach_info, table_info, rated, rule, placement)
+    spread_args = (exposures, transport, transport_settings, rated, speed, n_draws, wake_fraction)
+    result.summary.update(_spread(result, columns, transports, *spread_args))
     _report(progress, "summary")
     return result
+
+
+def _spread(
+    result, columns, transports, exposures, transport, settings, rated, speed, n_draws, wake_fraction=None
+) -> dict:
+    """{"spread": …} (`spread.load_spread`; {} without transported runs): each transported run's own draw
+    and, for the flow transport, `n_draws − 1` more; the per-cusp loads of a draw from the analysis' load
+    model on that draw's engaged intervals."""
+    if not transports:
+        return {}
+    spec, options = result.propeller, result.options
+    settings = settings or TransportSettings()
+    extra = {}
+    if transport == "flow":
+        runs = list(transports)
+        extra = flow_draws_of_runs(
+            columns, exposures, runs, settings, spec, rated, n_draws - 1, wake_fraction=wake_fraction
+        )
+    samples = {run: [transports[run], *extra.get(run, [])] for run in transports}
+    model = get_load_model(options["load_model"])
+
+    def loads_of(run, rows, moved):
+        local = np.arange(rows.size)
+        engaged = engaged_intervals({run: (local, moved)}, rows.size, spec) if model.places_on_blade else None
+        sub = {k: v[rows] for k, v in columns.items()}
+        loads = model.cusp_loads(sub, result.tables, options, spec, speed[rows], engaged)
+        missed = moved.propeller_index < 0
+        out = {}
+        for pitch in options["pitches"]:
+            f, q = (
+                np.where(missed, math.nan, loads[f"{c}_{pitch_label(pitch)}"])
+                for c in ("force_n", "torque_nm")
+            )
+            out[pitch] = (f, q)
+        return out
+
+    hours = {run: exposures[run].hours for run in transports if run in exposures}
+    profile = (result.summary.get("rule_form") or {}).get("operating_profile") or {}
+    spread = load_spread(
+        samples,
+        hours=hours,
+        pitches=options["pitches"],
+        loads_of=loads_of,
+        profile_hours=profile.get("hours"),
+    )
+    spread["transport"] = transport
+    return {"spread": spread}
 
 
 # the steps of `analyse_cusp_loads` that its `progress` callback is told of, in order

@@ -117,8 +117,8 @@ def rule_maximum_horizon(rule_max: float, scale: float, shape_k: float, per_hour
 
     Both are None (JSON null, "never" in text: `horizon_text`) where N* overflows a float or the hours
     exceed `NEVER_HOURS`; the hours are also None without a time base."""
-    with np.errstate(over="ignore", divide="ignore"):
-        log_n = (rule_max / scale) ** shape_k if scale > 0.0 else math.inf
+    with np.errstate(over="ignore", divide="ignore"):  # numpy floats: an overflow gives inf, not an error
+        log_n = float(np.float64(rule_max / scale) ** shape_k) if scale > 0.0 else math.inf
     n_star = math.exp(log_n) if log_n < math.log(np.finfo(float).max) else math.inf
     hours = n_star / per_hour if per_hour else None
     never = not math.isfinite(n_star) or (hours is not None and not hours <= NEVER_HOURS)

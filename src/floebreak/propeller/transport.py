@@ -172,6 +172,34 @@ class TransportParameters:
 
 
 @dataclass(frozen=True)
+class FlowParameters:
+    """The flow transport's own parameters (docs/explanation/cusp-flow.md gives each source)."""
+
+    drag_coefficient_range: tuple[float, float] = (0.5, 1.5)
+    """C_D of a cusp, sampled uniformly per cusp [-] (bluff plates and blocks, Hoerner 1965)"""
+    friction_range: tuple[float, float] = (0.05, 0.15)
+    """μ of ice on the hull, sampled uniformly per cusp [-] (Tatinclaux & Murdey 1985; ATTC 1995)"""
+    stem_angle_deg: Annotated[float, Bounds(5.0, 90.0, unit="deg")] = 27.0
+    """φ_s, stem angle from the horizontal [deg] (physics-notes §6.2, interpretation a)"""
+    time_step_s: Annotated[float, Bounds(0.001, 1.0, unit="s")] = 0.1
+    """integration step [s] (docs/explanation/cusp-flow.md, "Step")"""
+
+    def __post_init__(self) -> None:
+        check_bounds(self, "transport.flow")
+        for key, (low, high), allowed in (
+            ("drag_coefficient_range", self.drag_coefficient_range, (0.1, 3.0)),
+            ("friction_range", self.friction_range, (0.0, 1.0)),
+        ):
+            if not allowed[0] <= low <= high <= allowed[1]:
+                raise InputError(
+                    f"transport.flow.{key}",
+                    f"({low:g}, {high:g}) is not an ordered range within [{allowed[0]:g}, {allowed[1]:g}]",
+                    value=[low, high],
+                    allowed=f"low ≤ high within [{allowed[0]:g}, {allowed[1]:g}]",
+                )
+
+
+@dataclass(frozen=True)
 class CuspTransport:
     """Per cusp (input order): propeller index (−1 = none), arrival time [s], entry point in the disc
     (radius fraction r/R and angle from top dead centre [deg], NaN without a propeller), region
@@ -364,6 +392,7 @@ class TransportSettings:
     hull: HullUnderwater = HullUnderwater()
     params: TransportParameters = TransportParameters()
     tip_clearance_m: float = TIP_CLEARANCE_M
+    flow: FlowParameters = FlowParameters()
 
     def __post_init__(self) -> None:
         PropellerArrangement(tip_clearance_m=self.tip_clearance_m)  # its bounds and the disc check
@@ -394,6 +423,17 @@ class TransportSettings:
         return {key: _get(self, key) for key in TRANSPORT_KEYS}
 
 
+# the flow transport's keys (`FlowParameters`): each range's ends, and the stem angle
+FLOW_KEYS: Final = (
+    "flow.drag_coefficient_min",
+    "flow.drag_coefficient_max",
+    "flow.friction_min",
+    "flow.friction_max",
+    "flow.stem_angle_deg",
+)
+_FLOW_RANGE_ENDS: Final = {"min": 0, "max": 1}
+
+
 # the keys of `transport_settings` (`--transport-parameter KEY=VALUE`); error messages name "transport.KEY".
 # lateral_spread_m is left out: it needs a numpy.random.Generator, which a key cannot give
 TRANSPORT_KEYS: Final = (
@@ -403,6 +443,7 @@ TRANSPORT_KEYS: Final = (
     "shoulder_cusps_submerge",
     *(f"hull.{name}" for name in HullUnderwater.__dataclass_fields__),
     "arrangement.tip_clearance_m",
+    *FLOW_KEYS,
 )
 
 
@@ -410,6 +451,11 @@ def _get(settings: TransportSettings, key: str) -> Any:
     section, _, name = key.rpartition(".")
     if section == "arrangement":
         return settings.tip_clearance_m
+    if section == "flow":
+        quantity, _, end = name.rpartition("_")
+        if end in _FLOW_RANGE_ENDS:
+            return getattr(settings.flow, f"{quantity}_range")[_FLOW_RANGE_ENDS[end]]
+        return getattr(settings.flow, name)
     return getattr(settings.hull if section == "hull" else settings.params, name)
 
 
@@ -448,4 +494,19 @@ def transport_settings(values: Mapping[str, Any] | None = None) -> TransportSett
     hull = {k.partition(".")[2]: v for k, v in parsed.items() if k.startswith("hull.")}
     params = {k: v for k, v in parsed.items() if "." not in k}
     clearance = parsed.get("arrangement.tip_clearance_m", PropellerArrangement().tip_clearance_m)
-    return TransportSettings(HullUnderwater(**hull), TransportParameters(**params), float(clearance))
+    return TransportSettings(
+        HullUnderwater(**hull), TransportParameters(**params), float(clearance), _flow_parameters(parsed)
+    )
+
+
+def _flow_parameters(parsed: Mapping[str, Any]) -> FlowParameters:
+    """`FlowParameters` from the parsed "flow.*" keys; a range's end not given keeps its default."""
+    default, values = FlowParameters(), {}
+    for quantity in ("drag_coefficient", "friction"):
+        ends = list(getattr(default, f"{quantity}_range"))
+        for end, k in _FLOW_RANGE_ENDS.items():
+            ends[k] = parsed.get(f"flow.{quantity}_{end}", ends[k])
+        values[f"{quantity}_range"] = (float(ends[0]), float(ends[1]))
+    if "flow.stem_angle_deg" in parsed:
+        values["stem_angle_deg"] = float(parsed["flow.stem_angle_deg"])
+    return FlowParameters(**values)

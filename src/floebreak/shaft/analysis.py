@@ -452,6 +452,7 @@ def milled_cusps(
     transport_settings: TransportSettings | None = None,
     engaged: bool = True,
     flow_point=None,
+    moved=None,
 ) -> MilledCusps:
     """The cusps of a run's `columns` (MILLING_INPUT_COLUMNS) that reach the port propeller, at their
     arrival times (`propeller.transport.transport_cusps` with the hull, parameters and tip clearance of
@@ -465,13 +466,16 @@ def milled_cusps(
     linear model's arrival times, tip placement. counts: "placement", and "engaged_zero_length", the port
     cusps whose interval has zero length (milled with zero torque). `flow_point` (an
     `operating.ControlledPoint`): the flow transport (`propeller.flow_transport`) at that operating point
-    instead of the kinematic one, seeded with (0, 0) as the propeller analysis' first run."""
+    instead of the kinematic one, seeded with (0, 0) as the propeller analysis' first run. `moved`: a
+    transport already computed for these cusps and this arrangement (e.g. a `flow_transport.flow_draws`
+    draw)."""
     col, spec = columns, PropellerSpec() if spec is None else spec
     inner = outer = np.full(col["bow_x_m"].size, np.nan)
     if transport:
         settings = TransportSettings() if transport_settings is None else transport_settings
         arrangement = settings.arrangement(2, spec.radius_m)
-        moved = _moved(col, speed_m_s, settings, arrangement, spec, flow_point)
+        if moved is None:
+            moved = _moved(col, speed_m_s, settings, arrangement, spec, flow_point)
         port = port_propeller_index(arrangement)
         chosen = np.flatnonzero(moved.propeller_index == port)
         arrival = moved.arrival_time_s[chosen]
@@ -531,6 +535,7 @@ def _moved(col, speed_m_s, settings, arrangement, spec, flow_point):
         hull=settings.hull,
         arrangement=arrangement,
         params=settings.params,
+        flow=settings.flow,
     )
 
 

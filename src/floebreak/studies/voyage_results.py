@@ -14,7 +14,7 @@ that reaches one, 0 for one that does not; f / n for every cusp with a fraction 
 
 Loads per cusp and which cusps reach come from the propeller analysis of `floebreak propeller`
 (`floebreak.app.propeller.analyse_runs` on the voyage's complete runs): the runs' profile picks the load
-model and the transport (default: blade milling model and hull transport; thesis: FEM tables, every cusp),
+model and the transport (default: blade milling model and flow transport; thesis: FEM tables, every cusp),
 for each pitch of the load model and "operated": each period at the pitch nearest its logged pitch (the
 propeller's default pitch when the log has none). The logged rpm is recorded only. The propeller options
 (`VoyageAnalysis`: polar class, fraction reaching, propellers, transport settings, shaft line) shape the
