@@ -106,3 +106,30 @@ def test_spread_draws_must_be_a_positive_integer(draws):
     with pytest.raises(InputError) as info:
         _analysed(draws, runs=("a",))
     assert info.value.field == "spread_draws"
+
+
+def test_terminal_and_report_show_the_band():
+    """The design-load table's "median (5–95 %)" row and the loads-per-hour line, in the terminal and in
+    report.html, from a summary with a spread."""
+    import io
+
+    from rich.console import Console
+
+    from floebreak.app.propeller import design_load_summary
+    from floebreak.cli.tables import design_load_tables, spread_line
+    from floebreak.output.report import design_load_parts
+
+    result = _analysed(3)
+    summary = {"design_loads": design_load_summary(result), **result.summary}
+    band_row = summary["design_loads"][0]["rows"][-1]["design_torque_band_kn_m"]
+    low, median, high = band_row
+    buffer = io.StringIO()
+    for table in design_load_tables(summary):
+        Console(file=buffer, width=100, force_terminal=False).print(table)
+    text = buffer.getvalue()
+    assert "median (5–95 %)" in text and f"{median:.0f} ({low:.0f}–{high:.0f})" in text
+    rate = summary["spread"]["loads_per_hour_per_propeller"]
+    line = spread_line(summary)
+    assert f"median {rate['median']:.0f}, 5–95 % {rate['p5']:.0f}–{rate['p95']:.0f} (6 samples)" in line
+    html = "".join(design_load_parts(summary["design_loads"]))
+    assert "design ice torque Q, median (5–95 %)" in html and f"{median:.4g} ({low:.4g}–{high:.4g})" in html

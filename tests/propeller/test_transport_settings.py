@@ -92,3 +92,22 @@ def test_propeller_command_takes_transport_parameters(tmp_path, cli):
     assert not (tmp_path / "q").exists()
     code, _, err = cli("propeller", run, "--out", tmp_path / "q", "--transport-parameter", "slip_factor")
     assert code == 2 and "--transport-parameter" in err and not (tmp_path / "q").exists()
+
+
+def test_flow_parameters_are_settable_and_checked(tmp_path, cli):
+    """The flow transport's keys: each end of C_D's and μ's ranges and the stem angle; a range out of order
+    or out of bounds names its range key, exit code 2, nothing written."""
+    settings = transport_settings({"flow.friction_max": "0.2", "flow.stem_angle_deg": 30})
+    assert settings.flow.friction_range == (0.05, 0.2) and settings.flow.stem_angle_deg == 30.0
+    assert settings.flow.drag_coefficient_range == (0.5, 1.5)  # the ends not given keep their defaults
+    assert settings.as_dict()["flow.friction_max"] == 0.2
+    run = tmp_path / "run"
+    run.mkdir()
+    pq.write_table(pa.table({k: v for k, v in _cusps().items() if k != "run_id"}), run / "cusps.parquet")
+    for value, key in (
+        ("flow.drag_coefficient_min=2", "transport.flow.drag_coefficient_range"),
+        ("flow.friction_max=1.5", "transport.flow.friction_range"),
+        ("flow.stem_angle_deg=100", "transport.flow.stem_angle_deg"),
+    ):
+        code, _, err = cli("propeller", run, "--out", tmp_path / "q", "--transport-parameter", value)
+        assert code == 2 and key in err and not (tmp_path / "q").exists()

@@ -332,9 +332,9 @@ def _drive_response(
 
 def _q_peak_spread(columns, speed_m_s, settings, point, line, result, n_draws, **drive) -> dict:
     """Q_peak of the first excitation case over `n_draws` draws of the flow transport: the analysis' own and
-    `n_draws − 1` more (`flow_transport.flow_draws`, seeded (0, 0, 1) as the propeller analysis' further
-    draws of its first run), each milled and run through the drive model as the first; its median and
-    5–95 % band (`propeller.spread.band`)."""
+    `n_draws − 1` more (`flow_transport.flow_draws`, seeded (0, 0, 1), as the propeller analysis seeds
+    its first run's), each milled and run through the drive model as the first; its median and 5–95 %
+    band (`propeller.spread.band`)."""
     from floebreak.propeller.flow_transport import flow_draws
     from floebreak.propeller.spec import PropellerSpec
     from floebreak.propeller.spread import band

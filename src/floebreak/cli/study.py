@@ -257,7 +257,12 @@ def voyage_model_line(summary: dict) -> str:
     model, transport = summary["load_model"], summary["transport"]
     fraction = transport.get("fraction_reaching")
     reach = "–" if fraction is None else f"{fraction:.3g}"
-    source = {"hull": "transport model", "all": "every cusp", "override": "override"}
+    source = {
+        "flow": "flow transport",
+        "hull": "kinematic transport",
+        "all": "every cusp",
+        "override": "override",
+    }
     placement = f" ({model['placement']})" if model.get("placement") else ""
     line = (
         f"per-cusp loads: {model.get('load_model') or '–'} model{placement}; fraction of cusps reaching a "
