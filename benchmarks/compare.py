@@ -10,15 +10,17 @@ With `--end-to-end` each round instead runs the command line as a user does, `fl
 examples/reference.toml --quiet` on the field size given (default then 1 km × 200 m), one child process per
 run (CPU time of the child, user + system, best of `--runs`: on a shared machine wall time follows the
 other processes' load): start-up, field, simulation and the whole run directory with figures and report.
-With `--end-to-end --propeller` it times `floebreak propeller` (shaft line, PC5, operating profile:
-`PROPELLER_ARGS`) on each side's own run instead.
+`--set KEY=VALUE` (repeatable) adds a scenario override to both sides' command lines, e.g.
+`simulation.ice_motion=dynamic`. With `--end-to-end --propeller` it times `floebreak propeller` (shaft line,
+PC5, operating profile: `PROPELLER_ARGS`) on each side's own run instead.
 The child starts the console command's entry point of its version, the function its `pyproject.toml` names
 under `[project.scripts]` (`floebreak.__main__:main` today, with the console process' collector settings;
 `floebreak.cli:main` where no such file is found); both sides' sources are compiled to bytecode first, as an
 installed copy is.
 
 Run: `.venv/bin/python benchmarks/compare.py REV [--rounds 3] [--runs 5] [--length-m 400 --width-m 50]
-[--end-to-end [--propeller]] [--against REV2] [--new-params JSON] [--old-params JSON] [--profile thesis]`
+[--end-to-end [--propeller] [--set KEY=VALUE …]] [--against REV2] [--new-params JSON] [--old-params JSON]
+[--profile thesis]`
 (REV: any git revision, e.g. a commit or `HEAD~3`; `--against` compares with REV2 instead of the working tree;
 `--new-params` gives the compared side's `SimulationParams`, e.g. a coarser step with located events, issue
 32, `--old-params` REV's; `--profile`: the engine's profile on both sides). Both sides' kernels are
@@ -128,6 +130,7 @@ def _run_end_to_end(src: Path, args: argparse.Namespace, params: str = "{}") -> 
             command = [
                 *("run", str(ROOT / "examples" / "reference.toml"), "--quiet", "--out", str(out)),
                 *("--set", f"field.length_m={args.length_m}", "--set", f"field.width_m={args.width_m}"),
+                *(item for setting in args.set for item in ("--set", setting)),
             ]
             seconds = _cli_cpu_s(src, command)
             if args.propeller:
@@ -169,11 +172,20 @@ def main() -> None:
     parser.add_argument("--old-params", default="{}", help="as --new-params, for REV's side")
     parser.add_argument("--profile", default="default", help="the engine's profile (default: default)")
     parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="with --end-to-end: a scenario override for both sides, e.g. simulation.ice_motion=dynamic",
+    )
+    parser.add_argument(
         "--propeller", action="store_true", help="with --end-to-end: time `floebreak propeller` on the run"
     )
     args = parser.parse_args()
     if args.propeller and not args.end_to_end:
         parser.error("--propeller needs --end-to-end")
+    if args.set and not args.end_to_end:
+        parser.error("--set needs --end-to-end (the engine alone takes --new-params)")
     if args.length_m is None:
         args.length_m = 1000.0 if args.end_to_end else 400.0
     if args.width_m is None:

@@ -144,6 +144,7 @@ t0 = t = clock(); import floebreak.cli as cli, floebreak.cli.run as cli_run; tim
 t = clock(); import floebreak.config.scenario as scenario; timed("import scenario", t)
 t = clock(); import floebreak.api as api; timed("import the engine (floebreak.api)", t)
 import floebreak.app.run as app_run, floebreak.output.run_directory as run_directory
+import floebreak.output.figure_process as figure_process
 from_toml = scenario.Scenario.from_toml.__func__
 def read(cls, *args, **kwargs):
     t = clock()
@@ -155,8 +156,8 @@ scenario.Scenario.from_toml = classmethod(read)
 wrap(cli_run, "_prepare_kernels", "load the compiled kernels")
 wrap(api, "run", "run (engine + summary)")
 wrap(app_run.Result, "write", "write the run directory")
-wrap(run_directory, "draw_figure", "of which: draw the figures (first: import matplotlib)")
-wrap(run_directory, "_save_png", "of which: render and encode the PNGs")
+wrap(figure_process, "draw_figure", "of which: draw the figures (first: import matplotlib)")
+wrap(figure_process, "save_png", "of which: render and encode the PNGs")
 wrap(run_directory, "_write_run_files", "of which here: files")
 out = sys.argv[1]
 sys.argv = ["floebreak", "run", "examples/reference.toml", "--quiet", "--out", out,
