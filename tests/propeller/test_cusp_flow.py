@@ -151,3 +151,37 @@ def test_bad_flow_inputs_name_their_key():
     settings = TransportSettings()
     surface = hull_surface(settings.hull, settings.arrangement(2, 2.15), 27.0)
     assert surface.buttock_rise_deg == pytest.approx(math.degrees(math.atan2(7.65 - 2.24, 15.0)))
+
+
+def test_a_plate_whose_drag_is_below_friction_sticks_and_stalls():
+    """Exact Coulomb friction: at rest on the flat bottom with ½ ρ_w C_D (l h) U² < μ (ρ_w − ρ_i) g A h the
+    plate does not move at all, and `follow` ends it as stalled after one step, not at the time cap."""
+    area, h, c_d, mu = 4.0, 0.5, 1.0, 0.1
+    u_hold = math.sqrt(2 * mu * (RHO_W - RHO_I) * G * area / (RHO_W * c_d * math.sqrt(area)))
+    field = cf.FlowField(0.9 * u_hold)
+    start = np.array([[20.0, 0.0, 7.65]])
+    pos, vel = _run(_plate(area, h, c_d, mu), field, start.copy(), np.zeros((1, 3)), 0.5, 50)
+    assert pos.tolist() == start.tolist() and vel.tolist() == [[0.0, 0.0, 0.0]]
+    result = cf.follow(
+        _plate(area, h, c_d, mu), HULL, field, start, np.zeros((1, 3)), time_step_s=0.1, max_time_s=1e4
+    )
+    assert result.outcome.tolist() == [cf.STALLED] and result.time_s[0] <= cf.MAX_STEP_S  # its first step
+
+
+def test_a_slow_plate_arrives_at_the_time_of_its_sliding_speed():
+    """A plate sliding at the drag–friction balance V_s = U − u_rel (previous test's u_rel) reaches the plane
+    after (x_p − l/2 − x0)/V_s, whether it slides at 2 cm/s or at 2 m/s (each cusp's own step). A hull whose
+    stern run is a 1 cm step keeps the flat bottom to the plane."""
+    area, h, c_d, mu = 4.0, 0.5, 1.0, 0.1
+    hull = HullSurface(21.7, 7.65, 2.5, 27.0, 115.0, 0.5, 7.64)
+    u_rel = math.sqrt(2 * mu * (RHO_W - RHO_I) * G * area / (RHO_W * c_d * math.sqrt(area)))
+    for sliding in (0.02, 2.0):
+        x0 = 100.0
+        start, velocity = np.array([[x0, 0.0, 7.65]]), np.array([[sliding, 0.0, 0.0]])
+        field = cf.FlowField(u_rel + sliding)
+        result = cf.follow(
+            _plate(area, h, c_d, mu), hull, field, start, velocity, time_step_s=0.1, max_time_s=1e5
+        )
+        assert result.outcome.tolist() == [cf.REACHED]
+        expected = (115.0 - 1.0 - x0) / sliding
+        assert result.time_s[0] == pytest.approx(expected, rel=2e-3), sliding

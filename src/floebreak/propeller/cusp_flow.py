@@ -7,8 +7,8 @@ Forces (docs/explanation/cusp-flow.md derives each and gives every parameter's s
 
 - net buoyancy (ρ_w − ρ_i) g A h upwards;
 - on the hull (top face within `CONTACT_TOLERANCE_M` of z_hull): the hull's reaction cancels the buoyancy's
-  normal part N = (ρ_w − ρ_i) g A h n_z, and Coulomb friction μ N opposes the sliding velocity (regularised
-  below `FRICTION_SLIP_M_S`);
+  normal part N = (ρ_w − ρ_i) g A h n_z, and Coulomb friction μ N opposes the sliding velocity, or holds the
+  cusp (sticks) where its impulse over a step can stop the sliding;
 - quadratic drag ½ ρ_w C_D A_i |u − v| (u_i − v_i) per axis, with the projected areas A_x = l_y h,
   A_y = l_x h, A_z = A (l_x = l_y = a (|cos ψ| + |sin ψ|), the plate's extents);
 - added mass on the vertical axis, that of the disc of equal area broadside (8/3) ρ_w r³, r = a/√π.
@@ -17,11 +17,13 @@ The flow u: the hull's mean wake V (1 − w) aft, plus each propeller's actuator
 u_x = u_a (1 + ξ/√(ξ² + R²)) inside the disc's cylinder (ξ = x − x_p), and the radial inflow continuity
 gives, u_r = −(r/2) ∂u_x/∂ξ inside, −(R²/2r) ∂u_x/∂ξ outside, with ∂u_x/∂ξ = u_a R²/(ξ² + R²)^{3/2}.
 
-Integration: semi-implicit Euler (the forces linear in the velocity — drag and friction — implicit, so any
-step is stable), then the top face is kept below the hull and the velocity into it removed. A cusp ends
+Integration: semi-implicit Euler (the drag, linear in the velocity, implicit, so any step is stable), then
+friction as an impulse μ N Δt against the tangential velocity, clamped at sticking (exact Coulomb friction,
+no regularisation), then the top face is kept below the hull and the velocity into it removed. A cusp ends
 when its aft edge reaches the propeller plane (then its cross-section decides the disc: nearest axis
 wins), when its centre leaves the beam ("bilge": beside the hull it rises to the surface), when it reaches the
-surface ("surfaced"), or when friction holds it at rest under the hull ("stalled").
+surface ("surfaced"), or when friction holds it at rest under the hull ("stalled": at rest before and after
+a step, a fixed point of the step, so it stays there).
 """
 
 from __future__ import annotations
@@ -37,7 +39,9 @@ from floebreak.errors import InputError
 from floebreak.propeller.hull_surface import HullSurface
 
 CONTACT_TOLERANCE_M: Final = 1e-3
-FRICTION_SLIP_M_S: Final = 0.01  # Coulomb friction regularised as μN v/√(v² + ε²) below ε
+REST_M_S: Final = 1e-9  # below this speed a cusp is at rest (sticking leaves only rounding)
+STEP_TRAVEL_M: Final = 0.25  # a tenth of the bilge radius, the hull's tightest curve
+MAX_STEP_S: Final = 10.0
 DISC_ADDED_MASS: Final = 8.0 / 3.0  # m_a = (8/3) ρ r³, a disc broadside (Newman 1977, Table 4.2)
 
 # why a followed cusp ends (`FlowResult.outcome`)
@@ -121,7 +125,7 @@ class FlowField:
 
 
 def _forces(bodies, masses, areas, buoyancy, hull, field, pos, vel):
-    """The explicit force F0 and the implicit damping (drag c_d, friction c_f) of one step, with the
+    """The explicit force F0, the implicit drag c_d and the hull's normal force N of one step, with the
     contact mask and normals."""
     f0 = np.zeros_like(pos)
     f0[:, 2] = -buoyancy
@@ -130,13 +134,25 @@ def _forces(bodies, masses, areas, buoyancy, hull, field, pos, vel):
     contact = np.isfinite(z_hull) & (pos[:, 2] - z_hull <= CONTACT_TOLERANCE_M)
     n_force = np.where(contact, buoyancy * normal[:, 2], 0.0)
     f0 += n_force[:, None] * normal  # the hull's reaction: the buoyancy's normal part
-    v_t = vel - np.sum(vel * normal, axis=1, keepdims=True) * normal
-    slip = np.sqrt(np.sum(v_t * v_t, axis=1) + FRICTION_SLIP_M_S**2)
-    c_f = bodies.friction_coefficient * n_force / slip
     u = field.velocity(pos)
     rel = np.linalg.norm(u - vel, axis=1)
     c_d = 0.5 * c.SEAWATER_DENSITY_KG_M3 * bodies.drag_coefficient[:, None] * areas * rel[:, None]
-    return f0, c_d, c_f, u, contact, normal
+    return f0, c_d, n_force, u, contact, normal
+
+
+def _friction(vel, normal, effective_mass, impulse_n_s):
+    """Coulomb friction as an impulse `impulse_n_s` = μ N Δt against the tangential velocity, with the
+    per-axis effective masses m_i + Δt c_d,i; where it would reverse the sliding, the cusp sticks (tangential
+    velocity zero). Returns the new velocity."""
+    v_n = np.sum(vel * normal, axis=1, keepdims=True) * normal
+    v_t = vel - v_n
+    speed = np.linalg.norm(v_t, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_hat = np.where(speed[:, None] > 0.0, v_t / speed[:, None], 0.0)
+    inverse_mass = np.sum(t_hat * t_hat / effective_mass, axis=1)  # 1/M_t along the sliding direction
+    stop = impulse_n_s * inverse_mass
+    sliding = vel - stop[:, None] * t_hat
+    return np.where((speed <= stop)[:, None], v_n, sliding)
 
 
 def step(bodies: CuspBodies, hull: HullSurface, field: FlowField, pos, vel, dt: float):
@@ -149,11 +165,15 @@ def _step(bodies: CuspBodies, derived, hull: HullSurface, field: FlowField, pos,
     """`step` with the bodies' (masses, drag areas, net buoyancy) given, also returning the hull's normal
     under the new positions."""
     masses, areas, buoyancy = derived
-    f0, c_d, c_f, u, contact, normal = _forces(bodies, masses, areas, buoyancy, hull, field, pos, vel)
-    vel = (masses * vel + dt * (f0 + c_d * u)) / (masses + dt * (c_d + c_f[:, None]))
+    dt = np.asarray(dt, dtype=float)
+    dt_column = dt[..., None] if dt.ndim else dt  # one step for all cusps, or each its own
+    f0, c_d, n_force, u, contact, normal = _forces(bodies, masses, areas, buoyancy, hull, field, pos, vel)
+    effective_mass = masses + dt_column * c_d
+    vel = (masses * vel + dt_column * (f0 + c_d * u)) / effective_mass
+    vel = _friction(vel, normal, effective_mass, dt * bodies.friction_coefficient * n_force)
     into = np.minimum(np.sum(vel * normal, axis=1), 0.0)
     vel = vel - np.where(contact, into, 0.0)[:, None] * normal
-    pos = pos + dt * vel
+    pos = pos + dt_column * vel
     z_hull = hull.depth_m(pos[:, 0], pos[:, 1])
     above = np.isfinite(z_hull) & (pos[:, 2] < z_hull)
     pos[:, 2] = np.where(above, z_hull, pos[:, 2])
@@ -174,16 +194,6 @@ class FlowResult:
     velocity_m_s: np.ndarray
 
 
-def _held(bodies, field, pos, vel, contact, normal, areas, buoyancy) -> np.ndarray:
-    """At rest on the flat part of the hull (`normal` under `pos`) where the flow's drag cannot overcome
-    static friction."""
-    u = field.velocity(pos)
-    drag = 0.5 * c.SEAWATER_DENSITY_KG_M3 * bodies.drag_coefficient * areas[:, 0] * u[:, 0] ** 2
-    flat = normal[:, 2] > 0.999
-    resting = np.linalg.norm(vel, axis=1) < FRICTION_SLIP_M_S
-    return contact & flat & resting & (drag <= bodies.friction_coefficient * buoyancy)
-
-
 def follow(
     bodies: CuspBodies,
     hull: HullSurface,
@@ -193,9 +203,15 @@ def follow(
     *,
     time_step_s: float,
     max_time_s: float,
+    step_travel_m: float = STEP_TRAVEL_M,
 ) -> FlowResult:
     """Follow every cusp from `start_m` (n, 3) with `velocity_m_s` (n, 3) until it ends (module docstring);
-    cusps still running at `max_time_s` count as stalled."""
+    cusps still running at `max_time_s` count as stalled.
+
+    The cusps do not interact, so each keeps its own clock and step: the step in which it moves
+    `step_travel_m`, at least `time_step_s` and at most `MAX_STEP_S`; a step that carries a cusp more than
+    twice that far is redone at a quarter of its length. Slow cusps so take as many steps per metre as fast
+    ones."""
     if not time_step_s > 0.0:
         raise InputError("transport.time_step_s", "must be > 0", value=time_step_s, allowed="> 0 s")
     n = start_m.shape[0]
@@ -203,29 +219,47 @@ def follow(
     time = np.zeros(n)
     pos_out, vel_out = np.array(start_m, dtype=float), np.array(velocity_m_s, dtype=float)
     active = np.arange(n)
-    pos, vel = pos_out.copy(), vel_out.copy()
+    pos, vel, clock, longest = pos_out.copy(), vel_out.copy(), np.zeros(n), np.full(n, MAX_STEP_S)
     plane = field.discs.plane_m if field.discs is not None else hull.propeller_plane_m
-    t, sub = 0.0, None
-    while active.size and t < max_time_s:
+    sub = None
+    while active.size:
         if sub is None:  # the running cusps' bodies, derived once per change of the running set
             sub = _subset(bodies, active)
             derived = (sub.masses_kg(), sub.drag_areas_m2(), sub.net_buoyancy_n())
             half = 0.5 * sub.extent_m
-        pos, vel, contact, normal = _step(sub, derived, hull, field, pos, vel, time_step_s)
-        t += time_step_s
+        speed = np.linalg.norm(vel, axis=1)
+        with np.errstate(divide="ignore"):
+            dt = np.clip(step_travel_m / speed, time_step_s, np.maximum(longest, time_step_s))
+        new_pos, new_vel, contact, _ = _step(sub, derived, hull, field, pos, vel, dt)
+        kept = (np.linalg.norm(new_pos - pos, axis=1) <= 2.0 * step_travel_m) | (dt <= time_step_s)
+        longest = np.where(kept, np.minimum(2.0 * longest, MAX_STEP_S), 0.25 * dt)
+        resting = speed <= REST_M_S
+        pos, vel = np.where(kept[:, None], new_pos, pos), np.where(kept[:, None], new_vel, vel)
+        clock = np.where(kept, clock + dt, clock)
         ended = np.full(active.size, RUNNING, dtype=np.int8)
-        ended[_held(sub, field, pos, vel, contact, normal, *derived[1:])] = STALLED
+        ended[contact & resting & (np.linalg.norm(vel, axis=1) <= REST_M_S)] = STALLED  # a fixed point
+        ended[clock >= max_time_s] = STALLED
         ended[pos[:, 2] <= 0.0] = SURFACED
         ended[np.abs(pos[:, 1]) >= 0.5 * hull.beam_m] = BILGE  # its centre beside the hull
-        ended[pos[:, 0] + half >= plane] = REACHED  # decided at the plane (`disc_contact`)
+        beyond = pos[:, 0] + half - plane
+        ended[beyond >= 0.0] = REACHED  # decided at the plane (`disc_contact`)
+        ended[~kept] = RUNNING
         done = ended != RUNNING
         idx = active[done]
-        outcome[idx], time[idx] = ended[done], t
+        # the plane crossed within the step: its time interpolated back from the step's end
+        back = np.where(ended == REACHED, np.clip(beyond / np.maximum(vel[:, 0], 1e-12), 0.0, dt), 0.0)
+        outcome[idx], time[idx] = ended[done], (clock - back)[done]
         pos_out[idx], vel_out[idx] = pos[done], vel[done]
         if done.any():
-            active, pos, vel, sub = active[~done], pos[~done], vel[~done], None
-    outcome[active], time[active] = STALLED, t
-    pos_out[active], vel_out[active] = pos, vel
+            keep = ~done
+            active, pos, vel, clock, longest, sub = (
+                active[keep],
+                pos[keep],
+                vel[keep],
+                clock[keep],
+                longest[keep],
+                None,
+            )
     return FlowResult(outcome, time, pos_out, vel_out)
 
 

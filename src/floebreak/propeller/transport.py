@@ -182,7 +182,7 @@ class FlowParameters:
     stem_angle_deg: Annotated[float, Bounds(5.0, 90.0, unit="deg")] = 27.0
     """φ_s, stem angle from the horizontal [deg] (physics-notes §6.2, interpretation a)"""
     time_step_s: Annotated[float, Bounds(0.001, 1.0, unit="s")] = 0.1
-    """integration step [s] (docs/explanation/cusp-flow.md, "Step")"""
+    """shortest integration step [s]; each cusp steps 0.25 m (docs/explanation/cusp-flow.md, "Integration")"""
 
     def __post_init__(self) -> None:
         check_bounds(self, "transport.flow")
