@@ -316,7 +316,8 @@ def design_load_parts(design_loads: list[dict] | None) -> list[str]:
             + "<th>unit</th></tr>"
         )
         for label, key, unit in _DESIGN_ROWS:
-            cells = "".join(f"<td class='num'>{esc(_format(row[key]))}</td>" for row in rows)
+            # an analysis written by an earlier version may lack a quantity: shown as –, not an error
+            cells = "".join(f"<td class='num'>{esc(_format(row.get(key)))}</td>" for row in rows)
             parts.append(f"<tr><td>{esc(label)}</td>{cells}<td>{esc(unit)}</td></tr>")
             if key == "design_torque_kn_m" and any(r.get("design_torque_band_kn_m") for r in rows):
                 cells = "".join(
