@@ -1,28 +1,32 @@
-"""The thesis §6.2 chain, measured (issue 33 item 6): simulated shaft torque against the measured range.
+"""The thesis §6.2 chain, measured: simulated shaft torque against the measured range.
 
     python scripts/chain_6_2.py [--work DIR] [--seeds 1 2 3] [--case 1]
 
 For each seed: the reference scenario (observation 2019-12-18T20:20, 385 m × 100 m, default profile) at
 h = 0.4 m is run (kept in DIR/seedN and reused when present), then the shaft chain at the propeller's
-95.86 % pitch, built-in Agulhas II line, mean torque 105 kN·m, ship speed 3 m/s, excitation case `--case`
-(1, the default excitation). Prints a markdown table per seed and chain:
+95.86 % pitch, built-in Agulhas II line, ship speed 3 m/s, excitation case `--case` (1, the default
+excitation), with the mean torque of the propeller's open-water operating point at the line's rpm
+(`propeller.operating.shaft_operating_point`; the measured 105 kN·m is printed beside it, not used).
+Prints a markdown table per seed and chain:
 
-- `default`: the default profile's chain (transport → port propeller, milling torque at the current rpm on
-  the blade's engaged interval in each cusp, torque-limited drive;
-  `floebreak.shaft.analysis.shaft_drive_response`);
-- `linear (today)`: the thesis chain (every cusp, FEM torque of the 95 % table, 2hZ impacts, constant rpm;
-  `shaft_response`), the "before" figure;
-- one link swapped at a time from `default`: `all cusps` (no transport), `FEM torque` (the FEM table's
-  torque and 2hZ impacts instead of the milling model), `constant rpm` (the linear line instead of the
-  drive, with the default chain's arrivals, impacts and milling torque at the nominal rpm), `rigid line`
-  (the drive on one rigid inertia: no 7.76 Hz shaft mode), `full flank contact` (the milling model with the
-  flank touching the ice over its whole swept length, `IceStrength.flank_contact_chord_fraction = 1`: the
-  chain before docs/propeller.md §10 choice 4), `leading-edge contact` (fraction 0: only the nose crushes),
-  `tip placement` (every block at the blade tip, its thickness as radial extent: the chain before choice 5);
+- `default`: the default profile's chain (the flow transport at that operating point → port propeller,
+  milling torque at the current rpm on the blade's engaged interval in each cusp, torque-limited drive;
+  `floebreak.shaft.analysis.shaft_drive_response`), as `floebreak shaft` computes it;
+- `linear (thesis)`: the thesis chain (every cusp, FEM torque of the 95 % table, 2hZ impacts, constant
+  rpm; `shaft_response`);
+- one link swapped at a time from `default`: `measured mean` (the measured 105 kN·m as the mean torque, as
+  the chain was run before the operating point was computed), `kinematic transport` (the fixed rise-and-drag
+  transport instead of the flow), `all cusps` (no transport), `FEM torque` (the FEM table's torque and 2hZ
+  impacts instead of the milling model), `constant rpm` (the linear line instead of the drive, with the
+  default chain's arrivals, impacts and milling torque at the nominal rpm), `rigid line` (the drive on one
+  rigid inertia: no 7.76 Hz shaft mode), `full flank contact` (the milling model with the flank touching
+  the ice over its whole swept length, `IceStrength.flank_contact_chord_fraction = 1`: the chain before
+  docs/propeller.md §10 choice 4), `leading-edge contact` (fraction 0: only the nose crushes), `tip
+  placement` (every block at the blade tip, its thickness as radial extent: the chain before choice 5);
   the blocks' impacts recomputed with each.
 
-Columns: cusps milled, shaft torque max and min, envelope of the range above 0.1 %/(kN·m) (10 kN·m bins),
-min rpm, and the issue's criteria against the measured −100…400 kN·m and 58–152 kN·m: max within
+Columns: cusps milled, mean torque, shaft torque max and min, envelope of the range above 0.1 %/(kN·m)
+(10 kN·m bins), min rpm, and the criteria against the measured −100…400 kN·m and 58–152 kN·m: max within
 400 × [0.67, 1.5] kN·m; the range above 0.1 % overlaps 58–152 by ≥ 47 kN·m and ends ≤ 230 kN·m.
 """
 
@@ -37,10 +41,14 @@ import numpy as np
 import floebreak
 from floebreak.app.inputs import load_shaft_line, shipped_fem_tables
 from floebreak.output.run_files import read_run_cusps
+from floebreak.propeller.flow_transport import flow_draws
 from floebreak.propeller.loads.milling import IceBlock, IceStrength, impact_loads
+from floebreak.propeller.operating import shaft_operating_point
 from floebreak.propeller.spec import PropellerSpec
+from floebreak.propeller.transport import TransportSettings
 from floebreak.shaft.analysis import (
     MILLING_INPUT_COLUMNS,
+    TRANSPORT_INPUT_COLUMNS,
     cusp_torque_inputs,
     milled_cusps,
     shaft_drive_response,
@@ -50,7 +58,7 @@ from floebreak.shaft.analysis import (
 from floebreak.shaft.drive import drive_for_line, simulate_drive, train_from_line
 from floebreak.shaft.excitation import impacts_per_cusp
 
-SPEED_M_S, MEAN_TORQUE_N_M, THICKNESS_M = 3.0, 105e3, 0.4
+SPEED_M_S, MEASURED_MEAN_N_M, THICKNESS_M = 3.0, 105e3, 0.4
 MEASURED_MAX_KNM, MEASURED_ABOVE_KNM = 400.0, (58.0, 152.0)
 
 
@@ -91,58 +99,71 @@ def criteria(m: dict) -> str:
     return ", ".join(marks)
 
 
-def chains(columns: dict, line, case: int) -> dict:
-    """The default chain, today's linear chain and the one-link swaps (module docstring)."""
+def flow_moved(columns: dict, point):
+    """The flow transport of the cusps at `point`, seeded (0, 0) as `floebreak shaft` seeds it."""
+    settings, spec = TransportSettings(), PropellerSpec()
+    (moved,) = flow_draws(
+        [columns[k] for k in TRANSPORT_INPUT_COLUMNS],
+        1,
+        np.random.default_rng([0, 0]),
+        speed_m_s=SPEED_M_S,
+        induced_velocity_m_s=point.point.induced_velocity_m_s,
+        wake_fraction=point.wake_fraction,
+        hull=settings.hull,
+        arrangement=settings.arrangement(2, spec.radius_m),
+        params=settings.params,
+        flow=settings.flow,
+    )
+    return moved
+
+
+def chains(columns: dict, line, case: int, point, moved) -> dict:
+    """The default chain, the thesis' linear chain and the one-link swaps (module docstring): per chain the
+    cusps milled, the mean torque [N·m] and the result."""
     spec = PropellerSpec()
-    common = {"speed_m_s": SPEED_M_S, "mean_torque_n_m": MEAN_TORQUE_N_M, "cases": (case,)}
-    port = milled_cusps(columns, speed_m_s=SPEED_M_S)
-    tip = milled_cusps(columns, speed_m_s=SPEED_M_S, engaged=False)
+    mean = point.point.torque_n_m
+    # as `floebreak shaft`: a torque-limited point runs at the line's own mean (its rated torque, = mean)
+    given = None if point.torque_limited else mean
+    common = {"speed_m_s": SPEED_M_S, "mean_torque_n_m": given, "cases": (case,)}
+    port = milled_cusps(columns, speed_m_s=SPEED_M_S, flow_point=point, moved=moved)
+    tip = milled_cusps(columns, speed_m_s=SPEED_M_S, engaged=False, flow_point=point, moved=moved)
+    kinematic = milled_cusps(columns, speed_m_s=SPEED_M_S)
     every = milled_cusps(columns, speed_m_s=SPEED_M_S, transport=False)
     fem = fem_torque_in_input_order(columns)
     fem_sorted = cusp_torque_inputs(columns, shipped_fem_tables())
-    out = {}
-    out["default"] = (
+
+    def drive(milled, n_impacts=None, torque=None, **kw):
+        n_impacts = milled.n_impacts if n_impacts is None else n_impacts
+        torque = milled.impact_torque_n_m if torque is None else torque
+        return shaft_drive_response(milled.arrival_s, n_impacts, torque, line, **(common | kw))
+
+    out = {"default": (port.arrival_s.size, mean, drive(port))}
+    linear = shaft_response(
+        fem_sorted["bow_x_m"], fem_sorted["torque_n_m"], fem_sorted["thickness_m"], line, **common
+    )
+    out["linear (thesis)"] = (fem.size, mean, linear)
+    out["default, measured mean"] = (
         port.arrival_s.size,
-        shaft_drive_response(port.arrival_s, port.n_impacts, port.impact_torque_n_m, line, **common),
+        MEASURED_MEAN_N_M,
+        drive(port, mean_torque_n_m=MEASURED_MEAN_N_M),
     )
-    out["linear (today)"] = (
-        fem.size,
-        shaft_response(
-            fem_sorted["bow_x_m"], fem_sorted["torque_n_m"], fem_sorted["thickness_m"], line, **common
-        ),
-    )
-    out["default, all cusps"] = (
-        every.arrival_s.size,
-        shaft_drive_response(every.arrival_s, every.n_impacts, every.impact_torque_n_m, line, **common),
-    )
-    chosen = np.flatnonzero(_port_mask(columns))
-    h, fem_port = columns["thickness_m"][chosen], fem[chosen]
-    out["default, FEM torque"] = (
-        chosen.size,
-        shaft_drive_response(
-            port.arrival_s, impacts_per_cusp(h, spec.blades), lambda k, rpm: fem_port[k], line, **common
-        ),
-    )
+    out["default, kinematic transport"] = (kinematic.arrival_s.size, mean, drive(kinematic))
+    out["default, all cusps"] = (every.arrival_s.size, mean, drive(every))
+    h, fem_port = columns["thickness_m"][port.run_index], fem[port.run_index]
+    fem_torque = drive(port, impacts_per_cusp(h, spec.blades), lambda k, rpm: fem_port[k])
+    out["default, FEM torque"] = (port.arrival_s.size, mean, fem_torque)
     # the linear model takes bow positions (arrival = x/v) and thicknesses (2hZ impacts): give it the
     # default chain's arrivals and milling impact counts in those terms
     nominal = impact_loads(port.block, port.blade, spec.rpm, SPEED_M_S).torque_n_m
-    out["default, constant rpm"] = (
-        port.arrival_s.size,
-        shaft_response(
-            port.arrival_s * SPEED_M_S, nominal, port.n_impacts / (2.0 * spec.blades), line, **common
-        ),
+    constant = shaft_response(
+        port.arrival_s * SPEED_M_S, nominal, port.n_impacts / (2.0 * spec.blades), line, **common
     )
-    out["default, rigid line"] = (port.arrival_s.size, _rigid(port, line, case))
-    out["default, tip placement"] = (
-        tip.arrival_s.size,
-        shaft_drive_response(tip.arrival_s, tip.n_impacts, tip.impact_torque_n_m, line, **common),
-    )
+    out["default, constant rpm"] = (port.arrival_s.size, mean, constant)
+    out["default, rigid line"] = (port.arrival_s.size, mean, _rigid(port, line, case, mean))
+    out["default, tip placement"] = (tip.arrival_s.size, mean, drive(tip))
     for name, fraction in (("full flank contact", 1.0), ("leading-edge contact", 0.0)):
         n_impacts, torque = _with_flank_fraction(port, fraction, spec.rpm)
-        out[f"default, {name}"] = (
-            port.arrival_s.size,
-            shaft_drive_response(port.arrival_s, n_impacts, torque, line, **common),
-        )
+        out[f"default, {name}"] = (port.arrival_s.size, mean, drive(port, n_impacts, torque))
     return out
 
 
@@ -172,7 +193,7 @@ class _RigidResult:
         self.shaft_torque_n_m, self.rpm, self.line = run.shaft_torque_n_m[None, :], run.rpm[None, :], line
 
 
-def _rigid(port, line, case: int) -> _RigidResult:
+def _rigid(port, line, case: int, mean_torque_n_m: float) -> _RigidResult:
     train = train_from_line(line, "intermediate_shaft", rigid=True)
     from floebreak.shaft.line import with_operating_point
 
@@ -182,34 +203,23 @@ def _rigid(port, line, case: int) -> _RigidResult:
         port.arrival_s,
         port.n_impacts,
         port.impact_torque_n_m,
-        mean_torque_n_m=MEAN_TORQUE_N_M,
+        mean_torque_n_m=mean_torque_n_m,
         case=case,
         free_blocks=True,
     )
-    return _RigidResult(run, with_operating_point(line, None, MEAN_TORQUE_N_M))
+    return _RigidResult(run, with_operating_point(line, None, mean_torque_n_m))
 
 
-def _port_transport(columns: dict):
-    from floebreak.propeller.transport import PropellerArrangement, transport_cusps
-    from floebreak.shaft.analysis import TRANSPORT_INPUT_COLUMNS, port_propeller_index
-
-    moved = transport_cusps(*(columns[k] for k in TRANSPORT_INPUT_COLUMNS), speed_m_s=SPEED_M_S)
-    return moved, moved.propeller_index == port_propeller_index(PropellerArrangement())
-
-
-def _port_mask(columns: dict) -> np.ndarray:
-    return _port_transport(columns)[1]
-
-
-def engagement(columns: dict) -> str:
+def engagement(columns: dict, point, moved) -> str:
     """The depth of the port cusps' upper and lower faces below the disc's top [m] (lowest upper face,
     deepest lower face) and their engaged length [m] (min / median / max): why the engaged interval
     changes the torque (docs/propeller.md §10 choice 5)."""
-    moved, port = _port_transport(columns)
-    milled = milled_cusps(columns, speed_m_s=SPEED_M_S)
+    milled = milled_cusps(columns, speed_m_s=SPEED_M_S, flow_point=point, moved=moved)
+    if milled.run_index.size == 0:
+        return "no cusp reaches the port propeller"
     radius = PropellerSpec().radius_m
-    upper = moved.cross_section_m[2][port] + radius  # relative to the axis, depth positive down
-    lower = moved.cross_section_m[3][port] + radius
+    upper = moved.cross_section_m[2][milled.run_index] + radius  # relative to the axis, depth positive down
+    lower = moved.cross_section_m[3][milled.run_index] + radius
     length = milled.block.outer_radius_m - milled.block.inner_radius_m
     return (
         f"cusps {upper.min():.2f}–{lower.max():.2f} m below the disc top; engaged length "
@@ -226,19 +236,27 @@ def main() -> None:
     parser.add_argument("--case", type=int, default=1)
     args = parser.parse_args()
     work = args.work or Path(tempfile.mkdtemp(prefix="chain_6_2_"))
+    work.mkdir(parents=True, exist_ok=True)
     line = load_shaft_line("agulhas_ii")
-    print("| seed | chain | cusps milled | shaft max | shaft min | > 0.1 % | min rpm | criteria |")
-    print("|---|---|---|---|---|---|---|---|")
+    point, comparison = shaft_operating_point(line, SPEED_M_S, MEASURED_MEAN_N_M)
+    print(
+        f"operating point: mean torque {comparison['model_mean_torque_knm']:.1f} kN·m (measured "
+        f"{comparison['measured_mean_torque_knm']:.0f}, compared only; "
+        f"torque limited: {point.torque_limited})\n"
+    )
+    print("| seed | chain | cusps milled | mean | shaft max | shaft min | > 0.1 % | min rpm | criteria |")
+    print("|---|---|---|---|---|---|---|---|---|")
     notes = []
     for seed in args.seeds:
         columns = read_run_cusps(run_directory(work, seed), MILLING_INPUT_COLUMNS)
-        notes.append(f"seed {seed}: {engagement(columns)}")
-        for name, (n, result) in chains(columns, line, args.case).items():
+        moved = flow_moved(columns, point)
+        notes.append(f"seed {seed}: {engagement(columns, point, moved)}")
+        for name, (n, mean, result) in chains(columns, line, args.case, point, moved).items():
             m = measures(result)
             env = "–" if m["env"] is None else f"{m['env'][0]:.0f}–{m['env'][1]:.0f}"
             print(
-                f"| {seed} | {name} | {n} | {m['max']:.0f} | {m['min']:.0f} | {env} | {m['min_rpm']:.1f} | "
-                f"{criteria(m)} |",
+                f"| {seed} | {name} | {n} | {mean / 1e3:.0f} | {m['max']:.0f} | {m['min']:.0f} | {env} | "
+                f"{m['min_rpm']:.1f} | {criteria(m)} |",
                 flush=True,
             )
     print("\n" + "\n".join(notes))

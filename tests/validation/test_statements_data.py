@@ -20,8 +20,9 @@ from floebreak.validation.statements import (
 )
 
 FROZEN = Path(__file__).parent / "data" / "thesis_statements_frozen.json"
-# removed after the conversion: the explanation bands (`recorded`), drawn around values measured before them
-REMOVED = ("recorded",)
+# removed after the conversion: the explanation bands (`recorded`), drawn around values measured before them;
+# not compared: the notes (`explained`), measured causes that change with the chain they describe
+REMOVED = ("recorded", "explained")
 
 
 def plain(x):
@@ -51,7 +52,7 @@ def test_the_loaded_statements_equal_the_frozen_copy_of_the_module():
         {k: v for k, v in st.items() if k not in REMOVED}
         for st in json.loads(FROZEN.read_text(encoding="utf-8"))
     ]
-    loaded = [plain(st) for st in STATEMENTS]
+    loaded = [{k: v for k, v in plain(st).items() if k not in REMOVED} for st in STATEMENTS]
     assert [st["id"] for st in loaded] == [st["id"] for st in frozen]  # same rows, same order
     for ours, theirs in zip(loaded, frozen, strict=True):
         assert same(ours, theirs), ours["id"]
