@@ -85,7 +85,12 @@ def test_a_design_table_written_by_an_earlier_version_shows_a_dash_for_what_it_l
     with a newer one must not fail on the quantities the old summary.json does not have."""
     from floebreak.output.report import design_load_parts
 
-    old_row = {"pitch_percent": 95.86, "design_torque_kn_m": 812.0, "rule_max_torque_kn_m": 864.0, "basis": {}}
+    old_row = {
+        "pitch_percent": 95.86,
+        "design_torque_kn_m": 812.0,
+        "rule_max_torque_kn_m": 864.0,
+        "basis": {},
+    }
     html = "".join(design_load_parts([{"propeller": "propeller 1", "polar_class": "PC5", "rows": [old_row]}]))
     assert "<td class='num'>812</td>" in html and "<td class='num'>864</td>" in html
     lacking = html.split("simulated impacts per hour on one blade</td>", 1)[1].split("</tr>", 1)[0]
