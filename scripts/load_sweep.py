@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 THICKNESSES_M = [round(h, 1) for h in np.arange(0.3, 1.51, 0.1)]
-SPEEDS_M_S = [round(v, 2) for v in np.arange(2.0, 4.01, 0.25)]
+SPEEDS_M_S = [round(v, 2) for v in np.arange(1.0, 4.01, 0.25)]
 SENSITIVITY = {  # key: default value (floebreak.propeller.transport defaults); tuples: a range's two ends
     "slip_factor": 1.0,
     "hull.run_length_m": 15.0,
