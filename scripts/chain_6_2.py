@@ -1,6 +1,6 @@
 """The thesis §6.2 chain, measured: simulated shaft torque against the measured range.
 
-    python scripts/chain_6_2.py [--work DIR] [--seeds 1 2 3] [--case 1]
+    python scripts/chain_6_2.py [--work DIR] [--seeds 1 2 3] [--case 1] [--contact-sensitivity]
 
 For each seed: the reference scenario (observation 2019-12-18T20:20, 385 m × 100 m, default profile) at
 h = 0.4 m is run (kept in DIR/seedN and reused when present), then the shaft chain at the propeller's
@@ -25,6 +25,9 @@ Prints a markdown table per seed and chain:
   placement` (every block at the blade tip, its thickness as radial extent: the chain before choice 5);
   the blocks' impacts recomputed with each.
 
+`--contact-sensitivity` prints instead the default chain with each blade-contact parameter (`IceStrength`) at
+0.9 and 1.1 × its default: torque per impact (median, largest), impacts per cusp, shaft max.
+
 Columns: cusps milled, mean torque, shaft torque max and min, envelope of the range above 0.1 %/(kN·m)
 (10 kN·m bins), min rpm, and the criteria against the measured −100…400 kN·m and 58–152 kN·m: max within
 400 × [0.67, 1.5] kN·m; the range above 0.1 % overlaps 58–152 by ≥ 47 kN·m and ends ≤ 230 kN·m.
@@ -34,6 +37,7 @@ from __future__ import annotations
 
 import argparse
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -42,7 +46,7 @@ import floebreak
 from floebreak.app.inputs import load_shaft_line, shipped_fem_tables
 from floebreak.output.run_files import read_run_cusps
 from floebreak.propeller.flow_transport import flow_draws
-from floebreak.propeller.loads.milling import IceBlock, IceStrength, impact_loads
+from floebreak.propeller.loads.milling import IceStrength, impact_loads
 from floebreak.propeller.operating import shaft_operating_point
 from floebreak.propeller.spec import PropellerSpec
 from floebreak.propeller.transport import TransportSettings
@@ -57,6 +61,7 @@ from floebreak.shaft.analysis import (
 )
 from floebreak.shaft.drive import drive_for_line, simulate_drive, train_from_line
 from floebreak.shaft.excitation import impacts_per_cusp
+from floebreak.shaft.impact_torque import CuspTorques
 
 SPEED_M_S, MEASURED_MEAN_N_M, THICKNESS_M = 3.0, 105e3, 0.4
 MEASURED_MAX_KNM, MEASURED_ABOVE_KNM = 400.0, (58.0, 152.0)
@@ -167,23 +172,41 @@ def chains(columns: dict, line, case: int, point, moved) -> dict:
     return out
 
 
-def _with_flank_fraction(port, fraction: float, rpm: float):
-    """The port cusps' impacts and per-impact torque(cusp, rpm) with the flank contact capped at
-    `fraction` × the chord (1: the full geometric overlap, before choice 4; 0: the nose alone)."""
-    ice = IceStrength(flank_contact_chord_fraction=fraction)
+def _with_ice(port, ice: IceStrength, rpm: float):
+    """The port cusps' impacts and per-impact torque(cusp, rpm) with the blade contact `ice`."""
     n_impacts = np.maximum(impact_loads(port.block, port.blade, rpm, SPEED_M_S, ice).n_impacts, 1)
+    torques = CuspTorques(port.block, port.blade, port.advance_speed_m_s, ice)
+    return n_impacts, torques.torque_n_m
 
-    def torque(k: int, rpm_now: float) -> float:
-        b = port.block
-        one = IceBlock(
-            *(
-                a[k : k + 1]
-                for a in (b.thickness_m, b.length_m, b.width_m, b.inner_radius_m, b.outer_radius_m)
-            )
+
+def _with_flank_fraction(port, fraction: float, rpm: float):
+    """`_with_ice` with the flank contact capped at `fraction` × the chord (1: the full geometric overlap,
+    before choice 4; 0: the nose alone)."""
+    return _with_ice(port, IceStrength(flank_contact_chord_fraction=fraction), rpm)
+
+
+CONTACT_PARAMETERS = ("crushing_pressure_pa", "area_exponent", "friction", "flank_contact_chord_fraction")
+
+
+def contact_sensitivity(columns: dict, line, case: int, point, moved) -> list[tuple]:
+    """The default chain with each blade-contact parameter (`IceStrength`) at 0.9 and 1.1 × its default:
+    per row (parameter, factor, median and largest per-impact torque at 140 rpm [kN·m], mean impacts per
+    cusp, shaft max [kN·m])."""
+    spec, base = PropellerSpec(), IceStrength()
+    given = None if point.torque_limited else point.point.torque_n_m
+    common = {"speed_m_s": SPEED_M_S, "mean_torque_n_m": given, "cases": (case,)}
+    port = milled_cusps(columns, speed_m_s=SPEED_M_S, flow_point=point, moved=moved)
+    rows = []
+    for key, factor in [(None, 1.0)] + [(k, f) for k in CONTACT_PARAMETERS for f in (0.9, 1.1)]:
+        ice = base if key is None else replace(base, **{key: getattr(base, key) * factor})
+        n_impacts, torque = _with_ice(port, ice, spec.rpm)
+        nominal = impact_loads(port.block, port.blade, spec.rpm, SPEED_M_S, ice).torque_n_m / 1e3
+        result = shaft_drive_response(port.arrival_s, n_impacts, torque, line, **common)
+        shaft_max = float(result.shaft_torque_n_m[0].max()) / 1e3
+        rows.append(
+            (key or "default", factor, np.median(nominal), nominal.max(), n_impacts.mean(), shaft_max)
         )
-        return float(impact_loads(one, port.blade, rpm_now, port.advance_speed_m_s, ice).torque_n_m[0])
-
-    return n_impacts, torque
+    return rows
 
 
 class _RigidResult:
@@ -227,6 +250,25 @@ def engagement(columns: dict, point, moved) -> str:
     )
 
 
+def _print_contact_sensitivity(args, work: Path, line, point) -> None:
+    print(
+        "| seed | parameter | factor | torque per impact, median [kN·m] | largest [kN·m] | impacts per cusp "
+        "| shaft max [kN·m] |"
+    )
+    print("|---|---|---|---|---|---|---|")
+    for seed in args.seeds:
+        columns = read_run_cusps(run_directory(work, seed), MILLING_INPUT_COLUMNS)
+        moved = flow_moved(columns, point)
+        for key, factor, median, largest, impacts, shaft_max in contact_sensitivity(
+            columns, line, args.case, point, moved
+        ):
+            print(
+                f"| {seed} | {key} | {factor:g} | {median:.0f} | {largest:.0f} | {impacts:.2f} | "
+                f"{shaft_max:.0f} |",
+                flush=True,
+            )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -234,6 +276,11 @@ def main() -> None:
     )
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     parser.add_argument("--case", type=int, default=1)
+    parser.add_argument(
+        "--contact-sensitivity",
+        action="store_true",
+        help="instead: the default chain with each blade-contact parameter at 0.9 and 1.1 × its default",
+    )
     args = parser.parse_args()
     work = args.work or Path(tempfile.mkdtemp(prefix="chain_6_2_"))
     work.mkdir(parents=True, exist_ok=True)
@@ -244,6 +291,9 @@ def main() -> None:
         f"{comparison['measured_mean_torque_knm']:.0f}, compared only; "
         f"torque limited: {point.torque_limited})\n"
     )
+    if args.contact_sensitivity:
+        _print_contact_sensitivity(args, work, line, point)
+        return
     print("| seed | chain | cusps milled | mean | shaft max | shaft min | > 0.1 % | min rpm | criteria |")
     print("|---|---|---|---|---|---|---|---|---|")
     notes = []
