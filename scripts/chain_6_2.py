@@ -45,15 +45,13 @@ import numpy as np
 import floebreak
 from floebreak.app.inputs import load_shaft_line, shipped_fem_tables
 from floebreak.output.run_files import read_run_cusps
-from floebreak.propeller.flow_transport import flow_draws
 from floebreak.propeller.loads.milling import IceStrength, impact_loads
 from floebreak.propeller.operating import shaft_operating_point
 from floebreak.propeller.spec import PropellerSpec
-from floebreak.propeller.transport import TransportSettings
 from floebreak.shaft.analysis import (
     MILLING_INPUT_COLUMNS,
-    TRANSPORT_INPUT_COLUMNS,
     cusp_torque_inputs,
+    flow_transport_draws,
     milled_cusps,
     shaft_drive_response,
     shaft_response,
@@ -106,20 +104,8 @@ def criteria(m: dict) -> str:
 
 def flow_moved(columns: dict, point):
     """The flow transport of the cusps at `point`, seeded (0, 0) as `floebreak shaft` seeds it."""
-    settings, spec = TransportSettings(), PropellerSpec()
-    (moved,) = flow_draws(
-        [columns[k] for k in TRANSPORT_INPUT_COLUMNS],
-        1,
-        np.random.default_rng([0, 0]),
-        speed_m_s=SPEED_M_S,
-        induced_velocity_m_s=point.point.induced_velocity_m_s,
-        wake_fraction=point.wake_fraction,
-        hull=settings.hull,
-        arrangement=settings.arrangement(2, spec.radius_m),
-        params=settings.params,
-        flow=settings.flow,
-    )
-    return moved
+    rng = np.random.default_rng([0, 0])
+    return flow_transport_draws(columns, 1, rng, speed_m_s=SPEED_M_S, flow_point=point)[0]
 
 
 def chains(columns: dict, line, case: int, point, moved) -> dict:

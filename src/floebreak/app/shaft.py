@@ -28,9 +28,9 @@ from floebreak.shaft.analysis import (
     MILLING_INPUT_COLUMNS,
     PROFILE_SHAFT_MODEL,
     SHAFT_MODELS,
-    TRANSPORT_INPUT_COLUMNS,
     ShaftResult,
     cusp_torque_inputs,
+    flow_transport_draws,
     milled_cusps,
     resonance_summary,
     shaft_drive_response,
@@ -335,23 +335,13 @@ def _q_peak_spread(columns, speed_m_s, settings, point, line, result, n_draws, *
     `n_draws − 1` more (`flow_transport.flow_draws`, seeded (0, 0, 1), as the propeller analysis seeds
     its first run's), each milled and run through the drive model as the first; its median and 5–95 %
     band (`propeller.spread.band`)."""
-    from floebreak.propeller.flow_transport import flow_draws
-    from floebreak.propeller.spec import PropellerSpec
     from floebreak.propeller.spread import band
 
-    case, settings, spec = result.cases[0], settings or TransportSettings(), PropellerSpec()
+    case, settings = result.cases[0], settings or TransportSettings()
     peaks = [result.peaks()[case]["q_peak_n_m"] / 1e3]
-    draws = flow_draws(
-        [columns[k] for k in TRANSPORT_INPUT_COLUMNS],
-        n_draws - 1,
-        np.random.default_rng([0, 0, 1]),
-        speed_m_s=speed_m_s,
-        induced_velocity_m_s=point.point.induced_velocity_m_s,
-        wake_fraction=point.wake_fraction,
-        hull=settings.hull,
-        arrangement=settings.arrangement(2, spec.radius_m),
-        params=settings.params,
-        flow=settings.flow,
+    rng = np.random.default_rng([0, 0, 1])
+    draws = flow_transport_draws(
+        columns, n_draws - 1, rng, speed_m_s=speed_m_s, flow_point=point, settings=settings
     )
     for moved in draws:
         milled = milled_cusps(

@@ -524,16 +524,31 @@ def _moved(col, speed_m_s, settings, arrangement, spec, flow_point):
             arrangement=arrangement,
             params=settings.params,
         )
-    from floebreak.propeller.flow_transport import flow_transport_cusps
+    rng = np.random.default_rng([0, 0])
+    draw = dict(speed_m_s=speed_m_s, flow_point=flow_point, settings=settings, radius_m=spec.radius_m)
+    return flow_transport_draws(col, 1, rng, **draw)[0]
 
-    return flow_transport_cusps(
-        *(col[k] for k in TRANSPORT_INPUT_COLUMNS),
+
+def flow_transport_draws(
+    columns, n_draws: int, rng, *, speed_m_s: float, flow_point, settings=None, radius_m=None
+):
+    """`n_draws` draws of the flow transport (`propeller.flow_transport.flow_draws`) of a run's cusps
+    (`columns`: TRANSPORT_INPUT_COLUMNS) at the operating point `flow_point` (`operating.ControlledPoint`),
+    on two discs of `radius_m` (default the spec's) with the hull and parameters of `settings` (default
+    `TransportSettings()`). `milled_cusps` seeds its own draw with (0, 0)."""
+    from floebreak.propeller.flow_transport import flow_draws
+
+    settings = TransportSettings() if settings is None else settings
+    radius_m = PropellerSpec().radius_m if radius_m is None else radius_m
+    return flow_draws(
+        [columns[k] for k in TRANSPORT_INPUT_COLUMNS],
+        n_draws,
+        rng,
         speed_m_s=speed_m_s,
         induced_velocity_m_s=flow_point.point.induced_velocity_m_s,
         wake_fraction=flow_point.wake_fraction,
-        rng=np.random.default_rng([0, 0]),
         hull=settings.hull,
-        arrangement=arrangement,
+        arrangement=settings.arrangement(2, radius_m),
         params=settings.params,
         flow=settings.flow,
     )
